@@ -1,0 +1,19 @@
+"""pdamper: design particle dampers for vertically vibrating structures.
+
+The package follows the three levels of the design toolchain of the reference paper
+("Systematic design of particle dampers for transient vertical vibrations"):
+
+- Level I, single impacts: :mod:`pdamper.materials`, :mod:`pdamper.contact`.
+- Level II, one damper under harmonic excitation: :mod:`pdamper.dem`,
+  :mod:`pdamper.analysis`.
+- Level III, damper on a structure: :mod:`pdamper.structure`, :mod:`pdamper.coupling`,
+  :mod:`pdamper.design`.
+
+Heavy modules (numba kernels, xarray, matplotlib) are imported where used, so that
+``import pdamper`` stays fast.
+"""
+
+from pdamper._version import __version__
+from pdamper.errors import InputError, PdamperError, SimulationError
+
+__all__ = ["__version__", "InputError", "PdamperError", "SimulationError"]
