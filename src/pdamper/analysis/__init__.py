@@ -1,0 +1,1 @@
+"""Level II analysis: complex power method, motion modes, analytical bed model, fields."""
