@@ -81,7 +81,8 @@ def parse_quantity(value: str | float | int, unit: str, field: str) -> float:
     try:
         q = ureg.Quantity(text)
     except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError) as exc:
-        raise InputError(field, f"unknown unit in {value!r} ({exc}); expected a unit of {unit or 'dimensionless'}") from None
+        raise InputError(field, f"unknown unit in {value!r} ({exc}); "
+                         f"expected a unit of {unit or 'dimensionless'}") from None
     except Exception:
         raise InputError(field, f"cannot read {value!r} as a quantity; expected e.g. '1 {unit}'") from None
     try:
@@ -90,7 +91,8 @@ def parse_quantity(value: str | float | int, unit: str, field: str) -> float:
         else:
             mag = float(q.to(unit).magnitude) if unit else float(q.to("").magnitude)
     except pint.errors.DimensionalityError:
-        raise InputError(field, f"{value!r} is not convertible to {unit or 'a dimensionless number'}") from None
+        raise InputError(field, f"{value!r} is not convertible to "
+                         f"{unit or 'a dimensionless number'}") from None
     if not math.isfinite(mag):
         raise InputError(field, f"must be a finite quantity, got {value!r}")
     return mag
@@ -110,7 +112,8 @@ def parse_range(value: str, unit: str, field: str) -> tuple[float, float, int]:
         try:
             v = parse_quantity(value, unit, field)
         except InputError:
-            raise InputError(field, f"expected 'start:stop:count' such as '1{unit}:2{unit}:10' or one quantity, got {value!r}") from None
+            raise InputError(field, f"expected 'start:stop:count' such as '1{unit}:2{unit}:10' "
+                             f"or one quantity, got {value!r}") from None
         return v, v, 1
     a = parse_quantity(m["a"], unit, field)
     b = parse_quantity(m["b"], unit, field)

@@ -45,3 +45,48 @@ def emit(payload: dict, as_json: bool, human: str | None = None) -> None:
         sys.stdout.write(dumps(payload) + "\n")
     else:
         sys.stdout.write(human.rstrip() + "\n")
+
+
+def load(scenario: Path | None, **overrides):
+    """Scenario from ``--scenario`` with the command-line options applied on top.
+
+    ``overrides`` maps ``"section.key"`` to the option's value (None: not given).
+    """
+    from pdamper.io.scenario import load_scenario
+
+    return load_scenario(scenario, {k.replace("__", "."): v for k, v in overrides.items()})
+
+
+def metadata(scenario, **extra) -> dict:
+    """Inputs, version (and seed etc. in ``extra``) recorded with every result."""
+    from pdamper import __version__
+
+    return {"inputs": scenario.model_dump(mode="json"), "version": __version__, **extra}
+
+
+def write_atomic(path: Path, writer) -> None:
+    """Call ``writer(tmp_path)`` and move the result to ``path`` only if it succeeded,
+    so that a failed run leaves nothing half-written."""
+    import os
+
+    from pdamper.errors import InputError
+
+    path = Path(path)
+    if path.parent and not path.parent.exists():
+        raise InputError("out", f"directory does not exist: {path.parent}")
+    tmp = path.with_name(f".{path.name}.tmp")
+    try:
+        writer(tmp)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+
+
+def models():
+    """Registry of damper models by fidelity name."""
+    from pdamper.coupling.registry import DAMPER_MODELS
+
+    return DAMPER_MODELS

@@ -1,0 +1,406 @@
+"""Analytical model of a vertically driven particle bed (paper Sect. 3.1, Eqs. 5-22).
+
+The bed is one inelastic block (collect-and-collide): it takes off the container bottom when
+the container decelerates faster than gravity (Eq. 5), flies on a parabola and adopts the
+wall's velocity at every impact. Which wall it hits first, and when, decides the motion mode
+(Fig. 4); the relative impact velocities give the dissipated energy per cycle (Eqs. 8, 10,
+15), the effective loss factor (Eq. 3 with Eqs. 8/10/15) and, via Eq. (22), the effective
+particle mass.
+
+Everything is computed in the dimensionless phase ``phi = W t`` and positions in units of
+the stroke ``X``: the container is ``y_c = sin(phi)``, the bed's flight from take-off phase
+``phi_0`` is ``y_b = sin(phi_0) + cos(phi_0) s - s^2 / (2 Gamma)``, ``s = phi - phi_0``, with
+``Gamma = A / g`` the dimensionless acceleration and velocities in units of ``V = X W``.
+All functions are vectorised over broadcastable arrays of (frequency, stroke, clearance).
+
+Conventions fixed where the printed paper is ambiguous (see ``NOTES.md``):
+
+- A vibration cycle runs from ``phi = pi/2`` to ``5 pi/2``; take-off (Eq. 5) lies in
+  ``(0, pi/2)``.
+- Eq. (12): ``n_s = floor((phi_imp - pi/2) / 2 pi)`` whole cycles of delay,
+  ``kappa = 1 / (1 + n_s)``.
+- Eq. (18) as printed is empty for ``n_s = 0``; we use the reading its next sentence gives:
+  a bottom impact in cycle ``n = floor((phi - pi/2) / 2 pi)`` has ``n_s = n``, except that a
+  harmonic one (``n = 0``) after the next take-off, ``phi in (phi_0 + 2 pi, 5 pi/2)``, is
+  scattering. NOTES.md extends that scattering band to every ``n``; that would make the
+  paper's own example of a subharmonic bottom impact (Fig. 4-3ii, X = 20 mm, f = 18 Hz,
+  impact at ``phi = 12.80`` against ``phi_0 + 4 pi = 12.60``) scattering. Physically the bed
+  then re-launches at once with almost the regular take-off velocity (the container still
+  decelerates at ~6 g), which is the paper's "conditionally repetitive" trajectory, so for
+  ``n_s >= 1`` the whole cycle is subharmonic.
+- A top impact after the next take-off time (``phi_st > phi_0 + 2 pi``, a subharmonic top
+  impact, Fig. 4-3iii) is scattering (Eq. 8), as is a second top impact before the bed
+  has returned to the bottom.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pdamper.analysis.modes import EFFECTIVE_MASS_RATIO, MotionMode
+from pdamper.errors import InputError
+
+#: Standard gravity [m/s^2].
+STANDARD_GRAVITY = 9.81
+
+#: Eq. (8): solid-like and scattering beds dissipate 1/1000 of 2 pi E_kin per cycle.
+SOLID_LOSS_FACTOR = 1.0e-3
+
+#: Zero-gravity optimum of the double collect-and-collide mode, Eq. (21).
+ETA_MAX = 4.0 / math.pi
+
+_SAMPLES_PER_CYCLE = 256
+_BISECTIONS = 60
+
+
+def optimal_stroke(clearance):
+    """Optimal container stroke ``X_opt = h / pi`` [m] (Eq. 19).
+
+    >>> round(optimal_stroke(0.1) * 1000, 1)
+    31.8
+    """
+    return np.asarray(clearance, float) / math.pi if np.ndim(clearance) else clearance / math.pi
+
+
+def clearance_from_count(n_particles, n_max: int, length: float):
+    """Clearance ``h = L (1 - n_p / n_max)`` [m] between bed and lid (paper Sect. 3.1.1).
+
+    >>> clearance_from_count(32, 192, 0.12)
+    0.1
+    """
+    n = np.asarray(n_particles, float)
+    if np.any(n < 0) or np.any(n > n_max):
+        raise InputError("particles.count", f"must be in [0, {n_max}], got {n_particles}")
+    h = length * (1.0 - n / n_max)
+    return float(h) if np.ndim(h) == 0 else h
+
+
+@dataclass(frozen=True)
+class BedResponse:
+    """Analytical response of the particle bed at each (frequency, stroke) point.
+
+    All arrays share the broadcast shape of the inputs. Phases are ``W t`` [rad]; NaN where
+    the event does not occur in that mode.
+
+    Attributes
+    ----------
+    mode
+        :class:`MotionMode` integer codes.
+    subharmonic_order
+        ``n_s`` of Eqs. (12)/(18) [-] (0 for harmonic modes, -1 where undefined).
+    takeoff_phase
+        Take-off from the bottom, Eq. (5).
+    top_impact_phase, top_release_phase
+        First impact with the lid (Eq. 7) and release from it (Eq. 13).
+    bottom_impact_phase
+        Impact with the bottom (Eq. 9 for single, Eq. 14 for double CaC).
+    relative_velocity_top, relative_velocity_bottom
+        Delta v_st / Delta v_nd of Eqs. (11), (16), (17) [m/s].
+    dissipated_energy_per_cycle
+        E~_diss [J], Eqs. (8), (10), (15).
+    loss_factor
+        Effective loss factor eta [-], Eq. (3).
+    effective_mass_ratio
+        Effective particle mass over bed mass [-], Eq. (22).
+    """
+
+    frequency: np.ndarray
+    amplitude: np.ndarray
+    clearance: np.ndarray
+    bed_mass: np.ndarray
+    mode: np.ndarray
+    subharmonic_order: np.ndarray
+    takeoff_phase: np.ndarray
+    top_impact_phase: np.ndarray
+    top_release_phase: np.ndarray
+    bottom_impact_phase: np.ndarray
+    relative_velocity_top: np.ndarray
+    relative_velocity_bottom: np.ndarray
+    dissipated_energy_per_cycle: np.ndarray
+    loss_factor: np.ndarray
+    effective_mass_ratio: np.ndarray
+    gravity: float = field(default=STANDARD_GRAVITY)
+
+    @property
+    def effective_mass(self) -> np.ndarray:
+        """Effective particle mass [kg], Eq. (22)."""
+        return self.effective_mass_ratio * self.bed_mass
+
+    @property
+    def optimal_stroke(self) -> np.ndarray:
+        """X_opt = h / pi [m], Eq. (19)."""
+        return self.clearance / math.pi
+
+    def modes(self) -> np.ndarray:
+        """The modes as an object array of :class:`MotionMode`."""
+        return np.vectorize(MotionMode, otypes=[object])(self.mode)
+
+
+def _validate(name: str, arr: np.ndarray, low: float, unit: str, strict: bool = True) -> None:
+    if not np.all(np.isfinite(arr)):
+        raise InputError(name, f"must be finite, got {arr[~np.isfinite(arr)].ravel()[0]}")
+    bad = arr <= low if strict else arr < low
+    if np.any(bad):
+        op = ">" if strict else ">="
+        raise InputError(name, f"must be {op} {low:g} {unit}, got {arr[bad].ravel()[0]:g} {unit}")
+
+
+def _first_crossing(gap, phi_start, active, max_phase, rising: bool):
+    """First phase > phi_start where ``gap(phi, idx)`` crosses zero.
+
+    ``rising``: crossing from negative to >= 0 (else from positive to <= 0). Scans cycle by
+    cycle on a fine phase grid and refines the bracketing interval by bisection. Returns NaN
+    where no crossing occurs before ``max_phase``.
+    """
+    n = phi_start.size
+    result = np.full(n, np.nan)
+    todo = np.flatnonzero(active & np.isfinite(phi_start))
+    if todo.size == 0:
+        return result
+    k = _SAMPLES_PER_CYCLE
+    # the gap is zero at phi_start itself for take-off; start just after it
+    offsets = np.arange(1, k + 1) * (2.0 * math.pi / k)
+    lo_phase = phi_start[todo].copy()
+    cycle = 0
+    while todo.size:
+        grid = lo_phase[:, None] + offsets[None, :] - (2.0 * math.pi / k) * (cycle == 0) * 0.999
+        vals = gap(grid, todo)
+        hit = vals >= 0 if rising else vals <= 0
+        any_hit = hit.any(axis=1)
+        if np.any(any_hit):
+            rows = np.flatnonzero(any_hit)
+            j = hit[rows].argmax(axis=1)
+            b = grid[rows, j]
+            a = np.where(j > 0, grid[rows, np.maximum(j - 1, 0)], lo_phase[rows])
+            idx = todo[rows]
+            for _ in range(_BISECTIONS):
+                m = 0.5 * (a + b)
+                gm = gap(m[:, None], idx)[:, 0]
+                h = gm >= 0 if rising else gm <= 0
+                b = np.where(h, m, b)
+                a = np.where(h, a, m)
+            result[idx] = b
+        keep = ~any_hit & (grid[:, -1] < max_phase[todo])
+        todo = todo[keep]
+        lo_phase = grid[keep, -1]
+        cycle += 1
+    return result
+
+
+def bed_response(
+    frequency,
+    amplitude,
+    clearance,
+    bed_mass,
+    gravity: float = STANDARD_GRAVITY,
+) -> BedResponse:
+    """Motion mode, impacts, dissipation and effective mass of the bed (Eqs. 5-22).
+
+    Parameters
+    ----------
+    frequency : array_like
+        Excitation frequency f [Hz], > 0.
+    amplitude : array_like
+        Container stroke amplitude X [m], > 0 (``x_c = X sin(2 pi f t)``).
+    clearance : array_like
+        Clearance h between bed and lid [m], >= 0.
+    bed_mass : array_like
+        Mass of all particles m_bed [kg], >= 0.
+    gravity
+        g [m/s^2].
+
+    Returns
+    -------
+    BedResponse
+        Arrays of the broadcast shape of the inputs.
+
+    Examples
+    --------
+    The paper's double collect-and-collide example (Fig. 4-3i):
+
+    >>> r = bed_response(18.0, 0.050, 0.1, 0.132)
+    >>> MotionMode(int(r.mode)).label
+    'double_cac_harmonic'
+    """
+    f, x, h, m = np.broadcast_arrays(*(np.asarray(v, float) for v in
+                                       (frequency, amplitude, clearance, bed_mass)))
+    _validate("frequency", f, 0.0, "Hz")
+    _validate("amplitude", x, 0.0, "m")
+    _validate("clearance", h, 0.0, "m", strict=False)
+    _validate("bed_mass", m, 0.0, "kg", strict=False)
+    if not (math.isfinite(gravity) and gravity > 0):
+        raise InputError("gravity", f"must be > 0 m/s^2, got {gravity}")
+    shape = f.shape
+    f, x, h, m = (a.ravel() for a in (f, x, h, m))
+    w = 2.0 * math.pi * f
+    gam = x * w**2 / gravity  # Gamma = A / g
+    ht = h / x  # clearance in strokes
+    n = f.size
+
+    mode = np.full(n, int(MotionMode.SOLID))
+    ns = np.full(n, -1)
+    nan = np.full(n, np.nan)
+    phi0, phi_st, phi_tt, phi_nd = nan.copy(), nan.copy(), nan.copy(), nan.copy()
+    dv_st, dv_nd = nan.copy(), nan.copy()  # in units of V
+    eta = np.full(n, SOLID_LOSS_FACTOR)
+
+    flying = gam > 1.0
+    phi0[flying] = np.arcsin(1.0 / gam[flying])  # Eq. (5)
+    s0, c0 = np.sin(phi0), np.cos(phi0)
+
+    def y_bed(phi, idx):  # flight from the bottom, Eqs. (7) and (9)
+        s = phi - phi0[idx, None]
+        return s0[idx, None] + c0[idx, None] * s - s**2 / (2.0 * gam[idx, None])
+
+    # The bed must hit a wall before its parabola falls below the container's lowest point.
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s_max = gam * (c0 + np.sqrt(c0**2 + 2.0 * (1.0 + s0) / gam))
+    max_phase = phi0 + s_max + 2.0 * math.pi
+
+    top = _first_crossing(lambda p, i: y_bed(p, i) - np.sin(p) - ht[i, None],
+                          phi0, flying, max_phase, rising=True)
+    bot = _first_crossing(lambda p, i: y_bed(p, i) - np.sin(p),
+                          phi0, flying, max_phase, rising=False)
+    double = flying & np.isfinite(top) & ~(np.isfinite(bot) & (bot < top))
+    single = flying & ~double
+
+    # --- single collect-and-collide, Eqs. (9)-(12)
+    i = np.flatnonzero(single)
+    phi_nd[i] = bot[i]
+    dv_nd[i] = (c0[i] - (bot[i] - phi0[i]) / gam[i]) - np.cos(bot[i])  # Eq. (11), units of V
+    ns[i] = np.maximum(np.floor((bot[i] - 0.5 * math.pi) / (2.0 * math.pi)), 0).astype(int)
+    mode[i] = np.where(ns[i] == 0, int(MotionMode.SINGLE_CAC_HARMONIC),
+                       int(MotionMode.SINGLE_CAC_SUBHARMONIC))
+    eta[i] = dv_nd[i] ** 2 / (1.0 + ns[i]) / (2.0 * math.pi)
+
+    # --- double collect-and-collide, Eqs. (13)-(18)
+    i = np.flatnonzero(double)
+    phi_st[i] = top[i]
+    dv_st[i] = (c0[i] - (top[i] - phi0[i]) / gam[i]) - np.cos(top[i])  # Eq. (16)
+    sub_top = top[i] > phi0[i] + 2.0 * math.pi  # subharmonic top impact: scattering
+    mode[i[sub_top]] = int(MotionMode.SCATTERING)
+    i = i[~sub_top]
+    # Eq. (13): pinned to the lid while the lid decelerates faster than g
+    phi_tt[i] = np.maximum(top[i], math.pi - phi0[i])
+    st, ct = np.sin(phi_tt), np.cos(phi_tt)
+
+    def y_bed2(phi, idx):  # flight from the lid, Eq. (14), bed bottom coordinate
+        s = phi - phi_tt[idx, None]
+        return st[idx, None] + ht[idx, None] + ct[idx, None] * s - s**2 / (2.0 * gam[idx, None])
+
+    act = np.zeros(n, bool)
+    act[i] = True
+    with np.errstate(invalid="ignore"):
+        max2 = phi_tt + gam * (ct + np.sqrt(ct**2 + 2.0 * (1.0 + st + ht) / gam)) + 2 * math.pi
+    bot2 = _first_crossing(lambda p, k: y_bed2(p, k) - np.sin(p), phi_tt, act, max2,
+                           rising=False)
+    # leave the lid just after release: a renewed lid contact first means no repetition
+    top2 = _first_crossing(lambda p, k: y_bed2(p, k) - np.sin(p) - ht[k, None],
+                           phi_tt + 1e-9, act, max2, rising=True)
+    again = np.isfinite(top2[i]) & (~np.isfinite(bot2[i]) | (top2[i] < bot2[i]))
+    mode[i[again]] = int(MotionMode.SCATTERING)
+    i = i[~again & np.isfinite(bot2[i])]
+    phi_nd[i] = bot2[i]
+    dv_nd[i] = (ct[i] - (bot2[i] - phi_tt[i]) / gam[i]) - np.cos(bot2[i])  # Eq. (17)
+    k = np.maximum(np.floor((bot2[i] - 0.5 * math.pi) / (2.0 * math.pi)), 0)
+    # corrected Eq. (18): a harmonic bottom impact after the next take-off is scattering;
+    # for n_s >= 1 the bed re-launches at almost the regular take-off state (Fig. 4-3ii,
+    # "conditionally repetitive"), so the whole cycle counts as subharmonic.
+    late = (k == 0) & (bot2[i] > phi0[i] + 2.0 * math.pi)
+    mode[i[late]] = int(MotionMode.SCATTERING)
+    i, k = i[~late], k[~late].astype(int)
+    ns[i] = k
+    mode[i] = np.where(k == 0, int(MotionMode.DOUBLE_CAC_HARMONIC),
+                       int(MotionMode.DOUBLE_CAC_SUBHARMONIC))
+    eta[i] = (dv_st[i] ** 2 + dv_nd[i] ** 2) / (1.0 + k) / (2.0 * math.pi)  # Eq. (15)
+
+    scattering = mode == int(MotionMode.SCATTERING)
+    eta[scattering] = SOLID_LOSS_FACTOR  # Eq. (8)
+    ns[scattering] = -1
+    v = x * w
+    e_tilde = eta * math.pi * m * v**2  # E~ = 2 pi * eta * (1/2 m V^2)
+    ratio = np.vectorize(lambda c: EFFECTIVE_MASS_RATIO[MotionMode(c)], otypes=[float])(mode)
+    phi_tt[~double] = np.nan
+
+    def out(a):
+        return a.reshape(shape)
+
+    return BedResponse(
+        frequency=out(f), amplitude=out(x), clearance=out(h), bed_mass=out(m),
+        mode=out(mode), subharmonic_order=out(ns), takeoff_phase=out(phi0),
+        top_impact_phase=out(phi_st), top_release_phase=out(phi_tt),
+        bottom_impact_phase=out(phi_nd), relative_velocity_top=out(dv_st * v),
+        relative_velocity_bottom=out(dv_nd * v), dissipated_energy_per_cycle=out(e_tilde),
+        loss_factor=out(eta), effective_mass_ratio=out(ratio), gravity=gravity,
+    )
+
+
+@dataclass(frozen=True)
+class BedTrajectory:
+    """Trajectory of the bed against the container walls for one point (paper Fig. 4).
+
+    Attributes
+    ----------
+    time
+        t [s] from ``t = 0`` (container at mid-stroke moving up) to the bed's return to
+        the bottom (or the first impact that ends a repetitive trajectory).
+    container_bottom, container_top
+        Positions of the bottom wall and of the highest position the bed can reach
+        (lid minus bed height), i.e. ``x_c`` and ``x_c + h`` [m].
+    bed
+        Position of the bed's bottom surface [m].
+    mode
+        The motion mode of the point.
+    """
+
+    time: np.ndarray
+    container_bottom: np.ndarray
+    container_top: np.ndarray
+    bed: np.ndarray
+    mode: MotionMode
+    response: BedResponse
+
+
+def bed_trajectory(frequency: float, amplitude: float, clearance: float,
+                   gravity: float = STANDARD_GRAVITY, samples: int = 2000) -> BedTrajectory:
+    """Bed trajectory until its first bottom impact, as in the paper's Fig. 4.
+
+    >>> tr = bed_trajectory(6.0, 0.015, 0.1)
+    >>> tr.mode.label, bool(np.all(tr.bed >= tr.container_bottom - 1e-9))
+    ('single_cac_harmonic', True)
+    """
+    r = bed_response(frequency, amplitude, clearance, 1.0, gravity)
+    w = 2.0 * math.pi * frequency
+    mode = MotionMode(int(r.mode))
+    phi0 = float(r.takeoff_phase)
+    phi_st, phi_tt, phi_nd = (float(r.top_impact_phase), float(r.top_release_phase),
+                              float(r.bottom_impact_phase))
+    if mode is MotionMode.SOLID:
+        end = 2.5 * math.pi
+    elif math.isfinite(phi_nd):
+        end = phi_nd
+    else:  # scattering after a top impact: Fig. 4 ends the trajectory at the lid
+        end = phi_st
+    phi = np.linspace(0.0, end, samples)
+    yc = np.sin(phi)
+    y = yc.copy()  # resting on the bottom until take-off
+    hx = clearance / amplitude
+    gam = amplitude * w**2 / gravity
+    if mode is not MotionMode.SOLID:
+        fl = phi >= phi0
+        s = phi[fl] - phi0
+        y[fl] = math.sin(phi0) + math.cos(phi0) * s - s**2 / (2 * gam)
+        if math.isfinite(phi_st):
+            on_lid = phi >= phi_st
+            y[on_lid] = yc[on_lid] + hx
+            if math.isfinite(phi_tt):
+                fl2 = phi >= phi_tt
+                s = phi[fl2] - phi_tt
+                y[fl2] = math.sin(phi_tt) + hx + math.cos(phi_tt) * s - s**2 / (2 * gam)
+    y = np.clip(y, yc, yc + hx)  # remove round-off at the ends of the flights
+    return BedTrajectory(time=phi / w, container_bottom=amplitude * yc,
+                         container_top=amplitude * yc + clearance, bed=amplitude * y,
+                         mode=mode, response=r)

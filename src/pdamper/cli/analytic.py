@@ -1,0 +1,62 @@
+"""``pdamper analytic``: the analytical bed model at one (f, X) point."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from pdamper.cli import app
+from pdamper.cli._common import emit, load, metadata
+
+ScenarioOpt = Annotated[Path | None, typer.Option("--scenario", "-s", help="Scenario TOML file.")]
+JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON for scripts.")]
+
+
+@app.command("analytic")
+def analytic(
+    frequency: Annotated[str | None, typer.Option(help="Excitation frequency, e.g. '10Hz'.")] = None,
+    amplitude: Annotated[str | None, typer.Option(help="Container stroke X, e.g. '32mm'.")] = None,
+    particles: Annotated[int | None, typer.Option(help="Number of spheres.")] = None,
+    scenario: ScenarioOpt = None,
+    as_json: JsonOpt = False,
+) -> None:
+    """Motion mode, loss factor and effective mass of the bed (paper Eqs. 5-22)."""
+    from pdamper.analysis.modes import MotionMode
+    from pdamper.coupling.analytical import AnalyticalDamper
+    from pdamper.units import format_quantity
+
+    sc = load(scenario, excitation__frequency=frequency, excitation__amplitude=amplitude,
+              particles__count=particles)
+    damper = sc.damper()
+    f, x = sc.excitation.frequency, sc.excitation.amplitude
+    r = AnalyticalDamper(damper).response(f, x)
+    bed = r.details
+    mode = MotionMode(int(r.mode))
+    payload = {
+        "mode": mode.label,
+        "loss_factor": float(r.loss_factor),
+        "dissipated_energy_per_cycle": float(r.dissipated_energy_per_cycle),
+        "effective_mass_ratio": float(r.effective_mass_ratio),
+        "clearance": damper.clearance,
+        "optimal_stroke": damper.optimal_stroke,
+        "subharmonic_order": int(bed.subharmonic_order),
+        "bed_mass": damper.bed_mass,
+        "acceleration_ratio": x * (2 * 3.141592653589793 * f) ** 2 / bed.gravity,
+        "eta_max": 4 / 3.141592653589793,
+        "units": {"dissipated_energy_per_cycle": "J", "clearance": "m", "optimal_stroke": "m",
+                  "bed_mass": "kg", "loss_factor": "1", "effective_mass_ratio": "1"},
+        **metadata(sc),
+    }
+    human = (
+        f"f = {format_quantity(f, 'Hz')}, X = {format_quantity(x, 'mm')}, "
+        f"{damper.count} particles ({format_quantity(damper.bed_mass, 'g')})\n"
+        f"  motion mode                  {mode.title}\n"
+        f"  effective loss factor        {float(r.loss_factor):.4g}  (max 4/pi = 1.273)\n"
+        f"  dissipated energy per cycle  {format_quantity(float(r.dissipated_energy_per_cycle), 'mJ')}\n"
+        f"  effective mass ratio         {float(r.effective_mass_ratio):.3g}\n"
+        f"  clearance h                  {format_quantity(damper.clearance, 'mm')}\n"
+        f"  optimal stroke X_opt = h/pi  {format_quantity(damper.optimal_stroke, 'mm')}"
+    )
+    emit(payload, as_json, human)

@@ -1,0 +1,118 @@
+"""Scalar contact physics of the DEM, compiled with numba (paper Sect. 3, "Discrete element method").
+
+These functions take and return plain floats, allocate nothing and call nothing but
+``math`` and other numba functions, so that the CPU kernels of :mod:`pdamper.dem.kernels`
+inline them and a later GPU path (``numba.cuda.jit(device=True)``) can reuse them as
+device functions.
+
+Normal force (Hertz with Gonthier's nonlinear damping)
+------------------------------------------------------
+``F_n = K delta^(3/2) (1 + d delta_dot)``, clipped at zero (no tension), with the overlap
+``delta`` [m] and its rate ``delta_dot`` [m/s] (positive while approaching), the Hertz
+stiffness ``K = 4/3 E* sqrt(R*)`` [N/m^1.5] and the damping parameter ``d`` [s/m].
+``d = x(e(v0)) / v0`` is fixed at the contact onset from the impact speed ``v0`` and the
+coefficient of restitution ``e(v0)`` of the material pair; ``x`` is either the root of the
+exact relation ``ln(1 - e x) - ln(1 + x) + (1 + e) x = 0`` (default, see
+:mod:`pdamper.contact.damping`) or Gonthier's ``(1 - e^2)/e`` (the paper's choice).
+
+Tangential force (regularised Coulomb friction)
+-----------------------------------------------
+``F_t = -mu |F_n| tanh(|v_t| / v_reg) t_hat`` with the slip velocity ``v_t`` at the contact
+point and ``t_hat = v_t / |v_t|``. The regularisation velocity ``v_reg`` defaults to
+:data:`DEFAULT_REGULARISATION_VELOCITY` = 0.01 m/s: below it friction acts as a viscous
+damper of coefficient ``mu |F_n| / v_reg``, above ~2 v_reg it is Coulomb sliding to within
+4 %.
+
+Energies
+--------
+Elastic energy of a contact ``2/5 K delta^(5/2)``; power dissipated by the normal damping
+``(F_n - K delta^(3/2)) delta_dot`` (>= 0, also when clipped) and by friction
+``|F_t| |v_t|`` (>= 0).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from pdamper.contact.damping import exact_damping_factor_scalar, gonthier_damping_factor_scalar
+from pdamper.contact.restitution import cor_at
+
+#: Default regularisation velocity of the tanh friction law [m/s].
+DEFAULT_REGULARISATION_VELOCITY = 0.01
+#: Default lower bound of the onset speed used to set the damping parameter [m/s]; contacts
+#: that form more gently are damped as if they had hit at this speed (keeps d finite).
+DEFAULT_MIN_IMPACT_VELOCITY = 1e-3
+
+#: Integer codes of the damping models for the kernels.
+DAMPING_EXACT = 0
+DAMPING_GONTHIER = 1
+
+
+@njit(cache=True)
+def hertz_k(e_star, r_star):
+    """Hertz stiffness K = 4/3 E* sqrt(R*) [N/m^1.5]."""
+    return 4.0 / 3.0 * e_star * math.sqrt(r_star)
+
+
+@njit(cache=True)
+def damping_factor_for(e, model):
+    """x = d v0 for the COR ``e`` [-]; ``model`` 0 = exact (default), 1 = Gonthier."""
+    if e >= 1.0:
+        return 0.0
+    if model == DAMPING_GONTHIER:
+        return gonthier_damping_factor_scalar(e)
+    return exact_damping_factor_scalar(e)
+
+
+@njit(cache=True)
+def onset_damping(v0, v_nodes, e_nodes, model, v_min):
+    """Damping parameter d [s/m] of a contact that starts with normal speed ``v0`` [m/s].
+
+    The COR is read from the pair's curve ``(v_nodes, e_nodes)`` at ``max(|v0|, v_min)``.
+    """
+    v = abs(v0)
+    if v < v_min:
+        v = v_min
+    e = cor_at(v, v_nodes, e_nodes)
+    return damping_factor_for(e, model) / v
+
+
+@njit(cache=True)
+def normal_force(delta, delta_dot, k, d):
+    """Hertz-Gonthier normal force.
+
+    Parameters
+    ----------
+    delta : float
+        Overlap [m], > 0.
+    delta_dot : float
+        Overlap rate [m/s], positive while approaching.
+    k : float
+        Hertz stiffness [N/m^1.5].
+    d : float
+        Damping parameter [s/m].
+
+    Returns
+    -------
+    (f_n, f_el) : (float, float)
+        Total normal force (>= 0) and its elastic part ``K delta^1.5`` [N].
+    """
+    f_el = k * delta * math.sqrt(delta)
+    f_n = f_el * (1.0 + d * delta_dot)
+    if f_n < 0.0:
+        f_n = 0.0
+    return f_n, f_el
+
+
+@njit(cache=True)
+def friction_magnitude(mu, f_n, v_t, v_reg):
+    """|F_t| = mu |F_n| tanh(|v_t| / v_reg) [N] for the slip speed ``v_t`` [m/s]."""
+    return mu * abs(f_n) * math.tanh(v_t / v_reg)
+
+
+@njit(cache=True)
+def elastic_energy(delta, f_el):
+    """Elastic Hertz energy 2/5 K delta^(5/2) = 2/5 f_el delta [J]."""
+    return 0.4 * f_el * delta

@@ -1,0 +1,1053 @@
+"""numba kernels of the DEM engine: contact search, forces, whole-run integrator loops.
+
+Everything here is compiled with ``numba.njit(cache=True)``; the Python orchestration in
+:mod:`pdamper.dem.simulation` allocates every array once and calls :func:`run_verlet` or
+:func:`run_gear` for a whole run, so that no Python and no allocation happens per step.
+The loops are serial and in a fixed order: the same inputs give bit-identical results.
+
+Frames and signs
+----------------
+Particles move in the inertial frame, z up (gravity ``-g e_z``). The container's inner box
+is ``[0, Lx] x [0, Ly] x [z_c, z_c + Lz]``; it moves only along z (position ``z_c``,
+velocity ``v_c``). ``fpc`` is the force that the particles exert on the container.
+
+Layout of the parameter arrays
+------------------------------
+``fp`` (float64): see the ``FP_*`` indices; ``ip`` (int64): see the ``IP_*`` indices.
+``out`` (float64, length ``NOUT``) collects per evaluation: force on the container (3),
+dissipation rates (normal, friction), power of the container on the particles, elastic
+energy, the largest overlap / radius, the shortest time to a new contact and the largest
+particle speed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from pdamper.contact.forces import friction_magnitude, hertz_k, normal_force, onset_damping
+
+# ---- float parameters ------------------------------------------------------------------
+FP_G = 0
+FP_VREG = 1
+FP_VMIN = 2
+FP_LX = 3
+FP_LY = 4
+FP_LZ = 5
+FP_SKIN = 6
+FP_CELL = 7
+FP_MAXOVL = 8
+FP_VLIMIT = 9
+FP_DT = 10
+FP_DTMIN = 11
+FP_DTMAX = 12
+FP_TOL = 13
+FP_VSCALE = 14
+FP_T0 = 15
+FP_HALF = 16
+FP_SM = 17
+FP_SD = 18
+FP_SK = 19
+FP_Z0 = 20
+FP_X = 21
+FP_W = 22
+FP_DTC = 23
+FP_TABDT = 24
+NFP = 25
+
+# ---- int parameters --------------------------------------------------------------------
+IP_MODEL = 0
+IP_NMAT = 1
+IP_NCX = 2
+IP_NCY = 3
+IP_NCZ = 4
+IP_MOTION = 5
+IP_SNAPEVERY = 6
+IP_ADAPTIVE = 7
+IP_NSAMP = 8
+NIP = 9
+
+MOTION_HARMONIC = 0
+MOTION_TABLE = 1
+MOTION_STRUCTURE = 2
+
+# ---- out slots -------------------------------------------------------------------------
+O_FX = 0
+O_FY = 1
+O_FZ = 2
+O_DN = 3
+O_DF = 4
+O_WC = 5
+O_EEL = 6
+O_OVL = 7
+O_TTC = 8
+O_VMAX = 9
+NOUT = 10
+
+# ---- stats slots (int64) ---------------------------------------------------------------
+S_STEPS = 0
+S_REBUILDS = 1
+S_ERR = 2
+S_ERRIDX = 3
+S_ONSETS = 4
+NSTATS = 5
+
+# ---- float stats -----------------------------------------------------------------------
+F_TERR = 0
+F_OVL = 1
+F_DTLO = 2
+F_DTHI = 3
+F_ERRVAL = 4
+NFSTATS = 5
+
+ERR_NONE = 0
+ERR_NAN = 1
+ERR_OVERLAP = 2
+ERR_ESCAPE = 3
+ERR_LIST = 4
+ERR_ENERGY = 5
+ERR_SPEED = 6
+
+# Gear coefficients (Gear 1971; Allen & Tildesley, App. E): 6-value Nordsieck vector of a
+# second-order ODE, with 3/20 instead of 3/16 because the forces depend on the velocities.
+G0 = 3.0 / 20.0
+G1 = 251.0 / 360.0
+G3 = 11.0 / 18.0
+G4 = 1.0 / 6.0
+G5 = 1.0 / 60.0
+# 5-value Nordsieck vector of a first-order ODE (angular velocities)
+H0 = 251.0 / 720.0
+H2 = 11.0 / 12.0
+H3 = 1.0 / 3.0
+H4 = 1.0 / 24.0
+
+
+# ======================================================================================
+# container motion
+# ======================================================================================
+@njit(cache=True)
+def prescribed_state(t, kind, fp, tab):
+    """Prescribed container position, velocity, acceleration at time ``t`` [s].
+
+    ``kind`` MOTION_HARMONIC: ``z = z0 + X sin(W t)`` (rheonomic constraint, paper Sect. 3);
+    MOTION_TABLE: linear interpolation of the uniformly sampled table ``tab = (z, v, a)``
+    with step ``fp[FP_TABDT]`` from ``t = 0``.
+    """
+    if kind == MOTION_TABLE:
+        tz, tv, ta = tab
+        h = fp[FP_TABDT]
+        s = t / h
+        i = int(math.floor(s))
+        nt = tz.shape[0]
+        if i < 0:
+            return tz[0], tv[0], ta[0]
+        if i >= nt - 1:
+            return tz[nt - 1], tv[nt - 1], ta[nt - 1]
+        w = s - i
+        return (tz[i] + w * (tz[i + 1] - tz[i]), tv[i] + w * (tv[i + 1] - tv[i]),
+                ta[i] + w * (ta[i + 1] - ta[i]))
+    x = fp[FP_X]
+    om = fp[FP_W]
+    s = math.sin(om * t)
+    c = math.cos(om * t)
+    return fp[FP_Z0] + x * s, x * om * c, -x * om * om * s
+
+
+# ======================================================================================
+# contact search: linked cells + Verlet list
+# ======================================================================================
+@njit(cache=True)
+def _cell_index(x, y, zr, cs, ncx, ncy, ncz):
+    cx = int(x / cs)
+    cy = int(y / cs)
+    cz = int(zr / cs)
+    cx = min(max(cx, 0), ncx - 1)
+    cy = min(max(cy, 0), ncy - 1)
+    cz = min(max(cz, 0), ncz - 1)
+    return cx, cy, cz
+
+
+@njit(cache=True)
+def build_verlet_list(pos, rad, zc, fp, ip, head, nxt, nb_start, nb_j):
+    """Half Verlet list (pairs i < j closer than r_i + r_j + skin) from a linked-cell grid.
+
+    Cost O(n). Each particle's neighbours are sorted by index so that the contact history
+    can be carried over by a merge. Returns the number of pairs, or -1 if ``nb_j`` is full.
+    """
+    n = pos.shape[0]
+    cs = fp[FP_CELL]
+    skin = fp[FP_SKIN]
+    ncx = ip[IP_NCX]
+    ncy = ip[IP_NCY]
+    ncz = ip[IP_NCZ]
+    cap = nb_j.shape[0]
+    for c in range(head.shape[0]):
+        head[c] = -1
+    # insert in reverse so that each cell's chain runs in increasing index order
+    for i in range(n - 1, -1, -1):
+        cx, cy, cz = _cell_index(pos[i, 0], pos[i, 1], pos[i, 2] - zc, cs, ncx, ncy, ncz)
+        c = (cz * ncy + cy) * ncx + cx
+        nxt[i] = head[c]
+        head[c] = i
+    cnt = 0
+    for i in range(n):
+        nb_start[i] = cnt
+        cx, cy, cz = _cell_index(pos[i, 0], pos[i, 1], pos[i, 2] - zc, cs, ncx, ncy, ncz)
+        for dz in range(-1, 2):
+            z2 = cz + dz
+            if z2 < 0 or z2 >= ncz:
+                continue
+            for dy in range(-1, 2):
+                y2 = cy + dy
+                if y2 < 0 or y2 >= ncy:
+                    continue
+                for dx in range(-1, 2):
+                    x2 = cx + dx
+                    if x2 < 0 or x2 >= ncx:
+                        continue
+                    j = head[(z2 * ncy + y2) * ncx + x2]
+                    while j >= 0:
+                        if j > i:
+                            ddx = pos[j, 0] - pos[i, 0]
+                            ddy = pos[j, 1] - pos[i, 1]
+                            ddz = pos[j, 2] - pos[i, 2]
+                            rc = rad[i] + rad[j] + skin
+                            if ddx * ddx + ddy * ddy + ddz * ddz < rc * rc:
+                                if cnt >= cap:
+                                    return -1
+                                # insertion into the sorted segment of i
+                                k = cnt
+                                while k > nb_start[i] and nb_j[k - 1] > j:
+                                    nb_j[k] = nb_j[k - 1]
+                                    k -= 1
+                                nb_j[k] = j
+                                cnt += 1
+                        j = nxt[j]
+    nb_start[n] = cnt
+    return cnt
+
+
+@njit(cache=True)
+def carry_history(n, o_start, o_j, o_act, o_k, o_d, s_start, s_j, s_act, s_k, s_d):
+    """Copy the contact history of pairs present in both lists (old ``o_*`` -> new ``s_*``)."""
+    for i in range(n):
+        a = o_start[i]
+        a_end = o_start[i + 1]
+        for b in range(s_start[i], s_start[i + 1]):
+            jb = s_j[b]
+            while a < a_end and o_j[a] < jb:
+                a += 1
+            if a < a_end and o_j[a] == jb:
+                s_act[b] = o_act[a]
+                s_k[b] = o_k[a]
+                s_d[b] = o_d[a]
+            else:
+                s_act[b] = 0
+                s_k[b] = 0.0
+                s_d[b] = 0.0
+
+
+@njit(cache=True)
+def rebuild(pos, rad, zc, fp, ip, lists):
+    """Rebuild the Verlet list keeping the contact history; returns pair count or -1."""
+    (nb_start, nb_j, h_act, h_k, h_d, s_start, s_j, s_act, s_k, s_d, head, nxt,
+     pos_build) = lists
+    n = pos.shape[0]
+    cnt = build_verlet_list(pos, rad, zc, fp, ip, head, nxt, s_start, s_j)
+    if cnt < 0:
+        return -1
+    carry_history(n, nb_start, nb_j, h_act, h_k, h_d, s_start, s_j, s_act, s_k, s_d)
+    for i in range(n + 1):
+        nb_start[i] = s_start[i]
+    for b in range(cnt):
+        nb_j[b] = s_j[b]
+        h_act[b] = s_act[b]
+        h_k[b] = s_k[b]
+        h_d[b] = s_d[b]
+    for i in range(n):
+        pos_build[i, 0] = pos[i, 0]
+        pos_build[i, 1] = pos[i, 1]
+        pos_build[i, 2] = pos[i, 2]
+    return cnt
+
+
+@njit(cache=True)
+def needs_rebuild(pos, pos_build, skin):
+    """Rebuild criterion: some particle moved more than skin/2 since the last build."""
+    lim = 0.25 * skin * skin
+    for i in range(pos.shape[0]):
+        dx = pos[i, 0] - pos_build[i, 0]
+        dy = pos[i, 1] - pos_build[i, 1]
+        dz = pos[i, 2] - pos_build[i, 2]
+        if dx * dx + dy * dy + dz * dz > lim:
+            return True
+    return False
+
+
+# ======================================================================================
+# forces
+# ======================================================================================
+@njit(cache=True)
+def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, frc, trq,
+                   out):
+    """Forces and torques on all particles, force on the container, energy rates.
+
+    Parameters
+    ----------
+    pos, vel, omg : (n, 3) arrays
+        Positions [m], velocities [m/s], angular velocities [rad/s] (inertial frame).
+    zc, vc : float
+        Container position and velocity along z [m], [m/s].
+    part : tuple
+        ``(rad, mass, inertia, kwall, pmat)`` per particle.
+    mats : tuple
+        ``(estar, mu, cor_v, cor_e, cor_n)`` per material pair; sphere pair
+        ``a * nmat + b``, sphere of material ``a`` on the walls ``nmat^2 + a``.
+    lists : tuple
+        Verlet list and contact history (see :func:`rebuild`).
+    wall_hist : tuple
+        ``(w_act, w_d)`` (n, 6) history of the sphere-wall contacts.
+    frc, trq : (n, 3) arrays
+        Output: total force (gravity included) [N] and torque [N m].
+    out : (NOUT,) array
+        Output: see the module docstring.
+
+    Returns
+    -------
+    int
+        Number of contacts that started in this evaluation.
+    """
+    rad, mass, inertia, kwall, pmat = part
+    estar, mu, cor_v, cor_e, cor_n = mats
+    nb_start, nb_j, h_act, h_k, h_d = lists[0], lists[1], lists[2], lists[3], lists[4]
+    w_act, w_d = wall_hist
+    n = pos.shape[0]
+    g = fp[FP_G]
+    vreg = fp[FP_VREG]
+    vmin = fp[FP_VMIN]
+    model = ip[IP_MODEL]
+    nmat = ip[IP_NMAT]
+    lx = fp[FP_LX]
+    ly = fp[FP_LY]
+    lz = fp[FP_LZ]
+    fcx = 0.0
+    fcy = 0.0
+    fcz = 0.0
+    dn = 0.0
+    df = 0.0
+    wc = 0.0
+    eel = 0.0
+    ovl = 0.0
+    ttc = 1e300
+    vmax2 = 0.0
+    onsets = 0
+    for i in range(n):
+        frc[i, 0] = 0.0
+        frc[i, 1] = 0.0
+        frc[i, 2] = -mass[i] * g
+        trq[i, 0] = 0.0
+        trq[i, 1] = 0.0
+        trq[i, 2] = 0.0
+    # ---------------- sphere-sphere ----------------
+    for i in range(n):
+        ri = rad[i]
+        for b in range(nb_start[i], nb_start[i + 1]):
+            j = nb_j[b]
+            rj = rad[j]
+            dx = pos[j, 0] - pos[i, 0]
+            dy = pos[j, 1] - pos[i, 1]
+            dz = pos[j, 2] - pos[i, 2]
+            d2 = dx * dx + dy * dy + dz * dz
+            rs = ri + rj
+            if d2 >= rs * rs:
+                h_act[b] = 0
+                # time to contact (for the variable step)
+                dist = math.sqrt(d2)
+                app = ((vel[i, 0] - vel[j, 0]) * dx + (vel[i, 1] - vel[j, 1]) * dy
+                       + (vel[i, 2] - vel[j, 2]) * dz) / dist
+                if app > 0.0:
+                    tt = (dist - rs) / app
+                    if tt < ttc:
+                        ttc = tt
+                continue
+            dist = math.sqrt(d2)
+            nx = dx / dist
+            ny = dy / dist
+            nz = dz / dist
+            delta = rs - dist
+            # contact point velocity of i relative to j: v_i - v_j + (r_i w_i + r_j w_j) x n
+            wx = ri * omg[i, 0] + rj * omg[j, 0]
+            wy = ri * omg[i, 1] + rj * omg[j, 1]
+            wz = ri * omg[i, 2] + rj * omg[j, 2]
+            ux = vel[i, 0] - vel[j, 0] + wy * nz - wz * ny
+            uy = vel[i, 1] - vel[j, 1] + wz * nx - wx * nz
+            uz = vel[i, 2] - vel[j, 2] + wx * ny - wy * nx
+            ddot = ux * nx + uy * ny + uz * nz
+            p = pmat[i] * nmat + pmat[j]
+            if h_act[b] == 0:
+                h_act[b] = 1
+                h_k[b] = hertz_k(estar[p], ri * rj / rs)
+                h_d[b] = onset_damping(ddot, cor_v[p, :cor_n[p]], cor_e[p, :cor_n[p]], model,
+                                       vmin)
+                onsets += 1
+            fn, fel = normal_force(delta, ddot, h_k[b], h_d[b])
+            dn += (fn - fel) * ddot
+            eel += 0.4 * fel * delta
+            r = delta / min(ri, rj)
+            if r > ovl:
+                ovl = r
+            fx = -fn * nx
+            fy = -fn * ny
+            fz = -fn * nz
+            tx = ux - ddot * nx
+            ty = uy - ddot * ny
+            tz = uz - ddot * nz
+            vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+            if vt > 0.0 and mu[p] > 0.0:
+                ft = friction_magnitude(mu[p], fn, vt, vreg)
+                df += ft * vt
+                s = ft / vt
+                gx = -s * tx
+                gy = -s * ty
+                gz = -s * tz
+                fx += gx
+                fy += gy
+                fz += gz
+                # torque (-r n) x F on j equals (r_j/r_i) times torque r_i n x F on i
+                cx = ny * gz - nz * gy
+                cy = nz * gx - nx * gz
+                cz = nx * gy - ny * gx
+                trq[i, 0] += ri * cx
+                trq[i, 1] += ri * cy
+                trq[i, 2] += ri * cz
+                trq[j, 0] += rj * cx
+                trq[j, 1] += rj * cy
+                trq[j, 2] += rj * cz
+            frc[i, 0] += fx
+            frc[i, 1] += fy
+            frc[i, 2] += fz
+            frc[j, 0] -= fx
+            frc[j, 1] -= fy
+            frc[j, 2] -= fz
+    # ---------------- sphere-wall ----------------
+    nw = nmat * nmat
+    for i in range(n):
+        ri = rad[i]
+        v2 = vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2
+        if v2 > vmax2:
+            vmax2 = v2
+        p = nw + pmat[i]
+        for w in range(6):
+            axis = w // 2
+            if axis == 0:
+                gap = pos[i, 0] if w == 0 else lx - pos[i, 0]
+            elif axis == 1:
+                gap = pos[i, 1] if w == 2 else ly - pos[i, 1]
+            else:
+                gap = pos[i, 2] - zc if w == 4 else zc + lz - pos[i, 2]
+            sgn = -1.0 if w % 2 == 0 else 1.0
+            nx = sgn if axis == 0 else 0.0
+            ny = sgn if axis == 1 else 0.0
+            nz = sgn if axis == 2 else 0.0
+            # contact point velocity relative to the wall (wall velocity (0, 0, vc))
+            wx = ri * omg[i, 0]
+            wy = ri * omg[i, 1]
+            wz = ri * omg[i, 2]
+            ux = vel[i, 0] + wy * nz - wz * ny
+            uy = vel[i, 1] + wz * nx - wx * nz
+            uz = vel[i, 2] - vc + wx * ny - wy * nx
+            ddot = ux * nx + uy * ny + uz * nz
+            delta = ri - gap
+            if delta <= 0.0:
+                w_act[i, w] = 0
+                if ddot > 0.0:
+                    tt = -delta / ddot
+                    if tt < ttc:
+                        ttc = tt
+                continue
+            if w_act[i, w] == 0:
+                w_act[i, w] = 1
+                w_d[i, w] = onset_damping(ddot, cor_v[p, :cor_n[p]], cor_e[p, :cor_n[p]],
+                                          model, vmin)
+                onsets += 1
+            fn, fel = normal_force(delta, ddot, kwall[i], w_d[i, w])
+            dn += (fn - fel) * ddot
+            eel += 0.4 * fel * delta
+            r = delta / ri
+            if r > ovl:
+                ovl = r
+            fx = -fn * nx
+            fy = -fn * ny
+            fz = -fn * nz
+            tx = ux - ddot * nx
+            ty = uy - ddot * ny
+            tz = uz - ddot * nz
+            vt = math.sqrt(tx * tx + ty * ty + tz * tz)
+            if vt > 0.0 and mu[p] > 0.0:
+                ft = friction_magnitude(mu[p], fn, vt, vreg)
+                df += ft * vt
+                s = ft / vt
+                gx = -s * tx
+                gy = -s * ty
+                gz = -s * tz
+                fx += gx
+                fy += gy
+                fz += gz
+                trq[i, 0] += ri * (ny * gz - nz * gy)
+                trq[i, 1] += ri * (nz * gx - nx * gz)
+                trq[i, 2] += ri * (nx * gy - ny * gx)
+            frc[i, 0] += fx
+            frc[i, 1] += fy
+            frc[i, 2] += fz
+            fcx -= fx
+            fcy -= fy
+            fcz -= fz
+            wc += fz * vc
+    out[O_FX] = fcx
+    out[O_FY] = fcy
+    out[O_FZ] = fcz
+    out[O_DN] = dn
+    out[O_DF] = df
+    out[O_WC] = wc
+    out[O_EEL] = eel
+    out[O_OVL] = ovl
+    out[O_TTC] = ttc
+    out[O_VMAX] = math.sqrt(vmax2)
+    return onsets
+
+
+# ======================================================================================
+# sampling and checks
+# ======================================================================================
+@njit(cache=True)
+def record_sample(k, t, pos, vel, omg, part, fp, zc, vc, ac, out, led, samples, snaps, ip):
+    """Store sample ``k`` (state at time t) and, every ``snapshot_every`` samples, a snapshot.
+
+    ``led`` = (D_n, D_f, W_c) running integrals [J]. Returns an error code from the checks
+    (NaN, particle outside the container, energy blow-up).
+    """
+    rad, mass, inertia, kwall, pmat = part
+    ts, cont, fpc, com, en = samples
+    s_pos, s_vel, s_omg = snaps
+    n = pos.shape[0]
+    g = fp[FP_G]
+    ekt = 0.0
+    ekr = 0.0
+    epot = 0.0
+    mt = 0.0
+    cx = 0.0
+    cy = 0.0
+    cz = 0.0
+    err = ERR_NONE
+    lx = fp[FP_LX]
+    ly = fp[FP_LY]
+    lz = fp[FP_LZ]
+    for i in range(n):
+        m = mass[i]
+        ekt += 0.5 * m * (vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
+        ekr += 0.5 * inertia[i] * (omg[i, 0] ** 2 + omg[i, 1] ** 2 + omg[i, 2] ** 2)
+        epot += m * g * pos[i, 2]
+        mt += m
+        cx += m * pos[i, 0]
+        cy += m * pos[i, 1]
+        cz += m * pos[i, 2]
+        x = pos[i, 0]
+        y = pos[i, 1]
+        z = pos[i, 2] - zc
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)
+                and math.isfinite(vel[i, 0] + vel[i, 1] + vel[i, 2])):
+            return ERR_NAN
+        if x < 0.0 or x > lx or y < 0.0 or y > ly or z < 0.0 or z > lz:
+            err = ERR_ESCAPE
+    ts[k] = t
+    cont[k, 0] = zc
+    cont[k, 1] = vc
+    cont[k, 2] = ac
+    com[k, 0] = cx / mt
+    com[k, 1] = cy / mt
+    com[k, 2] = cz / mt
+    en[k, 0] = ekt
+    en[k, 1] = ekr
+    en[k, 2] = epot
+    en[k, 3] = out[O_EEL]
+    en[k, 4] = led[0]
+    en[k, 5] = led[1]
+    en[k, 6] = led[2]
+    every = ip[IP_SNAPEVERY]
+    if every > 0 and k % every == 0:
+        q = k // every
+        if q < s_pos.shape[0]:
+            for i in range(n):
+                for a in range(3):
+                    s_pos[q, i, a] = pos[i, a]
+                    s_vel[q, i, a] = vel[i, a]
+                    s_omg[q, i, a] = omg[i, a]
+    if err != ERR_NONE:
+        return err
+    # energy blow-up: the ledger residual must stay small against the energies in play
+    e0 = en[0, 0] + en[0, 1] + en[0, 2] + en[0, 3]
+    e1 = ekt + ekr + epot + out[O_EEL]
+    res = abs((e1 - e0) - (led[2] - led[0] - led[1]))
+    scale = (ekt + ekr + out[O_EEL] + en[0, 0] + en[0, 1] + en[0, 3] + abs(led[2]) + led[0]
+             + led[1] + mt * g * lz + mt * 1e-4)
+    if k > 0 and res > 0.5 * scale:
+        return ERR_ENERGY
+    return ERR_NONE
+
+
+@njit(cache=True)
+def close_window(k, t, t_win, imp, fpc):
+    """Mean force on the container over the sample window that ends at ``t``."""
+    span = t - t_win
+    if span > 0.0:
+        fpc[k, 0] = imp[0] / span
+        fpc[k, 1] = imp[1] / span
+        fpc[k, 2] = imp[2] / span
+    imp[0] = 0.0
+    imp[1] = 0.0
+    imp[2] = 0.0
+
+
+@njit(cache=True)
+def _struct_acc(fz, zc, vc, fp):
+    """1-DOF structure: M a = -K z - D v + F_z (force of the particles on it)."""
+    return (fz - fp[FP_SK] * zc - fp[FP_SD] * vc) / fp[FP_SM]
+
+
+# ======================================================================================
+# velocity Verlet
+# ======================================================================================
+@njit(cache=True)
+def run_verlet(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, work,
+               samples, snaps, stats, fstats):
+    """Integrate a whole run with velocity Verlet at the fixed step ``fp[FP_DT]``.
+
+    Samples are taken every ``2 * m`` steps, where ``m = fp[FP_HALF] / dt`` is an integer
+    (the caller chooses dt so). The velocities that enter the (velocity-dependent) forces are
+    predicted as ``v + dt a`` (second order); the update itself is the standard kick-drift-
+    kick scheme. ``cstate = (z_c, v_c, a_c)`` is read and written (structure mode).
+    """
+    rad, mass, inertia, kwall, pmat = part
+    frc, trq, vev, wev, out, led, imp = work
+    ts = samples[0]
+    fpc = samples[2]
+    n = pos.shape[0]
+    dt = fp[FP_DT]
+    t0 = fp[FP_T0]
+    half = fp[FP_HALF]
+    kind = ip[IP_MOTION]
+    nsamp = ip[IP_NSAMP]
+    m_half = int(round(half / dt))
+    total = 2 * (nsamp - 1) * m_half
+    skin = fp[FP_SKIN]
+    maxovl = fp[FP_MAXOVL]
+    vlim = fp[FP_VLIMIT]
+    if kind == MOTION_STRUCTURE:
+        zc = cstate[0]
+        vc = cstate[1]
+    else:
+        zc, vc, ac = prescribed_state(t0, kind, fp, tab)
+    if rebuild(pos, rad, zc, fp, ip, lists) < 0:
+        stats[S_ERR] = ERR_LIST
+        return
+    stats[S_REBUILDS] += 1
+    stats[S_ONSETS] += compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist,
+                                      fp, ip, frc, trq, out)
+    if kind == MOTION_STRUCTURE:
+        ac = _struct_acc(out[O_FZ], zc, vc, fp)
+    led[0] = 0.0
+    led[1] = 0.0
+    led[2] = 0.0
+    imp[0] = 0.0
+    imp[1] = 0.0
+    imp[2] = 0.0
+    e = record_sample(0, t0, pos, vel, omg, part, fp, zc, vc, ac, out, led, samples, snaps,
+                      ip)
+    if e != ERR_NONE:
+        stats[S_ERR] = e
+        fstats[F_TERR] = t0
+        return
+    t_win = t0
+    pdn = out[O_DN]
+    pdf = out[O_DF]
+    pwc = out[O_WC]
+    pfx = out[O_FX]
+    pfy = out[O_FY]
+    pfz = out[O_FZ]
+    hdt = 0.5 * dt
+    for step in range(1, total + 1):
+        t = t0 + step * dt
+        for i in range(n):
+            im = 1.0 / mass[i]
+            ii = 1.0 / inertia[i]
+            for a in range(3):
+                acc = frc[i, a] * im
+                vh = vel[i, a] + hdt * acc
+                vev[i, a] = vel[i, a] + dt * acc
+                vel[i, a] = vh
+                pos[i, a] += dt * vh
+                al = trq[i, a] * ii
+                wev[i, a] = omg[i, a] + dt * al
+                omg[i, a] += hdt * al
+        if kind == MOTION_STRUCTURE:
+            vch = vc + hdt * ac
+            vce = vc + dt * ac
+            zc += dt * vch
+        else:
+            zc, vce, ac = prescribed_state(t, kind, fp, tab)
+        if needs_rebuild(pos, lists[12], skin):
+            if rebuild(pos, rad, zc, fp, ip, lists) < 0:
+                stats[S_ERR] = ERR_LIST
+                fstats[F_TERR] = t
+                return
+            stats[S_REBUILDS] += 1
+        stats[S_ONSETS] += compute_forces(pos, vev, wev, zc, vce, part, mats, lists,
+                                          wall_hist, fp, ip, frc, trq, out)
+        for i in range(n):
+            im = 1.0 / mass[i]
+            ii = 1.0 / inertia[i]
+            for a in range(3):
+                vel[i, a] += hdt * frc[i, a] * im
+                omg[i, a] += hdt * trq[i, a] * ii
+        if kind == MOTION_STRUCTURE:
+            ac = _struct_acc(out[O_FZ], zc, vce, fp)
+            vc = vch + hdt * ac
+        else:
+            vc = vce
+        led[0] += hdt * (pdn + out[O_DN])
+        led[1] += hdt * (pdf + out[O_DF])
+        led[2] += hdt * (pwc + out[O_WC])
+        imp[0] += hdt * (pfx + out[O_FX])
+        imp[1] += hdt * (pfy + out[O_FY])
+        imp[2] += hdt * (pfz + out[O_FZ])
+        pdn = out[O_DN]
+        pdf = out[O_DF]
+        pwc = out[O_WC]
+        pfx = out[O_FX]
+        pfy = out[O_FY]
+        pfz = out[O_FZ]
+        stats[S_STEPS] += 1
+        if out[O_OVL] > fstats[F_OVL]:
+            fstats[F_OVL] = out[O_OVL]
+        if out[O_OVL] > maxovl or out[O_VMAX] > vlim or not math.isfinite(out[O_FZ]):
+            stats[S_ERR] = ERR_OVERLAP if out[O_OVL] > maxovl else (
+                ERR_SPEED if out[O_VMAX] > vlim else ERR_NAN)
+            fstats[F_TERR] = t
+            fstats[F_ERRVAL] = out[O_OVL] if out[O_OVL] > maxovl else out[O_VMAX]
+            break
+        if step % m_half == 0:
+            j = step // m_half
+            k = j // 2
+            if j % 2 == 1:
+                close_window(k, t, t_win, imp, fpc)
+                t_win = t
+            else:
+                e = record_sample(k, t, pos, vel, omg, part, fp, zc, vc, ac, out, led,
+                                  samples, snaps, ip)
+                if e != ERR_NONE:
+                    stats[S_ERR] = e
+                    fstats[F_TERR] = t
+                    break
+                if k == nsamp - 1:
+                    close_window(k, t, t_win, imp, fpc)
+    cstate[0] = zc
+    cstate[1] = vc
+    cstate[2] = ac
+    fstats[F_DTLO] = dt
+    fstats[F_DTHI] = dt
+    ts[0] = ts[0]
+
+
+# ======================================================================================
+# variable-step fifth-order Gear predictor-corrector
+# ======================================================================================
+@njit(cache=True)
+def _rescale(nx, nw, nc, ratio):
+    r = ratio
+    for k in range(1, 6):
+        for i in range(nx.shape[1]):
+            for a in range(3):
+                nx[k, i, a] *= r
+                if k < 5:
+                    nw[k, i, a] *= r
+        nc[k] *= r
+        r *= ratio
+
+
+@njit(cache=True)
+def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, work,
+             gwork, samples, snaps, stats, fstats):
+    """Integrate a whole run with the variable-step fifth-order Gear predictor-corrector.
+
+    Positions use the 6-value Nordsieck vector ``(x, h v, h^2 a/2, h^3 x'''/6, ...)`` of a
+    second-order ODE; angular velocities the 5-value vector of a first-order ODE (Euler's
+    equations of a sphere: ``I dw/dt = T``); the 1-DOF structure (if any) a 6-value vector.
+    After each step the step ``h`` is changed by ``0.9 (tol / err)^(1/6)`` (bounded to
+    [0.3, 1.5]), where ``err = max_i |corr_i| / (h (v_scale + |v_i|))`` is the local error
+    estimate from the corrector difference ``corr`` of the position; the Nordsieck vectors
+    are rescaled by ``ratio^k``. Steps are also bounded by the time to the next contact
+    (never below the contact step ``fp[FP_DTC]``), by ``skin / (4 v_max)``, by ``dt_max``,
+    and land exactly on the sample grid. ``ip[IP_ADAPTIVE] = 0`` keeps ``fp[FP_DT]`` fixed.
+    """
+    rad, mass, inertia, kwall, pmat = part
+    frc, trq, vev, wev, out, led, imp = work
+    nx, nw, nc = gwork
+    fpc = samples[2]
+    n = pos.shape[0]
+    t0 = fp[FP_T0]
+    half = fp[FP_HALF]
+    kind = ip[IP_MOTION]
+    nsamp = ip[IP_NSAMP]
+    adaptive = ip[IP_ADAPTIVE] != 0
+    skin = fp[FP_SKIN]
+    maxovl = fp[FP_MAXOVL]
+    vlim = fp[FP_VLIMIT]
+    tol = fp[FP_TOL]
+    vscale = fp[FP_VSCALE]
+    dtmin = fp[FP_DTMIN]
+    dtmax = fp[FP_DTMAX]
+    dtc = fp[FP_DTC]
+    h = fp[FP_DT]
+    structure = kind == MOTION_STRUCTURE
+    if structure:
+        zc = cstate[0]
+        vc = cstate[1]
+    else:
+        zc, vc, ac = prescribed_state(t0, kind, fp, tab)
+    if rebuild(pos, rad, zc, fp, ip, lists) < 0:
+        stats[S_ERR] = ERR_LIST
+        return
+    stats[S_REBUILDS] += 1
+    stats[S_ONSETS] += compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist,
+                                      fp, ip, frc, trq, out)
+    if structure:
+        ac = _struct_acc(out[O_FZ], zc, vc, fp)
+    for k in range(6):
+        nc[k] = 0.0
+        for i in range(n):
+            for a in range(3):
+                nx[k, i, a] = 0.0
+                if k < 5:
+                    nw[k, i, a] = 0.0
+    for i in range(n):
+        for a in range(3):
+            nx[0, i, a] = pos[i, a]
+            nx[1, i, a] = h * vel[i, a]
+            nx[2, i, a] = 0.5 * h * h * frc[i, a] / mass[i]
+            nw[0, i, a] = omg[i, a]
+            nw[1, i, a] = h * trq[i, a] / inertia[i]
+    nc[0] = zc
+    nc[1] = h * vc
+    nc[2] = 0.5 * h * h * ac
+    led[0] = 0.0
+    led[1] = 0.0
+    led[2] = 0.0
+    imp[0] = 0.0
+    imp[1] = 0.0
+    imp[2] = 0.0
+    e = record_sample(0, t0, pos, vel, omg, part, fp, zc, vc, ac, out, led, samples, snaps,
+                      ip)
+    if e != ERR_NONE:
+        stats[S_ERR] = e
+        fstats[F_TERR] = t0
+        return
+    t_win = t0
+    pdn = out[O_DN]
+    pdf = out[O_DF]
+    pwc = out[O_WC]
+    pfx = out[O_FX]
+    pfy = out[O_FY]
+    pfz = out[O_FZ]
+    t = t0
+    h_des = h
+    j_land = 0
+    total_half = 2 * (nsamp - 1)
+    dtlo = 1e300
+    dthi = 0.0
+    while j_land < total_half:
+        t_land = t0 + (j_land + 1) * half
+        hn = h_des
+        if adaptive:
+            lim = out[O_TTC]
+            if lim < dtc:
+                lim = dtc
+            if hn > lim:
+                hn = lim
+            if out[O_VMAX] > 0.0 and hn > 0.25 * skin / out[O_VMAX]:
+                hn = 0.25 * skin / out[O_VMAX]
+            if hn > dtmax:
+                hn = dtmax
+            if hn < dtmin:
+                hn = dtmin
+        landing = False
+        if t + hn >= t_land - 1e-9 * hn:
+            hn = t_land - t
+            landing = True
+        if hn != h:
+            _rescale(nx, nw, nc, hn / h)
+            h = hn
+        # ---- predict (Pascal triangle)
+        for i in range(n):
+            for a in range(3):
+                x0 = nx[0, i, a]
+                x1 = nx[1, i, a]
+                x2 = nx[2, i, a]
+                x3 = nx[3, i, a]
+                x4 = nx[4, i, a]
+                x5 = nx[5, i, a]
+                nx[0, i, a] = x0 + x1 + x2 + x3 + x4 + x5
+                nx[1, i, a] = x1 + 2.0 * x2 + 3.0 * x3 + 4.0 * x4 + 5.0 * x5
+                nx[2, i, a] = x2 + 3.0 * x3 + 6.0 * x4 + 10.0 * x5
+                nx[3, i, a] = x3 + 4.0 * x4 + 10.0 * x5
+                nx[4, i, a] = x4 + 5.0 * x5
+                pos[i, a] = nx[0, i, a]
+                vev[i, a] = nx[1, i, a] / h
+                w0 = nw[0, i, a]
+                w1 = nw[1, i, a]
+                w2 = nw[2, i, a]
+                w3 = nw[3, i, a]
+                w4 = nw[4, i, a]
+                nw[0, i, a] = w0 + w1 + w2 + w3 + w4
+                nw[1, i, a] = w1 + 2.0 * w2 + 3.0 * w3 + 4.0 * w4
+                nw[2, i, a] = w2 + 3.0 * w3 + 6.0 * w4
+                nw[3, i, a] = w3 + 4.0 * w4
+                wev[i, a] = nw[0, i, a]
+        tn = t_land if landing else t + h
+        if structure:
+            c0, c1, c2, c3, c4, c5 = nc[0], nc[1], nc[2], nc[3], nc[4], nc[5]
+            nc[0] = c0 + c1 + c2 + c3 + c4 + c5
+            nc[1] = c1 + 2.0 * c2 + 3.0 * c3 + 4.0 * c4 + 5.0 * c5
+            nc[2] = c2 + 3.0 * c3 + 6.0 * c4 + 10.0 * c5
+            nc[3] = c3 + 4.0 * c4 + 10.0 * c5
+            nc[4] = c4 + 5.0 * c5
+            zc = nc[0]
+            vc = nc[1] / h
+        else:
+            zc, vc, ac = prescribed_state(tn, kind, fp, tab)
+        if needs_rebuild(pos, lists[12], skin):
+            if rebuild(pos, rad, zc, fp, ip, lists) < 0:
+                stats[S_ERR] = ERR_LIST
+                fstats[F_TERR] = tn
+                return
+            stats[S_REBUILDS] += 1
+        stats[S_ONSETS] += compute_forces(pos, vev, wev, zc, vc, part, mats, lists,
+                                          wall_hist, fp, ip, frc, trq, out)
+        # ---- correct
+        err = 0.0
+        hh = 0.5 * h * h
+        for i in range(n):
+            im = 1.0 / mass[i]
+            ii = 1.0 / inertia[i]
+            c2 = 0.0
+            v2 = 0.0
+            for a in range(3):
+                corr = hh * frc[i, a] * im - nx[2, i, a]
+                nx[0, i, a] += G0 * corr
+                nx[1, i, a] += G1 * corr
+                nx[2, i, a] += corr
+                nx[3, i, a] += G3 * corr
+                nx[4, i, a] += G4 * corr
+                nx[5, i, a] += G5 * corr
+                c2 += corr * corr
+                pos[i, a] = nx[0, i, a]
+                vel[i, a] = nx[1, i, a] / h
+                v2 += vel[i, a] * vel[i, a]
+                cw = h * trq[i, a] * ii - nw[1, i, a]
+                nw[0, i, a] += H0 * cw
+                nw[1, i, a] += cw
+                nw[2, i, a] += H2 * cw
+                nw[3, i, a] += H3 * cw
+                nw[4, i, a] += H4 * cw
+                omg[i, a] = nw[0, i, a]
+            ei = math.sqrt(c2) / (h * (vscale + math.sqrt(v2)))
+            if ei > err:
+                err = ei
+        if structure:
+            ac = _struct_acc(out[O_FZ], zc, vc, fp)
+            corr = hh * ac - nc[2]
+            nc[0] += G0 * corr
+            nc[1] += G1 * corr
+            nc[2] += corr
+            nc[3] += G3 * corr
+            nc[4] += G4 * corr
+            nc[5] += G5 * corr
+            zc = nc[0]
+            vc = nc[1] / h
+            ec = abs(corr) / (h * (vscale + abs(vc)))
+            if ec > err:
+                err = ec
+        hl = 0.5 * h
+        led[0] += hl * (pdn + out[O_DN])
+        led[1] += hl * (pdf + out[O_DF])
+        led[2] += hl * (pwc + out[O_WC])
+        imp[0] += hl * (pfx + out[O_FX])
+        imp[1] += hl * (pfy + out[O_FY])
+        imp[2] += hl * (pfz + out[O_FZ])
+        pdn = out[O_DN]
+        pdf = out[O_DF]
+        pwc = out[O_WC]
+        pfx = out[O_FX]
+        pfy = out[O_FY]
+        pfz = out[O_FZ]
+        t = tn
+        stats[S_STEPS] += 1
+        if h < dtlo:
+            dtlo = h
+        if h > dthi:
+            dthi = h
+        if out[O_OVL] > fstats[F_OVL]:
+            fstats[F_OVL] = out[O_OVL]
+        if out[O_OVL] > maxovl or out[O_VMAX] > vlim or not math.isfinite(out[O_FZ]):
+            stats[S_ERR] = ERR_OVERLAP if out[O_OVL] > maxovl else (
+                ERR_SPEED if out[O_VMAX] > vlim else ERR_NAN)
+            fstats[F_TERR] = t
+            fstats[F_ERRVAL] = out[O_OVL] if out[O_OVL] > maxovl else out[O_VMAX]
+            break
+        # ---- step-size control
+        if adaptive:
+            if err > 0.0:
+                fac = 0.9 * (tol / err) ** (1.0 / 6.0)
+            else:
+                fac = 1.5
+            if fac > 1.5:
+                fac = 1.5
+            if fac < 0.3:
+                fac = 0.3
+            hnew = h * fac
+            if landing and hnew > h_des:
+                hnew = h_des
+            if hnew > dtmax:
+                hnew = dtmax
+            if hnew < dtmin:
+                hnew = dtmin
+            h_des = hnew
+        if landing:
+            j_land += 1
+            k = j_land // 2
+            if j_land % 2 == 1:
+                close_window(k, t, t_win, imp, fpc)
+                t_win = t
+            else:
+                e = record_sample(k, t, pos, vel, omg, part, fp, zc, vc, ac, out, led,
+                                  samples, snaps, ip)
+                if e != ERR_NONE:
+                    stats[S_ERR] = e
+                    fstats[F_TERR] = t
+                    break
+                if k == nsamp - 1:
+                    close_window(k, t, t_win, imp, fpc)
+    cstate[0] = zc
+    cstate[1] = vc
+    cstate[2] = ac
+    fstats[F_DTLO] = dtlo
+    fstats[F_DTHI] = dthi
+
+
+def empty_samples(nsamp: int, nsnap: int, n: int):
+    """Preallocated sample and snapshot arrays for the run kernels."""
+    samples = (np.zeros(nsamp), np.zeros((nsamp, 3)), np.zeros((nsamp, 3)),
+               np.zeros((nsamp, 3)), np.zeros((nsamp, 7)))
+    snaps = (np.zeros((nsnap, n, 3)), np.zeros((nsnap, n, 3)), np.zeros((nsnap, n, 3)))
+    return samples, snaps

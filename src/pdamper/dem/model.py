@@ -1,0 +1,293 @@
+"""Inputs of a DEM run: container, particles, contact parameters, container motion.
+
+All quantities are SI floats. The container frame has ``x in [0, Lx]``, ``y in [0, Ly]``,
+``z in [0, Lz]`` with ``z`` up (against gravity); particle positions given to
+:class:`ParticleSet` are in that frame.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pdamper.contact.forces import DEFAULT_MIN_IMPACT_VELOCITY, DEFAULT_REGULARISATION_VELOCITY
+from pdamper.contact.restitution import ConstantRestitution, RestitutionCurve
+from pdamper.errors import InputError, check_range
+from pdamper.materials import PVC, S235, Material
+
+#: Inner dimensions of the paper's benchmark container (40 x 40 x 120 mm, 120 mm vertical) [m].
+BENCHMARK_BOX = (0.040, 0.040, 0.120)
+#: Radius of the paper's steel spheres [m].
+BENCHMARK_RADIUS = 0.005
+
+
+@dataclass(frozen=True)
+class Container:
+    """A rectangular box container.
+
+    Parameters
+    ----------
+    box
+        Inner dimensions ``(Lx, Ly, Lz)`` [m]; ``Lz`` is vertical.
+    material
+        Wall material (all six walls).
+    mass
+        Container mass m_con [kg]; only enters the complex power's effective mass (Eq. 4).
+    """
+
+    box: tuple[float, float, float] = BENCHMARK_BOX
+    material: Material = PVC
+    mass: float = 0.0
+
+    def __post_init__(self) -> None:
+        if len(self.box) != 3:
+            raise InputError("container.box", "needs three inner dimensions (Lx, Ly, Lz) in m")
+        for name, v in zip("xyz", self.box, strict=True):
+            check_range(f"container.box.L{name}", v, low=0.0, low_inclusive=False, unit="m")
+        check_range("container.mass", self.mass, low=0.0, unit="kg")
+        object.__setattr__(self, "box", tuple(float(v) for v in self.box))
+
+
+@dataclass
+class ParticleSet:
+    """Spheres with per-particle radius and material.
+
+    Parameters
+    ----------
+    positions
+        Centres in the container frame, shape ``(n, 3)`` [m].
+    radius
+        One radius or one per particle [m].
+    material
+        One material or one per particle.
+    velocities, angular_velocities
+        Initial values, shape ``(n, 3)`` [m/s], [rad/s]; zero if omitted.
+    """
+
+    positions: np.ndarray
+    radius: float | Sequence[float] | np.ndarray = BENCHMARK_RADIUS
+    material: Material | Sequence[Material] = S235
+    velocities: np.ndarray | None = None
+    angular_velocities: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        pos = np.array(self.positions, dtype=float, ndmin=2)
+        if pos.ndim != 2 or pos.shape[1] != 3 or pos.shape[0] < 1:
+            raise InputError("particles.positions", "must have shape (n, 3) with n >= 1")
+        if not np.all(np.isfinite(pos)):
+            raise InputError("particles.positions", "must be finite")
+        n = pos.shape[0]
+        self.positions = pos
+        r = np.broadcast_to(np.asarray(self.radius, dtype=float), (n,)).copy()
+        if np.any(~np.isfinite(r)) or np.any(r <= 0):
+            raise InputError("particles.radius", "must be finite and > 0 m")
+        self.radius = r
+        for name in ("velocities", "angular_velocities"):
+            v = getattr(self, name)
+            v = np.zeros((n, 3)) if v is None else np.array(v, dtype=float)
+            if v.shape != (n, 3) or not np.all(np.isfinite(v)):
+                raise InputError(f"particles.{name}", f"must be finite with shape ({n}, 3)")
+            setattr(self, name, v)
+        mats = [self.material] * n if isinstance(self.material, Material) else list(self.material)
+        if len(mats) != n or not all(isinstance(m, Material) for m in mats):
+            raise InputError("particles.material", f"one Material or {n} of them")
+        self.material = mats
+
+    @property
+    def count(self) -> int:
+        """Number of particles n."""
+        return self.positions.shape[0]
+
+    @property
+    def masses(self) -> np.ndarray:
+        """m = 4/3 pi r^3 rho [kg]."""
+        rho = np.array([m.density for m in self.material])
+        return 4.0 / 3.0 * math.pi * self.radius**3 * rho
+
+    @property
+    def inertia(self) -> np.ndarray:
+        """Moment of inertia of a solid sphere, 2/5 m r^2 [kg m^2]."""
+        return 0.4 * self.masses * self.radius**2
+
+    @classmethod
+    def lattice(cls, n: int, box: Sequence[float] = BENCHMARK_BOX,
+                radius: float = BENCHMARK_RADIUS, material: Material = S235,
+                gap: float = 0.0) -> ParticleSet:
+        """The paper's regular lattice layers (4 x 4 per layer in the benchmark box)."""
+        from pdamper.dem.packing import lattice_layers
+
+        return cls(lattice_layers(n, radius, box, gap), radius, material)
+
+    @classmethod
+    def random(cls, n: int, box: Sequence[float] = BENCHMARK_BOX,
+               radius: float = BENCHMARK_RADIUS, material: Material = S235,
+               seed: int = 0) -> ParticleSet:
+        """Random non-overlapping packing, reproducible from ``seed``."""
+        from pdamper.dem.packing import random_packing
+
+        return cls(random_packing(n, radius, box, seed), radius, material)
+
+
+@dataclass(frozen=True)
+class ContactParameters:
+    """Contact law parameters (paper Sect. 3).
+
+    Parameters
+    ----------
+    restitution_pp, restitution_pw
+        COR curves ``e(v_impact)`` of sphere-sphere and sphere-wall contacts (defaults:
+        constant 0.6 and 0.85, the benchmark values of NOTES.md).
+    friction_pp, friction_pw
+        Coulomb friction coefficients mu [-] (paper: 0.1 everywhere).
+    pairs
+        Optional per-material-pair curves, keyed by a pair of material names (order does
+        not matter; the wall material name for sphere-wall pairs); they override the two
+        defaults above.
+    damping_model
+        ``"exact"`` (default): damping from the exact closed-form COR relation;
+        ``"gonthier"``: Gonthier's approximation ``(1 - e^2)/e`` (the paper's choice).
+    regularisation_velocity
+        v_reg of the tanh friction law [m/s] (default 0.01 m/s).
+    min_impact_velocity
+        Floor of the onset speed that sets the damping parameter [m/s] (default 1e-3 m/s).
+    """
+
+    restitution_pp: RestitutionCurve = field(default_factory=lambda: ConstantRestitution(0.6))
+    restitution_pw: RestitutionCurve = field(default_factory=lambda: ConstantRestitution(0.85))
+    friction_pp: float = 0.1
+    friction_pw: float = 0.1
+    pairs: Mapping[tuple[str, str], RestitutionCurve] = field(default_factory=dict)
+    damping_model: str = "exact"
+    regularisation_velocity: float = DEFAULT_REGULARISATION_VELOCITY
+    min_impact_velocity: float = DEFAULT_MIN_IMPACT_VELOCITY
+
+    def __post_init__(self) -> None:
+        check_range("friction_pp", self.friction_pp, low=0.0)
+        check_range("friction_pw", self.friction_pw, low=0.0)
+        check_range("regularisation_velocity", self.regularisation_velocity, low=0.0,
+                    low_inclusive=False, unit="m/s")
+        check_range("min_impact_velocity", self.min_impact_velocity, low=0.0,
+                    low_inclusive=False, unit="m/s")
+        if self.damping_model not in ("exact", "gonthier"):
+            raise InputError("damping_model", f"must be 'exact' or 'gonthier', got "
+                             f"{self.damping_model!r}")
+        for name in ("restitution_pp", "restitution_pw"):
+            if not isinstance(getattr(self, name), RestitutionCurve):
+                raise InputError(name, "must be a RestitutionCurve (e.g. ConstantRestitution)")
+
+    def curve(self, a: str, b: str, wall: bool) -> RestitutionCurve:
+        """COR curve of the material pair (a, b)."""
+        for key, c in self.pairs.items():
+            if {str(key[0]).lower(), str(key[1]).lower()} == {a.lower(), b.lower()}:
+                return c
+        return self.restitution_pw if wall else self.restitution_pp
+
+
+@dataclass(frozen=True)
+class HarmonicMotion:
+    """Prescribed harmonic container motion x_c = X sin(W t), W = 2 pi f (paper Sect. 3).
+
+    Parameters
+    ----------
+    amplitude
+        X [m] (>= 0; 0 keeps the container at rest).
+    frequency
+        f [Hz].
+    """
+
+    amplitude: float = 0.0
+    frequency: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_range("amplitude", self.amplitude, low=0.0, unit="m")
+        check_range("frequency", self.frequency, low=0.0, unit="Hz")
+
+    @property
+    def angular_frequency(self) -> float:
+        """W = 2 pi f [rad/s]."""
+        return 2.0 * math.pi * self.frequency
+
+    def state(self, t):
+        """(x_c, v_c, a_c) at time(s) t [s]."""
+        w = self.angular_frequency
+        return (self.amplitude * np.sin(w * t), self.amplitude * w * np.cos(w * t),
+                -self.amplitude * w * w * np.sin(w * t))
+
+
+@dataclass(frozen=True)
+class PrescribedMotion:
+    """Any prescribed container motion x_c(t) along z.
+
+    The callables are sampled on a uniform grid of ``sample_interval`` for the kernels and
+    interpolated linearly there. Missing derivatives are taken numerically.
+
+    Parameters
+    ----------
+    position
+        ``x_c(t)`` [m], vectorised over a numpy array of times [s].
+    velocity, acceleration
+        Optional ``v_c(t)`` [m/s], ``a_c(t)`` [m/s^2].
+    sample_interval
+        Grid step [s] (default 1e-6 s).
+    """
+
+    position: Callable
+    velocity: Callable | None = None
+    acceleration: Callable | None = None
+    sample_interval: float = 1e-6
+
+    def table(self, duration: float):
+        """Sampled ``(t, z, v, a)`` over [0, duration]."""
+        h = float(self.sample_interval)
+        nt = int(math.ceil(duration / h)) + 3
+        t = np.arange(nt) * h
+        z = np.asarray(self.position(t), dtype=float) * np.ones(nt)
+        v = (np.gradient(z, h) if self.velocity is None
+             else np.asarray(self.velocity(t), dtype=float) * np.ones(nt))
+        a = (np.gradient(v, h) if self.acceleration is None
+             else np.asarray(self.acceleration(t), dtype=float) * np.ones(nt))
+        if not (np.all(np.isfinite(z)) and np.all(np.isfinite(v)) and np.all(np.isfinite(a))):
+            raise InputError("motion.position", "the container motion must be finite")
+        return t, z, v, a
+
+
+@dataclass(frozen=True)
+class StructureMotion:
+    """The container as the end effector of a 1-DOF structure (the paper's model 1).
+
+    ``M x'' + D x' + K x = F_z``, where ``F_z`` is the force that the particles exert on
+    the container; the structure is integrated together with the particles. ``x`` is measured
+    from the static equilibrium of the structure without particles, so gravity does not act
+    on M (the particles' weight acts through F_z).
+
+    Parameters
+    ----------
+    mass, damping, stiffness
+        M [kg], D [kg/s], K [N/m] (e.g. 1.514, 0.55, 1848: NOTES.md Level III).
+    x0, v0
+        Initial position [m] and velocity [m/s] at release.
+    """
+
+    mass: float
+    damping: float
+    stiffness: float
+    x0: float = 0.0
+    v0: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_range("structure.mass", self.mass, low=0.0, low_inclusive=False, unit="kg")
+        check_range("structure.damping", self.damping, low=0.0, unit="kg/s")
+        check_range("structure.stiffness", self.stiffness, low=0.0, unit="N/m")
+        check_range("structure.x0", self.x0, unit="m")
+        check_range("structure.v0", self.v0, unit="m/s")
+
+    @property
+    def natural_frequency(self) -> float:
+        """sqrt(K/M) / (2 pi) [Hz]."""
+        return math.sqrt(self.stiffness / self.mass) / (2.0 * math.pi)
+
+
+Motion = HarmonicMotion | PrescribedMotion | StructureMotion

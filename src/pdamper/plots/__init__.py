@@ -1,0 +1,23 @@
+"""Figures of the paper, from labelled results.
+
+Every function takes ``ax=None`` (a new figure is made when None), returns the Axes and
+never shows or saves. matplotlib is imported here only.
+"""
+
+from pdamper.plots.figures import (
+    plot_bed_trajectory,
+    plot_damping_ratio,
+    plot_free_vibration,
+    plot_loss_factor_map,
+    plot_mode_map,
+    plot_optimization,
+)
+
+__all__ = [
+    "plot_bed_trajectory",
+    "plot_damping_ratio",
+    "plot_free_vibration",
+    "plot_loss_factor_map",
+    "plot_mode_map",
+    "plot_optimization",
+]
