@@ -43,7 +43,7 @@ from pdamper.contact.restitution import cor_at
 DEFAULT_REGULARISATION_VELOCITY = 0.01
 #: Default lower bound of the onset speed used to set the damping parameter [m/s]; contacts
 #: that form more gently are damped as if they had hit at this speed (keeps d finite).
-DEFAULT_MIN_IMPACT_VELOCITY = 1e-3
+DEFAULT_MIN_IMPACT_VELOCITY = 1e-2
 
 #: Integer codes of the damping models for the kernels.
 DAMPING_EXACT = 0

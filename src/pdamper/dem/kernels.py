@@ -67,7 +67,8 @@ IP_MOTION = 5
 IP_SNAPEVERY = 6
 IP_ADAPTIVE = 7
 IP_NSAMP = 8
-NIP = 9
+IP_TTC = 9
+NIP = 10
 
 MOTION_HARMONIC = 0
 MOTION_TABLE = 1
@@ -112,6 +113,10 @@ ERR_SPEED = 6
 
 # Gear coefficients (Gear 1971; Allen & Tildesley, App. E): 6-value Nordsieck vector of a
 # second-order ODE, with 3/20 instead of 3/16 because the forces depend on the velocities.
+VPRED = 1.0
+#: fast-math flags of the hot kernels: contractions and reassociation only, no
+#: 'finite-math' assumptions, so that NaN checks keep working
+FASTMATH = {"contract", "reassoc", "nsz", "arcp"}
 G0 = 3.0 / 20.0
 G1 = 251.0 / 360.0
 G3 = 11.0 / 18.0
@@ -289,7 +294,7 @@ def needs_rebuild(pos, pos_build, skin):
 # ======================================================================================
 # forces
 # ======================================================================================
-@njit(cache=True)
+@njit(cache=True, fastmath=FASTMATH)
 def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, frc, trq,
                    out):
     """Forces and torques on all particles, force on the container, energy rates.
@@ -329,6 +334,7 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
     vmin = fp[FP_VMIN]
     model = ip[IP_MODEL]
     nmat = ip[IP_NMAT]
+    want_ttc = ip[IP_TTC] != 0
     lx = fp[FP_LX]
     ly = fp[FP_LY]
     lz = fp[FP_LZ]
@@ -363,6 +369,8 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
             rs = ri + rj
             if d2 >= rs * rs:
                 h_act[b] = 0
+                if not want_ttc:
+                    continue
                 # time to contact (for the variable step)
                 dist = math.sqrt(d2)
                 app = ((vel[i, 0] - vel[j, 0]) * dx + (vel[i, 1] - vel[j, 1]) * dy
@@ -619,7 +627,7 @@ def _struct_acc(fz, zc, vc, fp):
 # ======================================================================================
 # velocity Verlet
 # ======================================================================================
-@njit(cache=True)
+@njit(cache=True, fastmath=FASTMATH)
 def run_verlet(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, work,
                samples, snaps, stats, fstats):
     """Integrate a whole run with velocity Verlet at the fixed step ``fp[FP_DT]``.
@@ -685,11 +693,11 @@ def run_verlet(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab,
             for a in range(3):
                 acc = frc[i, a] * im
                 vh = vel[i, a] + hdt * acc
-                vev[i, a] = vel[i, a] + dt * acc
+                vev[i, a] = vel[i, a] + VPRED * dt * acc
                 vel[i, a] = vh
                 pos[i, a] += dt * vh
                 al = trq[i, a] * ii
-                wev[i, a] = omg[i, a] + dt * al
+                wev[i, a] = omg[i, a] + VPRED * dt * al
                 omg[i, a] += hdt * al
         if kind == MOTION_STRUCTURE:
             vch = vc + hdt * ac
@@ -757,7 +765,6 @@ def run_verlet(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab,
     cstate[2] = ac
     fstats[F_DTLO] = dt
     fstats[F_DTHI] = dt
-    ts[0] = ts[0]
 
 
 # ======================================================================================
@@ -776,7 +783,7 @@ def _rescale(nx, nw, nc, ratio):
         r *= ratio
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=FASTMATH)
 def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, work,
              gwork, samples, snaps, stats, fstats):
     """Integrate a whole run with the variable-step fifth-order Gear predictor-corrector.
@@ -882,9 +889,14 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
             if hn < dtmin:
                 hn = dtmin
         landing = False
-        if t + hn >= t_land - 1e-9 * hn:
-            hn = t_land - t
+        rem = t_land - t
+        if hn >= rem - 1e-9 * hn:
+            hn = rem
             landing = True
+        elif 2.0 * hn > rem:
+            # split what is left evenly: no tiny step before the landing (a tiny step would
+            # amplify the noise of the higher Nordsieck derivatives on the next rescaling)
+            hn = 0.5 * rem
         if hn != h:
             _rescale(nx, nw, nc, hn / h)
             h = hn

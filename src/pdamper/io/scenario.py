@@ -142,7 +142,8 @@ def _material(spec, field: str):
 
 def _first_error(exc: ValidationError) -> InputError:
     err = exc.errors()[0]
-    loc = ".".join(str(p) for p in err["loc"] if not str(p).startswith(("function-", "str")))
+    loc = ".".join(str(p) for p in err["loc"]
+                   if str(p) not in ("str", "MaterialSpec") and not str(p).startswith("function-"))
     msg = err["msg"].removeprefix("Value error, ")
     if err["type"] == "extra_forbidden":
         msg = "unknown key (check the spelling; `pdamper example-scenario` lists the keys)"

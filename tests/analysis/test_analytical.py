@@ -1,0 +1,204 @@
+"""Analytical bed model, paper Sect. 3.1 (Eqs. 5-22)."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from pdamper.analysis.analytical import (
+    ETA_MAX,
+    SOLID_LOSS_FACTOR,
+    bed_response,
+    bed_trajectory,
+    clearance_from_count,
+    optimal_stroke,
+)
+from pdamper.analysis.modes import EFFECTIVE_MASS_RATIO, MotionMode
+from pdamper.errors import InputError
+
+G = 9.81
+H = 0.1
+M_BED = 0.132
+
+
+@pytest.mark.parametrize(
+    ("x", "f", "mode"),
+    [
+        (0.015, 4.0, MotionMode.SOLID),
+        (0.015, 6.0, MotionMode.SINGLE_CAC_HARMONIC),
+        (0.015, 10.0, MotionMode.SINGLE_CAC_SUBHARMONIC),
+        (0.050, 18.0, MotionMode.DOUBLE_CAC_HARMONIC),
+        (0.020, 18.0, MotionMode.DOUBLE_CAC_SUBHARMONIC),
+        (0.015, 14.0, MotionMode.SCATTERING),
+    ],
+    ids=["1-solid", "2i-single-harmonic", "2ii-single-subharmonic", "3i-double-harmonic",
+         "3ii-double-top-harmonic-bottom-subharmonic", "3iii-subharmonic-top-scattering"],
+)
+def test_fig4_example_points_classify_as_in_the_paper(x, f, mode):
+    """Paper Fig. 4 / NOTES.md: the six example points at h = 0.1 m."""
+    r = bed_response(f, x, H, M_BED)
+    assert MotionMode(int(r.mode)) is mode
+
+
+def test_fig4_subharmonic_single_cac_has_ns_1_and_kappa_half():
+    """Eq. (12): 15 mm / 10 Hz lands in the second cycle, n_s = 1, E~ halved (kappa)."""
+    r = bed_response(10.0, 0.015, H, M_BED)
+    assert int(r.subharmonic_order) == 1
+    assert 2.5 * math.pi < float(r.bottom_impact_phase) < 4.5 * math.pi
+    dv = float(r.relative_velocity_bottom)
+    assert float(r.dissipated_energy_per_cycle) == pytest.approx(0.5 * 0.5 * M_BED * dv**2)
+
+
+@pytest.mark.parametrize("gamma", [1e3, 1e4])
+def test_zero_gravity_limit_at_optimal_stroke_gives_4_over_pi(gamma):
+    """Eqs. (19)-(21): for A >> g at X = X_opt = h/pi the top impact is at W t = pi,
+    E~ = 4 m V^2 and eta -> 4/pi."""
+    x = optimal_stroke(H)
+    f = math.sqrt(gamma * G / x) / (2 * math.pi)
+    r = bed_response(f, x, H, M_BED)
+    assert MotionMode(int(r.mode)) is MotionMode.DOUBLE_CAC_HARMONIC
+    assert float(r.loss_factor) == pytest.approx(ETA_MAX, rel=5.0 / gamma)
+    assert float(r.top_impact_phase) == pytest.approx(math.pi, abs=10.0 / gamma)
+    v = x * 2 * math.pi * f
+    assert float(r.dissipated_energy_per_cycle) == pytest.approx(4 * M_BED * v**2, rel=5.0 / gamma)
+
+
+def test_eta_never_exceeds_the_collect_and_collide_maximum():
+    """Eq. (21): 4/pi bounds every mode on the paper's 2-20 Hz x 1-200 mm range."""
+    f = np.linspace(2, 20, 60)[:, None]
+    x = np.linspace(0.001, 0.2, 120)[None, :]
+    eta = bed_response(f, x, H, M_BED).loss_factor
+    assert eta.shape == (60, 120)
+    assert np.all(eta <= ETA_MAX + 1e-9)
+    assert np.all(eta >= 0)
+
+
+def test_solid_like_below_one_g_with_eq8_dissipation():
+    """Sect. 3.1.1.1: A < g is solid-like with E~ = pi/1000 m V^2 (Eq. 8)."""
+    f = np.linspace(2, 20, 30)[:, None]
+    w = 2 * np.pi * f
+    x = G / w**2 * np.linspace(0.05, 0.99, 20)[None, :]
+    r = bed_response(f, x, H, M_BED)
+    assert np.all(r.mode == MotionMode.SOLID)
+    v = x * w
+    np.testing.assert_allclose(r.dissipated_energy_per_cycle, math.pi / 1000 * M_BED * v**2)
+    np.testing.assert_allclose(r.loss_factor, SOLID_LOSS_FACTOR)
+    np.testing.assert_allclose(r.effective_mass_ratio, 0.75)  # Eq. (22)
+
+
+def test_take_off_just_above_one_g():
+    """Eq. (5): take-off once A > g, at sin(W t_off) = g / A."""
+    f = 5.0
+    w = 2 * math.pi * f
+    x = 1.2 * G / w**2
+    r = bed_response(f, x, H, M_BED)
+    assert MotionMode(int(r.mode)) is MotionMode.SINGLE_CAC_HARMONIC
+    assert math.sin(float(r.takeoff_phase)) == pytest.approx(1 / 1.2)
+
+
+@pytest.mark.parametrize("f", [3.0, 5.5, 8.0, 12.0, 18.0])
+def test_loss_factor_jumps_only_at_mode_changes_and_grazing(f):
+    """eta is continuous where the physics is. Every jump on a stroke sweep is bisected
+    down to dX ~ 1e-12 m: a jump that survives must be a change of mode (or n_s), or a
+    grazing bifurcation, where a new tangential touch makes the first bottom impact jump
+    to an earlier phase; every other jump must vanish under refinement."""
+    x = np.linspace(0.0005, 0.2, 2000)
+    r = bed_response(f, x, H, M_BED)
+    assert len(set(r.mode.tolist())) >= 3  # the sweep crosses mode boundaries
+    for k in np.flatnonzero(np.abs(np.diff(r.loss_factor)) > 0.02):
+        a, b = x[k], x[k + 1]
+        ea, eb = r.loss_factor[k], r.loss_factor[k + 1]
+        for _ in range(36):
+            m = 0.5 * (a + b)
+            em = float(bed_response(f, m, H, M_BED).loss_factor)
+            if abs(em - ea) >= abs(eb - em):
+                b, eb = m, em
+            else:
+                a, ea = m, em
+        ra, rb = bed_response(f, a, H, M_BED), bed_response(f, b, H, M_BED)
+        jump = abs(float(rb.loss_factor) - float(ra.loss_factor))
+        if jump < 1e-3:
+            continue  # steep but continuous
+        mode_change = (int(ra.mode) != int(rb.mode)
+                       or int(ra.subharmonic_order) != int(rb.subharmonic_order))
+        grazing = abs(float(rb.bottom_impact_phase) - float(ra.bottom_impact_phase)) > 0.5
+        assert mode_change or grazing, f"jump {jump:.3f} at X = {a * 1e3:.4f} mm"
+
+
+def test_single_cac_impact_matches_independent_root_finding():
+    """Eqs. (9)-(11) in SI units, solved by brentq: impact time and relative velocity."""
+    f, x = 6.0, 0.015
+    w = 2 * math.pi * f
+    t_off = math.asin(G / (x * w * w)) / w
+    x_off, v_off = x * math.sin(w * t_off), x * w * math.cos(w * t_off)
+
+    def gap(t):
+        dt = t - t_off
+        return x_off + v_off * dt - 0.5 * G * dt * dt - x * math.sin(w * t)
+
+    ts = np.linspace(t_off + 1e-4, t_off + 2 / f, 20000)
+    k = np.flatnonzero(np.array([gap(t) for t in ts]) <= 0)[0]
+    t_imp = brentq(gap, ts[k - 1], ts[k])
+    dv = v_off - G * (t_imp - t_off) - x * w * math.cos(w * t_imp)
+    r = bed_response(f, x, H, M_BED)
+    assert float(r.bottom_impact_phase) == pytest.approx(w * t_imp, rel=1e-9)
+    assert float(r.relative_velocity_bottom) == pytest.approx(dv, rel=1e-7)
+    assert float(r.dissipated_energy_per_cycle) == pytest.approx(0.5 * M_BED * dv**2, rel=1e-7)
+
+
+def test_double_cac_pins_bed_to_lid_while_lid_decelerates_faster_than_g():
+    """Eq. (13): release from the lid at max(t_imp, pi/W - t_off)."""
+    r = bed_response(18.0, 0.050, H, M_BED)
+    phi0, st, tt = (float(r.takeoff_phase), float(r.top_impact_phase),
+                    float(r.top_release_phase))
+    assert st < math.pi - phi0
+    assert tt == pytest.approx(math.pi - phi0)
+
+
+def test_effective_mass_ratio_follows_eq22():
+    """Eq. (22) per motion mode."""
+    pts = [(0.015, 4.0), (0.015, 6.0), (0.015, 10.0), (0.05, 18.0), (0.02, 18.0), (0.015, 14.0)]
+    for x, f in pts:
+        r = bed_response(f, x, H, M_BED)
+        assert float(r.effective_mass_ratio) == EFFECTIVE_MASS_RATIO[MotionMode(int(r.mode))]
+
+
+def test_fig4_trajectory_stays_between_the_walls_and_ends_on_the_bottom():
+    """Fig. 4: bed between bottom and top, flight is a parabola, ends at bottom impact."""
+    tr = bed_trajectory(18.0, 0.050, H)
+    assert np.all(tr.bed >= tr.container_bottom - 1e-9)
+    assert np.all(tr.bed <= tr.container_top + 1e-9)
+    assert tr.bed[-1] == pytest.approx(tr.container_bottom[-1], abs=1e-6)
+    # free flight after take-off: second difference = -g dt^2
+    r = tr.response
+    t_off = float(r.takeoff_phase) / (2 * math.pi * 18.0)
+    t_st = float(r.top_impact_phase) / (2 * math.pi * 18.0)
+    sel = (tr.time > t_off + 1e-3) & (tr.time < t_st - 1e-3)
+    dt = tr.time[1] - tr.time[0]
+    acc = np.diff(tr.bed[sel], 2) / dt**2
+    np.testing.assert_allclose(acc, -G, rtol=1e-5)
+
+
+def test_clearance_from_particle_count_of_the_benchmark_container():
+    """Sect. 3.1.1: h = L (1 - n_p / n_max), 32 spheres -> 100 mm, X_opt = 31.8 mm."""
+    assert clearance_from_count(32, 192, 0.12) == pytest.approx(0.1)
+    assert optimal_stroke(0.1) == pytest.approx(0.0318, abs=1e-4)
+    with pytest.raises(InputError, match="particles.count"):
+        clearance_from_count(200, 192, 0.12)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "field"),
+    [
+        ({"frequency": 0.0}, "frequency"),
+        ({"frequency": -1.0}, "frequency"),
+        ({"amplitude": -0.01}, "amplitude"),
+        ({"amplitude": float("nan")}, "amplitude"),
+        ({"clearance": -0.1}, "clearance"),
+    ],
+)
+def test_bad_input_names_the_field(kwargs, field):
+    args = {"frequency": 10.0, "amplitude": 0.03, "clearance": H, "bed_mass": M_BED, **kwargs}
+    with pytest.raises(InputError, match=field):
+        bed_response(**args)

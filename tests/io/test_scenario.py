@@ -1,0 +1,67 @@
+"""Scenario files: units at the edge, validation with one-line errors."""
+
+import tomllib
+
+import pytest
+
+from pdamper.errors import InputError
+from pdamper.io.scenario import EXAMPLE_SCENARIO, Scenario, load_scenario
+from pdamper.units import format_quantity, parse_quantity, parse_range
+
+
+def test_example_scenario_is_valid_and_equals_the_defaults():
+    assert Scenario.model_validate(tomllib.loads(EXAMPLE_SCENARIO)) == Scenario()
+
+
+def test_quantities_with_units_become_si(tmp_path):
+    p = tmp_path / "s.toml"
+    p.write_text('[container]\nlength = "12 cm"\n[particles]\nradius = "0.5 cm"\n'
+                 'material = { name = "glass", youngs_modulus = "63 GPa", poisson_ratio = 0.2,'
+                 ' density = "2.5 g/cm^3" }\n[excitation]\nfrequency = "600 1/min"\n')
+    s = load_scenario(p)
+    assert s.container.length == pytest.approx(0.12)
+    assert s.particles.radius == pytest.approx(0.005)
+    assert s.excitation.frequency == pytest.approx(10.0)
+    d = s.damper()
+    assert d.particle_material.density == pytest.approx(2500.0)
+    assert d.particle_material.youngs_modulus == pytest.approx(63e9)
+
+
+def test_units_round_trip():
+    assert parse_quantity("32 mm", "m", "x") == pytest.approx(0.032)
+    assert format_quantity(0.032, "mm") == "32 mm"
+    assert parse_range("2Hz:20Hz:14", "Hz", "f") == (2.0, 20.0, 14)
+
+
+@pytest.mark.parametrize(
+    ("text", "field"),
+    [
+        ('[container]\nlength = "-120 mm"', "container.length"),
+        ('[particles]\nradius = "-5 mm"', "particles.radius"),
+        ("[particles]\ncount = 200", "particles.count"),
+        ('[excitation]\nfrequency = "0 Hz"', "excitation.frequency"),
+        ('[excitation]\namplitude = "3 smoots2"', "excitation.amplitude"),
+        ('[excitation]\namplitude = "3 s"', "excitation.amplitude"),
+        ('[excitation]\nfrequency = "nan Hz"', "excitation.frequency"),
+        ('[structure]\ninitial_displacement = "58 mm"', "structure.initial_displacement"),
+        ("[particles]\ncolour = 'red'", "particles.colour"),
+        ('[particles]\nmaterial = "unobtainium"', "particles.material"),
+        ("[excitation\nfrequency = 1", "scenario"),
+        ("[particles]\nradius = \"25 mm\"", "particles.radius"),
+    ],
+    ids=["negative-length", "negative-radius", "too-many-particles", "zero-frequency",
+         "unknown-unit", "wrong-dimension", "nan", "positive-x0", "unknown-key",
+         "unknown-material", "malformed-toml", "sphere-does-not-fit"],
+)
+def test_bad_scenarios_name_the_field(tmp_path, text, field):
+    p = tmp_path / "bad.toml"
+    p.write_text(text)
+    with pytest.raises(InputError) as info:
+        load_scenario(p).damper()
+    assert str(info.value).startswith(field)
+    assert "\n" not in str(info.value)
+
+
+def test_missing_scenario_file():
+    with pytest.raises(InputError, match="not found"):
+        load_scenario("/nonexistent/scenario.toml")
