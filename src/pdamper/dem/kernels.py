@@ -93,7 +93,8 @@ S_REBUILDS = 1
 S_ERR = 2
 S_ERRIDX = 3
 S_ONSETS = 4
-NSTATS = 5
+S_REJECTS = 5
+NSTATS = 6
 
 # ---- float stats -----------------------------------------------------------------------
 F_TERR = 0
@@ -114,6 +115,8 @@ ERR_SPEED = 6
 # Gear coefficients (Gear 1971; Allen & Tildesley, App. E): 6-value Nordsieck vector of a
 # second-order ODE, with 3/20 instead of 3/16 because the forces depend on the velocities.
 VPRED = 1.0
+#: a Gear step whose error estimate exceeds REJECT x tolerance is repeated with a smaller step
+REJECT = 4.0
 #: fast-math flags of the hot kernels: contractions and reassociation only, no
 #: 'finite-math' assumptions, so that NaN checks keep working
 FASTMATH = {"contract", "reassoc", "nsz", "arcp"}
@@ -313,7 +316,9 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
     lists : tuple
         Verlet list and contact history (see :func:`rebuild`).
     wall_hist : tuple
-        ``(w_act, w_d)`` (n, 6) history of the sphere-wall contacts.
+        ``(w_act, w_d, olog)``: (n, 6) history of the sphere-wall contacts and a log of the
+        contacts that start in this evaluation (pair entry ``b`` or ``-(6 i + wall) - 1``),
+        so that a rejected Gear step can undo them.
     frc, trq : (n, 3) arrays
         Output: total force (gravity included) [N] and torque [N m].
     out : (NOUT,) array
@@ -327,7 +332,8 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
     rad, mass, inertia, kwall, pmat = part
     estar, mu, cor_v, cor_e, cor_n = mats
     nb_start, nb_j, h_act, h_k, h_d = lists[0], lists[1], lists[2], lists[3], lists[4]
-    w_act, w_d = wall_hist
+    w_act, w_d, olog = wall_hist
+    nlog = olog.shape[0]
     n = pos.shape[0]
     g = fp[FP_G]
     vreg = fp[FP_VREG]
@@ -399,6 +405,8 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
                 h_k[b] = hertz_k(estar[p], ri * rj / rs)
                 h_d[b] = onset_damping(ddot, cor_v[p, :cor_n[p]], cor_e[p, :cor_n[p]], model,
                                        vmin)
+                if onsets < nlog:
+                    olog[onsets] = b
                 onsets += 1
             fn, fel = normal_force(delta, ddot, h_k[b], h_d[b])
             dn += (fn - fel) * ddot
@@ -479,6 +487,8 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
                 w_act[i, w] = 1
                 w_d[i, w] = onset_damping(ddot, cor_v[p, :cor_n[p]], cor_e[p, :cor_n[p]],
                                           model, vmin)
+                if onsets < nlog:
+                    olog[onsets] = -(i * 6 + w) - 1
                 onsets += 1
             fn, fel = normal_force(delta, ddot, kwall[i], w_d[i, w])
             dn += (fn - fel) * ddot
@@ -800,7 +810,11 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
     """
     rad, mass, inertia, kwall, pmat = part
     frc, trq, vev, wev, out, led, imp = work
-    nx, nw, nc = gwork
+    nx, nw, nc, bx, bw, bc = gwork
+    h_act = lists[2]
+    w_act = wall_hist[0]
+    olog = wall_hist[2]
+    rejects = 0
     fpc = samples[2]
     n = pos.shape[0]
     t0 = fp[FP_T0]
@@ -900,6 +914,14 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
         if hn != h:
             _rescale(nx, nw, nc, hn / h)
             h = hn
+        if adaptive:
+            for k in range(6):
+                bc[k] = nc[k]
+                for i in range(n):
+                    for a in range(3):
+                        bx[k, i, a] = nx[k, i, a]
+                        if k < 5:
+                            bw[k, i, a] = nw[k, i, a]
         # ---- predict (Pascal triangle)
         for i in range(n):
             for a in range(3):
@@ -944,8 +966,8 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
                 fstats[F_TERR] = tn
                 return
             stats[S_REBUILDS] += 1
-        stats[S_ONSETS] += compute_forces(pos, vev, wev, zc, vc, part, mats, lists,
-                                          wall_hist, fp, ip, frc, trq, out)
+        nons = compute_forces(pos, vev, wev, zc, vc, part, mats, lists, wall_hist, fp, ip, frc,
+                              trq, out)
         # ---- correct
         err = 0.0
         hh = 0.5 * h * h
@@ -990,6 +1012,32 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
             ec = abs(corr) / (h * (vscale + abs(vc)))
             if ec > err:
                 err = ec
+        # ---- reject a step whose error is far beyond the tolerance: restore and retry
+        if (adaptive and err > REJECT * tol and h > 2.0 * dtmin and nons <= olog.shape[0]
+                and math.isfinite(err)):
+            for q in range(nons):
+                code = olog[q]
+                if code >= 0:
+                    h_act[code] = 0
+                else:
+                    code = -code - 1
+                    w_act[code // 6, code % 6] = 0
+            for k in range(6):
+                nc[k] = bc[k]
+                for i in range(n):
+                    for a in range(3):
+                        nx[k, i, a] = bx[k, i, a]
+                        if k < 5:
+                            nw[k, i, a] = bw[k, i, a]
+            fac = 0.9 * (tol / err) ** (1.0 / 6.0)
+            if fac < 0.1:
+                fac = 0.1
+            h_des = h * fac
+            if h_des < dtmin:
+                h_des = dtmin
+            rejects += 1
+            continue
+        stats[S_ONSETS] += nons
         hl = 0.5 * h
         led[0] += hl * (pdn + out[O_DN])
         led[1] += hl * (pdf + out[O_DF])
@@ -1055,6 +1103,7 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
     cstate[2] = ac
     fstats[F_DTLO] = dtlo
     fstats[F_DTHI] = dthi
+    stats[S_REJECTS] = rejects
 
 
 def empty_samples(nsamp: int, nsnap: int, n: int):

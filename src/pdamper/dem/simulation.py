@@ -9,7 +9,6 @@ resting container, then runs the excitation with one call of a numba kernel of
 from __future__ import annotations
 
 import logging
-import os
 import math
 import time
 from dataclasses import dataclass, field
@@ -43,6 +42,10 @@ DEFAULT_SAFETY = 0.04
 DEFAULT_GEAR_TOLERANCE = 1e-5
 #: Default velocity scale of the Gear error norm [m/s].
 DEFAULT_GEAR_VELOCITY_SCALE = 0.05
+
+#: The Gear step may reach a new contact with up to GEAR_ONSET_FACTOR x the Verlet step; the
+#: error control (with rejection) takes over inside the contact.
+GEAR_ONSET_FACTOR = 3.0
 
 _INTEGRATORS = ("verlet", "gear")
 
@@ -98,6 +101,7 @@ class DEMResult:
     settle_steps: int
     rebuilds: int
     contact_onsets: int
+    rejected_steps: int
     wall_seconds: float
     settle_seconds: float
     time_step: float
@@ -477,11 +481,12 @@ class DEMSimulation:
                  np.zeros(n + 1, np.int64), np.zeros(cap, np.int64), np.zeros(cap, np.int64),
                  np.zeros(cap), np.zeros(cap),
                  np.zeros(ncx * ncy * ncz, np.int64), np.zeros(n, np.int64), np.zeros((n, 3)))
-        wall_hist = (np.zeros((n, 6), np.int64), np.zeros((n, 6)))
+        wall_hist = (np.zeros((n, 6), np.int64), np.zeros((n, 6)), np.zeros(4 * n + 64, np.int64))
         part = (p.radius.copy(), p.masses, p.inertia, self._kwall, self._pmat)
         work = (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)),
                 np.zeros(K.NOUT), np.zeros(3), np.zeros(3))
-        gwork = (np.zeros((6, n, 3)), np.zeros((5, n, 3)), np.zeros(6))
+        gwork = (np.zeros((6, n, 3)), np.zeros((5, n, 3)), np.zeros(6),
+                 np.zeros((6, n, 3)), np.zeros((5, n, 3)), np.zeros(6))
 
         fp = np.zeros(K.NFP)
         fp[K.FP_G] = self.gravity
@@ -578,6 +583,7 @@ class DEMSimulation:
             radius=p.radius.copy(), masses=p.masses, integrator=self.integrator,
             steps=int(stats[K.S_STEPS]), settle_steps=settle_steps,
             rebuilds=int(stats[K.S_REBUILDS]), contact_onsets=int(stats[K.S_ONSETS]),
+            rejected_steps=int(stats[K.S_REJECTS]),
             wall_seconds=wall, settle_seconds=settle_seconds, time_step=float(fp[K.FP_DT]),
             min_step=dt_lo, max_step=dt_hi, contact_time=self.contact_time,
             max_overlap_ratio=float(fstats[K.F_OVL]), frequency=freq,
@@ -592,7 +598,7 @@ class DEMSimulation:
             fp[K.FP_DT] = half / m
         else:
             fp[K.FP_DT] = min(dt0, half)
-        fp[K.FP_DTC] = dt0 * float(os.environ.get("DTCF", "1"))
+        fp[K.FP_DTC] = dt0 * (GEAR_ONSET_FACTOR if self.integrator == "gear" else 1.0)
         fp[K.FP_DTMIN] = 1e-3 * dt0
         fp[K.FP_DTMAX] = max(self.max_step, dt0)
 

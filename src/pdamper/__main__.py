@@ -1,0 +1,5 @@
+"""``python -m pdamper``: the command line."""
+
+from pdamper.cli import entry
+
+entry()
