@@ -8,14 +8,15 @@ from typing import Annotated
 import typer
 
 from pdamper.cli import app
-from pdamper.cli._common import emit
-from pdamper.cli.analytic import JsonOpt
+from pdamper.cli._common import emit, load
+from pdamper.cli.analytic import JsonOpt, ScenarioOpt
 
 
 @app.command("paper")
 def paper(
     out: Annotated[Path, typer.Option(help="Directory for figures and tables.")] = Path(
         "paper-results"),
+    scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
     """Reproduce the paper's case study: Figs. 4, 5a, 5c, 7, 8, 9 and a table of every
@@ -32,6 +33,7 @@ def paper(
         from pdamper.errors import InputError
 
         raise InputError("out", f"must be a directory, {out} is a file")
+    sc = load(scenario)
     t0 = time.perf_counter()
     console = Console(file=sys.stderr)
     with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(),
@@ -41,7 +43,8 @@ def paper(
         def step(msg: str) -> None:
             prog.update(task, description=msg, advance=1)
 
-        cs = run_case_study(step)
+        cs = run_case_study(step, sc.damper(), sc.structure_model(),
+                            sc.structure.initial_displacement, sc.optimization.at)
         files = write_case_study(cs, out, step)
         prog.update(task, description="done", completed=7)
     agree = sum(r.agrees is True for r in cs.rows)

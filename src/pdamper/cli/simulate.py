@@ -43,6 +43,7 @@ def simulate(
         "damping_ratio": [{"amplitude": float(a), "zeta": float(z)}
                           for a, z in zip(amp, zeta, strict=True)],
         "final_amplitude": res.final_amplitude,
+        "effective_frequency": [float(v) for v in res.effective_frequency],
         "cycles": [{"time": c.time, "amplitude": c.amplitude, "frequency": c.frequency,
                     "mode": c.mode.label, "effective_mass": c.effective_mass,
                     "damping": c.damping, "loss_factor": c.loss_factor} for c in res.cycles],

@@ -16,7 +16,7 @@ class AnalyticalDamper(PseudoForceDamper):
     >>> from pdamper.parameters import PAPER_DAMPER
     >>> r = AnalyticalDamper(PAPER_DAMPER).response(10.0, 0.032)
     >>> round(float(r.loss_factor), 2)
-    1.25
+    1.23
     """
 
     fidelity = "analytic"
