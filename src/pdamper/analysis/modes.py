@@ -51,7 +51,8 @@ EFFECTIVE_MASS_RATIO: dict[MotionMode, float] = {
 }
 
 #: CF-style attributes describing the integer mode codes in NetCDF files.
+#: ``-1`` marks points whose mode a model does not classify (the DEM).
 MODE_FLAG_ATTRS = {
-    "flag_values": [int(m) for m in MotionMode],
-    "flag_meanings": " ".join(m.label for m in MotionMode),
+    "flag_values": [-1] + [int(m) for m in MotionMode],
+    "flag_meanings": " ".join(["unclassified"] + [m.label for m in MotionMode]),
 }

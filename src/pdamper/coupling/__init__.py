@@ -8,11 +8,13 @@ One damper interface, several fidelities: :class:`DamperModel` answers Level II 
 from pdamper.coupling.analytical import AnalyticalDamper
 from pdamper.coupling.base import DamperModel, PseudoForceDamper
 from pdamper.coupling.decrement import damping_ratio_from_peaks, negative_peaks
+from pdamper.coupling.dem import DEMDamper
 from pdamper.coupling.free_vibration import CycleUpdate, FreeVibrationResult, Simulation
 
 __all__ = [
     "AnalyticalDamper",
     "CycleUpdate",
+    "DEMDamper",
     "DamperModel",
     "FreeVibrationResult",
     "PseudoForceDamper",

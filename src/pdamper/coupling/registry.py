@@ -7,10 +7,12 @@ from __future__ import annotations
 
 from pdamper.coupling.analytical import AnalyticalDamper
 from pdamper.coupling.base import DamperModel
+from pdamper.coupling.dem import DEMDamper
 from pdamper.errors import InputError
 
 DAMPER_MODELS: dict[str, type[DamperModel]] = {
     AnalyticalDamper.fidelity: AnalyticalDamper,
+    DEMDamper.fidelity: DEMDamper,
 }
 
 
