@@ -16,6 +16,8 @@ from pdamper.cli.analytic import JsonOpt, ScenarioOpt
 def paper(
     out: Annotated[Path, typer.Option(help="Directory for figures and tables.")] = Path(
         "paper-results"),
+    dem: Annotated[bool, typer.Option("--dem/--no-dem",
+                                      help="Include the DEM (model 1) Level III run.")] = True,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -38,15 +40,15 @@ def paper(
     console = Console(file=sys.stderr)
     with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(),
                   console=console, transient=False) as prog:
-        task = prog.add_task("case study", total=7)
+        task = prog.add_task("case study", total=8)
 
         def step(msg: str) -> None:
             prog.update(task, description=msg, advance=1)
 
         cs = run_case_study(step, sc.damper(), sc.structure_model(),
-                            sc.structure.initial_displacement, sc.optimization.at)
+                            sc.structure.initial_displacement, sc.optimization.at, dem)
         files = write_case_study(cs, out, step)
-        prog.update(task, description="done", completed=7)
+        prog.update(task, description="done", completed=8)
     agree = sum(r.agrees is True for r in cs.rows)
     payload = {"out": str(out), "files": [str(p) for p in files],
                "agreeing": agree, "rows": len(cs.rows), "seconds": time.perf_counter() - t0}
