@@ -15,10 +15,19 @@ from pdamper.materials import PVC, S235, Material
 _TOL = 1e-9  # so that 40 mm / 10 mm counts exactly 4 diameters
 
 
+def lattice_fit(length: float, radius: float, gap: float = 0.0) -> int:
+    """How many spheres of ``radius`` [m] fit side by side, ``gap`` [m] apart, in ``length`` [m].
+
+    >>> lattice_fit(0.04, 0.005), lattice_fit(0.12, 0.005)
+    (4, 12)
+    """
+    pitch = 2.0 * radius + gap
+    return max(0, math.floor((length + gap) / pitch * (1.0 + _TOL)))
+
+
 def spheres_per_layer(width: float, depth: float, radius: float) -> int:
     """Spheres of radius ``radius`` in one square-lattice layer of a ``width x depth`` box."""
-    d = 2.0 * radius
-    return math.floor(width / d * (1 + _TOL)) * math.floor(depth / d * (1 + _TOL))
+    return lattice_fit(width, radius) * lattice_fit(depth, radius)
 
 
 @dataclass(frozen=True)
@@ -88,8 +97,7 @@ class ParticleDamper:
     @property
     def max_count(self) -> int:
         """n_max: spheres in full lattice layers up to the lid (192 in the benchmark)."""
-        layers = math.floor(self.length / (2 * self.particle_radius) * (1 + _TOL))
-        return self.per_layer * layers
+        return self.per_layer * lattice_fit(self.length, self.particle_radius)
 
     @property
     def particle_mass(self) -> float:

@@ -12,51 +12,67 @@ prints JSON with ``steps``, ``wall_seconds``, ``loss_factor``, ``effective_mass_
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Annotated
 
 import typer
 
 from pdamper.cli import app
-from pdamper.cli._common import emit
+from pdamper.cli._common import emit, load
+from pdamper.cli.analytic import ScenarioOpt
 from pdamper.errors import InputError, check_range
 from pdamper.units import parse_quantity
 
 
 @app.command("dem")
 def dem(
-    frequency: str = typer.Option("10 Hz", "--frequency", help="Excitation frequency f, e.g. '10Hz'."),
-    amplitude: str = typer.Option("32 mm", "--amplitude", help="Excitation amplitude X, e.g. '32mm'."),
-    particles: int = typer.Option(32, "--particles", help="Number of spheres (benchmark box: <= 192)."),
-    cycles: int = typer.Option(8, "--cycles", help="Number of excitation cycles."),
-    out: Path | None = typer.Option(None, "--out", help="NetCDF file for the time series."),
-    integrator: str = typer.Option("gear", "--integrator", help="gear (variable step) or verlet."),
-    skip_cycles: int = typer.Option(2, "--skip-cycles", help="Cycles left out of the complex power (default 2: cycles 3-8)."),
-    friction: float = typer.Option(0.1, "--friction", help="Friction coefficient mu, all contacts."),
-    restitution_pp: float = typer.Option(0.6, "--restitution-pp", help="Constant sphere-sphere COR."),
-    restitution_pw: float = typer.Option(0.85, "--restitution-pw", help="Constant sphere-wall COR."),
-    damping_model: str = typer.Option("exact", "--damping-model", help="exact (default) or gonthier (the paper's)."),
-    seed: int = typer.Option(0, "--seed", help="Seed of the random packing (recorded always)."),
-    packing: str = typer.Option("lattice", "--packing", help="lattice (the paper's 4x4 layers) or random."),
-    sample_rate: str = typer.Option("2 kHz", "--sample-rate", help="Sampling rate of the time series."),
-    safety: float = typer.Option(0.04, "--safety", help="Time step / Hertz contact duration."),
-    vtk: Path | None = typer.Option(None, "--vtk", help="Directory for ParaView snapshots (.vtp + .pvd)."),
-    snapshot_rate: str = typer.Option("200 Hz", "--snapshot-rate", help="Snapshots per second for --vtk."),
-    as_json: bool = typer.Option(False, "--json", help="Print JSON (the default output is JSON too)."),
+    frequency: Annotated[str | None, typer.Option("--frequency",
+                         help="Excitation frequency f, e.g. '10Hz'.")] = None,
+    amplitude: Annotated[str | None, typer.Option("--amplitude",
+                         help="Excitation amplitude X, e.g. '32mm'.")] = None,
+    particles: Annotated[int | None, typer.Option("--particles",
+                         help="Number of spheres (benchmark box: <= 192).")] = None,
+    cycles: Annotated[int, typer.Option("--cycles", help="Number of excitation cycles.")] = 8,
+    out: Annotated[Path | None, typer.Option("--out",
+                         help="NetCDF file for the time series.")] = None,
+    integrator: Annotated[str, typer.Option("--integrator",
+                         help="gear (variable step) or verlet.")] = "gear",
+    skip_cycles: Annotated[int, typer.Option("--skip-cycles",
+                         help="Cycles left out of the complex power (default 2: cycles 3-8).")] = 2,
+    friction: Annotated[float | None, typer.Option("--friction",
+                         help="Friction coefficient mu, all contacts (default 0.1).")] = None,
+    restitution_pp: Annotated[float, typer.Option("--restitution-pp",
+                         help="Constant sphere-sphere COR.")] = 0.6,
+    restitution_pw: Annotated[float, typer.Option("--restitution-pw",
+                         help="Constant sphere-wall COR.")] = 0.85,
+    damping_model: Annotated[str, typer.Option("--damping-model",
+                         help="exact (default) or gonthier (the paper's).")] = "exact",
+    seed: Annotated[int, typer.Option("--seed",
+                         help="Seed of the random packing (recorded always).")] = 0,
+    packing: Annotated[str, typer.Option("--packing",
+                         help="lattice (the paper's 4x4 layers) or random.")] = "lattice",
+    sample_rate: Annotated[str, typer.Option("--sample-rate",
+                         help="Sampling rate of the time series.")] = "2 kHz",
+    safety: Annotated[float, typer.Option("--safety",
+                         help="Time step / Hertz contact time (Verlet; Gear: x 6 at onsets).")] = 0.02,
+    vtk: Annotated[Path | None, typer.Option("--vtk",
+                         help="Directory for ParaView snapshots (.vtp + .pvd).")] = None,
+    snapshot_rate: Annotated[str, typer.Option("--snapshot-rate",
+                         help="Snapshots per second for --vtk.")] = "200 Hz",
+    scenario: ScenarioOpt = None,
+    as_json: Annotated[bool, typer.Option("--json",
+                         help="Print JSON (the default output is JSON too).")] = False,
 ) -> None:
-    """Run the DEM of the benchmark damper and apply the complex power method."""
+    """Run the DEM of a damper (default: the paper's benchmark) under harmonic excitation
+    and apply the complex power method."""
     from pdamper import __version__
     from pdamper.contact.restitution import ConstantRestitution
-    from pdamper.dem import (
-        Container,
-        ContactParameters,
-        DEMSimulation,
-        HarmonicMotion,
-        ParticleSet,
-    )
-    from pdamper.dem.packing import max_particles
+    from pdamper.coupling.dem import DEMDamper
+    from pdamper.dem import ContactParameters, HarmonicMotion
 
-    f = check_range("frequency", parse_quantity(frequency, "Hz", "frequency"), low=0.0,
-                    low_inclusive=False, unit="Hz")
-    x = check_range("amplitude", parse_quantity(amplitude, "m", "amplitude"), low=0.0, unit="m")
+    sc = load(scenario, excitation__frequency=frequency, excitation__amplitude=amplitude,
+              particles__count=particles, particles__friction=friction)
+    damper = sc.damper()
+    f, x = sc.excitation.frequency, sc.excitation.amplitude
     rate = check_range("sample-rate", parse_quantity(sample_rate, "Hz", "sample-rate"), low=0.0,
                        low_inclusive=False, unit="Hz")
     check_range("cycles", cycles, low=1)
@@ -64,24 +80,20 @@ def dem(
         raise InputError("skip-cycles", f"must be in [0, {cycles - 1}], got {skip_cycles}")
     if integrator not in ("gear", "verlet"):
         raise InputError("integrator", f"must be 'gear' or 'verlet', got {integrator!r}")
-    if packing not in ("lattice", "random"):
-        raise InputError("packing", f"must be 'lattice' or 'random', got {packing!r}")
-    container = Container()
-    nmax = max_particles(container.box, 0.005)
-    if not 1 <= particles <= nmax:
-        raise InputError("particles", f"must be in [1, {nmax}] for the benchmark box, got {particles}")
+    if damper.count < 1:
+        raise InputError("particles.count", f"must be in [1, {damper.max_count}] for the DEM, "
+                         f"got {damper.count}")
     contact = ContactParameters(
         restitution_pp=ConstantRestitution(check_range("restitution-pp", restitution_pp, low=0.0,
                                                        high=1.0, low_inclusive=False)),
         restitution_pw=ConstantRestitution(check_range("restitution-pw", restitution_pw, low=0.0,
                                                        high=1.0, low_inclusive=False)),
-        friction_pp=check_range("friction", friction, low=0.0),
-        friction_pw=friction, damping_model=damping_model)
-    ps = (ParticleSet.lattice(particles, container.box) if packing == "lattice"
-          else ParticleSet.random(particles, container.box, seed=seed))
-    sim = DEMSimulation(ps, container, contact, HarmonicMotion(x, f), integrator=integrator,
-                        safety=check_range("safety", safety, low=0.0, high=1.0,
-                                           low_inclusive=False), seed=seed)
+        friction_pp=damper.friction, friction_pw=damper.friction, damping_model=damping_model)
+    model = DEMDamper(damper, contact, integrator=integrator, cycles=cycles,
+                      skip_cycles=skip_cycles, packing=packing, seed=seed, sample_rate=rate,
+                      safety=check_range("safety", safety, low=0.0, high=1.0,
+                                         low_inclusive=False))
+    sim = model.simulation(HarmonicMotion(x, f))
     snap = None
     if vtk is not None:
         snap = check_range("snapshot-rate", parse_quantity(snapshot_rate, "Hz", "snapshot-rate"),
@@ -89,8 +101,8 @@ def dem(
     res = sim.run(cycles / f, sample_rate=rate, snapshot_rate=snap)
     cp = res.complex_power(skip_cycles)
     ledger = res.ledger_per_cycle(skip_cycles)
-    inputs = {"frequency_hz": f, "amplitude_m": x, "particles": particles, "cycles": cycles,
-              "integrator": integrator, "skip_cycles": skip_cycles, "friction": friction,
+    inputs = {"frequency_hz": f, "amplitude_m": x, "particles": damper.count, "cycles": cycles,
+              "integrator": integrator, "skip_cycles": skip_cycles, "friction": damper.friction,
               "restitution_pp": restitution_pp, "restitution_pw": restitution_pw,
               "damping_model": damping_model, "packing": packing, "sample_rate_hz": rate,
               "safety": safety}
@@ -110,6 +122,8 @@ def dem(
         "inputs": inputs,
         "seed": seed,
         "pdamper_version": __version__,
+        "version": __version__,
+        "scenario": sc.model_dump(mode="json"),
     }
     if out is not None:
         payload["out"] = str(res.write_netcdf(out))

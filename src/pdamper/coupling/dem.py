@@ -69,7 +69,8 @@ class DEMDamper(DamperModel):
         self.last_results: list = []
 
     # ------------------------------------------------------------------ set-up
-    def _simulation(self, motion):
+    def simulation(self, motion):
+        """The :class:`pdamper.dem.DEMSimulation` of this damper under ``motion``."""
         from pdamper.dem import ContactParameters, Container, DEMSimulation, ParticleSet
 
         d = self.damper
@@ -103,7 +104,7 @@ class DEMDamper(DamperModel):
         for idx in np.ndindex(f.shape):
             fi = check_range("frequency", f[idx], low=0.0, low_inclusive=False, unit="Hz")
             xi = check_range("amplitude", x[idx], low=0.0, low_inclusive=False, unit="m")
-            res = self._simulation(HarmonicMotion(amplitude=xi, frequency=fi)).run(
+            res = self.simulation(HarmonicMotion(amplitude=xi, frequency=fi)).run(
                 self.cycles / fi, sample_rate=self.sample_rate)
             cp = res.complex_power(self.skip_cycles)
             eta[idx], e_tilde[idx], ratio[idx] = (cp.loss_factor, cp.dissipated_energy_per_cycle,
@@ -130,7 +131,7 @@ class DEMDamper(DamperModel):
                              f"must be < 0 m (released from a minimum), got {initial_displacement:g} m")
         motion = StructureMotion(mass=structure.mass, damping=structure.damping,
                                  stiffness=structure.stiffness, x0=initial_displacement)
-        sim = self._simulation(motion)
+        sim = self.simulation(motion)
         res = sim.run(duration, sample_rate=sample_rate)
         self.last_results = [res]
         x_eq = -self.bed_mass * sim.gravity / structure.stiffness

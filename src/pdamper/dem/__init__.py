@@ -13,8 +13,8 @@ input classes :class:`Container`, :class:`ParticleSet`, :class:`ContactParameter
 from pdamper.dem.model import (
     BENCHMARK_BOX,
     BENCHMARK_RADIUS,
-    Container,
     ContactParameters,
+    Container,
     HarmonicMotion,
     ParticleSet,
     PrescribedMotion,

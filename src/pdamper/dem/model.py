@@ -152,7 +152,12 @@ class ContactParameters:
     regularisation_velocity
         v_reg of the tanh friction law [m/s] (default 0.01 m/s).
     min_impact_velocity
-        Floor of the onset speed that sets the damping parameter [m/s] (default 1e-3 m/s).
+        Floor of the onset speed that sets the damping parameter [m/s] (default 0.01 m/s).
+    reimpact_factor
+        A persisting contact whose approach speed exceeds this factor times its stored impact
+        speed is treated as a new impact (``d`` reset from the current speed); default 1.25,
+        ``math.inf`` keeps the onset value for the whole contact (see
+        :mod:`pdamper.dem.kernels`).
     """
 
     restitution_pp: RestitutionCurve = field(default_factory=lambda: ConstantRestitution(0.6))
@@ -163,8 +168,10 @@ class ContactParameters:
     damping_model: str = "exact"
     regularisation_velocity: float = DEFAULT_REGULARISATION_VELOCITY
     min_impact_velocity: float = DEFAULT_MIN_IMPACT_VELOCITY
+    reimpact_factor: float = 1.25
 
     def __post_init__(self) -> None:
+        check_range("reimpact_factor", self.reimpact_factor, low=1.0, low_inclusive=False)
         check_range("friction_pp", self.friction_pp, low=0.0)
         check_range("friction_pw", self.friction_pw, low=0.0)
         check_range("regularisation_velocity", self.regularisation_velocity, low=0.0,

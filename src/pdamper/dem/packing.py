@@ -30,6 +30,7 @@ from collections.abc import Sequence
 import numba
 import numpy as np
 
+from pdamper.damper import lattice_fit as _fits
 from pdamper.errors import InputError, check_range
 
 __all__ = [
@@ -125,11 +126,6 @@ def _as_radii(radius: float | Sequence[float] | np.ndarray, n: int) -> np.ndarra
         )
     return arr
 
-
-def _fits(length: float, radius: float, gap: float = 0.0) -> int:
-    """How many spheres of ``radius`` fit side by side, ``gap`` apart, in ``length``."""
-    pitch = 2.0 * radius + gap
-    return max(0, math.floor((length + gap) / pitch * (1.0 + _FIT_TOLERANCE)))
 
 
 def _describe(box: tuple[float, float, float], radius: float, gap: float = 0.0) -> str:

@@ -1,0 +1,57 @@
+"""The ``pdamper dem`` command."""
+
+from __future__ import annotations
+
+import json
+
+import xarray as xr
+
+from pdamper.cli import main
+
+
+def test_dem_command_writes_netcdf_and_json(tmp_path, capsys):
+    """JSON keys, NetCDF with units and inputs, complex power over the chosen cycles."""
+    out = tmp_path / "run.nc"
+    rc = main(["dem", "--frequency", "10Hz", "--amplitude", "20mm", "--particles", "16",
+               "--cycles", "3", "--skip-cycles", "1", "--out", str(out), "--integrator",
+               "verlet", "--restitution-pp", "0.7", "--restitution-pw", "0.8", "--json"])
+    assert rc == 0
+    data = json.loads(capsys.readouterr().out)
+    for key in ("steps", "wall_seconds", "loss_factor", "effective_mass_ratio",
+                "energy_balance_error", "seed", "pdamper_version", "inputs"):
+        assert key in data
+    assert data["steps"] > 1000
+    assert data["energy_balance_error"] < 0.02
+    assert data["inputs"]["restitution_pp"] == 0.7
+    with xr.open_dataset(out, engine="h5netcdf") as ds:
+        assert ds["force_z"].attrs["units"] == "N"
+        assert ds["time"].attrs["units"] == "s"
+        assert ds.attrs["seed"] == 0
+        assert ds.attrs["input_amplitude_m"] == 0.02
+        assert ds.sizes["time"] == 3 * 200 + 1
+    assert not list(tmp_path.glob("*.tmp"))
+
+
+def test_dem_command_vtk_and_random_packing(tmp_path, capsys):
+    """Random packing with a seed and ParaView snapshots."""
+    rc = main(["dem", "--particles", "8", "--cycles", "2", "--skip-cycles", "1", "--packing",
+               "random", "--seed", "4", "--vtk", str(tmp_path / "vtk"), "--snapshot-rate",
+               "50Hz"])
+    assert rc == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["seed"] == 4
+    assert (tmp_path / "vtk" / "particles.pvd").exists()
+    assert len(list((tmp_path / "vtk").glob("*.vtp"))) >= 10
+
+
+def test_dem_command_input_errors(capsys):
+    """User errors: one line naming the field, exit status 2."""
+    assert main(["dem", "--particles", "500"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: particles.count:") and err.count("\n") == 1
+    assert main(["dem", "--amplitude", "3 kg"]) == 2
+    assert "amplitude" in capsys.readouterr().err
+    assert main(["dem", "--integrator", "rk4"]) == 2
+    assert "integrator" in capsys.readouterr().err
+    assert main(["dem", "--cycles", "3", "--skip-cycles", "3"]) == 2
+    assert "skip-cycles" in capsys.readouterr().err
