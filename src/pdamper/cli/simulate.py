@@ -55,7 +55,9 @@ def simulate(
              f"K={sc.structure_model().stiffness:g} N/m; x0 = "
              f"{sc.structure.initial_displacement * 1e3:g} mm",
              "   t [s]   X [mm]   zeta     mode"]
-    for c, z in zip(res.cycles, list(zeta) + [float("nan")], strict=False):
-        lines.append(f"  {c.time:6.3f}  {c.amplitude * 1e3:7.2f}  {z:7.4f}  {c.mode.title}")
+    modes = [c.mode.title for c in res.cycles] or ["(not classified)"] * len(res.peak_times)
+    for t, a, z, m in zip(res.peak_times, res.peak_amplitudes, list(zeta) + [float("nan")],
+                          modes, strict=False):
+        lines.append(f"  {t:6.3f}  {a * 1e3:7.2f}  {z:7.4f}  {m}")
     lines.append(f"final amplitude {res.final_amplitude * 1e3:.2f} mm")
     emit(payload, as_json, "\n".join(lines))
