@@ -134,3 +134,16 @@ def test_paper_main_job_writes_figures_and_table(tmp_path, capsys):
     assert all(rows[q]["agrees"] for q in rows if q.startswith("Fig. 4"))
     assert "| quantity | paper | pdamper |" in (out_dir / "results.md").read_text()
     assert not any(n.startswith(".partial") for n in names)
+
+
+@pytest.mark.parametrize("args", [["analytic", "--frequency"], ["analytic", "--bogus"],
+                                  ["nonsense"]])
+def test_usage_errors_are_one_line(capsys, args):
+    code, out, err = run(capsys, *args)
+    assert code == 2
+    assert err.startswith("error: ") and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_runaway_duration_is_refused(capsys):
+    code, _, err = run(capsys, "simulate", "--duration", "1e6 s")
+    assert code == 2 and err.startswith("error: simulation.duration")

@@ -44,13 +44,15 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except SystemExit as exc:  # pragma: no cover - typer may still exit
         return int(exc.code or 0)
-    except Exception as exc:  # click usage errors
-        import click
-
-        if isinstance(exc, click.exceptions.ClickException):
-            exc.show()
-            return exc.exit_code
-        if isinstance(exc, click.exceptions.Abort):
+    except Exception as exc:
+        # usage errors of click (vendored by recent typer as typer._click): duck-typed
+        message = getattr(exc, "format_message", None)
+        code = getattr(exc, "exit_code", None)
+        if callable(message) and isinstance(code, int):
+            if message():  # empty for "no arguments: help shown"
+                print(f"error: {message()}", file=sys.stderr)
+            return code
+        if type(exc).__name__ == "Abort":
             return 1
         raise
     return 0

@@ -23,6 +23,9 @@ from pdamper.errors import InputError, check_range
 
 logger = logging.getLogger(__name__)
 
+#: Largest stored trajectory [samples] (a longer run is a typo, not a design question).
+MAX_SAMPLES = 2e7
+
 #: Fixed-point iterations between the effective eigenfrequency and the effective mass.
 _FREQUENCY_ITERATIONS = 3
 
@@ -159,6 +162,10 @@ def simulate_pseudo_force(model, structure, duration: float, initial_displacemen
     check_range("simulation.duration", duration, low=0.0, low_inclusive=False, unit="s")
     check_range("simulation.sample_rate", sample_rate, low=0.0, low_inclusive=False, unit="Hz")
     check_range("structure.initial_displacement", initial_displacement, unit="m")
+    if duration * sample_rate > MAX_SAMPLES:
+        raise InputError("simulation.duration",
+                         f"duration x sample_rate must be <= {MAX_SAMPLES:.0e} samples, got "
+                         f"{duration:g} s x {sample_rate:g} Hz")
     if initial_displacement >= 0:
         raise InputError("structure.initial_displacement",
                          f"must be < 0 m (released from a minimum), got {initial_displacement:g} m")
