@@ -47,7 +47,7 @@ def paper(
 
         cs = run_case_study(step, sc.damper(), sc.structure_model(),
                             sc.structure.initial_displacement, sc.optimization.at, dem)
-        files = write_case_study(cs, out, step)
+        files = write_case_study(cs, out, step, inputs=sc.model_dump(mode="json"))
         prog.update(task, description="done", completed=8)
     agree = sum(r.agrees is True for r in cs.rows)
     payload = {"out": str(out), "files": [str(p) for p in files],

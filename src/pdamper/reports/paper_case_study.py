@@ -226,8 +226,8 @@ def _markdown(rows: list[Row]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_case_study(cs: CaseStudy, out: Path, progress: Callable[[str], None] | None = None
-                     ) -> list[Path]:
+def write_case_study(cs: CaseStudy, out: Path, progress: Callable[[str], None] | None = None,
+                     inputs: dict | None = None) -> list[Path]:
     """Write figures, the map and the table of ``cs`` into directory ``out``."""
     import matplotlib
 
@@ -240,7 +240,7 @@ def write_case_study(cs: CaseStudy, out: Path, progress: Callable[[str], None] |
     # write into a scratch directory and move the files at the end: a failure leaves
     # nothing half-written in ``out``
     with tempfile.TemporaryDirectory(dir=final, prefix=".partial-") as scratch:
-        files = _write_all(cs, Path(scratch), say, plt)
+        files = _write_all(cs, Path(scratch), say, plt, inputs or {})
         moved = []
         for p in files:
             target = final / p.name
@@ -249,7 +249,7 @@ def write_case_study(cs: CaseStudy, out: Path, progress: Callable[[str], None] |
     return moved
 
 
-def _write_all(cs: CaseStudy, out: Path, say, plt) -> list[Path]:
+def _write_all(cs: CaseStudy, out: Path, say, plt, inputs: dict) -> list[Path]:
     from pdamper import __version__, plots
 
     written: list[Path] = []
@@ -317,7 +317,8 @@ def _write_all(cs: CaseStudy, out: Path, say, plt) -> list[Path]:
     js = out / "results.json"
     js.write_text(json.dumps({
         "version": __version__,
-        "model": "analytic",
+        "model": "analytic" if cs.run_dem is None else "analytic + dem",
+        "inputs": inputs,
         "rows": [asdict(r) for r in cs.rows],
         "optimization": cs.optimization.as_dict(),
         "paper_reported": PAPER_REPORTED,
