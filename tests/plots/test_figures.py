@@ -1,0 +1,44 @@
+"""Plot functions: take ax=None, return the Axes they drew on, never show or save."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from pdamper import plots  # noqa: E402
+from pdamper.analysis.analytical import bed_trajectory  # noqa: E402
+from pdamper.analysis.fields import effective_field  # noqa: E402
+from pdamper.coupling import AnalyticalDamper, Simulation  # noqa: E402
+from pdamper.design import optimize_particle_count  # noqa: E402
+from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def inputs():
+    model = AnalyticalDamper(PAPER_DAMPER)
+    ds = effective_field(model, np.linspace(2, 20, 5), np.linspace(0.005, 0.1, 6))
+    run = Simulation(PAPER_STRUCTURE, model).run(1.0)
+    opt = optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, counts=[0, 32, 64])
+    return {
+        "plot_bed_trajectory": (bed_trajectory(18.0, 0.05, 0.1),),
+        "plot_mode_map": (ds,),
+        "plot_loss_factor_map": (ds,),
+        "plot_free_vibration": (run,),
+        "plot_damping_ratio": (run,),
+        "plot_optimization": (opt,),
+    }
+
+
+@pytest.mark.parametrize("name", plots.__all__)
+def test_plot_uses_given_axes_and_returns_it(inputs, name, monkeypatch):
+    monkeypatch.setattr(plt, "show", lambda *a, **k: pytest.fail("show() called"))
+    monkeypatch.setattr(plt.Figure, "savefig", lambda *a, **k: pytest.fail("savefig() called"))
+    fig, ax = plt.subplots()
+    out = getattr(plots, name)(*inputs[name], ax=ax)
+    assert out is ax
+    assert ax.has_data()
+    new = getattr(plots, name)(*inputs[name])
+    assert new is not ax and new.has_data()
+    plt.close("all")
