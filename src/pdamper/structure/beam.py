@@ -376,14 +376,9 @@ class ReducedModel:
     rotation: np.ndarray = field(repr=False)
 
     @property
-    def angular_frequency(self) -> float:
-        """sqrt(K_red / M_red) [rad/s]."""
-        return math.sqrt(self.stiffness / self.mass)
-
-    @property
     def natural_frequency(self) -> float:
         """sqrt(K_red / M_red) / (2 pi) [Hz]; equals ``frequencies[mode]``."""
-        return self.angular_frequency / (2.0 * math.pi)
+        return self.to_structure(0.0).natural_frequency
 
     def to_structure(self, damping: float) -> SingleDOFStructure:
         """Eq. (23) with this (M_red, K_red) and the given structural damping D [kg/s]."""
