@@ -4,6 +4,9 @@ Everything here is compiled with ``numba.njit(cache=True)``; the Python orchestr
 :mod:`pdamper.dem.simulation` allocates every array once and calls :func:`run_verlet` or
 :func:`run_gear` for a whole run, so that no Python and no allocation happens per step.
 The loops are serial and in a fixed order: the same inputs give bit-identical results.
+:func:`compute_forces` is inlined into the run loops (``inline="always"``: no reference
+counting of its ~30 array arguments per step) and the hot kernels use numpy's error model
+(no zero-division branches; the NaN checks catch what a division by zero would produce).
 
 Frames and signs
 ----------------
@@ -18,6 +21,31 @@ Layout of the parameter arrays
 dissipation rates (normal, friction), power of the container on the particles, elastic
 energy, the largest overlap / radius, the shortest time to a new contact and the largest
 particle speed.
+
+Friction and the step
+---------------------
+Below the regularisation velocity the tanh friction law is a viscous damper of coefficient
+``mu F_n / v_reg``; under the large normal forces of an impact this can be far stiffer than
+the step resolves, and an explicit step would reverse the slip velocity (numerical
+chatter). The kernels therefore cap the friction force at ``0.5 m_t |v_t| / h`` (``m_t =
+2/7 m*``, the tangential mass of two rolling spheres, ``h = fp[FP_H]`` the current step): a
+force that at most halves the slip in one step. Where the tanh law is resolved the cap is
+inactive; ``fp[FP_H] = 0`` disables it. The variable-step Gear integrator evaluates the cap
+at ``max(h, fp[FP_HCAP])`` with ``FP_HCAP`` the Verlet step: the same friction law as the
+default Verlet run, and the error control no longer chases the sub-0.1 us viscous time
+scale of stuck contacts (which took more than half of the Gear steps).
+
+Contact history and re-impacts
+------------------------------
+Each contact stores its active flag, Hertz stiffness, damping parameter ``d`` and impact
+speed ``v0``. ``d`` is set at the onset from ``e(v0)``. A contact that persists (a bed
+resting on the floor, spheres in a column) can later be hit hard through its neighbours;
+with ``d`` from a gentle onset the damping term ``d delta_dot`` would then be orders of
+magnitude larger than one, the force law would be stiff and the explicit integrators
+unstable. So when the approach speed exceeds ``fp[FP_REIMPACT]`` (default 1.25) times the
+stored ``v0``, the contact is treated as re-impacted: ``v0`` and ``d`` are reset from the
+current speed. In an isolated impact the approach speed only falls after the onset, so the
+prescribed COR is untouched (``inf`` disables the rule: pure onset history).
 """
 
 from __future__ import annotations
@@ -27,7 +55,7 @@ import math
 import numpy as np
 from numba import njit
 
-from pdamper.contact.forces import friction_magnitude, hertz_k, normal_force, onset_damping
+from pdamper.contact.forces import friction_magnitude, hertz_k, normal_force, onset_damping_cached
 
 # ---- float parameters ------------------------------------------------------------------
 FP_G = 0
@@ -55,7 +83,10 @@ FP_X = 21
 FP_W = 22
 FP_DTC = 23
 FP_TABDT = 24
-NFP = 25
+FP_REIMPACT = 25
+FP_H = 26
+FP_HCAP = 27
+NFP = 28
 
 # ---- int parameters --------------------------------------------------------------------
 IP_MODEL = 0
@@ -114,9 +145,11 @@ ERR_SPEED = 6
 
 # Gear coefficients (Gear 1971; Allen & Tildesley, App. E): 6-value Nordsieck vector of a
 # second-order ODE, with 3/20 instead of 3/16 because the forces depend on the velocities.
-VPRED = 1.0
 #: a Gear step whose error estimate exceeds REJECT x tolerance is repeated with a smaller step
 REJECT = 4.0
+#: PI step-size control exponents (Gustafsson 1991; Hairer & Wanner II, IV.2), order 5 + 1
+PI_KI = 0.7 / 6.0
+PI_KP = 0.4 / 6.0
 #: fast-math flags of the hot kernels: contractions and reassociation only, no
 #: 'finite-math' assumptions, so that NaN checks keep working
 FASTMATH = {"contract", "reassoc", "nsz", "arcp"}
@@ -135,7 +168,7 @@ H4 = 1.0 / 24.0
 # ======================================================================================
 # container motion
 # ======================================================================================
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def prescribed_state(t, kind, fp, tab):
     """Prescribed container position, velocity, acceleration at time ``t`` [s].
 
@@ -238,7 +271,7 @@ def build_verlet_list(pos, rad, zc, fp, ip, head, nxt, nb_start, nb_j):
 
 
 @njit(cache=True)
-def carry_history(n, o_start, o_j, o_act, o_k, o_d, s_start, s_j, s_act, s_k, s_d):
+def carry_history(n, o_start, o_j, o_act, o_k, o_d, o_v, s_start, s_j, s_act, s_k, s_d, s_v):
     """Copy the contact history of pairs present in both lists (old ``o_*`` -> new ``s_*``)."""
     for i in range(n):
         a = o_start[i]
@@ -251,22 +284,24 @@ def carry_history(n, o_start, o_j, o_act, o_k, o_d, s_start, s_j, s_act, s_k, s_
                 s_act[b] = o_act[a]
                 s_k[b] = o_k[a]
                 s_d[b] = o_d[a]
+                s_v[b] = o_v[a]
             else:
                 s_act[b] = 0
                 s_k[b] = 0.0
                 s_d[b] = 0.0
+                s_v[b] = 0.0
 
 
 @njit(cache=True)
 def rebuild(pos, rad, zc, fp, ip, lists):
     """Rebuild the Verlet list keeping the contact history; returns pair count or -1."""
-    (nb_start, nb_j, h_act, h_k, h_d, s_start, s_j, s_act, s_k, s_d, head, nxt,
+    (nb_start, nb_j, h_act, h_k, h_d, h_v, s_start, s_j, s_act, s_k, s_d, s_v, head, nxt,
      pos_build) = lists
     n = pos.shape[0]
     cnt = build_verlet_list(pos, rad, zc, fp, ip, head, nxt, s_start, s_j)
     if cnt < 0:
         return -1
-    carry_history(n, nb_start, nb_j, h_act, h_k, h_d, s_start, s_j, s_act, s_k, s_d)
+    carry_history(n, nb_start, nb_j, h_act, h_k, h_d, h_v, s_start, s_j, s_act, s_k, s_d, s_v)
     for i in range(n + 1):
         nb_start[i] = s_start[i]
     for b in range(cnt):
@@ -274,6 +309,7 @@ def rebuild(pos, rad, zc, fp, ip, lists):
         h_act[b] = s_act[b]
         h_k[b] = s_k[b]
         h_d[b] = s_d[b]
+        h_v[b] = s_v[b]
     for i in range(n):
         pos_build[i, 0] = pos[i, 0]
         pos_build[i, 1] = pos[i, 1]
@@ -281,7 +317,7 @@ def rebuild(pos, rad, zc, fp, ip, lists):
     return cnt
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def needs_rebuild(pos, pos_build, skin):
     """Rebuild criterion: some particle moved more than skin/2 since the last build."""
     lim = 0.25 * skin * skin
@@ -294,10 +330,24 @@ def needs_rebuild(pos, pos_build, skin):
     return False
 
 
+@njit(cache=True, inline="always")
+def max_displacement2(pos, pos_build):
+    """Largest squared displacement of a particle since the last build [m^2]."""
+    d2max = 0.0
+    for i in range(pos.shape[0]):
+        dx = pos[i, 0] - pos_build[i, 0]
+        dy = pos[i, 1] - pos_build[i, 1]
+        dz = pos[i, 2] - pos_build[i, 2]
+        d2 = dx * dx + dy * dy + dz * dz
+        if d2 > d2max:
+            d2max = d2
+    return d2max
+
+
 # ======================================================================================
 # forces
 # ======================================================================================
-@njit(cache=True, fastmath=FASTMATH)
+@njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
 def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, frc, trq,
                    out):
     """Forces and torques on all particles, force on the container, energy rates.
@@ -311,14 +361,16 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
     part : tuple
         ``(rad, mass, inertia, kwall, pmat)`` per particle.
     mats : tuple
-        ``(estar, mu, cor_v, cor_e, cor_n)`` per material pair; sphere pair
-        ``a * nmat + b``, sphere of material ``a`` on the walls ``nmat^2 + a``.
+        ``(estar, mu, cor_v, cor_e, cor_n, xcache)`` per material pair; sphere pair
+        ``a * nmat + b``, sphere of material ``a`` on the walls ``nmat^2 + a``; ``xcache``
+        (npair, 2) memo of the last COR and damping factor (see ``onset_damping_cached``).
     lists : tuple
         Verlet list and contact history (see :func:`rebuild`).
     wall_hist : tuple
-        ``(w_act, w_d, olog)``: (n, 6) history of the sphere-wall contacts and a log of the
-        contacts that start in this evaluation (pair entry ``b`` or ``-(6 i + wall) - 1``),
-        so that a rejected Gear step can undo them.
+        ``(w_act, w_d, olog, w_v)``: (n, 6) history of the sphere-wall contacts (active flag,
+        damping parameter, impact speed) and a log of the contacts that start in this
+        evaluation (pair entry ``b`` or ``-(6 i + wall) - 1``), so that a rejected Gear step
+        can undo them.
     frc, trq : (n, 3) arrays
         Output: total force (gravity included) [N] and torque [N m].
     out : (NOUT,) array
@@ -329,10 +381,13 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
     int
         Number of contacts that started in this evaluation.
     """
-    rad, mass, inertia, kwall, pmat = part
-    estar, mu, cor_v, cor_e, cor_n = mats
-    nb_start, nb_j, h_act, h_k, h_d = lists[0], lists[1], lists[2], lists[3], lists[4]
-    w_act, w_d, olog = wall_hist
+    rad, mass, inertia, kwall, pmat, invm, invi = part
+    estar, mu, cor_v, cor_e, cor_n, xcache = mats
+    nb_start, nb_j, h_act, h_k, h_d, h_v = (lists[0], lists[1], lists[2], lists[3], lists[4],
+                                            lists[5])
+    w_act, w_d, olog, w_v = wall_hist
+    reimp = fp[FP_REIMPACT]
+    cap_h = 0.5 / fp[FP_H] if fp[FP_H] > 0.0 else 0.0
     nlog = olog.shape[0]
     n = pos.shape[0]
     g = fp[FP_G]
@@ -377,19 +432,21 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
                 h_act[b] = 0
                 if not want_ttc:
                     continue
-                # time to contact (for the variable step)
-                dist = math.sqrt(d2)
-                app = ((vel[i, 0] - vel[j, 0]) * dx + (vel[i, 1] - vel[j, 1]) * dy
-                       + (vel[i, 2] - vel[j, 2]) * dz) / dist
-                if app > 0.0:
-                    tt = (dist - rs) / app
+                # time to contact (for the variable step): (dist - rs) / (approach speed),
+                # the square root only for approaching pairs
+                dvd = ((vel[i, 0] - vel[j, 0]) * dx + (vel[i, 1] - vel[j, 1]) * dy
+                       + (vel[i, 2] - vel[j, 2]) * dz)
+                if dvd > 0.0:
+                    dist = math.sqrt(d2)
+                    tt = (dist - rs) * dist / dvd
                     if tt < ttc:
                         ttc = tt
                 continue
             dist = math.sqrt(d2)
-            nx = dx / dist
-            ny = dy / dist
-            nz = dz / dist
+            idist = 1.0 / dist
+            nx = dx * idist
+            ny = dy * idist
+            nz = dz * idist
             delta = rs - dist
             # contact point velocity of i relative to j: v_i - v_j + (r_i w_i + r_j w_j) x n
             wx = ri * omg[i, 0] + rj * omg[j, 0]
@@ -403,17 +460,24 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
             if h_act[b] == 0:
                 h_act[b] = 1
                 h_k[b] = hertz_k(estar[p], ri * rj / rs)
-                h_d[b] = onset_damping(ddot, cor_v[p, :cor_n[p]], cor_e[p, :cor_n[p]], model,
-                                       vmin)
+                h_d[b] = onset_damping_cached(ddot, cor_v[p, :cor_n[p]], cor_e[p, :cor_n[p]],
+                                              model, vmin, xcache, p)
+                h_v[b] = max(ddot, vmin)
                 if onsets < nlog:
                     olog[onsets] = b
                 onsets += 1
+            elif ddot > reimp * h_v[b]:
+                # re-impact of a persisting contact: the impact speed is the largest
+                # approach speed seen (keeps d * delta_dot = O(1), see module docstring)
+                h_d[b] = onset_damping_cached(ddot, cor_v[p, :cor_n[p]], cor_e[p, :cor_n[p]],
+                                              model, vmin, xcache, p)
+                h_v[b] = ddot
             fn, fel = normal_force(delta, ddot, h_k[b], h_d[b])
             dn += (fn - fel) * ddot
             eel += 0.4 * fel * delta
-            r = delta / min(ri, rj)
-            if r > ovl:
-                ovl = r
+            rmin = min(ri, rj)
+            if delta > ovl * rmin:
+                ovl = delta / rmin
             fx = -fn * nx
             fy = -fn * ny
             fz = -fn * nz
@@ -423,6 +487,12 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
             vt = math.sqrt(tx * tx + ty * ty + tz * tz)
             if vt > 0.0 and mu[p] > 0.0:
                 ft = friction_magnitude(mu[p], fn, vt, vreg)
+                if cap_h > 0.0:
+                    # no reversal of the slip within one step (tangential mass 2/7 m*)
+                    mij = mass[i] + mass[j]
+                    fmax = 2.0 / 7.0 * mass[i] * mass[j] * vt * cap_h
+                    if ft * mij > fmax:
+                        ft = fmax / mij
                 df += ft * vt
                 s = ft / vt
                 gx = -s * tx
@@ -455,6 +525,34 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
         if v2 > vmax2:
             vmax2 = v2
         p = nw + pmat[i]
+        # quick exit: no wall within reach (and no history to reset)
+        px = pos[i, 0]
+        py = pos[i, 1]
+        pz = pos[i, 2] - zc
+        gmin = min(min(px, lx - px), min(py, ly - py), min(pz, lz - pz))
+        if gmin > ri:
+            anyact = 0
+            for w in range(6):
+                anyact += w_act[i, w]
+            if anyact == 0:
+                if want_ttc:
+                    # time to reach the nearest wall ahead on each axis
+                    vx = vel[i, 0]
+                    vy = vel[i, 1]
+                    vz = vel[i, 2] - vc
+                    if vx != 0.0:
+                        tt = ((lx - px - ri) if vx > 0.0 else (px - ri)) / abs(vx)
+                        if tt < ttc:
+                            ttc = tt
+                    if vy != 0.0:
+                        tt = ((ly - py - ri) if vy > 0.0 else (py - ri)) / abs(vy)
+                        if tt < ttc:
+                            ttc = tt
+                    if vz != 0.0:
+                        tt = ((lz - pz - ri) if vz > 0.0 else (pz - ri)) / abs(vz)
+                        if tt < ttc:
+                            ttc = tt
+                continue
         for w in range(6):
             axis = w // 2
             if axis == 0:
@@ -463,7 +561,18 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
                 gap = pos[i, 1] if w == 2 else ly - pos[i, 1]
             else:
                 gap = pos[i, 2] - zc if w == 4 else zc + lz - pos[i, 2]
+            delta = ri - gap
             sgn = -1.0 if w % 2 == 0 else 1.0
+            if delta <= 0.0:
+                w_act[i, w] = 0
+                if want_ttc:
+                    # normal approach speed towards the wall (rotation does not enter)
+                    vn = sgn * (vel[i, axis] - (vc if axis == 2 else 0.0))
+                    if vn > 0.0:
+                        tt = -delta / vn
+                        if tt < ttc:
+                            ttc = tt
+                continue
             nx = sgn if axis == 0 else 0.0
             ny = sgn if axis == 1 else 0.0
             nz = sgn if axis == 2 else 0.0
@@ -475,27 +584,23 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
             uy = vel[i, 1] + wz * nx - wx * nz
             uz = vel[i, 2] - vc + wx * ny - wy * nx
             ddot = ux * nx + uy * ny + uz * nz
-            delta = ri - gap
-            if delta <= 0.0:
-                w_act[i, w] = 0
-                if ddot > 0.0:
-                    tt = -delta / ddot
-                    if tt < ttc:
-                        ttc = tt
-                continue
             if w_act[i, w] == 0:
                 w_act[i, w] = 1
-                w_d[i, w] = onset_damping(ddot, cor_v[p, :cor_n[p]], cor_e[p, :cor_n[p]],
-                                          model, vmin)
+                w_d[i, w] = onset_damping_cached(ddot, cor_v[p, :cor_n[p]], cor_e[p, :cor_n[p]],
+                                                 model, vmin, xcache, p)
+                w_v[i, w] = max(ddot, vmin)
                 if onsets < nlog:
                     olog[onsets] = -(i * 6 + w) - 1
                 onsets += 1
+            elif ddot > reimp * w_v[i, w]:
+                w_d[i, w] = onset_damping_cached(ddot, cor_v[p, :cor_n[p]], cor_e[p, :cor_n[p]],
+                                                 model, vmin, xcache, p)
+                w_v[i, w] = ddot
             fn, fel = normal_force(delta, ddot, kwall[i], w_d[i, w])
             dn += (fn - fel) * ddot
             eel += 0.4 * fel * delta
-            r = delta / ri
-            if r > ovl:
-                ovl = r
+            if delta > ovl * ri:
+                ovl = delta / ri
             fx = -fn * nx
             fy = -fn * ny
             fz = -fn * nz
@@ -505,6 +610,10 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
             vt = math.sqrt(tx * tx + ty * ty + tz * tz)
             if vt > 0.0 and mu[p] > 0.0:
                 ft = friction_magnitude(mu[p], fn, vt, vreg)
+                if cap_h > 0.0:
+                    fmax = 2.0 / 7.0 * mass[i] * vt * cap_h
+                    if ft > fmax:
+                        ft = fmax
                 df += ft * vt
                 s = ft / vt
                 gx = -s * tx
@@ -546,7 +655,7 @@ def record_sample(k, t, pos, vel, omg, part, fp, zc, vc, ac, out, led, samples, 
     ``led`` = (D_n, D_f, W_c) running integrals [J]. Returns an error code from the checks
     (NaN, particle outside the container, energy blow-up).
     """
-    rad, mass, inertia, kwall, pmat = part
+    rad, mass, inertia, kwall, pmat, invm, invi = part
     ts, cont, fpc, com, en = samples
     s_pos, s_vel, s_omg = snaps
     n = pos.shape[0]
@@ -637,19 +746,20 @@ def _struct_acc(fz, zc, vc, fp):
 # ======================================================================================
 # velocity Verlet
 # ======================================================================================
-@njit(cache=True, fastmath=FASTMATH)
+@njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def run_verlet(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, work,
                samples, snaps, stats, fstats):
     """Integrate a whole run with velocity Verlet at the fixed step ``fp[FP_DT]``.
 
     Samples are taken every ``2 * m`` steps, where ``m = fp[FP_HALF] / dt`` is an integer
-    (the caller chooses dt so). The velocities that enter the (velocity-dependent) forces are
-    predicted as ``v + dt a`` (second order); the update itself is the standard kick-drift-
-    kick scheme. ``cstate = (z_c, v_c, a_c)`` is read and written (structure mode).
+    (the caller chooses dt so). The update is the standard kick-drift-kick scheme;
+    ``cstate = (z_c, v_c, a_c)`` is read and written (structure mode).
+    The velocities that enter the velocity-dependent forces (damping, friction) at
+    ``t + dt`` are predicted as ``v + dt a`` (local error O(dt^2); a higher extrapolation,
+    ``+ dt/2 (a - a_prev)``, was tried and is unstable in stiff contact networks).
     """
-    rad, mass, inertia, kwall, pmat = part
+    rad, mass, inertia, kwall, pmat, invm, invi = part
     frc, trq, vev, wev, out, led, imp = work
-    ts = samples[0]
     fpc = samples[2]
     n = pos.shape[0]
     dt = fp[FP_DT]
@@ -695,40 +805,65 @@ def run_verlet(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab,
     pfy = out[O_FY]
     pfz = out[O_FZ]
     hdt = 0.5 * dt
+    fp[FP_H] = dt
+    # flat views (3n components) and per-component inverse masses: the kicks vectorise
+    m3 = 3 * n
+    fpos = pos.reshape(m3)
+    fvel = vel.reshape(m3)
+    fomg = omg.reshape(m3)
+    fvev = vev.reshape(m3)
+    fwev = wev.reshape(m3)
+    ffrc = frc.reshape(m3)
+    ftrq = trq.reshape(m3)
+    im3 = np.empty(m3)
+    ii3 = np.empty(m3)
+    for i in range(n):
+        for a in range(3):
+            im3[3 * i + a] = invm[i]
+            ii3[3 * i + a] = invi[i]
+    # rebuild check: the exact test (some particle moved more than skin/2) only when the
+    # bound disp >= largest displacement since the build (sum of sqrt(3) dt max|v_a|)
+    # allows it: the same rebuild steps as testing every step
+    disp = 0.0
+    disp_lim = 0.4999 * skin
+    sqrt3 = math.sqrt(3.0)
+    countdown = m_half
     for step in range(1, total + 1):
         t = t0 + step * dt
-        for i in range(n):
-            im = 1.0 / mass[i]
-            ii = 1.0 / inertia[i]
-            for a in range(3):
-                acc = frc[i, a] * im
-                vh = vel[i, a] + hdt * acc
-                vev[i, a] = vel[i, a] + VPRED * dt * acc
-                vel[i, a] = vh
-                pos[i, a] += dt * vh
-                al = trq[i, a] * ii
-                wev[i, a] = omg[i, a] + VPRED * dt * al
-                omg[i, a] += hdt * al
+        vmx = 0.0
+        for j in range(m3):
+            acc = ffrc[j] * im3[j]
+            vh = fvel[j] + hdt * acc
+            fvev[j] = fvel[j] + dt * acc
+            fvel[j] = vh
+            fpos[j] += dt * vh
+            al = ftrq[j] * ii3[j]
+            fwev[j] = fomg[j] + dt * al
+            fomg[j] += hdt * al
+            vmx = max(vmx, abs(vh))
+        disp += sqrt3 * dt * vmx
         if kind == MOTION_STRUCTURE:
             vch = vc + hdt * ac
             vce = vc + dt * ac
             zc += dt * vch
         else:
             zc, vce, ac = prescribed_state(t, kind, fp, tab)
-        if needs_rebuild(pos, lists[12], skin):
-            if rebuild(pos, rad, zc, fp, ip, lists) < 0:
-                stats[S_ERR] = ERR_LIST
-                fstats[F_TERR] = t
-                return
-            stats[S_REBUILDS] += 1
+        if not disp <= disp_lim:
+            d2 = max_displacement2(pos, lists[14])
+            if d2 > 0.25 * skin * skin:
+                if rebuild(pos, rad, zc, fp, ip, lists) < 0:
+                    stats[S_ERR] = ERR_LIST
+                    fstats[F_TERR] = t
+                    return
+                stats[S_REBUILDS] += 1
+                disp = 0.0
+            else:
+                disp = math.sqrt(d2)
         stats[S_ONSETS] += compute_forces(pos, vev, wev, zc, vce, part, mats, lists,
                                           wall_hist, fp, ip, frc, trq, out)
-        for i in range(n):
-            im = 1.0 / mass[i]
-            ii = 1.0 / inertia[i]
-            for a in range(3):
-                vel[i, a] += hdt * frc[i, a] * im
-                omg[i, a] += hdt * trq[i, a] * ii
+        for j in range(m3):
+            fvel[j] += hdt * ffrc[j] * im3[j]
+            fomg[j] += hdt * ftrq[j] * ii3[j]
         if kind == MOTION_STRUCTURE:
             ac = _struct_acc(out[O_FZ], zc, vce, fp)
             vc = vch + hdt * ac
@@ -755,7 +890,9 @@ def run_verlet(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab,
             fstats[F_TERR] = t
             fstats[F_ERRVAL] = out[O_OVL] if out[O_OVL] > maxovl else out[O_VMAX]
             break
-        if step % m_half == 0:
+        countdown -= 1
+        if countdown == 0:
+            countdown = m_half
             j = step // m_half
             k = j // 2
             if j % 2 == 1:
@@ -780,20 +917,7 @@ def run_verlet(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab,
 # ======================================================================================
 # variable-step fifth-order Gear predictor-corrector
 # ======================================================================================
-@njit(cache=True)
-def _rescale(nx, nw, nc, ratio):
-    r = ratio
-    for k in range(1, 6):
-        for i in range(nx.shape[1]):
-            for a in range(3):
-                nx[k, i, a] *= r
-                if k < 5:
-                    nw[k, i, a] *= r
-        nc[k] *= r
-        r *= ratio
-
-
-@njit(cache=True, fastmath=FASTMATH)
+@njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, work,
              gwork, samples, snaps, stats, fstats):
     """Integrate a whole run with the variable-step fifth-order Gear predictor-corrector.
@@ -801,16 +925,20 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
     Positions use the 6-value Nordsieck vector ``(x, h v, h^2 a/2, h^3 x'''/6, ...)`` of a
     second-order ODE; angular velocities the 5-value vector of a first-order ODE (Euler's
     equations of a sphere: ``I dw/dt = T``); the 1-DOF structure (if any) a 6-value vector.
-    After each step the step ``h`` is changed by ``0.9 (tol / err)^(1/6)`` (bounded to
-    [0.3, 1.5]), where ``err = max_i |corr_i| / (h (v_scale + |v_i|))`` is the local error
-    estimate from the corrector difference ``corr`` of the position; the Nordsieck vectors
-    are rescaled by ``ratio^k``. Steps are also bounded by the time to the next contact
-    (never below the contact step ``fp[FP_DTC]``), by ``skin / (4 v_max)``, by ``dt_max``,
+    After each accepted step the step ``h`` is changed by the PI controller
+    ``0.9 (tol / err)^(0.7/6) (err_prev / tol)^(0.4/6)`` (bounded to [0.3, 2]), where
+    ``err = max_i |corr_i| / (h (v_scale + |v_i|))`` is the local error estimate from the
+    corrector difference ``corr`` of the position (computed before the correction: a step
+    with ``err > REJECT tol`` is undone by inverting the prediction and repeated with
+    ``0.9 (tol / err)^(1/6)``, at least 0.1, times the step); the Nordsieck vectors are
+    rescaled by ``ratio^k``. The friction cap uses ``max(h, fp[FP_HCAP])``. Steps are also
+    bounded by ``skin / (4 v_max)``, by ``dt_max``, optionally (``ip[IP_TTC]``) by the time
+    to the next contact (never below the contact step ``fp[FP_DTC]``),
     and land exactly on the sample grid. ``ip[IP_ADAPTIVE] = 0`` keeps ``fp[FP_DT]`` fixed.
     """
-    rad, mass, inertia, kwall, pmat = part
+    rad, mass, inertia, kwall, pmat, invm, invi = part
     frc, trq, vev, wev, out, led, imp = work
-    nx, nw, nc, bx, bw, bc = gwork
+    nx, nw, nc, bx, bw, bc = gwork  # bx, bw: unused (kept for the call signature)
     h_act = lists[2]
     w_act = wall_hist[0]
     olog = wall_hist[2]
@@ -831,6 +959,7 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
     dtmax = fp[FP_DTMAX]
     dtc = fp[FP_DTC]
     h = fp[FP_DT]
+    hcap = fp[FP_HCAP]
     structure = kind == MOTION_STRUCTURE
     if structure:
         zc = cstate[0]
@@ -883,9 +1012,27 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
     pfz = out[O_FZ]
     t = t0
     h_des = h
+    # flat views (3n components) of the Nordsieck vectors: the predictor vectorises
+    m3 = 3 * n
+    fx = nx.reshape((6, m3))
+    fw = nw.reshape((5, m3))
+    fpos = pos.reshape(m3)
+    fvev = vev.reshape(m3)
+    fwev = wev.reshape(m3)
+    fvel = vel.reshape(m3)
+    fomg = omg.reshape(m3)
+    ffrc = frc.reshape(m3)
+    ftrq = trq.reshape(m3)
+    im3 = np.empty(m3)
+    ii3 = np.empty(m3)
+    for i in range(n):
+        for a in range(3):
+            im3[3 * i + a] = invm[i]
+            ii3[3 * i + a] = invi[i]
     j_land = 0
     total_half = 2 * (nsamp - 1)
     dtlo = 1e300
+    le_prev = 0.0
     dthi = 0.0
     while j_land < total_half:
         t_land = t0 + (j_land + 1) * half
@@ -911,43 +1058,63 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
             # split what is left evenly: no tiny step before the landing (a tiny step would
             # amplify the noise of the higher Nordsieck derivatives on the next rescaling)
             hn = 0.5 * rem
-        if hn != h:
-            _rescale(nx, nw, nc, hn / h)
-            h = hn
-        if adaptive:
-            for k in range(6):
-                bc[k] = nc[k]
-                for i in range(n):
-                    for a in range(3):
-                        bx[k, i, a] = nx[k, i, a]
-                        if k < 5:
-                            bw[k, i, a] = nw[k, i, a]
-        # ---- predict (Pascal triangle)
-        for i in range(n):
-            for a in range(3):
-                x0 = nx[0, i, a]
-                x1 = nx[1, i, a]
-                x2 = nx[2, i, a]
-                x3 = nx[3, i, a]
-                x4 = nx[4, i, a]
-                x5 = nx[5, i, a]
-                nx[0, i, a] = x0 + x1 + x2 + x3 + x4 + x5
-                nx[1, i, a] = x1 + 2.0 * x2 + 3.0 * x3 + 4.0 * x4 + 5.0 * x5
-                nx[2, i, a] = x2 + 3.0 * x3 + 6.0 * x4 + 10.0 * x5
-                nx[3, i, a] = x3 + 4.0 * x4 + 10.0 * x5
-                nx[4, i, a] = x4 + 5.0 * x5
-                pos[i, a] = nx[0, i, a]
-                vev[i, a] = nx[1, i, a] / h
-                w0 = nw[0, i, a]
-                w1 = nw[1, i, a]
-                w2 = nw[2, i, a]
-                w3 = nw[3, i, a]
-                w4 = nw[4, i, a]
-                nw[0, i, a] = w0 + w1 + w2 + w3 + w4
-                nw[1, i, a] = w1 + 2.0 * w2 + 3.0 * w3 + 4.0 * w4
-                nw[2, i, a] = w2 + 3.0 * w3 + 6.0 * w4
-                nw[3, i, a] = w3 + 4.0 * w4
-                wev[i, a] = nw[0, i, a]
+        # ---- rescale (Nordsieck, ratio^k), back up (for a rejection), predict (Pascal
+        # triangle): one pass over the particles
+        q1 = hn / h
+        q2 = q1 * q1
+        q3 = q2 * q1
+        q4 = q3 * q1
+        q5 = q4 * q1
+        h = hn
+        # friction cap: never stiffer than at the step hcap (the Verlet step), so that the
+        # error control does not chase the viscous time scale of the stuck tanh law
+        fp[FP_H] = h if h > hcap else hcap
+        ih = 1.0 / h
+        for j in range(m3):
+            x0 = fx[0, j]
+            x1 = fx[1, j] * q1
+            x2 = fx[2, j] * q2
+            x3 = fx[3, j] * q3
+            x4 = fx[4, j] * q4
+            x5 = fx[5, j] * q5
+            w0 = fw[0, j]
+            w1 = fw[1, j] * q1
+            w2 = fw[2, j] * q2
+            w3 = fw[3, j] * q3
+            w4 = fw[4, j] * q4
+            p0 = x0 + x1 + x2 + x3 + x4 + x5
+            p1 = x1 + 2.0 * x2 + 3.0 * x3 + 4.0 * x4 + 5.0 * x5
+            fx[0, j] = p0
+            fx[1, j] = p1
+            fx[2, j] = x2 + 3.0 * x3 + 6.0 * x4 + 10.0 * x5
+            fx[3, j] = x3 + 4.0 * x4 + 10.0 * x5
+            fx[4, j] = x4 + 5.0 * x5
+            fx[5, j] = x5
+            fpos[j] = p0
+            fvev[j] = p1 * ih
+            p0 = w0 + w1 + w2 + w3 + w4
+            fw[0, j] = p0
+            fw[1, j] = w1 + 2.0 * w2 + 3.0 * w3 + 4.0 * w4
+            fw[2, j] = w2 + 3.0 * w3 + 6.0 * w4
+            fw[3, j] = w3 + 4.0 * w4
+            fw[4, j] = w4
+            fwev[j] = p0
+        c1 = nc[1] * q1
+        c2 = nc[2] * q2
+        c3 = nc[3] * q3
+        c4 = nc[4] * q4
+        c5 = nc[5] * q5
+        bc[0] = nc[0]
+        bc[1] = c1
+        bc[2] = c2
+        bc[3] = c3
+        bc[4] = c4
+        bc[5] = c5
+        nc[1] = c1
+        nc[2] = c2
+        nc[3] = c3
+        nc[4] = c4
+        nc[5] = c5
         tn = t_land if landing else t + h
         if structure:
             c0, c1, c2, c3, c4, c5 = nc[0], nc[1], nc[2], nc[3], nc[4], nc[5]
@@ -960,7 +1127,7 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
             vc = nc[1] / h
         else:
             zc, vc, ac = prescribed_state(tn, kind, fp, tab)
-        if needs_rebuild(pos, lists[12], skin):
+        if needs_rebuild(pos, lists[14], skin):
             if rebuild(pos, rad, zc, fp, ip, lists) < 0:
                 stats[S_ERR] = ERR_LIST
                 fstats[F_TERR] = tn
@@ -968,51 +1135,32 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
             stats[S_REBUILDS] += 1
         nons = compute_forces(pos, vev, wev, zc, vc, part, mats, lists, wall_hist, fp, ip, frc,
                               trq, out)
-        # ---- correct
-        err = 0.0
+        # ---- error estimate from the corrector difference (before the correction, so
+        # that a rejected step only has to undo the prediction)
+        # err = max_i |corr_i| / (h (v_scale + |v_i|)), compared squared: one square root
+        # per particle and no division
+        e2 = 0.0
         hh = 0.5 * h * h
         for i in range(n):
-            im = 1.0 / mass[i]
-            ii = 1.0 / inertia[i]
+            im = invm[i]
             c2 = 0.0
             v2 = 0.0
             for a in range(3):
                 corr = hh * frc[i, a] * im - nx[2, i, a]
-                nx[0, i, a] += G0 * corr
-                nx[1, i, a] += G1 * corr
-                nx[2, i, a] += corr
-                nx[3, i, a] += G3 * corr
-                nx[4, i, a] += G4 * corr
-                nx[5, i, a] += G5 * corr
                 c2 += corr * corr
-                pos[i, a] = nx[0, i, a]
-                vel[i, a] = nx[1, i, a] / h
-                v2 += vel[i, a] * vel[i, a]
-                cw = h * trq[i, a] * ii - nw[1, i, a]
-                nw[0, i, a] += H0 * cw
-                nw[1, i, a] += cw
-                nw[2, i, a] += H2 * cw
-                nw[3, i, a] += H3 * cw
-                nw[4, i, a] += H4 * cw
-                omg[i, a] = nw[0, i, a]
-            ei = math.sqrt(c2) / (h * (vscale + math.sqrt(v2)))
-            if ei > err:
-                err = ei
+                va = (nx[1, i, a] + G1 * corr) * ih
+                v2 += va * va
+            den = vscale + math.sqrt(v2)
+            if c2 > e2 * den * den:
+                e2 = c2 / (den * den)
+        err = math.sqrt(e2) * ih
         if structure:
             ac = _struct_acc(out[O_FZ], zc, vc, fp)
             corr = hh * ac - nc[2]
-            nc[0] += G0 * corr
-            nc[1] += G1 * corr
-            nc[2] += corr
-            nc[3] += G3 * corr
-            nc[4] += G4 * corr
-            nc[5] += G5 * corr
-            zc = nc[0]
-            vc = nc[1] / h
-            ec = abs(corr) / (h * (vscale + abs(vc)))
+            ec = abs(corr) / (h * (vscale + abs((nc[1] + G1 * corr) * ih)))
             if ec > err:
                 err = ec
-        # ---- reject a step whose error is far beyond the tolerance: restore and retry
+        # ---- reject a step whose error is far beyond the tolerance: undo and retry
         if (adaptive and err > REJECT * tol and h > 2.0 * dtmin and nons <= olog.shape[0]
                 and math.isfinite(err)):
             for q in range(nons):
@@ -1022,13 +1170,30 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
                 else:
                     code = -code - 1
                     w_act[code // 6, code % 6] = 0
+            # inverse of the Pascal-triangle prediction: the (rescaled) Nordsieck vectors
+            # at the start of the step
+            for i in range(n):
+                for a in range(3):
+                    x5 = nx[5, i, a]
+                    x4 = nx[4, i, a] - 5.0 * x5
+                    x3 = nx[3, i, a] - 4.0 * x4 - 10.0 * x5
+                    x2 = nx[2, i, a] - 3.0 * x3 - 6.0 * x4 - 10.0 * x5
+                    x1 = nx[1, i, a] - 2.0 * x2 - 3.0 * x3 - 4.0 * x4 - 5.0 * x5
+                    nx[0, i, a] -= x1 + x2 + x3 + x4 + x5
+                    nx[1, i, a] = x1
+                    nx[2, i, a] = x2
+                    nx[3, i, a] = x3
+                    nx[4, i, a] = x4
+                    w4 = nw[4, i, a]
+                    w3 = nw[3, i, a] - 4.0 * w4
+                    w2 = nw[2, i, a] - 3.0 * w3 - 6.0 * w4
+                    w1 = nw[1, i, a] - 2.0 * w2 - 3.0 * w3 - 4.0 * w4
+                    nw[0, i, a] -= w1 + w2 + w3 + w4
+                    nw[1, i, a] = w1
+                    nw[2, i, a] = w2
+                    nw[3, i, a] = w3
             for k in range(6):
                 nc[k] = bc[k]
-                for i in range(n):
-                    for a in range(3):
-                        nx[k, i, a] = bx[k, i, a]
-                        if k < 5:
-                            nw[k, i, a] = bw[k, i, a]
             fac = 0.9 * (tol / err) ** (1.0 / 6.0)
             if fac < 0.1:
                 fac = 0.1
@@ -1037,6 +1202,34 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
                 h_des = dtmin
             rejects += 1
             continue
+        # ---- correct (flat loop over the 3n components)
+        for j in range(m3):
+            corr = hh * ffrc[j] * im3[j] - fx[2, j]
+            fx[0, j] += G0 * corr
+            fx[1, j] += G1 * corr
+            fx[2, j] += corr
+            fx[3, j] += G3 * corr
+            fx[4, j] += G4 * corr
+            fx[5, j] += G5 * corr
+            fpos[j] = fx[0, j]
+            fvel[j] = fx[1, j] * ih
+            cw = h * ftrq[j] * ii3[j] - fw[1, j]
+            fw[0, j] += H0 * cw
+            fw[1, j] += cw
+            fw[2, j] += H2 * cw
+            fw[3, j] += H3 * cw
+            fw[4, j] += H4 * cw
+            fomg[j] = fw[0, j]
+        if structure:
+            corr = hh * ac - nc[2]
+            nc[0] += G0 * corr
+            nc[1] += G1 * corr
+            nc[2] += corr
+            nc[3] += G3 * corr
+            nc[4] += G4 * corr
+            nc[5] += G5 * corr
+            zc = nc[0]
+            vc = nc[1] * ih
         stats[S_ONSETS] += nons
         hl = 0.5 * h
         led[0] += hl * (pdn + out[O_DN])
@@ -1067,12 +1260,13 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
             break
         # ---- step-size control
         if adaptive:
-            if err > 0.0:
-                fac = 0.9 * (tol / err) ** (1.0 / 6.0)
-            else:
-                fac = 1.5
-            if fac > 1.5:
-                fac = 1.5
+            # PI control (Gustafsson): exponents 0.7/6 and 0.4/6 on this and the last
+            # accepted error, log(err / tol) bounded to keep exp finite
+            le = math.log(err / tol) if err > 1e-30 * tol else -69.0
+            fac = 0.9 * math.exp(-PI_KI * le + PI_KP * le_prev)
+            le_prev = le
+            if fac > 2.0:
+                fac = 2.0
             if fac < 0.3:
                 fac = 0.3
             hnew = h * fac
