@@ -782,6 +782,52 @@ def close_window(k, t, t_win, imp, fpc):
     imp[2] = 0.0
 
 
+@njit(cache=True, inline="always")
+def _ledger_start(led, imp, prev, out):
+    """Zero the running integrals and remember the rates of the first evaluation."""
+    for q in range(3):
+        led[q] = 0.0
+        imp[q] = 0.0
+    prev[0] = out[O_DN]
+    prev[1] = out[O_DF]
+    prev[2] = out[O_WC]
+    prev[3] = out[O_FX]
+    prev[4] = out[O_FY]
+    prev[5] = out[O_FZ]
+
+
+@njit(cache=True, inline="always")
+def _ledger_step(led, imp, prev, out, hw):
+    """Trapezoidal update over a step of length ``2 hw`` of the dissipation (normal,
+    friction), the container work and the impulse on the container."""
+    led[0] += hw * (prev[0] + out[O_DN])
+    led[1] += hw * (prev[1] + out[O_DF])
+    led[2] += hw * (prev[2] + out[O_WC])
+    imp[0] += hw * (prev[3] + out[O_FX])
+    imp[1] += hw * (prev[4] + out[O_FY])
+    imp[2] += hw * (prev[5] + out[O_FZ])
+    prev[0] = out[O_DN]
+    prev[1] = out[O_DF]
+    prev[2] = out[O_WC]
+    prev[3] = out[O_FX]
+    prev[4] = out[O_FY]
+    prev[5] = out[O_FZ]
+
+
+@njit(cache=True, inline="always")
+def _step_failed(out, maxovl, vlim, t, stats, fstats):
+    """Record the largest overlap; flag overlap, speed or NaN blow-ups (True: stop)."""
+    if out[O_OVL] > fstats[F_OVL]:
+        fstats[F_OVL] = out[O_OVL]
+    if out[O_OVL] > maxovl or out[O_VMAX] > vlim or not math.isfinite(out[O_FZ]):
+        stats[S_ERR] = ERR_OVERLAP if out[O_OVL] > maxovl else (
+            ERR_SPEED if out[O_VMAX] > vlim else ERR_NAN)
+        fstats[F_TERR] = t
+        fstats[F_ERRVAL] = out[O_OVL] if out[O_OVL] > maxovl else out[O_VMAX]
+        return True
+    return False
+
+
 @njit(cache=True)
 def _struct_acc(fz, zc, vc, fp):
     """1-DOF structure: M a = -K z - D v + F_z (force of the particles on it)."""
@@ -830,12 +876,8 @@ def run_verlet(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab,
                                       fp, ip, frc, trq, out)
     if kind == MOTION_STRUCTURE:
         ac = _struct_acc(out[O_FZ], zc, vc, fp)
-    led[0] = 0.0
-    led[1] = 0.0
-    led[2] = 0.0
-    imp[0] = 0.0
-    imp[1] = 0.0
-    imp[2] = 0.0
+    prev = np.empty(6)
+    _ledger_start(led, imp, prev, out)
     e = record_sample(0, t0, pos, vel, omg, part, fp, zc, vc, ac, out, led, samples, snaps,
                       ip)
     if e != ERR_NONE:
@@ -843,12 +885,6 @@ def run_verlet(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab,
         fstats[F_TERR] = t0
         return
     t_win = t0
-    pdn = out[O_DN]
-    pdf = out[O_DF]
-    pwc = out[O_WC]
-    pfx = out[O_FX]
-    pfy = out[O_FY]
-    pfz = out[O_FZ]
     hdt = 0.5 * dt
     fp[FP_H] = dt
     # flat views (3n components) and per-component inverse masses: the kicks vectorise
@@ -924,26 +960,9 @@ def run_verlet(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab,
             vc = vch + hdt * ac
         else:
             vc = vce
-        led[0] += hdt * (pdn + out[O_DN])
-        led[1] += hdt * (pdf + out[O_DF])
-        led[2] += hdt * (pwc + out[O_WC])
-        imp[0] += hdt * (pfx + out[O_FX])
-        imp[1] += hdt * (pfy + out[O_FY])
-        imp[2] += hdt * (pfz + out[O_FZ])
-        pdn = out[O_DN]
-        pdf = out[O_DF]
-        pwc = out[O_WC]
-        pfx = out[O_FX]
-        pfy = out[O_FY]
-        pfz = out[O_FZ]
+        _ledger_step(led, imp, prev, out, hdt)
         stats[S_STEPS] += 1
-        if out[O_OVL] > fstats[F_OVL]:
-            fstats[F_OVL] = out[O_OVL]
-        if out[O_OVL] > maxovl or out[O_VMAX] > vlim or not math.isfinite(out[O_FZ]):
-            stats[S_ERR] = ERR_OVERLAP if out[O_OVL] > maxovl else (
-                ERR_SPEED if out[O_VMAX] > vlim else ERR_NAN)
-            fstats[F_TERR] = t
-            fstats[F_ERRVAL] = out[O_OVL] if out[O_OVL] > maxovl else out[O_VMAX]
+        if _step_failed(out, maxovl, vlim, t, stats, fstats):
             break
         countdown -= 1
         if countdown == 0:
@@ -1046,12 +1065,8 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
     nc[0] = zc
     nc[1] = h * vc
     nc[2] = 0.5 * h * h * ac
-    led[0] = 0.0
-    led[1] = 0.0
-    led[2] = 0.0
-    imp[0] = 0.0
-    imp[1] = 0.0
-    imp[2] = 0.0
+    prev = np.empty(6)
+    _ledger_start(led, imp, prev, out)
     e = record_sample(0, t0, pos, vel, omg, part, fp, zc, vc, ac, out, led, samples, snaps,
                       ip)
     if e != ERR_NONE:
@@ -1059,12 +1074,6 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
         fstats[F_TERR] = t0
         return
     t_win = t0
-    pdn = out[O_DN]
-    pdf = out[O_DF]
-    pwc = out[O_WC]
-    pfx = out[O_FX]
-    pfy = out[O_FY]
-    pfz = out[O_FZ]
     t = t0
     h_des = h
     # flat views (3n components) of the Nordsieck vectors: the predictor vectorises
@@ -1287,31 +1296,14 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
             vc = nc[1] * ih
         stats[S_ONSETS] += nons
         hl = 0.5 * h
-        led[0] += hl * (pdn + out[O_DN])
-        led[1] += hl * (pdf + out[O_DF])
-        led[2] += hl * (pwc + out[O_WC])
-        imp[0] += hl * (pfx + out[O_FX])
-        imp[1] += hl * (pfy + out[O_FY])
-        imp[2] += hl * (pfz + out[O_FZ])
-        pdn = out[O_DN]
-        pdf = out[O_DF]
-        pwc = out[O_WC]
-        pfx = out[O_FX]
-        pfy = out[O_FY]
-        pfz = out[O_FZ]
+        _ledger_step(led, imp, prev, out, hl)
         t = tn
         stats[S_STEPS] += 1
         if h < dtlo:
             dtlo = h
         if h > dthi:
             dthi = h
-        if out[O_OVL] > fstats[F_OVL]:
-            fstats[F_OVL] = out[O_OVL]
-        if out[O_OVL] > maxovl or out[O_VMAX] > vlim or not math.isfinite(out[O_FZ]):
-            stats[S_ERR] = ERR_OVERLAP if out[O_OVL] > maxovl else (
-                ERR_SPEED if out[O_VMAX] > vlim else ERR_NAN)
-            fstats[F_TERR] = t
-            fstats[F_ERRVAL] = out[O_OVL] if out[O_OVL] > maxovl else out[O_VMAX]
+        if _step_failed(out, maxovl, vlim, t, stats, fstats):
             break
         # ---- step-size control
         if adaptive:
