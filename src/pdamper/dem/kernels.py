@@ -828,6 +828,26 @@ def _step_failed(out, maxovl, vlim, t, stats, fstats):
     return False
 
 
+@njit(cache=True, inline="always")
+def _on_landing(j, t, t_win, pos, vel, omg, part, fp, zc, vc, ac, out, led, imp, fpc, samples,
+                snaps, ip, stats, fstats):
+    """The ``j``-th landing on the half-sample grid: odd ones close a force window, even
+    ones record sample ``j // 2``. Returns the start of the current window and whether the
+    run must stop."""
+    k = j // 2
+    if j % 2 == 1:
+        close_window(k, t, t_win, imp, fpc)
+        return t, False
+    e = record_sample(k, t, pos, vel, omg, part, fp, zc, vc, ac, out, led, samples, snaps, ip)
+    if e != ERR_NONE:
+        stats[S_ERR] = e
+        fstats[F_TERR] = t
+        return t_win, True
+    if k == ip[IP_NSAMP] - 1:
+        close_window(k, t, t_win, imp, fpc)
+    return t_win, False
+
+
 @njit(cache=True)
 def _struct_acc(fz, zc, vc, fp):
     """1-DOF structure: M a = -K z - D v + F_z (force of the particles on it)."""
@@ -967,20 +987,11 @@ def run_verlet(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab,
         countdown -= 1
         if countdown == 0:
             countdown = m_half
-            j = step // m_half
-            k = j // 2
-            if j % 2 == 1:
-                close_window(k, t, t_win, imp, fpc)
-                t_win = t
-            else:
-                e = record_sample(k, t, pos, vel, omg, part, fp, zc, vc, ac, out, led,
-                                  samples, snaps, ip)
-                if e != ERR_NONE:
-                    stats[S_ERR] = e
-                    fstats[F_TERR] = t
-                    break
-                if k == nsamp - 1:
-                    close_window(k, t, t_win, imp, fpc)
+            t_win, stop = _on_landing(step // m_half, t, t_win, pos, vel, omg, part, fp, zc,
+                                      vc, ac, out, led, imp, fpc, samples, snaps, ip, stats,
+                                      fstats)
+            if stop:
+                break
     cstate[0] = zc
     cstate[1] = vc
     cstate[2] = ac
@@ -1326,19 +1337,10 @@ def run_gear(pos, vel, omg, cstate, part, mats, lists, wall_hist, fp, ip, tab, w
             h_des = hnew
         if landing:
             j_land += 1
-            k = j_land // 2
-            if j_land % 2 == 1:
-                close_window(k, t, t_win, imp, fpc)
-                t_win = t
-            else:
-                e = record_sample(k, t, pos, vel, omg, part, fp, zc, vc, ac, out, led,
-                                  samples, snaps, ip)
-                if e != ERR_NONE:
-                    stats[S_ERR] = e
-                    fstats[F_TERR] = t
-                    break
-                if k == nsamp - 1:
-                    close_window(k, t, t_win, imp, fpc)
+            t_win, stop = _on_landing(j_land, t, t_win, pos, vel, omg, part, fp, zc, vc, ac,
+                                      out, led, imp, fpc, samples, snaps, ip, stats, fstats)
+            if stop:
+                break
     cstate[0] = zc
     cstate[1] = vc
     cstate[2] = ac
