@@ -83,10 +83,3 @@ def write_atomic(path: Path, writer) -> None:
             tmp.unlink()
 
 
-
-
-def models():
-    """Registry of damper models by fidelity name."""
-    from pdamper.coupling.registry import DAMPER_MODELS
-
-    return DAMPER_MODELS

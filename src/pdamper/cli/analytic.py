@@ -23,6 +23,9 @@ def analytic(
     as_json: JsonOpt = False,
 ) -> None:
     """Motion mode, loss factor and effective mass of the bed (paper Eqs. 5-22)."""
+    import math
+
+    from pdamper.analysis.analytical import ETA_MAX
     from pdamper.analysis.modes import MotionMode
     from pdamper.coupling.analytical import AnalyticalDamper
     from pdamper.units import format_quantity
@@ -43,8 +46,8 @@ def analytic(
         "optimal_stroke": damper.optimal_stroke,
         "subharmonic_order": int(bed.subharmonic_order),
         "bed_mass": damper.bed_mass,
-        "acceleration_ratio": x * (2 * 3.141592653589793 * f) ** 2 / bed.gravity,
-        "eta_max": 4 / 3.141592653589793,
+        "acceleration_ratio": x * (2 * math.pi * f) ** 2 / bed.gravity,
+        "eta_max": ETA_MAX,
         "units": {"dissipated_energy_per_cycle": "J", "clearance": "m", "optimal_stroke": "m",
                   "bed_mass": "kg", "loss_factor": "1", "effective_mass_ratio": "1"},
         **metadata(sc),

@@ -76,7 +76,8 @@ class CaseStudy:
     optimization: OptimizationResult | None = None
 
 
-def _zeta_at(res: FreeVibrationResult, amplitude: float) -> float:
+def _zeta_at(res: FreeVibrationResult, amplitude: float) -> tuple[float, float]:
+    """(zeta, mean amplitude) of the cycle whose mean amplitude is nearest ``amplitude``."""
     amp, zeta = res.damping_ratio
     i = int(np.argmin(np.abs(amp - amplitude)))
     return float(zeta[i]), float(amp[i])
