@@ -29,14 +29,10 @@ import time
 
 import numpy as np
 
-from pdamper.dem import (
-    Container,
-    DEMSimulation,
-    HarmonicMotion,
-    ParticleSet,
-    warmup,
-)
+from pdamper.dem import Container, DEMEngine, HarmonicMotion, ParticleSet, warmup
 from pdamper.dem.packing import lattice_layers, scaled_box
+from pdamper.models import DEMDamper
+from pdamper.parameters import PAPER_DAMPER
 
 #: LIGGGHTS 3.8 on one core of the reference machine: about 5 us per step for this damper.
 LIGGGHTS_US_PER_STEP = 5.0
@@ -56,9 +52,8 @@ def damper(integrator: str, cycles: int, safety: float = 0.02, repeat: int = 1):
     """The benchmark damper; the result with the shortest wall time of ``repeat`` runs."""
     best = None
     for _ in range(repeat):
-        ps = ParticleSet.lattice(32)
-        sim = DEMSimulation(ps, motion=HarmonicMotion(0.032, 10.0), integrator=integrator,
-                            safety=safety)
+        sim = DEMDamper(PAPER_DAMPER, integrator=integrator, safety=safety).engine(
+            HarmonicMotion(0.032, 10.0))
         res = sim.run(cycles / 10.0, sample_rate=2000.0)
         if best is None or res.wall_seconds < best.wall_seconds:
             best = res
@@ -81,9 +76,11 @@ def scaling(counts, duration):
     base = None
     for n in counts:
         box = scaled_box(n, 0.005)
-        ps = ParticleSet(lattice_layers(n, 0.005, box))
-        sim = DEMSimulation(ps, Container(box), motion=HarmonicMotion(0.032, 10.0),
-                            settle_time=0.0)
+        d = PAPER_DAMPER
+        ps = ParticleSet(lattice_layers(n, d.particle_radius, box), d.particle_radius,
+                         d.particle_material)
+        sim = DEMEngine(ps, Container(box, d.wall_material), DEMDamper(d).contact,
+                        motion=HarmonicMotion(0.032, 10.0), settle_time=0.0)
         res = sim.run(duration, sample_rate=2000.0)
         us = 1e6 * res.wall_seconds / res.steps
         per = 1e3 * us / n

@@ -1,3 +1,37 @@
+"""Shared fixtures of the test suite.
+
+DEM inputs of the benchmark damper are plain functions in ``dem_inputs.py`` (this
+directory is on ``sys.path``), so that module-level helpers can use them too.
+"""
+
+from __future__ import annotations
+
 import os
 
+import pytest
+
 os.environ.setdefault("MPLBACKEND", "Agg")
+
+
+@pytest.fixture
+def cli(capsys):
+    """Run ``pdamper ARGS...``; returns ``(exit status, stdout, stderr)``."""
+    from pdamper.cli import main
+
+    def run(*args):
+        code = main([str(a) for a in args])
+        out = capsys.readouterr()
+        return code, out.out, out.err
+
+    return run
+
+
+@pytest.fixture(scope="session")
+def paper_run32():
+    """Model 3 on the paper's structure: 32 spheres released from -58 mm, 2 s (Fig. 7)."""
+    from pdamper.coupling import Simulation
+    from pdamper.models import AnalyticalDamper
+    from pdamper.parameters import PAPER_DAMPER, PAPER_INITIAL_DISPLACEMENT, PAPER_STRUCTURE
+
+    return Simulation(PAPER_STRUCTURE, AnalyticalDamper(PAPER_DAMPER),
+                      PAPER_INITIAL_DISPLACEMENT).run(2.0)

@@ -1,18 +1,26 @@
 """The physical particle damper: a box container partly filled with equal spheres.
 
 This is the design object of all three levels: Level II characterises it under harmonic
-excitation, Level III mounts it on a structure and optimises its filling.
+excitation, Level III mounts it on a structure and optimises its filling. It carries no
+paper values: the paper's damper is :data:`pdamper.parameters.PAPER_DAMPER`.
+
+The lattice capacity of a box (spheres per layer, layers, ``n_max``) has its one home here;
+:mod:`pdamper.dem.packing` places spheres on that lattice.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
+from pdamper.contact.restitution import RestitutionCurve
 from pdamper.errors import InputError, check_range
-from pdamper.materials import PVC, S235, Material
+from pdamper.materials import Material
 
-_TOL = 1e-9  # so that 40 mm / 10 mm counts exactly 4 diameters
+#: Relative tolerance of the "how many diameters fit" counts, so that e.g. 0.04 / 0.01
+#: counts 4 although the floating-point quotient may be 3.9999999999999996.
+FIT_TOLERANCE = 1e-9
 
 
 def lattice_fit(length: float, radius: float, gap: float = 0.0) -> int:
@@ -22,12 +30,64 @@ def lattice_fit(length: float, radius: float, gap: float = 0.0) -> int:
     (4, 12)
     """
     pitch = 2.0 * radius + gap
-    return max(0, math.floor((length + gap) / pitch * (1.0 + _TOL)))
+    return max(0, math.floor((length + gap) / pitch * (1.0 + FIT_TOLERANCE)))
 
 
-def spheres_per_layer(width: float, depth: float, radius: float) -> int:
-    """Spheres of radius ``radius`` in one square-lattice layer of a ``width x depth`` box."""
-    return lattice_fit(width, radius) * lattice_fit(depth, radius)
+def _box(box: Sequence[float]) -> tuple[float, float, float]:
+    try:
+        values = [float(v) for v in box]
+    except (TypeError, ValueError):
+        raise InputError("container.box",
+                         f"must be three inner dimensions (Lx, Ly, Lz) in m, got {box!r}") from None
+    if len(values) != 3:
+        raise InputError("container.box", f"must be three inner dimensions (Lx, Ly, Lz) in m, "
+                         f"got {len(values)} values")
+    for name, v in zip("xyz", values, strict=True):
+        check_range(f"container.box.L{name}", v, low=0.0, low_inclusive=False, unit="m")
+    return values[0], values[1], values[2]
+
+
+def spheres_per_layer(box: Sequence[float], radius: float, gap: float = 0.0) -> int:
+    """Spheres in one square-lattice layer, ``floor(Lx/2r) * floor(Ly/2r)`` [-].
+
+    Parameters
+    ----------
+    box
+        Inner container dimensions ``(Lx, Ly, Lz)`` [m], ``Lz`` vertical.
+    radius
+        Sphere radius [m].
+    gap
+        Clearance between neighbouring spheres [m]; with ``gap > 0`` the count along x is
+        ``floor((Lx + gap) / (2 r + gap))``.
+
+    >>> spheres_per_layer((0.04, 0.04, 0.12), 0.005)
+    16
+    """
+    lx, ly, _ = _box(box)
+    r = check_range("particles.radius", radius, low=0.0, low_inclusive=False, unit="m")
+    g = check_range("particles.gap", gap, low=0.0, unit="m")
+    return lattice_fit(lx, r, g) * lattice_fit(ly, r, g)
+
+
+def max_layers(box: Sequence[float], radius: float, gap: float = 0.0) -> int:
+    """Lattice layers that fit in the height, ``floor(Lz/2r)`` [-].
+
+    >>> max_layers((0.04, 0.04, 0.12), 0.005)
+    12
+    """
+    _, _, lz = _box(box)
+    r = check_range("particles.radius", radius, low=0.0, low_inclusive=False, unit="m")
+    g = check_range("particles.gap", gap, low=0.0, unit="m")
+    return lattice_fit(lz, r, g)
+
+
+def max_particles(box: Sequence[float], radius: float, gap: float = 0.0) -> int:
+    """Capacity ``n_max`` = spheres per layer x layers of the square lattice [-].
+
+    >>> max_particles((0.04, 0.04, 0.12), 0.005)
+    192
+    """
+    return spheres_per_layer(box, radius, gap) * max_layers(box, radius, gap)
 
 
 @dataclass(frozen=True)
@@ -49,55 +109,84 @@ class ParticleDamper:
     container_mass
         m_con [kg], the container alone (used by Eq. 4 of the complex power method).
     friction
-        Sliding friction coefficient mu [-] of every contact.
+        Sliding friction coefficient mu [-] of every contact; needed by the DEM only.
+    restitution_pp, restitution_pw
+        Coefficient-of-restitution curves ``e(v)`` of sphere-sphere and sphere-wall impacts
+        (Level I); needed by the DEM only.
 
     Examples
     --------
     The paper's benchmark damper with 32 spheres:
 
-    >>> d = ParticleDamper(count=32)
+    >>> from pdamper.materials import PVC, S235
+    >>> d = ParticleDamper(0.120, 0.040, 0.040, 0.005, 32, S235, PVC)
     >>> d.max_count, round(d.clearance, 4), round(d.bed_mass * 1000, 1)
     (192, 0.1, 132.4)
     """
 
-    length: float = 0.120
-    width: float = 0.040
-    depth: float = 0.040
-    particle_radius: float = 0.005
-    count: int = 32
-    particle_material: Material = S235
-    wall_material: Material = PVC
+    length: float
+    width: float
+    depth: float
+    particle_radius: float
+    count: int
+    particle_material: Material
+    wall_material: Material
     container_mass: float = 0.0
-    friction: float = 0.1
+    friction: float | None = None
+    restitution_pp: RestitutionCurve | None = None
+    restitution_pw: RestitutionCurve | None = None
 
     def __post_init__(self) -> None:
-        for name in ("length", "width", "depth", "particle_radius"):
-            check_range(f"container.{name}" if name != "particle_radius" else "particles.radius",
-                        getattr(self, name), low=0.0, low_inclusive=False, unit="m")
+        for name in ("length", "width", "depth"):
+            check_range(f"container.{name}", getattr(self, name), low=0.0, low_inclusive=False,
+                        unit="m")
+        check_range("particles.radius", self.particle_radius, low=0.0, low_inclusive=False,
+                    unit="m")
         check_range("container.mass", self.container_mass, low=0.0, unit="kg")
-        check_range("particles.friction", self.friction, low=0.0)
+        for name, material in (("particles.material", self.particle_material),
+                               ("container.material", self.wall_material)):
+            if not isinstance(material, Material):
+                raise InputError(name, f"must be a Material, got {material!r}")
+        if self.friction is not None:
+            check_range("particles.friction", self.friction, low=0.0)
+        for name in ("restitution_pp", "restitution_pw"):
+            curve = getattr(self, name)
+            if curve is not None and not isinstance(curve, RestitutionCurve):
+                raise InputError(f"particles.{name}",
+                                 f"must be a RestitutionCurve (e.g. ConstantRestitution(0.8)), "
+                                 f"got {curve!r}")
         d = 2.0 * self.particle_radius
-        if min(self.width, self.depth, self.length) < d * (1 - _TOL):
+        if min(self.width, self.depth, self.length) < d * (1 - FIT_TOLERANCE):
             raise InputError("particles.radius",
                              f"sphere diameter {d * 1000:g} mm must fit the container "
                              f"({self.width * 1000:g} x {self.depth * 1000:g} x "
                              f"{self.length * 1000:g} mm)")
-        if isinstance(self.count, bool) or int(self.count) != self.count:
+        try:
+            whole = not isinstance(self.count, bool) and int(self.count) == self.count
+        except (TypeError, ValueError, OverflowError):
+            whole = False
+        if not whole:
             raise InputError("particles.count", f"must be a whole number, got {self.count!r}")
         if not 0 <= self.count <= self.max_count:
             raise InputError("particles.count",
                              f"must be in [0, {self.max_count}] (n_max of this container), "
                              f"got {self.count}")
+        object.__setattr__(self, "count", int(self.count))
+
+    @property
+    def box(self) -> tuple[float, float, float]:
+        """Inner dimensions ``(Lx, Ly, Lz)`` = (width, depth, length) [m], ``Lz`` vertical."""
+        return (self.width, self.depth, self.length)
 
     @property
     def per_layer(self) -> int:
         """Spheres per lattice layer (16 in the benchmark container)."""
-        return spheres_per_layer(self.width, self.depth, self.particle_radius)
+        return spheres_per_layer(self.box, self.particle_radius)
 
     @property
     def max_count(self) -> int:
         """n_max: spheres in full lattice layers up to the lid (192 in the benchmark)."""
-        return self.per_layer * lattice_fit(self.length, self.particle_radius)
+        return max_particles(self.box, self.particle_radius)
 
     @property
     def particle_mass(self) -> float:

@@ -4,16 +4,14 @@ import json
 
 import pytest
 
-from pdamper.cli import main
+
+@pytest.fixture
+def run(cli):
+    """``run(capsys, *args)`` of the older tests, on the shared ``cli`` fixture."""
+    return lambda _capsys, *args: cli(*args)
 
 
-def run(capsys, *args):
-    code = main(list(args))
-    out = capsys.readouterr()
-    return code, out.out, out.err
-
-
-def test_analytic_json_keys_and_values(capsys):
+def test_analytic_json_keys_and_values(capsys, run):
     code, out, _ = run(capsys, "analytic", "--frequency", "10Hz", "--amplitude", "32mm",
                        "--particles", "32", "--json")
     assert code == 0
@@ -28,13 +26,13 @@ def test_analytic_json_keys_and_values(capsys):
     assert d["version"] and d["inputs"]["excitation"]["frequency"] == 10.0
 
 
-def test_analytic_human_output_echoes_units(capsys):
+def test_analytic_human_output_echoes_units(capsys, run):
     code, out, _ = run(capsys, "analytic", "--frequency", "6 Hz", "--amplitude", "1.5 cm")
     assert code == 0
     assert "f = 6 Hz, X = 15 mm" in out and "single CaC, harmonic" in out
 
 
-def test_map_writes_netcdf_with_units(tmp_path, capsys):
+def test_map_writes_netcdf_with_units(tmp_path, capsys, run):
     import xarray as xr
 
     path = tmp_path / "map.nc"
@@ -54,7 +52,7 @@ def test_map_writes_netcdf_with_units(tmp_path, capsys):
     ds.close()
 
 
-def test_simulate_json(capsys):
+def test_simulate_json(capsys, run):
     code, out, _ = run(capsys, "simulate", "--damper", "analytic", "--particles", "32",
                        "--duration", "2s", "--json")
     assert code == 0
@@ -66,7 +64,7 @@ def test_simulate_json(capsys):
     assert len(d["damping_ratio"]) == len(d["peaks"]) - 1
 
 
-def test_optimize_json_lists_every_candidate(capsys):
+def test_optimize_json_lists_every_candidate(capsys, run):
     code, out, _ = run(capsys, "optimize", "--damper", "analytic", "--at", "0.8s", "--json")
     assert code == 0
     d = json.loads(out)
@@ -75,7 +73,7 @@ def test_optimize_json_lists_every_candidate(capsys):
     assert d["best"]["objective"] == min(c["objective"] for c in d["candidates"])
 
 
-def test_example_scenario_round_trips_through_every_command(tmp_path, capsys):
+def test_example_scenario_round_trips_through_every_command(tmp_path, capsys, run):
     code, out, _ = run(capsys, "example-scenario")
     assert code == 0 and "[particles]" in out
     p = tmp_path / "s.toml"
@@ -92,34 +90,35 @@ def test_example_scenario_round_trips_through_every_command(tmp_path, capsys):
         (["analytic", "--frequency", "0Hz"], "excitation.frequency"),
         (["analytic", "--amplitude", "-3mm"], "excitation.amplitude"),
         (["analytic", "--frequency", "10 furlongs"], "excitation.frequency"),
-        (["map", "--frequency", "2Hz:20Hz"], "frequency"),
+        (["map", "--frequency", "2Hz:20Hz"], "map.frequency"),
         (["simulate", "--duration", "-1s"], "simulation.duration"),
-        (["simulate", "--damper", "quantum"], "damper"),
+        (["simulate", "--damper", "quantum"], "simulation.model"),
+        (["simulate", "--model", "quantum"], "simulation.model"),
         (["optimize", "--at", "0s"], "optimization.at"),
     ],
 )
-def test_bad_input_exits_nonzero_with_one_line(capsys, args, field):
+def test_bad_input_exits_nonzero_with_one_line(capsys, args, field, run):
     code, out, err = run(capsys, *args)
     assert code == 2
     assert err.count("\n") == 1 and err.startswith(f"error: {field}")
     assert out == ""
 
 
-def test_malformed_scenario_file(tmp_path, capsys):
+def test_malformed_scenario_file(tmp_path, capsys, run):
     p = tmp_path / "bad.toml"
     p.write_text("[particles\ncount = 3")
     code, _, err = run(capsys, "analytic", "--scenario", str(p))
     assert code == 2 and err.startswith("error: scenario: malformed TOML")
 
 
-def test_failed_map_leaves_no_file(tmp_path, capsys):
+def test_failed_map_leaves_no_file(tmp_path, capsys, run):
     path = tmp_path / "map.nc"
     code, _, _ = run(capsys, "map", "--amplitude", "-1mm:2mm:3", "--out", str(path))
     assert code == 2 and not path.exists()
 
 
 @pytest.mark.slow
-def test_paper_main_job_writes_figures_and_table(tmp_path, capsys):
+def test_paper_main_job_writes_figures_and_table(tmp_path, capsys, run):
     """`pdamper paper --out DIR`: Figs. 4, 5a, 5c, 7, 8, 9, the map and the table."""
     out_dir = tmp_path / "paper"
     code, out, _ = run(capsys, "paper", "--out", str(out_dir), "--json")
@@ -138,12 +137,12 @@ def test_paper_main_job_writes_figures_and_table(tmp_path, capsys):
 
 @pytest.mark.parametrize("args", [["analytic", "--frequency"], ["analytic", "--bogus"],
                                   ["nonsense"]])
-def test_usage_errors_are_one_line(capsys, args):
+def test_usage_errors_are_one_line(capsys, args, run):
     code, out, err = run(capsys, *args)
     assert code == 2
     assert err.startswith("error: ") and err.count("\n") == 1 and "Traceback" not in err
 
 
-def test_runaway_duration_is_refused(capsys):
+def test_runaway_duration_is_refused(capsys, run):
     code, _, err = run(capsys, "simulate", "--duration", "1e6 s")
     assert code == 2 and err.startswith("error: simulation.duration")

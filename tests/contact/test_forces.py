@@ -13,10 +13,10 @@ from pdamper.contact.forces import (
     DAMPING_EXACT,
     DAMPING_GONTHIER,
     friction_magnitude,
-    hertz_k,
     normal_force,
     onset_damping,
 )
+from pdamper.contact.hertz import hertz_stiffness
 
 
 def test_normal_force_hertz_and_clipping():
@@ -36,9 +36,9 @@ def test_friction_tanh_regularisation():
     assert friction_magnitude(0.1, 5.0, 0.0, 0.01) == 0.0
 
 
-def test_hertz_k():
+def test_hertz_stiffness():
     """K = 4/3 E* sqrt(R*)."""
-    assert hertz_k(1e9, 0.0025) == pytest.approx(4 / 3 * 1e9 * 0.05)
+    assert hertz_stiffness(1e9, 0.0025) == pytest.approx(4 / 3 * 1e9 * 0.05)
 
 
 @pytest.mark.parametrize("e", [0.3, 0.6, 0.85, 0.99])

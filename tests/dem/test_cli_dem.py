@@ -18,17 +18,18 @@ def test_dem_command_writes_netcdf_and_json(tmp_path, capsys):
     assert rc == 0
     data = json.loads(capsys.readouterr().out)
     for key in ("steps", "wall_seconds", "loss_factor", "effective_mass_ratio",
-                "energy_balance_error", "seed", "pdamper_version", "inputs"):
+                "energy_balance_error", "seed", "version", "inputs"):
         assert key in data
     assert data["steps"] > 1000
     assert data["energy_balance_error"] < 0.02
-    assert data["inputs"]["restitution_pp"] == 0.7
+    assert "pdamper_version" not in data  # one version key
+    assert data["inputs"]["dem"]["restitution_pp"] == 0.7
     with xr.open_dataset(out, engine="h5netcdf") as ds:
         assert ds["force_z"].attrs["units"] == "N"
         assert ds["time"].attrs["units"] == "s"
         assert ds.attrs["seed"] == 0
-        assert ds.attrs["input_amplitude_m"] == 0.02
-        assert ds.sizes["time"] == 3 * 200 + 1
+        assert json.loads(ds.attrs["inputs"])["excitation"]["amplitude"] == 0.02
+        assert ds.sizes["time"] == 3 * 400 + 1  # 4 kHz default sample rate at 10 Hz
     assert not list(tmp_path.glob("*.tmp"))
 
 
@@ -36,7 +37,7 @@ def test_dem_command_vtk_and_random_packing(tmp_path, capsys):
     """Random packing with a seed and ParaView snapshots."""
     rc = main(["dem", "--particles", "8", "--cycles", "2", "--skip-cycles", "1", "--packing",
                "random", "--seed", "4", "--vtk", str(tmp_path / "vtk"), "--snapshot-rate",
-               "50Hz"])
+               "50Hz", "--json"])
     assert rc == 0
     data = json.loads(capsys.readouterr().out)
     assert data["seed"] == 4
@@ -54,4 +55,4 @@ def test_dem_command_input_errors(capsys):
     assert main(["dem", "--integrator", "rk4"]) == 2
     assert "integrator" in capsys.readouterr().err
     assert main(["dem", "--cycles", "3", "--skip-cycles", "3"]) == 2
-    assert "skip-cycles" in capsys.readouterr().err
+    assert "dem.skip_cycles" in capsys.readouterr().err

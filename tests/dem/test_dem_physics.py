@@ -5,31 +5,24 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from dem_inputs import R, contact, container, engine, lattice, particles, random
 from pdamper.contact.damping import restitution_from_damping_factor
 from pdamper.contact.hertz import contact_duration, effective_modulus, hertz_stiffness
 from pdamper.contact.restitution import ConstantRestitution, TabulatedRestitution
-from pdamper.dem import (
-    ContactParameters,
-    Container,
-    DEMSimulation,
-    HarmonicMotion,
-    ParticleSet,
-    PrescribedMotion,
-    StructureMotion,
-)
+from pdamper.dem import HarmonicMotion, PrescribedMotion, StructureMotion
 from pdamper.errors import SimulationError
 from pdamper.materials import PVC, S235
+from pdamper.parameters import PAPER_STRUCTURE
 
-R = 0.005
 INTEGRATORS = ["verlet", "gear"]
 
 
 def drop(v, curve, integrator, **kw):
     """A sphere hits the floor at speed v without gravity; returns (COR, duration, t_c)."""
     z0 = R + 1e-4
-    ps = ParticleSet(np.array([[0.02, 0.02, z0]]), velocities=np.array([[0.0, 0.0, -v]]))
-    cp = ContactParameters(restitution_pw=curve, friction_pw=0.0, **kw)
-    sim = DEMSimulation(ps, contact=cp, integrator=integrator, gravity=0.0, settle_time=0.0,
+    ps = particles(np.array([[0.02, 0.02, z0]]), velocities=np.array([[0.0, 0.0, -v]]))
+    cp = contact(restitution_pw=curve, friction_pw=0.0, **kw)
+    sim = engine(ps, cp=cp, integrator=integrator, gravity=0.0, settle_time=0.0,
                         reference_velocity=3.0)
     tc = contact_duration(ps.masses[0], hertz_stiffness(effective_modulus(S235, PVC), R), v)
     res = sim.run(1e-4 / v + 1.5 * tc, sample_rate=200 / tc, snapshot_rate=200 / tc)
@@ -83,9 +76,9 @@ def elastic_gas(integrator):
 
     rng = np.random.default_rng(3)
     pos = random_packing(8, R, (0.04, 0.04, 0.12), seed=5)
-    ps = ParticleSet(pos, velocities=rng.uniform(-0.5, 0.5, (8, 3)))
-    cp = ContactParameters(ConstantRestitution(1.0), ConstantRestitution(1.0), 0.0, 0.0)
-    return DEMSimulation(ps, contact=cp, integrator=integrator, settle_time=0.0)
+    ps = particles(pos, velocities=rng.uniform(-0.5, 0.5, (8, 3)))
+    cp = contact(ConstantRestitution(1.0), ConstantRestitution(1.0), 0.0, 0.0)
+    return engine(ps, cp=cp, integrator=integrator, settle_time=0.0)
 
 
 @pytest.mark.parametrize("integrator", INTEGRATORS)
@@ -104,12 +97,12 @@ def test_energy_drift_elastic(integrator):
 
 def in_contact_oscillation_error(integrator, safety):
     """Max energy error of a sphere oscillating in permanent contact with the floor."""
-    m = ParticleSet(np.array([[0.02, 0.02, R]])).masses[0]
+    m = particles(np.array([[0.02, 0.02, R]])).masses[0]
     k = hertz_stiffness(effective_modulus(S235, PVC), R)
     de = (m * 9.81 / k) ** (2 / 3)
-    ps = ParticleSet(np.array([[0.02, 0.02, R - 1.5 * de]]))
-    cp = ContactParameters(ConstantRestitution(1.0), ConstantRestitution(1.0), 0.0, 0.0)
-    sim = DEMSimulation(ps, contact=cp, integrator=integrator, gear_adaptive=False,
+    ps = particles(np.array([[0.02, 0.02, R - 1.5 * de]]))
+    cp = contact(ConstantRestitution(1.0), ConstantRestitution(1.0), 0.0, 0.0)
+    sim = engine(ps, cp=cp, integrator=integrator, gear_adaptive=False,
                         settle_time=0.0, safety=safety, reference_velocity=1.0)
     res = sim.run(0.02, sample_rate=1000.0)
     e = res.mechanical_energy
@@ -129,9 +122,9 @@ def test_momentum_conserved_in_collision(integrator):
     """Sphere-sphere collision (oblique, with friction): linear momentum conserved."""
     pos = np.array([[0.015, 0.02, 0.05], [0.027, 0.023, 0.05]])
     vel = np.array([[0.8, 0.0, 0.1], [-0.4, 0.0, 0.0]])
-    ps = ParticleSet(pos, velocities=vel)
-    cp = ContactParameters(ConstantRestitution(0.7), friction_pp=0.3)
-    sim = DEMSimulation(ps, contact=cp, integrator=integrator, gravity=0.0, settle_time=0.0)
+    ps = particles(pos, velocities=vel)
+    cp = contact(ConstantRestitution(0.7), friction_pp=0.3)
+    sim = engine(ps, cp=cp, integrator=integrator, gravity=0.0, settle_time=0.0)
     res = sim.run(0.004, sample_rate=20000.0, snapshot_rate=20000.0)
     m = ps.masses
     p0 = (m[:, None] * vel).sum(axis=0)
@@ -147,8 +140,8 @@ def test_momentum_conserved_in_collision(integrator):
 def test_free_flight_parabola(integrator):
     """Free flight under gravity equals the parabola z0 + v0 t - g t^2 / 2."""
     z0, vz, vx = 0.06, 0.5, 0.1
-    ps = ParticleSet(np.array([[0.015, 0.02, z0]]), velocities=np.array([[vx, 0.0, vz]]))
-    sim = DEMSimulation(ps, integrator=integrator, settle_time=0.0)
+    ps = particles(np.array([[0.015, 0.02, z0]]), velocities=np.array([[vx, 0.0, vz]]))
+    sim = engine(ps, integrator=integrator, settle_time=0.0)
     res = sim.run(0.1, sample_rate=1000.0, snapshot_rate=1000.0)
     t = res.snapshot_time
     np.testing.assert_allclose(res.snapshot_positions[:, 0, 2], z0 + vz * t - 0.5 * 9.81 * t**2,
@@ -160,8 +153,8 @@ def test_free_flight_parabola(integrator):
 @pytest.mark.parametrize("integrator", INTEGRATORS)
 def test_bed_at_rest_weighs_its_weight(integrator):
     """Static equilibrium: the force of a resting bed on the container equals its weight."""
-    ps = ParticleSet.lattice(32)
-    sim = DEMSimulation(ps, integrator=integrator, settle_time=0.1)
+    ps = lattice(32)
+    sim = engine(ps, integrator=integrator, settle_time=0.1)
     res = sim.run(0.05, sample_rate=1000.0)
     w = ps.masses.sum() * 9.81
     np.testing.assert_allclose(res.force[:, 2], -w, rtol=2e-3)
@@ -169,8 +162,8 @@ def test_bed_at_rest_weighs_its_weight(integrator):
 
 
 def shaken_random_bed(integrator, seed):
-    ps = ParticleSet.random(24, seed=seed)
-    sim = DEMSimulation(ps, motion=HarmonicMotion(0.02, 15.0), integrator=integrator,
+    ps = random(24, seed=seed)
+    sim = engine(ps, motion=HarmonicMotion(0.02, 15.0), integrator=integrator,
                         settle_time=0.1, seed=seed)
     return sim.run(2 / 15.0, sample_rate=1500.0, snapshot_rate=300.0)
 
@@ -195,8 +188,8 @@ def test_same_seed_bit_identical_and_contained(integrator):
 @pytest.mark.parametrize("integrator, cycles", [("gear", 8), ("verlet", 4)])
 def test_energy_ledger_closes_and_matches_complex_power(integrator, cycles):
     """Energy ledger W = dE + D_n + D_f (1 %) and complex power E~ = work per cycle (2 %)."""
-    ps = ParticleSet.lattice(32)
-    sim = DEMSimulation(ps, motion=HarmonicMotion(0.032, 10.0), integrator=integrator)
+    ps = lattice(32)
+    sim = engine(ps, motion=HarmonicMotion(0.032, 10.0), integrator=integrator)
     res = sim.run(cycles / 10.0, sample_rate=2000.0)
     assert res.energy_balance_error() < 0.01
     assert res.dissipated_normal[-1] > 0 and res.dissipated_friction[-1] > 0
@@ -209,10 +202,10 @@ def test_energy_ledger_closes_and_matches_complex_power(integrator, cycles):
 
 def test_structure_motion_frequency_with_static_bed():
     """1-DOF structure + resting bed: f = sqrt(K / (M + m_bed)) / (2 pi) (bed moves rigidly)."""
-    ps = ParticleSet.lattice(16)
+    ps = lattice(16)
     m, k = 1.514, 1848.0
     st = StructureMotion(mass=m, damping=0.0, stiffness=k, x0=-0.001)
-    sim = DEMSimulation(ps, motion=st, integrator="gear", settle_time=0.05)
+    sim = engine(ps, motion=st, integrator="gear", settle_time=0.05)
     res = sim.run(0.5, sample_rate=4000.0)
     x = res.container_position - res.container_position.mean()
     up = np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0))
@@ -229,19 +222,19 @@ def test_prescribed_callable_motion_matches_harmonic():
     """A sampled callable x_c(t) drives the container like the analytic harmonic motion."""
     x, f = 0.01, 12.0
     w = 2 * np.pi * f
-    ps = ParticleSet.lattice(16)
+    ps = lattice(16)
     pm = PrescribedMotion(lambda t: x * np.sin(w * t))
-    a = DEMSimulation(ps, motion=pm, settle_time=0.05).run(0.1, sample_rate=1200.0)
+    a = engine(ps, motion=pm, settle_time=0.05).run(0.1, sample_rate=1200.0)
     np.testing.assert_allclose(a.container_position, x * np.sin(w * a.time), atol=1e-9)
     np.testing.assert_allclose(a.container_velocity, x * w * np.cos(w * a.time), atol=1e-5)
-    b = DEMSimulation(ps, motion=HarmonicMotion(x, f), settle_time=0.05).run(0.1, 1200.0)
+    b = engine(ps, motion=HarmonicMotion(x, f), settle_time=0.05).run(0.1, 1200.0)
     np.testing.assert_allclose(a.center_of_mass[:, 2], b.center_of_mass[:, 2], atol=2e-4)
 
 
 def test_instability_is_reported_with_cause():
     """A step far beyond the contact time stops the run with an error naming the cause."""
-    ps = ParticleSet(np.array([[0.02, 0.02, 0.006]]), velocities=np.array([[0, 0, -3.0]]))
-    sim = DEMSimulation(ps, safety=1.0, gravity=0.0, settle_time=0.0, reference_velocity=0.01,
+    ps = particles(np.array([[0.02, 0.02, 0.006]]), velocities=np.array([[0, 0, -3.0]]))
+    sim = engine(ps, safety=1.0, gravity=0.0, settle_time=0.0, reference_velocity=0.01,
                         max_overlap=0.02)
     with pytest.raises(SimulationError, match="safety"):
         sim.run(0.01, sample_rate=100.0)
@@ -250,10 +243,10 @@ def test_instability_is_reported_with_cause():
 def test_wall_material_enters_contact():
     """Hertz contact duration against a steel wall uses E*(steel, steel): closed form."""
     v = 1.0
-    ps = ParticleSet(np.array([[0.02, 0.02, R + 1e-4]]), velocities=np.array([[0, 0, -v]]))
-    cp = ContactParameters(restitution_pw=ConstantRestitution(1.0), friction_pw=0.0)
+    ps = particles(np.array([[0.02, 0.02, R + 1e-4]]), velocities=np.array([[0, 0, -v]]))
+    cp = contact(restitution_pw=ConstantRestitution(1.0), friction_pw=0.0)
     tc = contact_duration(ps.masses[0], hertz_stiffness(effective_modulus(S235, S235), R), v)
-    sim = DEMSimulation(ps, Container(material=S235), cp, gravity=0.0, settle_time=0.0)
+    sim = engine(ps, container(material=S235), cp, gravity=0.0, settle_time=0.0)
     res = sim.run(1e-4 / v + 1.5 * tc, sample_rate=200 / tc, snapshot_rate=200 / tc)
     z = res.snapshot_positions[:, 0, 2]
     dur = np.count_nonzero(z < R) * (res.snapshot_time[1] - res.snapshot_time[0])
@@ -263,13 +256,13 @@ def test_wall_material_enters_contact():
 @pytest.mark.parametrize("integrator", INTEGRATORS)
 def test_sliding_sphere_starts_rolling_at_five_sevenths(integrator):
     """Coulomb friction + Euler's equations: v = v0 - mu g t, then rolling at 5/7 v0."""
-    m = ParticleSet(np.array([[0.02, 0.02, R]])).masses[0]
+    m = particles(np.array([[0.02, 0.02, R]])).masses[0]
     k = hertz_stiffness(effective_modulus(S235, PVC), R)
     de = (m * 9.81 / k) ** (2 / 3)
     v0, mu = 0.5, 0.1
-    ps = ParticleSet(np.array([[0.008, 0.02, R - de]]), velocities=np.array([[v0, 0, 0]]))
-    cp = ContactParameters(friction_pw=mu, regularisation_velocity=1e-3)
-    sim = DEMSimulation(ps, Container(box=(0.3, 0.04, 0.12)), cp, integrator=integrator,
+    ps = particles(np.array([[0.008, 0.02, R - de]]), velocities=np.array([[v0, 0, 0]]))
+    cp = contact(friction_pw=mu, regularisation_velocity=1e-3)
+    sim = engine(ps, container(box=(0.3, 0.04, 0.12)), cp, integrator=integrator,
                         settle_time=0.0)
     res = sim.run(0.2, sample_rate=100.0, snapshot_rate=100.0)
     t = res.snapshot_time
@@ -287,8 +280,8 @@ def test_sliding_sphere_starts_rolling_at_five_sevenths(integrator):
 
 def test_reimpact_rule_keeps_a_packed_column_stable():
     """Persisting gentle contacts hit hard (12 locked layers, sudden container motion)."""
-    ps = ParticleSet.lattice(192)
-    sim = DEMSimulation(ps, motion=HarmonicMotion(0.032, 10.0), settle_time=0.0)
+    ps = lattice(192)
+    sim = engine(ps, motion=HarmonicMotion(0.032, 10.0), settle_time=0.0)
     res = sim.run(0.005, sample_rate=2000.0)
     assert res.max_overlap_ratio < 0.05
     assert res.energy_balance_error() < 0.01
@@ -297,19 +290,20 @@ def test_reimpact_rule_keeps_a_packed_column_stable():
 @pytest.mark.parametrize("integrator", INTEGRATORS)
 def test_structure_coupling_ledger_closes(integrator):
     """Level III model 1 (1-DOF structure released from x0): particle ledger closes to 1 %."""
-    st = StructureMotion(mass=1.514, damping=0.55, stiffness=1848.0, x0=-0.058)
-    sim = DEMSimulation(ParticleSet.lattice(32), motion=st, integrator=integrator)
+    s = PAPER_STRUCTURE
+    st = StructureMotion(mass=s.mass, damping=s.damping, stiffness=s.stiffness, x0=-0.058)
+    sim = engine(lattice(32), motion=st, integrator=integrator)
     res = sim.run(0.25, sample_rate=1000.0)
     assert res.energy_balance_error() < 0.01
     assert res.dissipated_normal[-1] > 0.05 * res.container_work.max()
     # the structure's amplitude decays faster than with its own damping alone
     x = res.container_position
-    assert np.abs(x[res.time > 0.15]).max() < 0.058 * np.exp(-0.55 / (2 * 1.514) * 0.15)
+    assert np.abs(x[res.time > 0.15]).max() < 0.058 * np.exp(-s.damping / (2 * s.mass) * 0.15)
 
 
 def test_dataset_has_units_and_inputs():
     """The xarray export carries units on every variable and the inputs as attributes."""
-    sim = DEMSimulation(ParticleSet.lattice(16), motion=HarmonicMotion(0.01, 10.0), seed=7,
+    sim = engine(lattice(16), motion=HarmonicMotion(0.01, 10.0), seed=7,
                         settle_time=0.02)
     ds = sim.run(0.1, sample_rate=500.0).to_dataset()
     for name, var in ds.data_vars.items():
@@ -322,10 +316,10 @@ def test_per_pair_curves_and_polydisperse_materials():
     """Per-material-pair COR curves and per-particle radius/material (head-on collisions)."""
     pos = np.array([[0.010, 0.02, 0.05], [0.025, 0.02, 0.05], [0.02, 0.02, 0.09]])
     vel = np.array([[0.5, 0.0, 0.0], [-0.5, 0.0, 0.0], [0.0, 0.0, 0.0]])
-    ps = ParticleSet(pos, radius=[0.004, 0.006, 0.005], material=[S235, PVC, PVC],
+    ps = particles(pos, radius=[0.004, 0.006, 0.005], material=[S235, PVC, PVC],
                      velocities=vel)
-    cp = ContactParameters(friction_pp=0.0, pairs={("PVC", "S235"): ConstantRestitution(0.4)})
-    sim = DEMSimulation(ps, contact=cp, gravity=0.0, settle_time=0.0)
+    cp = contact(friction_pp=0.0, pairs={("PVC", "S235"): ConstantRestitution(0.4)})
+    sim = engine(ps, cp=cp, gravity=0.0, settle_time=0.0)
     res = sim.run(0.01, sample_rate=10000.0, snapshot_rate=10000.0)
     v1 = res.snapshot_velocities[-1]
     assert v1[1, 0] - v1[0, 0] == pytest.approx(0.4 * 1.0, rel=0.01)

@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from dem_inputs import engine, random
 from pdamper.contact.forces import onset_damping, onset_damping_cached
-from pdamper.dem import DEMSimulation, HarmonicMotion, ParticleSet
+from pdamper.dem import HarmonicMotion
 
 
 @pytest.mark.parametrize("model", [0, 1])
@@ -29,8 +30,7 @@ def test_gear_rejections_and_rebuilds_keep_the_ledger():
     the mean Gear step stays well above the Verlet step."""
     res = {}
     for integ in ("gear", "verlet"):
-        sim = DEMSimulation(ParticleSet.random(32, seed=2), motion=HarmonicMotion(0.032, 10.0),
-                            integrator=integ)
+        sim = engine(random(32, seed=2), motion=HarmonicMotion(0.032, 10.0), integrator=integ)
         res[integ] = sim.run(0.2)
     g = res["gear"]
     assert g.rejected_steps > 0 and g.rebuilds > 1

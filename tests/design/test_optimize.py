@@ -4,7 +4,6 @@ import math
 
 import pytest
 
-from pdamper.coupling import AnalyticalDamper
 from pdamper.design import optimize_particle_count
 from pdamper.errors import InputError
 from pdamper.parameters import PAPER_DAMPER, PAPER_INITIAL_DISPLACEMENT, PAPER_STRUCTURE
@@ -12,8 +11,8 @@ from pdamper.parameters import PAPER_DAMPER, PAPER_INITIAL_DISPLACEMENT, PAPER_S
 
 @pytest.fixture(scope="module")
 def result():
-    return optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, AnalyticalDamper, at=0.8,
-                                   initial_displacement=PAPER_INITIAL_DISPLACEMENT)
+    return optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, PAPER_INITIAL_DISPLACEMENT,
+                                   at=0.8)
 
 
 def test_every_layer_is_a_candidate_and_best_is_the_minimum(result):
@@ -48,6 +47,6 @@ def test_optimum_plateau_contains_the_papers_64(result):
 
 def test_bad_optimization_inputs():
     with pytest.raises(InputError, match="optimization.at"):
-        optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, at=0.0)
+        optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, at=0.0)
     with pytest.raises(InputError, match="optimization.step"):
-        optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, step=0)
+        optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, 0.8, step=0)

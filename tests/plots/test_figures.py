@@ -10,8 +10,9 @@ import pytest  # noqa: E402
 from pdamper import plots  # noqa: E402
 from pdamper.analysis.analytical import bed_trajectory  # noqa: E402
 from pdamper.analysis.fields import effective_field  # noqa: E402
-from pdamper.coupling import AnalyticalDamper, Simulation  # noqa: E402
+from pdamper.coupling import Simulation  # noqa: E402
 from pdamper.design import optimize_particle_count  # noqa: E402
+from pdamper.models import AnalyticalDamper  # noqa: E402
 from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE  # noqa: E402
 
 
@@ -19,8 +20,8 @@ from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE  # noqa: E402
 def inputs():
     model = AnalyticalDamper(PAPER_DAMPER)
     ds = effective_field(model, np.linspace(2, 20, 5), np.linspace(0.005, 0.1, 6))
-    run = Simulation(PAPER_STRUCTURE, model).run(1.0)
-    opt = optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, counts=[0, 32, 64])
+    run = Simulation(PAPER_STRUCTURE, model, -0.058).run(1.0)
+    opt = optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, 0.8, counts=[0, 32, 64])
     return {
         "plot_bed_trajectory": (bed_trajectory(18.0, 0.05, 0.1),),
         "plot_mode_map": (ds,),

@@ -8,16 +8,15 @@ import scipy.linalg
 from scipy.optimize import brentq
 
 from pdamper.errors import InputError
+from pdamper.parameters.vertical_dampers_paper import PAPER_TIP_MASS, paper_beam
 from pdamper.structure import SingleDOFStructure
 from pdamper.structure.beam import (
-    PAPER_TIP_MASS,
     TimoshenkoBeam,
     TipMass,
     cantilever_matrices,
     element_mass,
     element_stiffness,
     modal_reduction,
-    paper_beam,
     static_tip_stiffness,
 )
 

@@ -13,7 +13,7 @@ the stroke ``X``: the container is ``y_c = sin(phi)``, the bed's flight from tak
 ``Gamma = A / g`` the dimensionless acceleration and velocities in units of ``V = X W``.
 All functions are vectorised over broadcastable arrays of (frequency, stroke, clearance).
 
-Conventions fixed where the printed paper is ambiguous (see ``NOTES.md``):
+Conventions fixed where the printed paper is ambiguous:
 
 - A vibration cycle runs from ``phi = pi/2`` to ``5 pi/2``; take-off (Eq. 5) lies in
   ``(0, pi/2)``.
@@ -22,7 +22,7 @@ Conventions fixed where the printed paper is ambiguous (see ``NOTES.md``):
 - Eq. (18) as printed is empty for ``n_s = 0``; we use the reading its next sentence gives:
   a bottom impact in cycle ``n = floor((phi - pi/2) / 2 pi)`` has ``n_s = n``, except that a
   harmonic one (``n = 0``) after the next take-off, ``phi in (phi_0 + 2 pi, 5 pi/2)``, is
-  scattering. NOTES.md extends that scattering band to every ``n``; that would make the
+  scattering. One could extend that scattering band to every ``n``; that would make the
   paper's own example of a subharmonic bottom impact (Fig. 4-3ii, X = 20 mm, f = 18 Hz,
   impact at ``phi = 12.80`` against ``phi_0 + 4 pi = 12.60``) scattering. Physically the bed
   then re-launches at once with almost the regular take-off velocity (the container still
@@ -41,10 +41,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pdamper.analysis.modes import EFFECTIVE_MASS_RATIO, MotionMode
+from pdamper.constants import STANDARD_GRAVITY
 from pdamper.errors import InputError
-
-#: Standard gravity [m/s^2].
-STANDARD_GRAVITY = 9.81
 
 #: Eq. (8): solid-like and scattering beds dissipate 1/1000 of 2 pi E_kin per cycle.
 SOLID_LOSS_FACTOR = 1.0e-3

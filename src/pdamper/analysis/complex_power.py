@@ -3,9 +3,10 @@
 For a container driven harmonically at angular frequency W, the complex amplitudes at W of
 the driving force and of the container velocity and acceleration, taken over whole cycles,
 give the dissipated energy per cycle, the effective loss factor and the effective particle
-mass. Sign convention (NOTES.md): driving force = container inertia + force that the
-particles exert on the container in the driving direction, with the container velocity
-``V cos(W t)``.
+mass. Sign convention: the driving force is the container inertia plus the force that the
+particles exert on the container in the driving direction (the force needed to move the
+container), with the container velocity ``V cos(W t)``; then Re(P*) > 0 is the power the
+damper dissipates. Check: the zero-gravity optimum E~ = 4 m_bed V^2 gives eta = 4/pi.
 """
 
 from __future__ import annotations

@@ -1,15 +1,15 @@
 """Effective fields: Level II quantities over (frequency x amplitude) grids.
 
-Every damper model answers :meth:`~pdamper.coupling.DamperModel.response` with a
-:class:`DamperResponse`; :func:`effective_field` evaluates it on a grid and labels it as an
-:class:`xarray.Dataset` with units, ready for NetCDF, plots and interpolation (the
-effective-field damper model of Level III).
+Every damper model answers :meth:`~pdamper.models.DamperModel.response` with a
+:class:`~pdamper.models.DamperResponse`; :func:`effective_field` evaluates it on a grid and
+labels it as an :class:`xarray.Dataset` with units, ready for NetCDF, plots and
+interpolation. It only calls ``model.response``: any fidelity works, and this Level II
+module imports no model.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -19,50 +19,13 @@ if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
 
 
-@dataclass(frozen=True)
-class DamperResponse:
-    """Response of a damper under harmonic vertical excitation ``x_c = X sin(2 pi f t)``.
-
-    Attributes
-    ----------
-    frequency, amplitude
-        f [Hz] and X [m], broadcast to the shape of the results.
-    mode
-        :class:`~pdamper.analysis.modes.MotionMode` codes [-].
-    loss_factor
-        Effective loss factor eta [-] (Eq. 3).
-    dissipated_energy_per_cycle
-        E~_diss [J] (Eq. 2).
-    effective_mass_ratio
-        Effective particle mass over bed mass [-] (Eq. 4 or Eq. 22).
-    bed_mass
-        m_bed [kg].
-    details
-        Model-specific extras (e.g. the analytical :class:`BedResponse`).
-    """
-
-    frequency: np.ndarray
-    amplitude: np.ndarray
-    mode: np.ndarray
-    loss_factor: np.ndarray
-    dissipated_energy_per_cycle: np.ndarray
-    effective_mass_ratio: np.ndarray
-    bed_mass: float
-    details: Any = field(default=None, repr=False, compare=False)
-
-    @property
-    def effective_mass(self) -> np.ndarray:
-        """Effective particle mass [kg]."""
-        return self.effective_mass_ratio * self.bed_mass
-
-
 def effective_field(model, frequency, amplitude, attrs: dict | None = None) -> xr.Dataset:
     """Evaluate ``model.response`` on the grid ``frequency x amplitude``.
 
     Parameters
     ----------
     model
-        A :class:`~pdamper.coupling.DamperModel`.
+        A :class:`~pdamper.models.DamperModel` (anything with ``response(f, X)``).
     frequency, amplitude : array_like
         1-D grids, f [Hz] and X [m].
     attrs

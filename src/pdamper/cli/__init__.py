@@ -1,12 +1,13 @@
 """The ``pdamper`` command line: one entry point, one module per command.
 
-Each command module registers itself on :data:`app`. Errors a user can cause are printed as
-one line naming the field and what is allowed, with exit status 2.
+Commands are registered explicitly in :func:`_register` (a missing module is an import
+error, not a silently absent command). Errors a user can cause are printed as one line
+naming the field and what is allowed, with exit status 2. The commands only parse, call
+the library and format its results.
 """
 
 from __future__ import annotations
 
-import importlib
 import sys
 
 import typer
@@ -19,17 +20,23 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
 )
 
-#: Command modules, imported lazily by :func:`main` so that ``import pdamper`` stays fast.
-COMMAND_MODULES = ("analytic", "map", "simulate", "optimize", "paper", "scenario", "dem")
+_registered = False
 
 
 def _register() -> None:
-    for name in COMMAND_MODULES:
-        try:
-            importlib.import_module(f"pdamper.cli.{name}")
-        except ModuleNotFoundError as exc:  # a command whose module is not there yet
-            if exc.name != f"pdamper.cli.{name}":
-                raise
+    global _registered
+    if _registered:
+        return
+    from pdamper.cli import analytic, dem, map, optimize, paper, scenario, simulate
+
+    app.command("analytic")(analytic.analytic)
+    app.command("map")(map.map_)
+    app.command("simulate")(simulate.simulate)
+    app.command("optimize")(optimize.optimize)
+    app.command("dem")(dem.dem)
+    app.command("paper")(paper.paper)
+    app.command("example-scenario")(scenario.example_scenario)
+    _registered = True
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,4 +1,4 @@
-"""Helpers shared by the CLI commands: JSON output and scenario loading."""
+"""Helpers shared by the CLI commands: options, JSON output, scenario loading, output files."""
 
 from __future__ import annotations
 
@@ -6,9 +6,15 @@ import json
 import math
 import sys
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
+import typer
+
+ScenarioOpt = Annotated[Path | None, typer.Option("--scenario", "-s", help="Scenario TOML file.")]
+JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON for scripts.")]
+ModelOpt = Annotated[str | None, typer.Option(
+    "--model", "--damper", help="Damper model (fidelity): analytic or dem.")]
 
 
 def _default(o: Any):
@@ -50,7 +56,7 @@ def emit(payload: dict, as_json: bool, human: str | None = None) -> None:
 def load(scenario: Path | None, **overrides):
     """Scenario from ``--scenario`` with the command-line options applied on top.
 
-    ``overrides`` maps ``"section.key"`` to the option's value (None: not given).
+    ``overrides`` maps ``"section__key"`` to the option's value (None: not given).
     """
     from pdamper.io.scenario import load_scenario
 
@@ -64,22 +70,23 @@ def metadata(scenario, **extra) -> dict:
     return {"inputs": scenario.model_dump(mode="json"), "version": __version__, **extra}
 
 
-def write_atomic(path: Path, writer) -> None:
-    """Call ``writer(tmp_path)`` and move the result to ``path`` only if it succeeded,
-    so that a failed run leaves nothing half-written."""
-    import os
-
+def check_output(path: Path | None, field: str = "out") -> Path | None:
+    """Refuse an output file whose directory is missing, before any computation."""
     from pdamper.errors import InputError
 
+    if path is None:
+        return None
     path = Path(path)
-    if path.parent and not path.parent.exists():
-        raise InputError("out", f"directory does not exist: {path.parent}")
-    tmp = path.with_name(f".{path.name}.tmp")
-    try:
-        writer(tmp)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+    if not path.parent.is_dir():
+        raise InputError(field, f"directory does not exist: {path.parent}")
+    if path.is_dir():
+        raise InputError(field, f"{path} is a directory; give a file name")
+    return path
 
 
+def write_atomic(path: Path, writer) -> Path:
+    """Write an output file through the one atomic writer (:mod:`pdamper.files`)."""
+    from pdamper.files import atomic_write
+
+    check_output(path)
+    return atomic_write(path, writer)

@@ -2,19 +2,13 @@
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from pdamper.cli import app
-from pdamper.cli._common import emit, load, metadata
-
-ScenarioOpt = Annotated[Path | None, typer.Option("--scenario", "-s", help="Scenario TOML file.")]
-JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON for scripts.")]
+from pdamper.cli._common import JsonOpt, ScenarioOpt, emit, load, metadata
 
 
-@app.command("analytic")
 def analytic(
     frequency: Annotated[str | None, typer.Option(help="Excitation frequency, e.g. '10Hz'.")] = None,
     amplitude: Annotated[str | None, typer.Option(help="Container stroke X, e.g. '32mm'.")] = None,
@@ -27,14 +21,13 @@ def analytic(
 
     from pdamper.analysis.analytical import ETA_MAX
     from pdamper.analysis.modes import MotionMode
-    from pdamper.coupling.analytical import AnalyticalDamper
     from pdamper.units import format_quantity
 
     sc = load(scenario, excitation__frequency=frequency, excitation__amplitude=amplitude,
               particles__count=particles)
     damper = sc.damper()
     f, x = sc.excitation.frequency, sc.excitation.amplitude
-    r = AnalyticalDamper(damper).response(f, x)
+    r = sc.model("analytic", damper).response(f, x)
     bed = r.details
     mode = MotionMode(int(r.mode))
     payload = {
@@ -56,7 +49,7 @@ def analytic(
         f"f = {format_quantity(f, 'Hz')}, X = {format_quantity(x, 'mm')}, "
         f"{damper.count} particles ({format_quantity(damper.bed_mass, 'g')})\n"
         f"  motion mode                  {mode.title}\n"
-        f"  effective loss factor        {float(r.loss_factor):.4g}  (max 4/pi = 1.273)\n"
+        f"  effective loss factor        {float(r.loss_factor):.4g}  (max 4/pi = {ETA_MAX:.3f})\n"
         f"  dissipated energy per cycle  {format_quantity(float(r.dissipated_energy_per_cycle), 'mJ')}\n"
         f"  effective mass ratio         {float(r.effective_mass_ratio):.3g}\n"
         f"  clearance h                  {format_quantity(damper.clearance, 'mm')}\n"

@@ -1,12 +1,13 @@
-"""``pdamper dem``: a DEM run of the benchmark damper under harmonic excitation (Level II).
+"""``pdamper dem``: a DEM run of a damper under harmonic excitation (Level II).
 
 Example::
 
     pdamper dem --frequency 10Hz --amplitude 32mm --particles 32 --cycles 8 --out run.nc
 
-prints JSON with ``steps``, ``wall_seconds``, ``loss_factor``, ``effective_mass_ratio``
-(complex power method, Eqs. 1-4, over the cycles after ``--skip-cycles``) and
-``energy_balance_error``, plus the inputs, the pdamper version and the seed.
+prints a summary (``--json``: ``steps``, ``wall_seconds``, ``loss_factor``,
+``effective_mass_ratio``, ``energy_balance_error`` and more, with the inputs, the pdamper
+version and the seed). Every option can also come from the scenario's ``[dem]`` section;
+the command line overrides the file.
 """
 
 from __future__ import annotations
@@ -16,14 +17,9 @@ from typing import Annotated
 
 import typer
 
-from pdamper.cli import app
-from pdamper.cli._common import emit, load
-from pdamper.cli.analytic import ScenarioOpt
-from pdamper.errors import InputError, check_range
-from pdamper.units import parse_quantity
+from pdamper.cli._common import JsonOpt, ScenarioOpt, check_output, emit, load, metadata
 
 
-@app.command("dem")
 def dem(
     frequency: Annotated[str | None, typer.Option("--frequency",
                          help="Excitation frequency f, e.g. '10Hz'.")] = None,
@@ -31,102 +27,96 @@ def dem(
                          help="Excitation amplitude X, e.g. '32mm'.")] = None,
     particles: Annotated[int | None, typer.Option("--particles",
                          help="Number of spheres (benchmark box: <= 192).")] = None,
-    cycles: Annotated[int, typer.Option("--cycles", help="Number of excitation cycles.")] = 8,
+    cycles: Annotated[int | None, typer.Option("--cycles",
+                      help="Number of excitation cycles.")] = None,
     out: Annotated[Path | None, typer.Option("--out",
-                         help="NetCDF file for the time series.")] = None,
-    integrator: Annotated[str, typer.Option("--integrator",
-                         help="gear (variable step) or verlet.")] = "gear",
-    skip_cycles: Annotated[int, typer.Option("--skip-cycles",
-                         help="Cycles left out of the complex power (default 2: cycles 3-8).")] = 2,
+                   help="NetCDF file for the time series.")] = None,
+    integrator: Annotated[str | None, typer.Option("--integrator",
+                          help="gear (variable step, default) or verlet.")] = None,
+    skip_cycles: Annotated[int | None, typer.Option("--skip-cycles",
+                           help="Cycles left out of the complex power.")] = None,
     friction: Annotated[float | None, typer.Option("--friction",
-                         help="Friction coefficient mu, all contacts (default 0.1).")] = None,
-    restitution_pp: Annotated[float, typer.Option("--restitution-pp",
-                         help="Constant sphere-sphere COR.")] = 0.6,
-    restitution_pw: Annotated[float, typer.Option("--restitution-pw",
-                         help="Constant sphere-wall COR.")] = 0.85,
-    damping_model: Annotated[str, typer.Option("--damping-model",
-                         help="exact (default) or gonthier (the paper's).")] = "exact",
-    seed: Annotated[int, typer.Option("--seed",
-                         help="Seed of the random packing (recorded always).")] = 0,
-    packing: Annotated[str, typer.Option("--packing",
-                         help="lattice (the paper's 4x4 layers) or random.")] = "lattice",
-    sample_rate: Annotated[str, typer.Option("--sample-rate",
-                         help="Sampling rate of the time series.")] = "2 kHz",
-    safety: Annotated[float, typer.Option("--safety",
-                         help="Time step / Hertz contact time (Verlet; Gear: x 6 at onsets).")] = 0.02,
+                        help="Friction coefficient mu, all contacts.")] = None,
+    restitution_pp: Annotated[float | None, typer.Option("--restitution-pp",
+                              help="Constant sphere-sphere COR.")] = None,
+    restitution_pw: Annotated[float | None, typer.Option("--restitution-pw",
+                              help="Constant sphere-wall COR.")] = None,
+    damping_model: Annotated[str | None, typer.Option("--damping-model",
+                             help="exact (default) or gonthier (the paper's).")] = None,
+    seed: Annotated[int | None, typer.Option("--seed",
+                    help="Seed of the random packing (recorded always).")] = None,
+    packing: Annotated[str | None, typer.Option("--packing",
+                       help="lattice (the paper's 4x4 layers) or random.")] = None,
+    sample_rate: Annotated[str | None, typer.Option("--sample-rate",
+                           help="Sampling rate of the time series, e.g. '4 kHz'.")] = None,
+    safety: Annotated[float | None, typer.Option("--safety",
+                      help="Time step / Hertz contact time.")] = None,
     vtk: Annotated[Path | None, typer.Option("--vtk",
-                         help="Directory for ParaView snapshots (.vtp + .pvd).")] = None,
-    snapshot_rate: Annotated[str, typer.Option("--snapshot-rate",
-                         help="Snapshots per second for --vtk.")] = "200 Hz",
+                   help="Directory for ParaView snapshots (.vtp + .pvd).")] = None,
+    snapshot_rate: Annotated[str | None, typer.Option("--snapshot-rate",
+                             help="Snapshots per second for --vtk.")] = None,
     scenario: ScenarioOpt = None,
-    as_json: Annotated[bool, typer.Option("--json",
-                         help="Print JSON (the default output is JSON too).")] = False,
+    as_json: JsonOpt = False,
 ) -> None:
     """Run the DEM of a damper (default: the paper's benchmark) under harmonic excitation
-    and apply the complex power method."""
-    from pdamper import __version__
-    from pdamper.contact.restitution import ConstantRestitution
-    from pdamper.coupling.dem import DEMDamper
-    from pdamper.dem import ContactParameters, HarmonicMotion
+    and apply the complex power method (Eqs. 1-4). Options left out take the scenario's
+    values (`pdamper example-scenario` shows every default)."""
+    import json
+
+    from pdamper.dem.vtk import DEFAULT_SNAPSHOT_RATE
+    from pdamper.errors import InputError
 
     sc = load(scenario, excitation__frequency=frequency, excitation__amplitude=amplitude,
-              particles__count=particles, particles__friction=friction)
+              particles__count=particles, particles__friction=friction, dem__cycles=cycles,
+              dem__integrator=integrator, dem__skip_cycles=skip_cycles,
+              dem__restitution_pp=restitution_pp, dem__restitution_pw=restitution_pw,
+              dem__damping_model=damping_model, dem__seed=seed, dem__packing=packing,
+              dem__sample_rate=sample_rate, dem__safety=safety, dem__snapshot_rate=snapshot_rate)
+    check_output(out)
+    if vtk is not None and vtk.exists() and not vtk.is_dir():
+        raise InputError("vtk", f"{vtk} is a file; give a directory")
+    if vtk is not None and sc.dem.snapshot_rate is None:  # option > scenario > VTK default
+        sc = sc.model_copy(update={"dem": sc.dem.model_copy(
+            update={"snapshot_rate": DEFAULT_SNAPSHOT_RATE})})
     damper = sc.damper()
-    f, x = sc.excitation.frequency, sc.excitation.amplitude
-    rate = check_range("sample-rate", parse_quantity(sample_rate, "Hz", "sample-rate"), low=0.0,
-                       low_inclusive=False, unit="Hz")
-    check_range("cycles", cycles, low=1)
-    if not 0 <= skip_cycles < cycles:
-        raise InputError("skip-cycles", f"must be in [0, {cycles - 1}], got {skip_cycles}")
-    if integrator not in ("gear", "verlet"):
-        raise InputError("integrator", f"must be 'gear' or 'verlet', got {integrator!r}")
     if damper.count < 1:
         raise InputError("particles.count", f"must be in [1, {damper.max_count}] for the DEM, "
                          f"got {damper.count}")
-    contact = ContactParameters(
-        restitution_pp=ConstantRestitution(check_range("restitution-pp", restitution_pp, low=0.0,
-                                                       high=1.0, low_inclusive=False)),
-        restitution_pw=ConstantRestitution(check_range("restitution-pw", restitution_pw, low=0.0,
-                                                       high=1.0, low_inclusive=False)),
-        friction_pp=damper.friction, friction_pw=damper.friction, damping_model=damping_model)
-    model = DEMDamper(damper, contact, integrator=integrator, cycles=cycles,
-                      skip_cycles=skip_cycles, packing=packing, seed=seed, sample_rate=rate,
-                      safety=check_range("safety", safety, low=0.0, high=1.0,
-                                         low_inclusive=False))
-    sim = model.simulation(HarmonicMotion(x, f))
-    snap = None
-    if vtk is not None:
-        snap = check_range("snapshot-rate", parse_quantity(snapshot_rate, "Hz", "snapshot-rate"),
-                           low=0.0, low_inclusive=False, unit="Hz")
-    res = sim.run(cycles / f, sample_rate=rate, snapshot_rate=snap)
-    cp = res.complex_power(skip_cycles)
-    ledger = res.ledger_per_cycle(skip_cycles)
-    inputs = {"frequency_hz": f, "amplitude_m": x, "particles": damper.count, "cycles": cycles,
-              "integrator": integrator, "skip_cycles": skip_cycles, "friction": damper.friction,
-              "restitution_pp": restitution_pp, "restitution_pw": restitution_pw,
-              "damping_model": damping_model, "packing": packing, "sample_rate_hz": rate,
-              "safety": safety}
-    res.attrs.update({f"input_{k}": v for k, v in inputs.items()})
+    model = sc.model("dem", damper)
+    f, x = sc.excitation.frequency, sc.excitation.amplitude
+    r = model.response(f, x)
+    res = r.details.item()
+    meta = metadata(sc, seed=model.seed)
     payload = {
         "steps": res.steps,
         "wall_seconds": res.wall_seconds,
-        "loss_factor": cp.loss_factor,
-        "effective_mass_ratio": cp.effective_mass_ratio,
+        "loss_factor": float(r.loss_factor),
+        "effective_mass_ratio": float(r.effective_mass_ratio),
         "energy_balance_error": res.energy_balance_error(),
-        "dissipated_energy_per_cycle": cp.dissipated_energy_per_cycle,
-        "ledger_per_cycle": ledger,
+        "dissipated_energy_per_cycle": float(r.dissipated_energy_per_cycle),
+        "ledger_per_cycle": res.ledger_per_cycle(model.skip_cycles),
         "settle_steps": res.settle_steps,
         "time_step": res.time_step,
         "contact_time": res.contact_time,
         "max_overlap_ratio": res.max_overlap_ratio,
-        "inputs": inputs,
-        "seed": seed,
-        "pdamper_version": __version__,
-        "version": __version__,
-        "scenario": sc.model_dump(mode="json"),
+        "units": {"wall_seconds": "s", "dissipated_energy_per_cycle": "J", "time_step": "s",
+                  "contact_time": "s", "ledger_per_cycle": "J"},
+        **meta,
     }
+    attrs = {"inputs": json.dumps(meta["inputs"]), "pdamper_version": meta["version"]}
     if out is not None:
-        payload["out"] = str(res.write_netcdf(out))
+        payload["out"] = str(res.write_netcdf(out, attrs=attrs))
     if vtk is not None:
         payload["vtk"] = str(res.write_vtk(vtk))
-    emit(payload, as_json=True)
+    human = (
+        f"DEM ({model.integrator}), {damper.count} spheres, f = {f:g} Hz, X = {x * 1e3:g} mm, "
+        f"{model.cycles} cycles (complex power over cycles {model.skip_cycles + 1}-{model.cycles})\n"
+        f"  effective loss factor        {float(r.loss_factor):.4g}\n"
+        f"  effective mass ratio         {float(r.effective_mass_ratio):.4g}\n"
+        f"  dissipated energy per cycle  {float(r.dissipated_energy_per_cycle) * 1e3:.4g} mJ\n"
+        f"  energy ledger closes to      {res.energy_balance_error():.2e}\n"
+        f"  largest overlap / radius     {res.max_overlap_ratio:.3g}\n"
+        f"  {res.steps} steps in {res.wall_seconds:.3g} s wall"
+        + (f"\n  time series written to {payload['out']}" if out is not None else "")
+        + (f"\n  snapshots written to {payload['vtk']}" if vtk is not None else ""))
+    emit(payload, as_json, human)

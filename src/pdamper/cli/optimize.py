@@ -6,32 +6,26 @@ from typing import Annotated
 
 import typer
 
-from pdamper.cli import app
-from pdamper.cli._common import emit, load, metadata
-from pdamper.cli.analytic import JsonOpt, ScenarioOpt
+from pdamper.cli._common import JsonOpt, ModelOpt, ScenarioOpt, emit, load, metadata
 
 
-@app.command("optimize")
 def optimize(
-    damper: Annotated[str | None, typer.Option(help="Damper model: analytic.")] = None,
+    model: ModelOpt = None,
     at: Annotated[str | None, typer.Option(help="Objective time T, e.g. '0.8s'.")] = None,
     step: Annotated[int | None, typer.Option(help="Particle-count increment (default: one layer).")] = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
     """Particle count with the smallest amplitude at time T; every candidate is listed."""
-    from pdamper.coupling.registry import get_damper_model
     from pdamper.design import optimize_particle_count
 
-    sc = load(scenario, simulation__damper=damper, optimization__at=at,
-              optimization__step=step)
-    model = get_damper_model(sc.simulation.damper)
-    res = optimize_particle_count(sc.structure_model(), sc.damper(), model,
-                                  at=sc.optimization.at, step=sc.optimization.step,
-                                  initial_displacement=sc.structure.initial_displacement)
+    sc = load(scenario, simulation__model=model, optimization__at=at, optimization__step=step)
+    res = optimize_particle_count(sc.structure_model(), sc.damper(),
+                                  sc.structure.initial_displacement, sc.optimization.at,
+                                  model=lambda d: sc.model(None, d), step=sc.optimization.step)
     payload = {**res.as_dict(), "units": {"mass": "kg", "objective": "m", "at": "s"},
                **metadata(sc)}
-    lines = [f"amplitude at t = {res.at:g} s ({sc.simulation.damper} model)",
+    lines = [f"amplitude at t = {res.at:g} s ({sc.simulation.model} model)",
              "  particles  mass [g]  amplitude [mm]"]
     for c in res.candidates:
         mark = "  <- best" if c is res.best else ""

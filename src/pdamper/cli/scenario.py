@@ -4,10 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from pdamper.cli import app
 
-
-@app.command("example-scenario")
 def example_scenario() -> None:
     """Print a commented scenario TOML with every key and its default."""
     from pdamper.io.scenario import EXAMPLE_SCENARIO

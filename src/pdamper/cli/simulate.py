@@ -7,14 +7,20 @@ from typing import Annotated
 
 import typer
 
-from pdamper.cli import app
-from pdamper.cli._common import emit, load, metadata, write_atomic
-from pdamper.cli.analytic import JsonOpt, ScenarioOpt
+from pdamper.cli._common import (
+    JsonOpt,
+    ModelOpt,
+    ScenarioOpt,
+    check_output,
+    emit,
+    load,
+    metadata,
+    write_atomic,
+)
 
 
-@app.command("simulate")
 def simulate(
-    damper: Annotated[str | None, typer.Option(help="Damper model: analytic.")] = None,
+    model: ModelOpt = None,
     particles: Annotated[int | None, typer.Option(help="Number of spheres.")] = None,
     duration: Annotated[str | None, typer.Option(help="Simulated time, e.g. '2s'.")] = None,
     initial_displacement: Annotated[str | None, typer.Option(
@@ -24,18 +30,20 @@ def simulate(
     as_json: JsonOpt = False,
 ) -> None:
     """Release the structure from x0 and track the decay (paper Sect. 4.2.1, Figs. 7-8)."""
-    from pdamper.coupling.free_vibration import Simulation
-    from pdamper.coupling.registry import get_damper_model
+    from pdamper.coupling import Simulation
 
-    sc = load(scenario, simulation__damper=damper, particles__count=particles,
+    sc = load(scenario, simulation__model=model, particles__count=particles,
               simulation__duration=duration, structure__initial_displacement=initial_displacement)
-    model = get_damper_model(sc.simulation.damper)(sc.damper())
-    res = Simulation(sc.structure_model(), model, sc.structure.initial_displacement).run(
+    check_output(out)
+    damper_model = sc.model()
+    structure = sc.structure_model()
+    res = Simulation(structure, damper_model, sc.structure.initial_displacement).run(
         sc.simulation.duration, sc.simulation.sample_rate)
     amp, zeta = res.damping_ratio
+    meta = metadata(sc)
     if out is not None:
         ds = res.to_dataset()
-        ds.attrs.update(pdamper_version=metadata(sc)["version"])
+        ds.attrs.update(pdamper_version=meta["version"])
         write_atomic(out, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
     payload = {
         "peaks": [{"time": float(t), "amplitude": float(a)}
@@ -49,11 +57,10 @@ def simulate(
                     "damping": c.damping, "loss_factor": c.loss_factor} for c in res.cycles],
         "units": {"time": "s", "amplitude": "m", "frequency": "Hz", "effective_mass": "kg",
                   "damping": "kg/s"},
-        **metadata(sc),
+        **meta,
     }
-    lines = [f"{model!r} on M={sc.structure_model().mass:.4g} kg, "
-             f"K={sc.structure_model().stiffness:g} N/m; x0 = "
-             f"{sc.structure.initial_displacement * 1e3:g} mm",
+    lines = [f"{damper_model!r} on M={structure.mass:.4g} kg, K={structure.stiffness:g} N/m; "
+             f"x0 = {sc.structure.initial_displacement * 1e3:g} mm",
              "   t [s]   X [mm]   zeta     mode"]
     modes = [c.mode.title for c in res.cycles] or ["(not classified)"] * len(res.peak_times)
     for t, a, z, m in zip(res.peak_times, res.peak_amplitudes, list(zeta) + [float("nan")],

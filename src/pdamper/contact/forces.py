@@ -19,7 +19,7 @@ Tangential force (regularised Coulomb friction)
 -----------------------------------------------
 ``F_t = -mu |F_n| tanh(|v_t| / v_reg) t_hat`` with the slip velocity ``v_t`` at the contact
 point and ``t_hat = v_t / |v_t|``. The regularisation velocity ``v_reg`` defaults to
-:data:`DEFAULT_REGULARISATION_VELOCITY` = 0.01 m/s: below it friction acts as a viscous
+:data:`pdamper.contact.law.DEFAULT_REGULARISATION_VELOCITY` = 0.01 m/s: below it friction acts as a viscous
 damper of coefficient ``mu |F_n| / v_reg``, above ~2 v_reg it is Coulomb sliding to within
 4 %.
 
@@ -37,23 +37,31 @@ import math
 from numba import njit
 
 from pdamper.contact.damping import exact_damping_factor_scalar, gonthier_damping_factor_scalar
-from pdamper.contact.restitution import cor_at
 
-#: Default regularisation velocity of the tanh friction law [m/s].
-DEFAULT_REGULARISATION_VELOCITY = 0.01
-#: Default lower bound of the onset speed used to set the damping parameter [m/s]; contacts
-#: that form more gently are damped as if they had hit at this speed (keeps d finite).
-DEFAULT_MIN_IMPACT_VELOCITY = 1e-2
+
+@njit(cache=True)
+def cor_at(v, v_nodes, e_nodes):
+    """COR at impact speed ``|v|`` from tabulated nodes; numba-compiled, no allocation."""
+    s = abs(v)
+    n = v_nodes.shape[0]
+    if n == 1 or s <= v_nodes[0]:
+        return e_nodes[0]
+    if s >= v_nodes[n - 1]:
+        return e_nodes[n - 1]
+    lo, hi = 0, n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if v_nodes[mid] <= s:
+            lo = mid
+        else:
+            hi = mid
+    t = (s - v_nodes[lo]) / (v_nodes[hi] - v_nodes[lo])
+    return e_nodes[lo] + t * (e_nodes[hi] - e_nodes[lo])
+
 
 #: Integer codes of the damping models for the kernels.
 DAMPING_EXACT = 0
 DAMPING_GONTHIER = 1
-
-
-@njit(cache=True)
-def hertz_k(e_star, r_star):
-    """Hertz stiffness K = 4/3 E* sqrt(R*) [N/m^1.5]."""
-    return 4.0 / 3.0 * e_star * math.sqrt(r_star)
 
 
 @njit(cache=True)

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import math
 
+from numba import njit
+
 from pdamper.materials import Material
 
 HERTZ_EXPONENT = 1.5
@@ -23,8 +25,10 @@ def effective_radius(r_a: float, r_b: float = math.inf) -> float:
     return 1.0 / (1.0 / r_a + (0.0 if math.isinf(r_b) else 1.0 / r_b))
 
 
-def hertz_stiffness(e_star: float, r_star: float) -> float:
-    """K = 4/3 E* sqrt(R*) [N/m^1.5]."""
+@njit(cache=True)
+def hertz_stiffness(e_star, r_star):
+    """Hertz stiffness K = 4/3 E* sqrt(R*) [N/m^1.5]; numba-compiled, callable from Python
+    and from the DEM kernels (its one home)."""
     return 4.0 / 3.0 * e_star * math.sqrt(r_star)
 
 

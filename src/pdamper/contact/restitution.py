@@ -2,7 +2,8 @@
 
 A curve is a callable ``e(v_impact)``. For the numba kernels every curve is handed over as
 two plain arrays ``(v_nodes, e_nodes)`` (:meth:`RestitutionCurve.tabulate`) and evaluated
-with :func:`cor_at` (linear interpolation, constant beyond the ends).
+with :func:`pdamper.contact.forces.cor_at` (linear interpolation, constant beyond the ends).
+This module imports no numba, so that the design objects can hold curves cheaply.
 """
 
 from __future__ import annotations
@@ -10,7 +11,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
 from pdamper.errors import InputError, check_range
 
@@ -62,23 +62,3 @@ class TabulatedRestitution(RestitutionCurve):
 
     def tabulate(self) -> tuple[np.ndarray, np.ndarray]:
         return np.asarray(self.velocity, float), np.asarray(self.restitution, float)
-
-
-@njit(cache=True)
-def cor_at(v: float, v_nodes: np.ndarray, e_nodes: np.ndarray) -> float:
-    """COR at impact speed ``|v|`` from tabulated nodes; numba-compiled, no allocation."""
-    s = abs(v)
-    n = v_nodes.shape[0]
-    if n == 1 or s <= v_nodes[0]:
-        return e_nodes[0]
-    if s >= v_nodes[n - 1]:
-        return e_nodes[n - 1]
-    lo, hi = 0, n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if v_nodes[mid] <= s:
-            lo = mid
-        else:
-            hi = mid
-    t = (s - v_nodes[lo]) / (v_nodes[hi] - v_nodes[lo])
-    return e_nodes[lo] + t * (e_nodes[hi] - e_nodes[lo])

@@ -1,24 +1,22 @@
 """Level III: damper models coupled to a structure (paper Sect. 4.1).
 
-One damper interface, several fidelities: :class:`DamperModel` answers Level II questions
-(:meth:`~DamperModel.response` under harmonic excitation) and Level III ones
-(:meth:`~DamperModel.free_vibration` on a structure). :class:`Simulation` runs any of them.
+Coupling strategies: the pseudo force of models 2 and 3 (:mod:`pdamper.coupling.pseudo_force`)
+and the co-simulation of model 1 (:mod:`pdamper.coupling.cosimulation`). :class:`Simulation`
+runs any :class:`~pdamper.models.DamperModel` on a structure with the strategy the model
+names; the damping ratio follows from the logarithmic decrement (Eqs. 24-25).
 """
 
-from pdamper.coupling.analytical import AnalyticalDamper
-from pdamper.coupling.base import DamperModel, PseudoForceDamper
 from pdamper.coupling.decrement import damping_ratio_from_peaks, negative_peaks
-from pdamper.coupling.dem import DEMDamper
-from pdamper.coupling.free_vibration import CycleUpdate, FreeVibrationResult, Simulation
+from pdamper.coupling.pseudo_force import pseudo_force_coefficients
+from pdamper.coupling.results import CycleUpdate, FreeVibrationResult
+from pdamper.coupling.simulation import COUPLINGS, Simulation
 
 __all__ = [
-    "AnalyticalDamper",
+    "COUPLINGS",
     "CycleUpdate",
-    "DEMDamper",
-    "DamperModel",
     "FreeVibrationResult",
-    "PseudoForceDamper",
     "Simulation",
     "damping_ratio_from_peaks",
     "negative_peaks",
+    "pseudo_force_coefficients",
 ]

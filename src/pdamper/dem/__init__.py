@@ -1,37 +1,69 @@
 """Level II: the discrete element method (paper Sect. 3, "Discrete element method").
 
 Spheres in a rectangular box container that moves vertically (prescribed, or as the end
-effector of a 1-DOF structure), Hertz contacts with Gonthier's nonlinear damping set from a
+effector of a 1-DOF structure), Hertz contacts with a nonlinear damping set from a
 velocity-dependent coefficient of restitution, regularised Coulomb friction, a linked-cell
 Verlet list and two integrators (velocity Verlet, variable-step fifth-order Gear).
 
-Main entry points: :class:`DEMSimulation` (``run(duration)`` -> :class:`DEMResult`) and the
-input classes :class:`Container`, :class:`ParticleSet`, :class:`ContactParameters`,
-:class:`HarmonicMotion`, :class:`PrescribedMotion`, :class:`StructureMotion`.
+Main entry points: :class:`DEMEngine` (``run(duration)`` -> :class:`DEMResult`) and the
+input classes :class:`Container`, :class:`ParticleSet`,
+:class:`~pdamper.contact.law.ContactParameters`, :class:`HarmonicMotion`,
+:class:`PrescribedMotion`, :class:`StructureMotion`.
+
+The numba kernels load on first use of :class:`DEMEngine` (attribute access below), so
+that the input classes and :mod:`pdamper.dem.model` can be used without compiling anything.
 """
 
-from pdamper.dem.model import (
-    BENCHMARK_BOX,
-    BENCHMARK_RADIUS,
-    ContactParameters,
-    Container,
-    HarmonicMotion,
-    ParticleSet,
-    PrescribedMotion,
-    StructureMotion,
-)
-from pdamper.dem.simulation import DEMResult, DEMSimulation, warmup
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING
+
+_EXPORTS = {
+    "ContactParameters": "pdamper.contact.law",
+    "Container": "pdamper.dem.model",
+    "HarmonicMotion": "pdamper.dem.model",
+    "ParticleSet": "pdamper.dem.model",
+    "PrescribedMotion": "pdamper.dem.model",
+    "StructureMotion": "pdamper.dem.model",
+    "DEMEngine": "pdamper.dem.simulation",
+    "DEMResult": "pdamper.dem.simulation",
+    "warmup": "pdamper.dem.simulation",
+}
 
 __all__ = [
-    "BENCHMARK_BOX",
-    "BENCHMARK_RADIUS",
-    "Container",
     "ContactParameters",
+    "Container",
+    "DEMEngine",
     "DEMResult",
-    "DEMSimulation",
     "HarmonicMotion",
     "ParticleSet",
     "PrescribedMotion",
     "StructureMotion",
     "warmup",
 ]
+
+if TYPE_CHECKING:  # pragma: no cover
+    from pdamper.contact.law import ContactParameters
+    from pdamper.dem.model import (
+        Container,
+        HarmonicMotion,
+        ParticleSet,
+        PrescribedMotion,
+        StructureMotion,
+    )
+    from pdamper.dem.simulation import DEMEngine, DEMResult, warmup
+
+
+def __getattr__(name: str):
+    try:
+        module = _EXPORTS[name]
+    except KeyError:
+        raise AttributeError(f"module 'pdamper.dem' has no attribute {name!r}") from None
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))

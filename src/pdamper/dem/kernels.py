@@ -55,7 +55,8 @@ import math
 import numpy as np
 from numba import njit
 
-from pdamper.contact.forces import friction_magnitude, hertz_k, normal_force, onset_damping_cached
+from pdamper.contact.forces import friction_magnitude, normal_force, onset_damping_cached
+from pdamper.contact.hertz import hertz_stiffness
 
 # ---- float parameters ------------------------------------------------------------------
 FP_G = 0
@@ -461,7 +462,7 @@ def compute_forces(pos, vel, omg, zc, vc, part, mats, lists, wall_hist, fp, ip, 
             p = pmat[i] * nmat + pmat[j]
             if h_act[b] == 0:
                 h_act[b] = 1
-                h_k[b] = hertz_k(estar[p], ri * rj / rs)
+                h_k[b] = hertz_stiffness(estar[p], ri * rj / rs)
                 h_d[b] = onset_damping_cached(ddot, cor_v[p, :cor_n[p]], cor_e[p, :cor_n[p]],
                                               model, vmin, xcache, p)
                 h_v[b] = max(ddot, vmin)

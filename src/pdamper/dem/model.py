@@ -1,4 +1,5 @@
-"""Inputs of a DEM run: container, particles, contact parameters, container motion.
+"""Inputs of a DEM run: container, particles, container motion (the contact parameters are
+:class:`pdamper.contact.law.ContactParameters`).
 
 All quantities are SI floats. The container frame has ``x in [0, Lx]``, ``y in [0, Ly]``,
 ``z in [0, Lz]`` with ``z`` up (against gravity); particle positions given to
@@ -8,20 +9,23 @@ All quantities are SI floats. The container frame has ``x in [0, Lx]``, ``y in [
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
-from pdamper.contact.forces import DEFAULT_MIN_IMPACT_VELOCITY, DEFAULT_REGULARISATION_VELOCITY
-from pdamper.contact.restitution import ConstantRestitution, RestitutionCurve
 from pdamper.errors import InputError, check_range
-from pdamper.materials import PVC, S235, Material
+from pdamper.materials import Material
 
-#: Inner dimensions of the paper's benchmark container (40 x 40 x 120 mm, 120 mm vertical) [m].
-BENCHMARK_BOX = (0.040, 0.040, 0.120)
-#: Radius of the paper's steel spheres [m].
-BENCHMARK_RADIUS = 0.005
+#: Integrators of :class:`pdamper.dem.DEMEngine`: variable-step fifth-order Gear (the
+#: paper's) and fixed-step velocity Verlet.
+INTEGRATORS = ("gear", "verlet")
+#: Default safety factor: time step = safety x Hertz contact duration at the reference speed.
+DEFAULT_SAFETY = 0.02
+#: Default tolerance of the Gear integrator's local error estimate [-].
+DEFAULT_GEAR_TOLERANCE = 1e-5
+#: Default velocity scale of the Gear error norm [m/s].
+DEFAULT_GEAR_VELOCITY_SCALE = 0.05
 
 
 @dataclass(frozen=True)
@@ -38,11 +42,13 @@ class Container:
         Container mass m_con [kg]; only enters the complex power's effective mass (Eq. 4).
     """
 
-    box: tuple[float, float, float] = BENCHMARK_BOX
-    material: Material = PVC
+    box: tuple[float, float, float]
+    material: Material
     mass: float = 0.0
 
     def __post_init__(self) -> None:
+        if not isinstance(self.material, Material):
+            raise InputError("container.material", f"must be a Material, got {self.material!r}")
         if len(self.box) != 3:
             raise InputError("container.box", "needs three inner dimensions (Lx, Ly, Lz) in m")
         for name, v in zip("xyz", self.box, strict=True):
@@ -68,8 +74,8 @@ class ParticleSet:
     """
 
     positions: np.ndarray
-    radius: float | Sequence[float] | np.ndarray = BENCHMARK_RADIUS
-    material: Material | Sequence[Material] = S235
+    radius: float | Sequence[float] | np.ndarray
+    material: Material | Sequence[Material]
     velocities: np.ndarray | None = None
     angular_velocities: np.ndarray | None = None
 
@@ -113,84 +119,21 @@ class ParticleSet:
         return 0.4 * self.masses * self.radius**2
 
     @classmethod
-    def lattice(cls, n: int, box: Sequence[float] = BENCHMARK_BOX,
-                radius: float = BENCHMARK_RADIUS, material: Material = S235,
+    def lattice(cls, n: int, box: Sequence[float], radius: float, material: Material,
                 gap: float = 0.0) -> ParticleSet:
-        """The paper's regular lattice layers (4 x 4 per layer in the benchmark box)."""
+        """Regular square-lattice layers from the floor (the paper's 4 x 4 layers in its
+        benchmark box); see :func:`pdamper.dem.packing.lattice_layers`."""
         from pdamper.dem.packing import lattice_layers
 
         return cls(lattice_layers(n, radius, box, gap), radius, material)
 
     @classmethod
-    def random(cls, n: int, box: Sequence[float] = BENCHMARK_BOX,
-               radius: float = BENCHMARK_RADIUS, material: Material = S235,
+    def random(cls, n: int, box: Sequence[float], radius: float, material: Material,
                seed: int = 0) -> ParticleSet:
         """Random non-overlapping packing, reproducible from ``seed``."""
         from pdamper.dem.packing import random_packing
 
         return cls(random_packing(n, radius, box, seed), radius, material)
-
-
-@dataclass(frozen=True)
-class ContactParameters:
-    """Contact law parameters (paper Sect. 3).
-
-    Parameters
-    ----------
-    restitution_pp, restitution_pw
-        COR curves ``e(v_impact)`` of sphere-sphere and sphere-wall contacts (defaults:
-        constant 0.6 and 0.85, the benchmark values of NOTES.md).
-    friction_pp, friction_pw
-        Coulomb friction coefficients mu [-] (paper: 0.1 everywhere).
-    pairs
-        Optional per-material-pair curves, keyed by a pair of material names (order does
-        not matter; the wall material name for sphere-wall pairs); they override the two
-        defaults above.
-    damping_model
-        ``"exact"`` (default): damping from the exact closed-form COR relation;
-        ``"gonthier"``: Gonthier's approximation ``(1 - e^2)/e`` (the paper's choice).
-    regularisation_velocity
-        v_reg of the tanh friction law [m/s] (default 0.01 m/s).
-    min_impact_velocity
-        Floor of the onset speed that sets the damping parameter [m/s] (default 0.01 m/s).
-    reimpact_factor
-        A persisting contact whose approach speed exceeds this factor times its stored impact
-        speed is treated as a new impact (``d`` reset from the current speed); default 1.25,
-        ``math.inf`` keeps the onset value for the whole contact (see
-        :mod:`pdamper.dem.kernels`).
-    """
-
-    restitution_pp: RestitutionCurve = field(default_factory=lambda: ConstantRestitution(0.6))
-    restitution_pw: RestitutionCurve = field(default_factory=lambda: ConstantRestitution(0.85))
-    friction_pp: float = 0.1
-    friction_pw: float = 0.1
-    pairs: Mapping[tuple[str, str], RestitutionCurve] = field(default_factory=dict)
-    damping_model: str = "exact"
-    regularisation_velocity: float = DEFAULT_REGULARISATION_VELOCITY
-    min_impact_velocity: float = DEFAULT_MIN_IMPACT_VELOCITY
-    reimpact_factor: float = 1.25
-
-    def __post_init__(self) -> None:
-        check_range("reimpact_factor", self.reimpact_factor, low=1.0, low_inclusive=False)
-        check_range("friction_pp", self.friction_pp, low=0.0)
-        check_range("friction_pw", self.friction_pw, low=0.0)
-        check_range("regularisation_velocity", self.regularisation_velocity, low=0.0,
-                    low_inclusive=False, unit="m/s")
-        check_range("min_impact_velocity", self.min_impact_velocity, low=0.0,
-                    low_inclusive=False, unit="m/s")
-        if self.damping_model not in ("exact", "gonthier"):
-            raise InputError("damping_model", f"must be 'exact' or 'gonthier', got "
-                             f"{self.damping_model!r}")
-        for name in ("restitution_pp", "restitution_pw"):
-            if not isinstance(getattr(self, name), RestitutionCurve):
-                raise InputError(name, "must be a RestitutionCurve (e.g. ConstantRestitution)")
-
-    def curve(self, a: str, b: str, wall: bool) -> RestitutionCurve:
-        """COR curve of the material pair (a, b)."""
-        for key, c in self.pairs.items():
-            if {str(key[0]).lower(), str(key[1]).lower()} == {a.lower(), b.lower()}:
-                return c
-        return self.restitution_pw if wall else self.restitution_pp
 
 
 @dataclass(frozen=True)
@@ -273,7 +216,7 @@ class StructureMotion:
     Parameters
     ----------
     mass, damping, stiffness
-        M [kg], D [kg/s], K [N/m] (e.g. 1.514, 0.55, 1848: NOTES.md Level III).
+        M [kg], D [kg/s], K [N/m] (the paper's: ``pdamper.parameters.PAPER_STRUCTURE``).
     x0, v0
         Initial position [m] and velocity [m/s] at release.
     """

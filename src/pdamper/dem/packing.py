@@ -16,9 +16,10 @@ Two ways of filling it are provided:
   the walls waste room), so requests above :data:`RANDOM_FILL_LIMIT` are refused at once and
   harder ones fail cleanly after ``max_attempts`` tries for one particle.
 
-:func:`max_particles` (with :func:`spheres_per_layer` and :func:`max_layers`) is the capacity
-``n_max`` used by the clearance formula ``h = L (1 - n_p / n_max)``, and :func:`scaled_box`
-gives containers for scaling benchmarks with many particles.
+:func:`~pdamper.damper.max_particles` (with :func:`~pdamper.damper.spheres_per_layer` and
+:func:`~pdamper.damper.max_layers`, re-exported here) is the capacity ``n_max`` used by the
+clearance formula ``h = L (1 - n_p / n_max)``; its one home is :mod:`pdamper.damper`.
+:func:`scaled_box` gives containers for scaling benchmarks with many particles.
 """
 
 from __future__ import annotations
@@ -30,7 +31,9 @@ from collections.abc import Sequence
 import numba
 import numpy as np
 
+from pdamper.damper import FIT_TOLERANCE as _FIT_TOLERANCE
 from pdamper.damper import lattice_fit as _fits
+from pdamper.damper import max_layers, max_particles, spheres_per_layer
 from pdamper.errors import InputError, check_range
 
 __all__ = [
@@ -46,10 +49,6 @@ __all__ = [
 #: Largest solid volume fraction of the box that :func:`random_packing` attempts [-].
 #: Random sequential addition of equal spheres jams at about 0.384 in unbounded space.
 RANDOM_FILL_LIMIT = 0.35
-
-#: Relative tolerance of the "how many diameters fit" counts, so that e.g. 0.04 / 0.01
-#: counts 4 although the floating-point quotient may be 3.9999999999999996.
-_FIT_TOLERANCE = 1e-9
 
 _BOX_FIELD = "container.box"
 _RADIUS_FIELD = "particles.radius"
@@ -146,76 +145,6 @@ def _check_fits(box: tuple[float, float, float], diameter: float) -> None:
                 f"L{name} must be at least one particle diameter ({diameter * 1e3:g} mm), "
                 f"got {length * 1e3:g} mm",
             )
-
-
-# ----------------------------------------------------------------------------- capacity
-
-
-def spheres_per_layer(box: Sequence[float], radius: float, gap: float = 0.0) -> int:
-    """Number of spheres in one square-lattice layer, ``floor(Lx/2r) * floor(Ly/2r)``.
-
-    Parameters
-    ----------
-    box
-        Inner container dimensions ``(Lx, Ly, Lz)`` [m].
-    radius
-        Sphere radius [m].
-    gap
-        Clearance between neighbouring spheres [m]; with ``gap > 0`` the count along x is
-        ``floor((Lx + gap) / (2 r + gap))``.
-
-    Returns
-    -------
-    int
-        Spheres per layer [-]; 16 for the benchmark (40 x 40 mm, r = 5 mm).
-    """
-    lx, ly, _ = _as_box(box)
-    r = _as_radius(radius)
-    g = check_range("particles.gap", gap, low=0.0, unit="m")
-    return _fits(lx, r, g) * _fits(ly, r, g)
-
-
-def max_layers(box: Sequence[float], radius: float, gap: float = 0.0) -> int:
-    """Number of lattice layers that fit in the height, ``floor(Lz/2r)``.
-
-    Parameters
-    ----------
-    box
-        Inner container dimensions ``(Lx, Ly, Lz)`` [m].
-    radius
-        Sphere radius [m].
-    gap
-        Clearance between neighbouring layers [m].
-
-    Returns
-    -------
-    int
-        Layers [-]; 12 for the benchmark (120 mm, r = 5 mm).
-    """
-    _, _, lz = _as_box(box)
-    r = _as_radius(radius)
-    g = check_range("particles.gap", gap, low=0.0, unit="m")
-    return _fits(lz, r, g)
-
-
-def max_particles(box: Sequence[float], radius: float, gap: float = 0.0) -> int:
-    """Capacity ``n_max`` = spheres per layer x layers of the square lattice.
-
-    Parameters
-    ----------
-    box
-        Inner container dimensions ``(Lx, Ly, Lz)`` [m].
-    radius
-        Sphere radius [m].
-    gap
-        Clearance between neighbouring spheres [m].
-
-    Returns
-    -------
-    int
-        ``n_max`` [-]; 192 for the benchmark damper.
-    """
-    return spheres_per_layer(box, radius, gap) * max_layers(box, radius, gap)
 
 
 # ------------------------------------------------------------------------------ lattice

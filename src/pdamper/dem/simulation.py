@@ -1,6 +1,6 @@
 """Python orchestration of the DEM engine (paper Sect. 3, "Discrete element method").
 
-:class:`DEMSimulation` turns the inputs of :mod:`pdamper.dem.model` into flat arrays, picks
+:class:`DEMEngine` turns the inputs of :mod:`pdamper.dem.model` into flat arrays, picks
 the time step from the contact time scale, settles the particles under gravity in the
 resting container, then runs the excitation with one call of a numba kernel of
 :mod:`pdamper.dem.kernels` and returns a :class:`DEMResult`.
@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pdamper.constants import STANDARD_GRAVITY
 from pdamper.contact.forces import DAMPING_EXACT, DAMPING_GONTHIER
 from pdamper.contact.hertz import (
     contact_duration,
@@ -23,9 +24,13 @@ from pdamper.contact.hertz import (
     hertz_stiffness,
     rayleigh_time,
 )
+from pdamper.contact.law import ContactParameters
 from pdamper.dem import kernels as K
 from pdamper.dem.model import (
-    ContactParameters,
+    DEFAULT_GEAR_TOLERANCE,
+    DEFAULT_GEAR_VELOCITY_SCALE,
+    DEFAULT_SAFETY,
+    INTEGRATORS,
     Container,
     HarmonicMotion,
     ParticleSet,
@@ -36,21 +41,10 @@ from pdamper.errors import InputError, SimulationError, check_range
 
 log = logging.getLogger(__name__)
 
-#: Default safety factor: time step = safety x Hertz contact duration at the reference speed.
-DEFAULT_SAFETY = 0.02
-#: Default tolerance of the Gear integrator's local error estimate [-].
-DEFAULT_GEAR_TOLERANCE = 1e-5
-#: Default velocity scale of the Gear error norm [m/s].
-DEFAULT_GEAR_VELOCITY_SCALE = 0.05
-
-#: The Gear step may reach a new contact with up to GEAR_ONSET_FACTOR x the Verlet step; the
-#: error control (with rejection) takes over inside the contact.
+#: The Gear step may reach a new contact with up to GEAR_ONSET_FACTOR x the Verlet step when
+#: ``gear_contact_bound`` is on; the error control (with rejection) takes over inside the
+#: contact.
 GEAR_ONSET_FACTOR = 6.0
-#: Bound the Gear step by the time to the next contact (see GEAR_ONSET_FACTOR); off by
-#: default: the error control with rejection resolves onsets at half the steps.
-GEAR_CONTACT_BOUND = False
-
-_INTEGRATORS = ("verlet", "gear")
 
 
 @dataclass
@@ -241,22 +235,14 @@ class DEMResult:
         ds.attrs.update(attrs)
         return ds
 
-    def write_netcdf(self, path: str | Path) -> Path:
-        """Write :meth:`to_dataset` to NetCDF (h5netcdf) atomically (temp file + rename)."""
-        import os
-        import tempfile
+    def write_netcdf(self, path: str | Path, attrs: dict | None = None) -> Path:
+        """Write :meth:`to_dataset` to NetCDF (h5netcdf) atomically (temp file + rename),
+        with extra global ``attrs`` (e.g. the inputs of the run)."""
+        from pdamper.files import atomic_write
 
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(suffix=".nc.tmp", dir=path.parent)
-        os.close(fd)
-        try:
-            self.to_dataset().to_netcdf(tmp, engine="h5netcdf")
-            os.replace(tmp, path)
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-        return path
+        ds = self.to_dataset()
+        ds.attrs.update(attrs or {})
+        return atomic_write(path, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
 
     def write_vtk(self, directory: str | Path) -> Path:
         """Write the snapshots as a ParaView series (.vtp files + .pvd index)."""
@@ -267,7 +253,7 @@ class DEMResult:
                                 self.snapshot_angular_velocities)
 
 
-class DEMSimulation:
+class DEMEngine:
     """A DEM run of spheres in a moving box (paper Sect. 3).
 
     Parameters
@@ -305,25 +291,35 @@ class DEMSimulation:
     reference_velocity
         Impact speed at which the contact duration is evaluated [m/s] (default from the
         excitation and the free fall over the container height).
+    gear_contact_bound
+        Bound the Gear step by the time to the next contact (never below
+        ``GEAR_ONSET_FACTOR`` x the Verlet step). Off by default: in a dense bed some pair
+        is always about to touch, and the bound doubled the steps at unchanged accuracy;
+        the error control with rejection resolves onsets (docs/dem.md).
     seed
         Recorded in the results (the engine itself is deterministic).
     """
 
-    def __init__(self, particles: ParticleSet, container: Container | None = None,
-                 contact: ContactParameters | None = None,
+    def __init__(self, particles: ParticleSet, container: Container,
+                 contact: ContactParameters,
                  motion: HarmonicMotion | PrescribedMotion | StructureMotion | None = None,
                  integrator: str = "verlet", safety: float = DEFAULT_SAFETY,
-                 gravity: float = 9.81, gear_tolerance: float = DEFAULT_GEAR_TOLERANCE,
+                 gravity: float = STANDARD_GRAVITY, gear_tolerance: float = DEFAULT_GEAR_TOLERANCE,
                  gear_velocity_scale: float = DEFAULT_GEAR_VELOCITY_SCALE,
                  gear_adaptive: bool = True, max_step: float = 1e-4,
                  skin: float | None = None, settle_time: float | None = None,
                  max_overlap: float = 0.05, reference_velocity: float | None = None,
-                 seed: int | None = None):
+                 gear_contact_bound: bool = False, seed: int | None = None):
+        for name, value, cls in (("particles", particles, ParticleSet),
+                                 ("container", container, Container),
+                                 ("contact", contact, ContactParameters)):
+            if not isinstance(value, cls):
+                raise InputError(name, f"must be a {cls.__name__}, got {type(value).__name__}")
         self.particles = particles
-        self.container = container or Container()
-        self.contact = contact or ContactParameters()
+        self.container = container
+        self.contact = contact
         self.motion = motion or HarmonicMotion()
-        if integrator not in _INTEGRATORS:
+        if integrator not in INTEGRATORS:
             raise InputError("integrator", f"must be 'gear' or 'verlet', got {integrator!r}")
         self.integrator = integrator
         self.safety = check_range("safety", safety, low=0.0, high=1.0, low_inclusive=False)
@@ -336,6 +332,7 @@ class DEMSimulation:
         self.max_step = check_range("max_step", max_step, low=0.0, low_inclusive=False, unit="s")
         self.max_overlap = check_range("max_overlap", max_overlap, low=0.0, high=1.0,
                                        low_inclusive=False)
+        self.gear_contact_bound = bool(gear_contact_bound)
         self.seed = seed
         r = particles.radius
         self.skin = (0.2 * float(r.min()) if skin is None
@@ -400,7 +397,8 @@ class DEMSimulation:
             cor_e[q, :len(e)] = e
             cor_n[q] = len(v)
         self._mats_list = mats
-        # last column: memo (COR, damping factor) per pair type for the kernels (-1: empty)
+        # last entry: memo (COR, damping factor) per pair type for the kernels, emptied (-1)
+        # at the start of every run (run()), so that no state carries over between runs
         self._mats = (estar, mu, cor_v, cor_e, cor_n, np.full((npair, 2), -1.0))
         self._kwall = np.array([hertz_stiffness(estar[nm * nm + a], float(ri))
                                 for a, ri in zip(self._pmat, p.radius, strict=True)])
@@ -474,6 +472,7 @@ class DEMSimulation:
 
         p = self.particles
         n = p.count
+        self._mats[5][:] = -1.0  # the onset-damping memo starts empty in every run
         lx, ly, lz = self.container.box
         rmax = float(p.radius.max())
         rmin = float(p.radius.min())
@@ -621,7 +620,7 @@ class DEMSimulation:
         # steps at unchanged accuracy; the error control with rejection handles onsets
         # and the skin bound (skin / (4 v_max)) caps the entry depth (docs/dem.md).
         ip[K.IP_TTC] = 1 if (self.integrator == "gear" and self.gear_adaptive
-                             and GEAR_CONTACT_BOUND) else 0
+                             and self.gear_contact_bound) else 0
         if self.integrator == "verlet":
             K.run_verlet(pos, vel, omg, cstate, part, self._mats, lists, wall_hist, fp, ip, tab,
                          work, samples, snaps, stats, fstats)
@@ -706,9 +705,13 @@ class DEMSimulation:
 def warmup() -> float:
     """Compile (or load from the numba cache) both integrator kernels; returns seconds."""
     t0 = time.perf_counter()
-    for integ in _INTEGRATORS:
-        parts = ParticleSet(np.array([[0.02, 0.02, 0.006], [0.02, 0.02, 0.03]]))
+    from pdamper.contact.restitution import ConstantRestitution
+    from pdamper.materials import PVC, S235
+
+    contact = ContactParameters(ConstantRestitution(0.8), ConstantRestitution(0.8), 0.1, 0.1)
+    for integ in INTEGRATORS:
+        parts = ParticleSet(np.array([[0.02, 0.02, 0.006], [0.02, 0.02, 0.03]]), 0.005, S235)
         for motion in (HarmonicMotion(0.001, 10.0), StructureMotion(1.0, 0.1, 100.0)):
-            DEMSimulation(parts, motion=motion, integrator=integ, settle_time=0.0).run(
-                0.002, sample_rate=1000.0)
+            DEMEngine(parts, Container((0.04, 0.04, 0.12), PVC), contact, motion,
+                      integrator=integ, settle_time=0.0).run(0.002, sample_rate=1000.0)
     return time.perf_counter() - t0

@@ -18,11 +18,9 @@ these files back (they understand the subset of the format written here).
 from __future__ import annotations
 
 import base64
-import contextlib
 import math
 import os
 import re
-import tempfile
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -31,32 +29,22 @@ from typing import Literal
 import numpy as np
 
 from pdamper.errors import InputError
+from pdamper.files import atomic_write_text
 
 __all__ = ["read_pvd", "read_vtp", "write_container_vtk", "write_vtk_series"]
 
 Encoding = Literal["ascii", "binary"]
 
 _RESERVED = ("radius", "velocity", "speed", "angular_velocity")
+#: Snapshots per second written for ParaView when none is asked for [Hz].
+DEFAULT_SNAPSHOT_RATE = 200.0
+
 _NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
 _VTK_TYPES = {"Float64": np.dtype("<f8"), "Int64": np.dtype("<i8"), "Float32": np.dtype("<f4"),
               "Int32": np.dtype("<i4"), "UInt8": np.dtype("u1")}
 
 
 # ------------------------------------------------------------------------------ helpers
-
-
-def _atomic_write(path: Path, text: str) -> None:
-    """Write ``text`` to a temporary file beside ``path``, then rename it to ``path``."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
-            f.write(text)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
 
 
 def _check_encoding(encoding: str) -> None:
@@ -238,14 +226,14 @@ def write_vtk_series(
         name = f"{prefix}_{k:0{width}d}.vtp"
         text = _polydata(pos[k], [(a, arr[k]) for a, arr in arrays], encoding,
                          scalars=scalars, vectors=vectors)
-        _atomic_write(out_dir / name, text)
+        atomic_write_text(out_dir / name, text)
         datasets.append(f'<DataSet timestep="{float(t[k])!r}" group="" part="0" '
                         f'file="{name}"/>\n')
     pvd = ('<?xml version="1.0"?>\n'
            '<VTKFile type="Collection" version="1.0" byte_order="LittleEndian">\n'
            "<Collection>\n" + "".join(datasets) + "</Collection>\n</VTKFile>\n")
     pvd_path = out_dir / f"{prefix}.pvd"
-    _atomic_write(pvd_path, pvd)
+    atomic_write_text(pvd_path, pvd)
     return pvd_path
 
 
@@ -285,7 +273,7 @@ def write_container_vtk(
     # corner index = 4 iz + 2 iy + ix; edges join corners differing in one bit
     edges = np.array([[a, a | bit] for bit in (1, 2, 4) for a in range(8) if not a & bit])
     out = Path(path)
-    _atomic_write(out, _polydata(corners, [], encoding, lines=edges))
+    atomic_write_text(out, _polydata(corners, [], encoding, lines=edges))
     return out
 
 

@@ -12,10 +12,10 @@ import logging
 from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass
 
-from pdamper.coupling.analytical import AnalyticalDamper
-from pdamper.coupling.free_vibration import Simulation
+from pdamper.coupling.simulation import Simulation
 from pdamper.damper import ParticleDamper
 from pdamper.errors import InputError, check_range
+from pdamper.models.analytical import AnalyticalDamper
 
 logger = logging.getLogger(__name__)
 
@@ -49,11 +49,11 @@ class OptimizationResult:
 def optimize_particle_count(
     structure,
     damper: ParticleDamper,
+    initial_displacement: float,
+    at: float,
     model: Callable[[ParticleDamper], object] = AnalyticalDamper,
-    at: float = 0.8,
     counts: Iterable[int] | None = None,
     step: int | None = None,
-    initial_displacement: float = -0.058,
     progress: Callable[[int, int], None] | None = None,
 ) -> OptimizationResult:
     """Find the particle count with the smallest amplitude at time ``at``.
@@ -64,16 +64,16 @@ def optimize_particle_count(
         :class:`~pdamper.structure.SingleDOFStructure`.
     damper
         The damper whose ``count`` is varied (container, spheres, materials kept).
-    model
-        Damper model class (or factory) taking a :class:`ParticleDamper`.
+    initial_displacement
+        x0 [m] (paper: -58 mm).
     at
         Objective time T [s] (paper: 0.8 s).
+    model
+        Damper model class (or factory) taking a :class:`ParticleDamper`.
     counts
         Candidate particle counts; default ``0, step, 2 step, ...`` below n_max.
     step
         Increment of the default counts; default one layer (16 in the benchmark).
-    initial_displacement
-        x0 [m].
     progress
         Optional callback ``progress(done, total)``.
     """

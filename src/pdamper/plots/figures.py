@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from pdamper.analysis.modes import MotionMode
+from pdamper.constants import STANDARD_GRAVITY
 
 _MODE_COLORS = {
     MotionMode.SOLID: "#3b4cc0",
@@ -45,7 +46,7 @@ def plot_bed_trajectory(trajectory, ax=None):
     return ax
 
 
-def _grid_lines(ax, ds, gravity=9.81):
+def _grid_lines(ax, ds, gravity=STANDARD_GRAVITY):
     f = ds["frequency"].values
     ff = np.linspace(f.min(), f.max(), 200)
     x_g = gravity / (2 * np.pi * ff) ** 2 * 1e3

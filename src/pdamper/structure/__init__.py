@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from pdamper.constants import STANDARD_GRAVITY
 from pdamper.errors import check_range
 
 
@@ -53,6 +54,6 @@ class SingleDOFStructure:
         """zeta = D / (2 sqrt(K M)) [-]."""
         return self.damping / (2.0 * math.sqrt(self.stiffness * self.mass))
 
-    def min_amplitude(self, static_mass: float = 0.0, gravity: float = 9.81) -> float:
+    def min_amplitude(self, static_mass: float = 0.0, gravity: float = STANDARD_GRAVITY) -> float:
         """X_min = g / omega^2 [m] with ``static_mass`` added (paper Sect. 4.2.1)."""
         return gravity * (self.mass + static_mass) / self.stiffness

@@ -44,7 +44,6 @@ if TYPE_CHECKING:  # imported lazily: pdamper.structure may later re-export this
     from pdamper.structure import SingleDOFStructure
 
 __all__ = [
-    "PAPER_TIP_MASS",
     "ReducedModel",
     "TimoshenkoBeam",
     "TipMass",
@@ -52,12 +51,8 @@ __all__ = [
     "element_mass",
     "element_stiffness",
     "modal_reduction",
-    "paper_beam",
     "static_tip_stiffness",
 ]
-
-#: Damper plus additional mass at the free end of the paper's beam [kg] (Sect. 4).
-PAPER_TIP_MASS = 1.270
 
 
 @dataclass(frozen=True)
@@ -337,6 +332,7 @@ def static_tip_stiffness(beam: TimoshenkoBeam) -> float:
 
     Examples
     --------
+    >>> from pdamper.parameters import paper_beam
     >>> b, _ = paper_beam()
     >>> round(static_tip_stiffness(b), 1)
     2747.6
@@ -421,6 +417,7 @@ def modal_reduction(
 
     Examples
     --------
+    >>> from pdamper.parameters import paper_beam
     >>> beam, tip = paper_beam()
     >>> r = modal_reduction(beam, tip)
     >>> round(r.natural_frequency, 3), round(r.mass, 3), round(r.stiffness)
@@ -469,23 +466,3 @@ def modal_reduction(
         deflection=deflection,
         rotation=rotation,
     )
-
-
-def paper_beam(elements: int = 100) -> tuple[TimoshenkoBeam, TipMass]:
-    """The paper's beam-like structure (Sect. 4): beam and 1.27 kg point mass at the tip.
-
-    680 mm x 80 mm x 6 mm steel (6 mm in the bending direction), E = 200 GPa (paper);
-    nu = 0.3 and rho = 7850 kg/m^3 are pdamper's documented defaults, not from the paper.
-
-    Parameters
-    ----------
-    elements
-        Number of Timoshenko elements (paper: 100) [-].
-
-    Returns
-    -------
-    (TimoshenkoBeam, TipMass)
-    """
-    beam = TimoshenkoBeam(length=0.680, width=0.080, height=0.006, youngs_modulus=200e9,
-                          poisson_ratio=0.3, density=7850.0, elements=elements)
-    return beam, TipMass(PAPER_TIP_MASS)

@@ -1,20 +1,14 @@
-"""Level III coupling, paper Sect. 4.1 (Eq. 23) and Sect. 4.2.1 (Figs. 7, 8)."""
+"""Level III pseudo-force coupling, paper Sect. 4.1 (Eq. 23) and Sect. 4.2.1 (Figs. 7, 8)."""
 
 import math
 
 import numpy as np
 import pytest
 
-from pdamper.analysis.fields import DamperResponse
 from pdamper.analysis.modes import MotionMode
-from pdamper.coupling import (
-    AnalyticalDamper,
-    PseudoForceDamper,
-    Simulation,
-    damping_ratio_from_peaks,
-    negative_peaks,
-)
+from pdamper.coupling import Simulation, damping_ratio_from_peaks, negative_peaks
 from pdamper.errors import InputError
+from pdamper.models import AnalyticalDamper, DamperModel, DamperResponse
 from pdamper.parameters import PAPER_DAMPER, PAPER_INITIAL_DISPLACEMENT, PAPER_STRUCTURE
 from pdamper.structure import SingleDOFStructure
 
@@ -25,7 +19,7 @@ def _closed_form(t, x0, m, d, k):
     return x0 * np.exp(-sigma * t) * (np.cos(wd * t) + sigma / wd * np.sin(wd * t))
 
 
-class ConstantDamper(PseudoForceDamper):
+class ConstantDamper(DamperModel):
     """A damper with constant effective mass and viscous damping, for closed forms."""
 
     fidelity = "constant"
@@ -89,10 +83,9 @@ def test_paper_structure_without_particles():
     assert PAPER_STRUCTURE.natural_frequency == pytest.approx(5.56, abs=0.01)
 
 
-@pytest.fixture(scope="module")
-def run32():
-    return Simulation(PAPER_STRUCTURE, AnalyticalDamper(PAPER_DAMPER),
-                      PAPER_INITIAL_DISPLACEMENT).run(2.0)
+@pytest.fixture
+def run32(paper_run32):
+    return paper_run32
 
 
 def test_fig8_double_cac_damping_ratios_with_32_spheres(run32):
@@ -132,4 +125,14 @@ def test_negative_initial_displacement_required():
     with pytest.raises(InputError, match="initial_displacement"):
         Simulation(PAPER_STRUCTURE, AnalyticalDamper(PAPER_DAMPER), 0.01).run(1.0)
     with pytest.raises(InputError, match="duration"):
-        Simulation(PAPER_STRUCTURE, AnalyticalDamper(PAPER_DAMPER)).run(-1.0)
+        Simulation(PAPER_STRUCTURE, AnalyticalDamper(PAPER_DAMPER), -0.058).run(-1.0)
+
+
+def test_simulation_checks_its_arguments():
+    """Python API: wrong types name the argument and what was expected."""
+    with pytest.raises(InputError, match="model: must be a DamperModel"):
+        Simulation(PAPER_STRUCTURE, "analytic", -0.058)
+    with pytest.raises(InputError, match="model: must be a DamperModel"):
+        Simulation(PAPER_STRUCTURE, PAPER_DAMPER, -0.058)
+    with pytest.raises(InputError, match="structure"):
+        Simulation(None, AnalyticalDamper(PAPER_DAMPER), -0.058)

@@ -2,14 +2,22 @@
 
 from __future__ import annotations
 
-from pdamper.analysis.analytical import STANDARD_GRAVITY, bed_response
-from pdamper.analysis.fields import DamperResponse
-from pdamper.coupling.base import PseudoForceDamper
+from pdamper.analysis.analytical import bed_response
+from pdamper.constants import STANDARD_GRAVITY
 from pdamper.damper import ParticleDamper
+from pdamper.errors import check_range
+from pdamper.models.base import DamperModel, DamperResponse
 
 
-class AnalyticalDamper(PseudoForceDamper):
+class AnalyticalDamper(DamperModel):
     """Particle damper described by the analytical collect-and-collide formulas.
+
+    Parameters
+    ----------
+    damper
+        The physical damper; only its clearance and bed mass enter.
+    gravity
+        g [m/s^2].
 
     Examples
     --------
@@ -23,9 +31,12 @@ class AnalyticalDamper(PseudoForceDamper):
 
     def __init__(self, damper: ParticleDamper, gravity: float = STANDARD_GRAVITY):
         super().__init__(damper)
-        self.gravity = gravity
+        self.gravity = check_range("gravity", gravity, low=0.0, low_inclusive=False,
+                                   unit="m/s^2")
 
     def response(self, frequency, amplitude) -> DamperResponse:
+        """Eqs. (5)-(22) at every (f [Hz], X [m]) point; ``details`` is the
+        :class:`~pdamper.analysis.analytical.BedResponse`."""
         d = self.damper
         r = bed_response(frequency, amplitude, d.clearance, d.bed_mass, self.gravity)
         return DamperResponse(frequency=r.frequency, amplitude=r.amplitude, mode=r.mode,

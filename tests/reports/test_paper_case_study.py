@@ -1,0 +1,55 @@
+"""The case study (:mod:`pdamper.reports.paper_case_study`): rows from the parameter set,
+files written atomically, figures without pyplot state."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from pdamper.io.scenario import load_scenario
+from pdamper.parameters import vertical_dampers_paper as paper
+from pdamper.reports.paper_case_study import run_case_study, write_case_study
+
+
+@pytest.fixture(scope="module")
+def small_study():
+    sc = load_scenario(None, {"map.frequency": "2Hz:20Hz:7", "map.amplitude": "2mm:200mm:9"})
+    return run_case_study(sc, dem=False)
+
+
+def test_rows_come_from_the_parameter_set(small_study):
+    """Every row is one of the paper's reported numbers, in the parameter set's order, with
+    the paper's text and source; without the DEM its three rows are absent."""
+    expected = [r for r in paper.PAPER_REPORTED if not r.key.startswith("dem_")]
+    assert len(small_study.rows) == len(expected) == 24
+    for row, rep in zip(small_study.rows, expected, strict=True):
+        assert row.paper == rep.paper and row.source == rep.source
+    assert small_study.rows[11].quantity == "maximum eta on the 7 x 9 grid"
+    assert all(r.agrees for r in small_study.rows[:6])  # Fig. 4 modes
+
+
+def test_write_is_atomic_and_leaves_no_pyplot_state(small_study, tmp_path):
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    backend = matplotlib.get_backend()
+    files = write_case_study(small_study, tmp_path)
+    assert {p.name for p in files} == {p.name for p in tmp_path.iterdir()}
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+    assert plt.get_fignums() == [] and matplotlib.get_backend() == backend
+    data = json.loads((tmp_path / "results.json").read_text())
+    assert [r["quantity"] for r in data["rows"]] == [r.quantity for r in small_study.rows]
+    assert data["map_shape"] == [7, 9]
+    for f in files:
+        if f.suffix == ".png":
+            assert f.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_short_runs_give_no_verdict_instead_of_a_wrong_one():
+    """A duration shorter than the paper's 0.75 s comparison: n/a, not a number."""
+    sc = load_scenario(None, {"simulation.duration": "0.5 s", "map.frequency": "5Hz:10Hz:2",
+                              "map.amplitude": "10mm:50mm:2"})
+    cs = run_case_study(sc, dem=False)
+    row = next(r for r in cs.rows if r.quantity == "amplitude at 0.75 s, 32 spheres")
+    assert row.agrees is None and row.ours.startswith("n/a")
