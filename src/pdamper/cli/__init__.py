@@ -27,7 +27,7 @@ def _register() -> None:
     global _registered
     if _registered:
         return
-    from pdamper.cli import analytic, dem, map, optimize, paper, scenario, simulate
+    from pdamper.cli import analytic, cor, dem, map, optimize, paper, scenario, simulate
 
     app.command("analytic")(analytic.analytic)
     app.command("map")(map.map_)
@@ -36,6 +36,7 @@ def _register() -> None:
     app.command("dem")(dem.dem)
     app.command("paper")(paper.paper)
     app.command("example-scenario")(scenario.example_scenario)
+    app.command("cor")(cor.cor)
     _registered = True
 
 
