@@ -128,7 +128,16 @@ def plot_cor_sensitivity(study, ax=None, quantity: str = "loss_factor"):
     width = 0.8 / max(len(variants), 1)
     for i, name in enumerate(variants):
         y = ds[quantity].sel(variant=name).values
-        ax.bar(np.array(points) + (i - (len(variants) - 1) / 2) * width, y, width, label=name)
+        bars = ax.bar(np.array(points) + (i - (len(variants) - 1) / 2) * width, y, width,
+                      label=name, color=f"C{i}")
+        if "stationary" in ds:
+            for bar, ok in zip(bars, ds["stationary"].sel(variant=name).values, strict=True):
+                if not ok:  # a transient: the two halves of the window differ
+                    bar.set_hatch("///")
+                    bar.set_edgecolor("white")
+    if quantity == "loss_factor" and "loss_factor_analytical" in ds:
+        ax.plot(points, ds["loss_factor_analytical"].values, "kD", ms=6,
+                label="analytical block model (no COR)")
     labels = [f"{f:g} Hz / {x * 1e3:g} mm" for f, x in zip(ds["frequency"].values,
                                                              ds["amplitude"].values, strict=True)]
     ax.set_xticks(points, labels, fontsize="small")
@@ -137,6 +146,9 @@ def plot_cor_sensitivity(study, ax=None, quantity: str = "loss_factor"):
         ax.set_ylabel("effective loss factor eta [-]")
     else:
         ax.set_ylabel(f"{quantity} [{ds[quantity].attrs.get('units', '-')}]")
+    if "stationary" in ds and not bool(ds["stationary"].all()):
+        ax.bar([np.nan], [np.nan], color="0.6", hatch="///", edgecolor="white",
+               label="hatched: transient (window halves differ)")
     ax.legend(fontsize="x-small")
     ax.grid(alpha=0.3, axis="y")
     return ax
