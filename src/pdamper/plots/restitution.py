@@ -129,7 +129,8 @@ def plot_cor_sensitivity(study, ax=None, quantity: str = "loss_factor"):
     for i, name in enumerate(variants):
         y = ds[quantity].sel(variant=name).values
         bars = ax.bar(np.array(points) + (i - (len(variants) - 1) / 2) * width, y, width,
-                      label=name, color=f"C{i}")
+                      color=f"C{i}")
+        ax.bar([np.nan], [np.nan], color=f"C{i}", label=name)  # unhatched legend entry
         if "stationary" in ds:
             for bar, ok in zip(bars, ds["stationary"].sel(variant=name).values, strict=True):
                 if not ok:  # a transient: the two halves of the window differ
@@ -149,7 +150,9 @@ def plot_cor_sensitivity(study, ax=None, quantity: str = "loss_factor"):
     if "stationary" in ds and not bool(ds["stationary"].all()):
         ax.bar([np.nan], [np.nan], color="0.6", hatch="///", edgecolor="white",
                label="hatched: transient (window halves differ)")
-    ax.legend(fontsize="x-small")
+    top = np.nanmax(ds[quantity].values)
+    ax.set_ylim(0.0, 1.45 * max(top, 4.0 / np.pi if quantity == "loss_factor" else top))
+    ax.legend(fontsize="x-small", ncols=2, loc="upper left")
     ax.grid(alpha=0.3, axis="y")
     return ax
 
