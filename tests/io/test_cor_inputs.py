@@ -176,3 +176,15 @@ def test_command_line_model_text(tmp_path):
     with pytest.raises(InputError, match="model.value"):
         validate_spec(parse_model_text("1.4"))
     assert np.isfinite(paper.PAPER_COR_PP(1.0))
+
+
+def test_example_scenario_takes_a_restitution_entry(tmp_path):
+    """Uncommenting an entry of the example's [restitution] section just works: the example
+    does not also set the [dem] constants."""
+    from pdamper.io.scenario import EXAMPLE_SCENARIO
+
+    text = EXAMPLE_SCENARIO.replace('# particle_particle = "paper"', 'particle_particle = "paper"')
+    assert text != EXAMPLE_SCENARIO
+    d = _scenario(tmp_path, text).damper()
+    assert d.restitution_pp == paper.PAPER_COR_PP
+    assert d.restitution_pw == ConstantRestitution(paper.BENCHMARK_RESTITUTION_PW)

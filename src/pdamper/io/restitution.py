@@ -221,7 +221,7 @@ class LinearCOR(_Spec):
     model: Literal["linear"] = "linear"
     e0: Cor
     slope: Annotated[float, BeforeValidator(_slope)]
-    v_hold: Velocity = math.inf
+    v_hold: Velocity | None = None  # None: never held (only for slope <= 0)
 
 
 def _shorthand(v: Any) -> Any:
@@ -297,7 +297,8 @@ def _curve(spec, pair, sphere, partner, radius, field) -> RestitutionCurve:
     if isinstance(spec, ExponentialCOR):
         return ExponentialRestitution(spec.e0, spec.e_inf, spec.v_c)
     if isinstance(spec, LinearCOR):
-        return LinearRestitution(spec.e0, spec.slope, spec.v_hold)
+        return LinearRestitution(spec.e0, spec.slope,
+                                 math.inf if spec.v_hold is None else spec.v_hold)
     if isinstance(spec, TableCOR):
         table = read_cor_table(spec.file, f"{field}.file")
         if spec.fit is None:

@@ -358,8 +358,8 @@ amplitude = "{s.map.amplitude}"
 integrator = "{dem.integrator}"         # "gear" (variable step, the paper's) or "verlet"
 cycles = {dem.cycles}                  # excitation cycles of a Level II run
 skip_cycles = {dem.skip_cycles}             # cycles left out of the complex power (Eqs. 1-4)
-restitution_pp = {dem.restitution_pp}        # constant sphere-sphere COR (or a model in [restitution])
-restitution_pw = {dem.restitution_pw}       # constant sphere-wall COR (or a model in [restitution])
+# restitution_pp = {dem.restitution_pp}      # constant sphere-sphere COR (default; or [restitution])
+# restitution_pw = {dem.restitution_pw}     # constant sphere-wall COR (default; or [restitution])
 damping_model = "{dem.damping_model}"     # COR-damping relation: {_MODELS}
 packing = "{dem.packing}"         # "lattice" (the paper's 4 x 4 layers) or "random"
 seed = {dem.seed}                    # seed of the random packing (recorded always)
@@ -367,8 +367,8 @@ safety = {dem.safety}               # time step / Hertz contact time
 sample_rate = "{q(dem.sample_rate, 'Hz')}"     # of the force and container series
 # snapshot_rate = "200 Hz"  # particle snapshots per second (default: first and last)
 
-[restitution]               # COR model of each pair (Level I, docs/restitution.md); an entry here
-                            # replaces [dem] restitution_pp / restitution_pw (give a pair in one place)
+[restitution]               # COR model of each pair (Level I, docs/restitution.md), instead of the
+                            # [dem] constants above (a pair given in both places is an error)
 # particle_particle = "paper"                  # the paper's Fig. 2 curve (reconstructed from its text)
 # particle_wall = 0.85                         # a constant
 # particle_wall = "thornton"                   # Thornton 1997 from the materials' yield strength
