@@ -14,7 +14,12 @@ from pdamper.errors import InputError
 from pdamper.io.scenario import load_scenario
 from pdamper.models import DEMDamper
 from pdamper.parameters import vertical_dampers_paper as paper
-from pdamper.reports.cor_sensitivity import cor_variant, run_cor_sensitivity, sensitivity_figure
+from pdamper.reports.cor_sensitivity import (
+    cor_variant,
+    run_cor_sensitivity,
+    sensitivity_figure,
+    study_scenario,
+)
 
 REDUCED = {"dem.cycles": 4, "dem.skip_cycles": 2, "simulation.duration": "0.8 s"}
 
@@ -72,6 +77,10 @@ def test_cli(cli, tmp_path):
 
 
 def test_default_window_outlasts_the_initial_transient():
-    """Without cycles in the scenario the study averages cycles 17-48, not the DEM's 3-8."""
-    study = run_cor_sensitivity(load_scenario(None), ["paper"], [(10.0, 0.032)], level3=False)
-    assert (study.level2.attrs["cycles"], study.level2.attrs["skip_cycles"]) == (48, 16)
+    """Without cycles in the scenario the study averages cycles 17-48, not the DEM's 3-8;
+    the scenario's own values and explicit arguments win."""
+    dem = study_scenario(load_scenario(None)).dem
+    assert (dem.cycles, dem.skip_cycles) == (48, 16)
+    dem = study_scenario(load_scenario(None, {"dem.cycles": 20})).dem
+    assert (dem.cycles, dem.skip_cycles) == (20, 16)
+    assert study_scenario(load_scenario(None), 12, 4).dem.cycles == 12

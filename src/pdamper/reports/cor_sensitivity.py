@@ -173,6 +173,19 @@ def _zeta_near(run, amplitude: float) -> float:
     return float(zeta[int(np.argmin(np.abs(amp - amplitude)))])
 
 
+def study_scenario(scenario, cycles: int | None = None, skip_cycles: int | None = None):
+    """``scenario`` with the study's Level II window: ``cycles`` / ``skip_cycles`` if given,
+    else the scenario's ``[dem]`` values where it sets them, else :data:`STUDY_CYCLES` /
+    :data:`STUDY_SKIP_CYCLES`."""
+    given = scenario.dem.model_fields_set
+    n_cyc = cycles if cycles is not None else (
+        scenario.dem.cycles if "cycles" in given else STUDY_CYCLES)
+    n_skip = skip_cycles if skip_cycles is not None else (
+        scenario.dem.skip_cycles if "skip_cycles" in given else STUDY_SKIP_CYCLES)
+    return scenario.model_copy(update={"dem": scenario.dem.model_copy(
+        update={"cycles": n_cyc, "skip_cycles": n_skip})})
+
+
 def run_cor_sensitivity(scenario=None, variants: Sequence[str | CORVariant] = DEFAULT_VARIANTS,
                         points: Sequence[tuple[float, float]] = DEFAULT_POINTS,
                         level3: bool = True, duration: float | None = None,
@@ -203,13 +216,7 @@ def run_cor_sensitivity(scenario=None, variants: Sequence[str | CORVariant] = DE
     from pdamper.io.scenario import Scenario
     from pdamper.parameters import vertical_dampers_paper as paper
 
-    sc = Scenario() if scenario is None else scenario
-    given = sc.dem.model_fields_set
-    n_cyc = cycles if cycles is not None else (sc.dem.cycles if "cycles" in given else STUDY_CYCLES)
-    n_skip = skip_cycles if skip_cycles is not None else (
-        sc.dem.skip_cycles if "skip_cycles" in given else STUDY_SKIP_CYCLES)
-    sc = sc.model_copy(update={"dem": sc.dem.model_copy(update={"cycles": n_cyc,
-                                                                "skip_cycles": n_skip})})
+    sc = study_scenario(Scenario() if scenario is None else scenario, cycles, skip_cycles)
     say = progress or (lambda _m: None)
     base = sc.damper()
     vs = [v if isinstance(v, CORVariant) else cor_variant(v, base) for v in variants]
@@ -327,4 +334,4 @@ def sensitivity_figure(study: CORSensitivity, structure_envelope=None):
 
 __all__ = ["CORSensitivity", "CORVariant", "DEFAULT_POINTS", "DEFAULT_VARIANTS",
            "STATIONARITY_TOLERANCE", "STUDY_CYCLES", "STUDY_SKIP_CYCLES", "cor_variant",
-           "run_cor_sensitivity", "sensitivity_figure"]
+           "run_cor_sensitivity", "sensitivity_figure", "study_scenario"]
