@@ -11,9 +11,14 @@ from pdamper import plots  # noqa: E402
 from pdamper.analysis.analytical import bed_trajectory  # noqa: E402
 from pdamper.analysis.fields import effective_field  # noqa: E402
 from pdamper.coupling import Simulation  # noqa: E402
+from pdamper.dem.impacts import check_restitution  # noqa: E402
 from pdamper.design import optimize_particle_count  # noqa: E402
+from pdamper.io.scenario import load_scenario  # noqa: E402
+from pdamper.materials import PVC, S235  # noqa: E402
 from pdamper.models import AnalyticalDamper  # noqa: E402
 from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE  # noqa: E402
+from pdamper.parameters import vertical_dampers_paper as paper  # noqa: E402
+from pdamper.reports.cor_sensitivity import run_cor_sensitivity  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -22,7 +27,14 @@ def inputs():
     ds = effective_field(model, np.linspace(2, 20, 5), np.linspace(0.005, 0.1, 6))
     run = Simulation(PAPER_STRUCTURE, model, -0.058).run(1.0)
     opt = optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, 0.8, counts=[0, 32, 64])
+    check = check_restitution([0.1, 1.0], paper.PAPER_COR_PW, S235, PVC, 0.005)
+    study = run_cor_sensitivity(load_scenario(None, {"dem.cycles": 2, "dem.skip_cycles": 0}),
+                                ["0.6/0.85", "paper"], [(10.0, 0.032)], level3=False)
     return {
+        "plot_cor_check": (check,),
+        "plot_cor_sensitivity": (study,),
+        "plot_material_table": ({"sphere": S235, "wall": PVC},),
+        "plot_restitution_curves": ({"steel-steel": paper.PAPER_COR_PP},),
         "plot_bed_trajectory": (bed_trajectory(18.0, 0.05, 0.1),),
         "plot_mode_map": (ds,),
         "plot_loss_factor_map": (ds,),
@@ -39,7 +51,7 @@ def test_plot_uses_given_axes_and_returns_it(inputs, name, monkeypatch):
     fig, ax = plt.subplots()
     out = getattr(plots, name)(*inputs[name], ax=ax)
     assert out is ax
-    assert ax.has_data()
+    assert ax.has_data() or ax.tables  # Fig. 2-left is a table
     new = getattr(plots, name)(*inputs[name])
-    assert new is not ax and new.has_data()
+    assert new is not ax and (new.has_data() or new.tables)
     plt.close("all")

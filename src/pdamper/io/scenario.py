@@ -22,6 +22,8 @@ from pydantic import AliasChoices, BaseModel, BeforeValidator, ConfigDict, Field
 from pdamper.contact.law import DAMPING_MODELS
 from pdamper.dem.model import DEFAULT_SAFETY
 from pdamper.errors import InputError
+from pdamper.io.restitution import MODELS as COR_MODELS
+from pdamper.io.restitution import RestitutionSpec, resolve_files
 from pdamper.models.dem import DEFAULT_CYCLES, DEFAULT_SAMPLE_RATE, DEFAULT_SKIP_CYCLES
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.units import format_quantity, parse_quantity
@@ -58,12 +60,13 @@ class _Section(BaseModel):
 
 
 class MaterialSpec(_Section):
-    """A material given by its constants instead of a built-in name."""
+    """A material given by its constants instead of a library name."""
 
     name: str
     youngs_modulus: Modulus
     poisson_ratio: Annotated[float, Field(gt=-1, lt=0.5)]
     density: Density
+    yield_strength: Modulus | None = None
 
 
 class ContainerSpec(_Section):
@@ -149,21 +152,46 @@ class Scenario(_Section):
     optimization: OptimizationSpec = OptimizationSpec()
     map: MapSpec = MapSpec()
     dem: DEMSpec = DEMSpec()
+    restitution: RestitutionSpec = RestitutionSpec()
 
     # -- builders of the domain objects ------------------------------------------------
     def damper(self):
         """The :class:`~pdamper.damper.ParticleDamper` this scenario describes."""
-        from pdamper.contact.restitution import ConstantRestitution
         from pdamper.damper import ParticleDamper
 
         c, p = self.container, self.particles
+        sphere = _material(p.material, "particles.material")
+        wall = _material(c.material, "container.material")
+        pp, pw = self.restitution_curves(sphere, wall, p.radius)
         return ParticleDamper(length=c.length, width=c.width, depth=c.depth,
                               particle_radius=p.radius, count=p.count,
-                              particle_material=_material(p.material, "particles.material"),
-                              wall_material=_material(c.material, "container.material"),
+                              particle_material=sphere, wall_material=wall,
                               container_mass=c.mass, friction=p.friction,
-                              restitution_pp=ConstantRestitution(self.dem.restitution_pp),
-                              restitution_pw=ConstantRestitution(self.dem.restitution_pw))
+                              restitution_pp=pp, restitution_pw=pw)
+
+    def restitution_curves(self, sphere, wall, radius: float):
+        """COR curves ``(sphere-sphere, sphere-wall)`` of spheres of ``sphere`` material and
+        ``radius`` [m] in a container of ``wall`` material.
+
+        Precedence: an entry of ``[restitution]``; else ``[dem] restitution_pp / _pw`` (a
+        constant; default the benchmark's 0.6 / 0.85). Giving one pair in both places is an
+        error (docs/restitution.md).
+        """
+        from pdamper.contact.restitution import ConstantRestitution
+        from pdamper.io.restitution import build_curve
+
+        curves = []
+        for pair, legacy, partner in (("particle_particle", "restitution_pp", sphere),
+                                      ("particle_wall", "restitution_pw", wall)):
+            spec = getattr(self.restitution, pair)
+            if spec is None:
+                curves.append(ConstantRestitution(getattr(self.dem, legacy)))
+                continue
+            if legacy in self.dem.model_fields_set:
+                raise InputError(f"restitution.{pair}", f"also given as dem.{legacy}; give "
+                                 "the COR of a pair in one place ([restitution] for curves)")
+            curves.append(build_curve(spec, pair, sphere, partner, radius))
+        return tuple(curves)
 
     def structure_model(self):
         """The :class:`~pdamper.structure.SingleDOFStructure`; M defaults to the paper's
@@ -203,14 +231,16 @@ def _material(spec, field: str):
     from pdamper.materials import Material, get_material
 
     if isinstance(spec, MaterialSpec):
-        return Material(spec.name, spec.youngs_modulus, spec.poisson_ratio, spec.density)
+        return Material(spec.name, spec.youngs_modulus, spec.poisson_ratio, spec.density,
+                        spec.yield_strength)
     return get_material(spec, field)
 
 
 def _first_error(exc: ValidationError) -> InputError:
     err = exc.errors()[0]
     loc = ".".join(str(p) for p in err["loc"]
-                   if str(p) not in ("str", "MaterialSpec") and not str(p).startswith("function-"))
+                   if str(p) not in ("str", "MaterialSpec", *COR_MODELS)
+                   and not str(p).startswith("function-"))
     msg = err["msg"].removeprefix("Value error, ")
     if err["type"] == "extra_forbidden":
         msg = "unknown key (check the spelling; `pdamper example-scenario` lists the keys)"
@@ -261,6 +291,7 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None) -> Sce
             raise InputError("scenario", f"malformed TOML in {p}: {exc}") from None
         except UnicodeDecodeError:
             raise InputError("scenario", f"{p} is not UTF-8 text") from None
+        resolve_files(data, p.parent)
     for key, value in (overrides or {}).items():
         if value is None:
             continue
@@ -288,8 +319,9 @@ title = "{s.title}"
 length = "{q(c.length, 'mm')}"           # along the excitation (vertical), L in h = L (1 - n_p/n_max)
 width = "{q(c.width, 'mm')}"
 depth = "{q(c.depth, 'mm')}"
-material = "{c.material}"            # built-in: "PVC", "S235"; or an inline table:
-# material = {{ name = "PMMA", youngs_modulus = "3.2 GPa", poisson_ratio = 0.35, density = "1190 kg/m^3" }}
+material = "{c.material}"            # a library name (docs/materials.md: "S235", "POM", ...) or inline:
+# material = {{ name = "my PMMA", youngs_modulus = "3.2 GPa", poisson_ratio = 0.35,
+#              density = "1190 kg/m^3", yield_strength = "70 MPa" }}   # (one line in TOML)
 mass = "{q(c.mass, 'kg')}"               # m_con, subtracted in Eq. (4) when a driving force includes it
 
 [particles]
@@ -326,14 +358,23 @@ amplitude = "{s.map.amplitude}"
 integrator = "{dem.integrator}"         # "gear" (variable step, the paper's) or "verlet"
 cycles = {dem.cycles}                  # excitation cycles of a Level II run
 skip_cycles = {dem.skip_cycles}             # cycles left out of the complex power (Eqs. 1-4)
-restitution_pp = {dem.restitution_pp}        # constant sphere-sphere COR
-restitution_pw = {dem.restitution_pw}       # constant sphere-wall COR
+# restitution_pp = {dem.restitution_pp}      # constant sphere-sphere COR (default; or [restitution])
+# restitution_pw = {dem.restitution_pw}     # constant sphere-wall COR (default; or [restitution])
 damping_model = "{dem.damping_model}"     # COR-damping relation: {_MODELS}
 packing = "{dem.packing}"         # "lattice" (the paper's 4 x 4 layers) or "random"
 seed = {dem.seed}                    # seed of the random packing (recorded always)
 safety = {dem.safety}               # time step / Hertz contact time
 sample_rate = "{q(dem.sample_rate, 'Hz')}"     # of the force and container series
 # snapshot_rate = "200 Hz"  # particle snapshots per second (default: first and last)
+
+[restitution]               # COR model of each pair (Level I, docs/restitution.md), instead of the
+                            # [dem] constants above (a pair given in both places is an error)
+# particle_particle = "paper"                  # the paper's Fig. 2 curve (reconstructed from its text)
+# particle_wall = 0.85                         # a constant
+# particle_wall = "thornton"                   # Thornton 1997 from the materials' yield strength
+# particle_wall = {{ model = "table", file = "cor.csv" }}   # rows "velocity [m/s], cor [-], std [-]"
+# particle_wall = {{ model = "table", file = "cor.csv", fit = "exponential" }}  # "thornton", "linear"
+# particle_wall = {{ model = "paper", scale = 1.5 }}        # e -> 1 - 1.5 (1 - e)
 """
 
 

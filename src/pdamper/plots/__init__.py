@@ -1,4 +1,4 @@
-"""Figures of the paper, from labelled results.
+"""Figures of the paper, from labelled results (Figs. 2, 4, 5, 7, 8, 9).
 
 Every function takes ``ax=None`` (a new figure is made when None), returns the Axes and
 never shows or saves. matplotlib is imported here only.
@@ -12,9 +12,19 @@ from pdamper.plots.figures import (
     plot_mode_map,
     plot_optimization,
 )
+from pdamper.plots.restitution import (
+    plot_cor_check,
+    plot_cor_sensitivity,
+    plot_material_table,
+    plot_restitution_curves,
+)
 
 __all__ = [
     "plot_bed_trajectory",
+    "plot_cor_check",
+    "plot_cor_sensitivity",
+    "plot_material_table",
+    "plot_restitution_curves",
     "plot_damping_ratio",
     "plot_free_vibration",
     "plot_loss_factor_map",

@@ -1,6 +1,7 @@
 """The reference paper's case study, end to end, with each reported number next to ours.
 
-:func:`run_case_study` computes (Level II) the Fig. 4 trajectories and the Fig. 5a/5c
+:func:`run_case_study` computes (Level I) the Fig. 2 material table and COR curves with
+single DEM impacts, (Level II) the Fig. 4 trajectories and the Fig. 5a/5c
 maps with the analytical model, and (Level III) the Fig. 7/8 free vibration and the
 Sect. 4.2.2 / Fig. 9 optimisation, all from one :class:`~pdamper.io.scenario.Scenario`
 (the paper's case by default); :func:`write_case_study` writes the figures (PNG), the map
@@ -22,6 +23,7 @@ import numpy as np
 from pdamper.analysis.analytical import bed_response, bed_trajectory
 from pdamper.analysis.fields import effective_field
 from pdamper.analysis.modes import MotionMode
+from pdamper.contact.restitution import ConstantRestitution
 from pdamper.coupling import FreeVibrationResult, Simulation
 from pdamper.design.optimize import OptimizationResult, optimize_particle_count
 from pdamper.files import atomic_write, atomic_write_text
@@ -69,6 +71,9 @@ class CaseStudy:
     run_empty: FreeVibrationResult | None = None
     run_best: FreeVibrationResult | None = None
     run_dem: FreeVibrationResult | None = None
+    run_dem_curves: FreeVibrationResult | None = None
+    cor_checks: list = field(default_factory=list)
+    damper: object = None
     optimization: OptimizationResult | None = None
     best_count: int = 0
     inputs: dict = field(default_factory=dict)
@@ -81,12 +86,13 @@ def _zeta_at(res: FreeVibrationResult, amplitude: float) -> tuple[float, float]:
     return float(zeta[i]), float(amp[i])
 
 
-def _amplitude_row(key: str, res: FreeVibrationResult, t: float, extra: str = "") -> Row:
+def _amplitude_row(key: str, res: FreeVibrationResult, t: float, extra: str = "",
+                   **fmt) -> Row:
     """Amplitude envelope at ``t`` [s], or no verdict if the run ends before ``t``."""
     if res.time[-1] < t * (1.0 - 1e-9):
-        return _row(key, f"n/a (the run ends at {res.time[-1]:g} s)", None)
+        return _row(key, f"n/a (the run ends at {res.time[-1]:g} s)", None, **fmt)
     a = res.amplitude_at(t)
-    return _row(key, f"{a * 1e3:.1f} mm{extra}", a)
+    return _row(key, f"{a * 1e3:.1f} mm{extra}", a, **fmt)
 
 
 def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
@@ -95,7 +101,8 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
 
     The scenario sets the damper, the structure, the release, the duration of Figs. 7/8,
     the Fig. 5 grid, the optimisation (time, step) and the DEM options; every row compares
-    with the paper's number. ``dem`` adds the DEM (model 1) to the Level III runs.
+    with the paper's number. ``dem`` adds the Fig. 2 check (the paper's COR curves in single DEM
+    impacts) and DEM model 1, run with the scenario's COR and with the paper's Fig. 2 curves.
     """
     from pdamper.io.scenario import Scenario
 
@@ -103,7 +110,7 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     say = progress or (lambda _msg: None)
     damper, structure = sc.damper(), sc.structure_model()
     x0, duration, at = sc.structure.initial_displacement, sc.simulation.duration, sc.optimization.at
-    cs = CaseStudy(inputs=sc.model_dump(mode="json"))
+    cs = CaseStudy(inputs=sc.model_dump(mode="json"), damper=damper)
     rows = cs.rows
     h = damper.clearance
 
@@ -170,14 +177,7 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     rows.append(_amplitude_row("amplitude_32_0p75s", cs.run_32, t_cmp))
 
     if dem:
-        say("Fig. 7/8: DEM model 1 (structure and particles together)")
-        cs.run_dem = Simulation(structure, sc.model("dem", damper), x0).run(duration)
-        a75 = cs.run_32.amplitude_at(t_cmp)
-        rows.append(_amplitude_row("dem_amplitude_32_0p75s", cs.run_dem, t_cmp,
-                                   f" (analytical {a75 * 1e3:.1f} mm)"))
-        for key, target in (("dem_zeta_53mm", 0.053), ("dem_zeta_41mm", 0.041)):
-            z, a = _zeta_at(cs.run_dem, target)
-            rows.append(_row(key, f"{z:.4f} at {a * 1e3:.1f} mm", z))
+        _dem_rows(cs, sc, damper, structure, x0, duration, say)
 
     say("Sect. 4.2.2: optimisation of the particle count")
     opt = optimize_particle_count(structure, damper, x0, at, step=sc.optimization.step)
@@ -198,6 +198,51 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     return cs
 
 
+def _cor_text(damper) -> str:
+    """The COR models of a damper, for row labels."""
+    pp, pw = damper.restitution_pp, damper.restitution_pw
+    if (pp, pw) == (paper.PAPER_COR_PP, paper.PAPER_COR_PW):
+        return "the paper's COR curves"
+    if isinstance(pp, ConstantRestitution) and isinstance(pw, ConstantRestitution):
+        return f"constant COR {pp.e:g} / {pw.e:g}"
+    return f"COR {pp.describe()} / {pw.describe()}"
+
+
+def _dem_rows(cs: CaseStudy, sc, damper, structure, x0: float, duration: float, say) -> None:
+    """Fig. 2 check and DEM model 1 with the scenario's COR and with the paper's curves."""
+    from pdamper.dem.impacts import check_restitution
+    from pdamper.materials import PVC, S235
+
+    say("Fig. 2: the paper's COR curves in single DEM impacts")
+    v = np.linspace(0.01, 2.0, 20)
+    r = paper.PAPER_PARTICLE_RADIUS
+    cs.cor_checks = [check_restitution(v, paper.PAPER_COR_PP, S235, S235, r),
+                     check_restitution(v, paper.PAPER_COR_PW, S235, PVC, r)]
+    worst = max(c.max_deviation for c in cs.cor_checks)
+    cs.rows.append(_row("dem_cor_calibration", f"{worst:.1e} (steel-steel and steel-PVC, "
+                        f"{len(v)} speeds each)", worst))
+
+    t_cmp = paper.PAPER_COMPARISON_TIME
+    a75 = cs.run_32.amplitude_at(t_cmp)
+    curves = damper.with_restitution(paper.PAPER_COR_PP, paper.PAPER_COR_PW)
+    cor = _cor_text(damper)
+    say(f"Fig. 7/8: DEM model 1, {cor}")
+    cs.run_dem = Simulation(structure, sc.model("dem", damper), x0).run(duration)
+    if curves == damper:  # the scenario already runs the paper's curves
+        cs.run_dem_curves = cs.run_dem
+    else:
+        say("Fig. 7/8: DEM model 1, the paper's COR curves (Fig. 2)")
+        cs.run_dem_curves = Simulation(structure, sc.model("dem", curves), x0).run(duration)
+    cs.rows.append(_amplitude_row("dem_amplitude_32_0p75s", cs.run_dem, t_cmp,
+                                  f" (analytical {a75 * 1e3:.1f} mm)", cor=cor))
+    cs.rows.append(_amplitude_row("dem_curves_amplitude_32_0p75s", cs.run_dem_curves, t_cmp,
+                                  f" (analytical {a75 * 1e3:.1f} mm)"))
+    for prefix, run in (("dem", cs.run_dem), ("dem_curves", cs.run_dem_curves)):
+        for key, target in ((f"{prefix}_zeta_53mm", 0.053), (f"{prefix}_zeta_41mm", 0.041)):
+            z, a = _zeta_at(run, target)
+            cs.rows.append(_row(key, f"{z:.4f} at {a * 1e3:.1f} mm", z, cor=cor))
+
+
 def _markdown(rows: list[Row]) -> str:
     mark = {True: "yes", False: "**no**", None: ""}
     lines = ["| quantity | paper | pdamper | agrees | source | note |",
@@ -207,12 +252,50 @@ def _markdown(rows: list[Row]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _dem_runs(cs: CaseStudy) -> list:
+    """The DEM (model 1) runs with their labels: the paper's curves and the scenario's COR."""
+    runs = []
+    if cs.run_dem_curves is not None:
+        runs.append(("DEM (model 1), paper's COR curves", cs.run_dem_curves))
+    if cs.run_dem is not None and cs.run_dem is not cs.run_dem_curves:
+        runs.append((f"DEM (model 1), {_cor_text(cs.damper)}", cs.run_dem))
+    return runs
+
+
+def _fig2(cs: CaseStudy):
+    """Fig. 2: material table (left) and COR curves (right), with the single DEM impacts."""
+    from matplotlib.figure import Figure
+
+    from pdamper import plots
+
+    d = cs.damper
+    fig = Figure(figsize=(12, 4.5), layout="constrained")
+    a1, a2 = fig.subplots(1, 2, width_ratios=(1, 1.5))
+    plots.plot_material_table({"sphere": d.particle_material, "wall": d.wall_material}, ax=a1,
+                              friction=d.friction)
+    a1.set_title("Fig. 2-left: material data (scenario)", fontsize="medium")
+    curves = [("sphere-sphere, paper (reconstructed)", paper.PAPER_COR_PP),
+              ("sphere-wall, paper (reconstructed)", paper.PAPER_COR_PW)]
+    styles = ["-", "-"]
+    if (d.restitution_pp, d.restitution_pw) != (paper.PAPER_COR_PP, paper.PAPER_COR_PW):
+        curves += [(f"sphere-sphere, scenario: {d.restitution_pp.describe()}", d.restitution_pp),
+                   (f"sphere-wall, scenario: {d.restitution_pw.describe()}", d.restitution_pw)]
+        styles += ["--", "--"]
+    points = {f"DEM single impacts, {c.pair}": (c.velocity, c.cor_simulated)
+              for c in cs.cor_checks}
+    plots.plot_restitution_curves(curves, ax=a2, styles=styles, points=points)
+    a2.axvline(paper.PAPER_COR_MAX_VELOCITY, color="k", ls=":", lw=1)
+    a2.set_title("Fig. 2-right: COR over impact velocity", fontsize="medium")
+    return fig
+
+
 def _figures(cs: CaseStudy):
     """The case study's figures as ``(file name, matplotlib Figure)``; no pyplot state."""
     from matplotlib.figure import Figure
 
     from pdamper import plots
 
+    yield "fig2_materials_cor.png", _fig2(cs)
     fig = Figure(figsize=(13, 7), layout="constrained")
     axes = fig.subplots(2, 3)
     for ax, (case, tr) in zip(axes.ravel(), cs.trajectories, strict=True):
@@ -234,15 +317,15 @@ def _figures(cs: CaseStudy):
     ax = fig.subplots()
     plots.plot_free_vibration(cs.run_32, ax=ax, label=f"analytical, {n} spheres",
                               envelope=cs.run_empty)
-    if cs.run_dem is not None:
-        plots.plot_free_vibration(cs.run_dem, ax=ax, label=f"DEM (model 1), {n} spheres")
+    for label, run in _dem_runs(cs):
+        plots.plot_free_vibration(run, ax=ax, label=f"{label}, {n} spheres")
     ax.set_title("Fig. 7: end-effector trajectory")
     yield "fig7_trajectory.png", fig
     fig = Figure(figsize=(6, 4), layout="constrained")
     ax = fig.subplots()
     plots.plot_damping_ratio(cs.run_32, ax=ax, label=f"analytical, {n} spheres")
-    if cs.run_dem is not None:
-        plots.plot_damping_ratio(cs.run_dem, ax=ax, label=f"DEM (model 1), {n} spheres")
+    for label, run in _dem_runs(cs):
+        plots.plot_damping_ratio(run, ax=ax, label=f"{label}, {n} spheres")
     ax.set_title("Fig. 8: damping ratio")
     yield "fig8_damping_ratio.png", fig
     fig = Figure(figsize=(12, 4), layout="constrained")
@@ -298,8 +381,15 @@ def write_case_study(cs: CaseStudy, out: Path,
         "level3_runs": {name: {"model": run.model, **run.inputs}
                         for name, run in (("scenario_damper", cs.run_32),
                                           ("no_particles", cs.run_empty),
-                                          ("paper_optimum", cs.run_best), ("dem", cs.run_dem))
+                                          ("paper_optimum", cs.run_best), ("dem", cs.run_dem),
+                                          ("dem_paper_cor_curves", cs.run_dem_curves))
                         if run is not None},
+        "restitution": {
+            "scenario": {"particle_particle": cs.damper.restitution_pp.describe(),
+                         "particle_wall": cs.damper.restitution_pw.describe()},
+            "paper": {"particle_particle": paper.PAPER_COR_PP.describe(),
+                      "particle_wall": paper.PAPER_COR_PW.describe()},
+            "dem_single_impacts": [c.as_dict() for c in cs.cor_checks]},
         "map_shape": [int(n) for n in cs.field_map["loss_factor"].shape],
     }, indent=2)))
     return written
