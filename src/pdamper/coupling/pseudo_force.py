@@ -31,6 +31,15 @@ MAX_SAMPLES = 2e7
 _FREQUENCY_ITERATIONS = 3
 
 
+def motion_mode(code) -> MotionMode | None:
+    """The :class:`MotionMode` of a response's mode code; None for unclassified (-1) or
+    codes this version does not know."""
+    try:
+        return MotionMode(int(code))
+    except ValueError:
+        return None
+
+
 def pseudo_force_coefficients(model, frequency: float, amplitude: float):
     """Effective mass m_eff [kg], viscous damping d = E~ / (pi W X^2) [kg/s] and the
     response of ``model`` at one (f [Hz], X [m]) point (Sect. 4.1)."""
@@ -80,7 +89,7 @@ def simulate_pseudo_force(model, structure, duration: float, initial_displacemen
     while True:
         amp = abs(x0)
         m_eff, d, freq, resp = _update(model, structure, amp, m_eff)
-        cycles.append(CycleUpdate(t0, amp, freq, MotionMode(int(resp.mode)), m_eff, d,
+        cycles.append(CycleUpdate(t0, amp, freq, motion_mode(resp.mode), m_eff, d,
                                   float(resp.loss_factor)))
         m_tot = m_s + m_eff
         sigma = (d_s + d) / (2.0 * m_tot)
