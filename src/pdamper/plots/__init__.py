@@ -12,12 +12,24 @@ from pdamper.plots.figures import (
     plot_mode_map,
     plot_optimization,
 )
+from pdamper.plots.level3 import (
+    plot_design_landscape,
+    plot_mode_study,
+    plot_model_damping_ratios,
+    plot_model_trajectories,
+    plot_phase_drift,
+)
 
 __all__ = [
     "plot_bed_trajectory",
     "plot_damping_ratio",
+    "plot_design_landscape",
     "plot_free_vibration",
     "plot_loss_factor_map",
     "plot_mode_map",
+    "plot_mode_study",
+    "plot_model_damping_ratios",
+    "plot_model_trajectories",
     "plot_optimization",
+    "plot_phase_drift",
 ]
