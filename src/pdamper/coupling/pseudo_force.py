@@ -117,15 +117,15 @@ def simulate_pseudo_force(model, structure, duration: float, initial_displacemen
 
 
 def _update(model, structure, amplitude: float, m_eff: float):
-    freq = math.sqrt(structure.stiffness / (structure.mass + m_eff)) / (2.0 * math.pi)
+    """m_eff, d, the effective frequency and the response at ``amplitude``: a short fixed
+    point between the frequency (``structure.effective_frequency(m_eff)``) and m_eff."""
+    freq = structure.effective_frequency(m_eff)
     for _ in range(_FREQUENCY_ITERATIONS):
         m_new, d, resp = pseudo_force_coefficients(model, freq, amplitude)
-        freq_new = math.sqrt(structure.stiffness / (structure.mass + m_new)) / (2.0 * math.pi)
+        freq_new = structure.effective_frequency(m_new)
         converged = abs(freq_new - freq) < 1e-9 * freq
         freq = freq_new
         if converged:
             break
     m_new, d, resp = pseudo_force_coefficients(model, freq, amplitude)
     return m_new, d, freq, resp
-
-
