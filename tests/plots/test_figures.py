@@ -22,7 +22,22 @@ def inputs():
     ds = effective_field(model, np.linspace(2, 20, 5), np.linspace(0.005, 0.1, 6))
     run = Simulation(PAPER_STRUCTURE, model, -0.058).run(1.0)
     opt = optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, 0.8, counts=[0, 32, 64])
+    from pdamper.coupling.comparison import compare_with_measurement
+    from pdamper.coupling.modal import ModeCountStudy
+    from pdamper.design import make_objective, parse_variable, run_design_study
+
+    obj = make_objective("amplitude-at", 0.8, -0.058, PAPER_STRUCTURE)
+    study = run_design_study(lambda d: (d["particles"] * d["radius"], {}), PAPER_DAMPER,
+                             [parse_variable("particles=32:160:64"),
+                              parse_variable("radius=4mm:6mm:2")], obj)
+    comparisons = {"analytic": compare_with_measurement(run, run)}
     return {
+        "plot_design_landscape": (study,),
+        "plot_mode_study": (ModeCountStudy((0.34, 0.68), (1, 2), ((0.03, 0.031), (0.02, 0.02)),
+                                           0.75),),
+        "plot_model_trajectories": ({"analytic": run}, None, comparisons),
+        "plot_model_damping_ratios": ({"analytic": run}, None, comparisons),
+        "plot_phase_drift": (comparisons,),
         "plot_bed_trajectory": (bed_trajectory(18.0, 0.05, 0.1),),
         "plot_mode_map": (ds,),
         "plot_loss_factor_map": (ds,),
