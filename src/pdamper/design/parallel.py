@@ -94,8 +94,10 @@ def evaluate_parallel(fn: Callable[[Any], Any], items: Sequence[Any], *,
         cluster = None
         client = Client(scheduler)
     else:
+        # localhost only; the scheduler's HTTP server on a free port, no dashboard
         cluster = LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address=None)
+                               host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                               scheduler_kwargs={"dashboard": False})
         client = Client(cluster)
     try:
         futures = client.map(wrapped, items, pure=False)

@@ -70,7 +70,7 @@ def read_measured(path: str | Path) -> MeasuredTrajectory:
     >>> _ = p.write_text("time [ms], displacement [mm]\\n" + "".join(
     ...     f"{a}, {-58 + a:.1f}\\n" for a in t))
     >>> m = read_measured(p)
-    >>> m.quantity, m.time[1], round(m.displacement[0], 4)
+    >>> m.quantity, float(m.time[1]), round(float(m.displacement[0]), 4)
     ('displacement', 0.0005, -0.058)
     """
     p = Path(path)
