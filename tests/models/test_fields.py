@@ -360,3 +360,45 @@ def test_model2_from_a_dem_map_within_20_percent_of_model1():
     print(f"\namplitude at 0.75 s: model 2 (DEM map) {a2 * 1e3:.2f} mm, model 1 "
           f"{a1 * 1e3:.2f} mm")
     assert a2 == pytest.approx(a1, rel=0.2)
+
+
+def test_issue9_flag_encoding_of_status_and_stationary():
+    """The map variables as issue #9's ``pdamper map`` writes them: ``status`` flags
+    ``0 ok, 1 failed``; ``stationary`` flags ``-1 no_result, 0 transient, 1 steady``. Only
+    'transient' counts as non-stationary ('no_result': the analytical model does not assess
+    stationarity)."""
+    ds = _linear_map()
+    shape = ds["loss_factor"].shape
+    status = np.zeros(shape, np.int8)
+    status[0, 0] = 1
+    stationary = np.full(shape, -1, np.int8)
+    stationary[1, 4] = 0
+    stationary[2, 4] = 1
+    ds = _with_status(ds, status, stationary)
+    ds["status"].attrs.update(flag_values=[0, 1], flag_meanings="ok failed")
+    ds["stationary"].attrs.update(flag_values=[-1, 0, 1],
+                                  flag_meanings="no_result transient steady")
+    m = EffectiveFieldDamper(PAPER_DAMPER, field=ds)
+    assert m.masked_cells == 2  # the failed and the transient cell
+    assert int(m.response(5.1, 0.026).details.holes) == 1
+    assert int(m.response(6.5, 0.031).details.holes) == 0
+
+
+def test_with_damper_reselects_the_count():
+    """Another damper on the same map (a design study over the count): the count axis is
+    read again for it, and a geometry mismatch is still caught."""
+    counts = [16, 32]
+    f = np.linspace(4, 8, 5)
+    x = np.linspace(0.004, 0.08, 20)
+    maps = [effective_field(AnalyticalDamper(PAPER_DAMPER.with_count(n)), f, x) for n in counts]
+    ds = xr.concat(maps, dim="particles").assign_coords(particles=("particles", counts))
+    ds.attrs.pop("particle_count", None)
+    ds.attrs.pop("clearance", None)
+    m32 = EffectiveFieldDamper(PAPER_DAMPER, field=ds)
+    m16 = m32.with_damper(PAPER_DAMPER.with_count(16))
+    r16 = m16.response(6.0, 0.04)
+    assert float(r16.loss_factor) == pytest.approx(float(maps[0]["loss_factor"].sel(
+        frequency=6.0).interp(amplitude=0.04)))
+    assert float(r16.bed_mass) == pytest.approx(PAPER_DAMPER.with_count(16).bed_mass)
+    with pytest.raises(InputError, match="covers 16-32 particles"):
+        m32.with_damper(PAPER_DAMPER.with_count(48))

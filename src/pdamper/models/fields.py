@@ -254,6 +254,7 @@ class EffectiveFieldDamper(DamperModel):
         ds = _open(file) if field is None else field
         self._label = self.file or "the given map"
         self.map_attrs = dict(ds.attrs)
+        self._map = ds
         self._analytic = AnalyticalDamper(damper) if extrapolation == "analytic" else None
         self._setup(ds)
 
@@ -390,6 +391,19 @@ class EffectiveFieldDamper(DamperModel):
                        counts[0], counts[-1], counts[k])
         self._pair = ((self._grids[k], 1.0),)
 
+    def with_damper(self, damper: ParticleDamper) -> EffectiveFieldDamper:
+        """The same map and options for another damper (e.g. another particle count on a
+        map with a count axis); the map is checked against it again."""
+        new = EffectiveFieldDamper.__new__(EffectiveFieldDamper)
+        DamperModel.__init__(new, damper)
+        for k, v in vars(self).items():
+            if k not in ("damper", "_pair", "_analytic"):
+                setattr(new, k, v)
+        new._analytic = AnalyticalDamper(damper) if self.extrapolation == "analytic" else None
+        new._check_damper(self._map)
+        new._select_count()
+        return new
+
     # ------------------------------------------------------------------ Level II
     def response(self, frequency, amplitude) -> DamperResponse:
         """Interpolated eta, m_eff / m_bed and mode at every (f [Hz], X [m]) point; the
@@ -510,15 +524,30 @@ def _computed(ds) -> np.ndarray:
 
 
 def _validity(ds, label: str) -> tuple[np.ndarray, np.ndarray]:
-    """(valid, transient): computed and stationary cells, and computed transient cells."""
+    """(valid, transient): computed and stationary cells, and computed transient cells.
+
+    ``stationary`` is read through its CF flags when it has them (issue #9 writes
+    ``-1 no_result, 0 transient, 1 steady``): only ``transient`` cells count as
+    non-stationary; ``no_result`` (a model that does not assess stationarity, such as the
+    analytical formulas, or a failed point, which ``status`` already excludes) does not.
+    Without flags: booleans as they are; integers 1 steady, 0 transient, < 0 not assessed.
+    """
     computed = _computed(ds)
     if "stationary" not in ds:
         return computed, np.zeros(computed.shape, bool)
     st = ds["stationary"].transpose(*ds["effective_mass_ratio"].dims)
     values = np.asarray(st.values)
-    try:
-        stationary = values.astype(bool) if values.dtype.kind in "biu" else \
-            np.asarray(values, float) > 0.5
-    except (TypeError, ValueError):
-        raise InputError("fields.file", f"{label}: 'stationary' must be boolean") from None
-    return computed & stationary, computed & ~stationary
+    meanings = str(st.attrs.get("flag_meanings", "")).split()
+    flags = st.attrs.get("flag_values")
+    if meanings and flags is not None and len(meanings) == len(np.atleast_1d(flags)):
+        transient_codes = [v for v, m in zip(np.atleast_1d(flags), meanings, strict=True)
+                           if m.lower() in ("transient", "nonstationary", "non_stationary")]
+        transient = np.isin(values, transient_codes)
+    elif values.dtype.kind == "b":
+        transient = ~values
+    elif values.dtype.kind in "iuf":
+        transient = np.asarray(values, float) == 0
+    else:
+        raise InputError("fields.file", f"{label}: 'stationary' must be boolean or integer "
+                         "flags")
+    return computed & ~transient, computed & transient

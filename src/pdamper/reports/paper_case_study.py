@@ -34,6 +34,7 @@ from pdamper.analysis.fields import effective_field
 from pdamper.analysis.modes import MotionMode
 from pdamper.coupling import FreeVibrationResult, Simulation
 from pdamper.design.optimize import OptimizationResult, optimize_particle_count
+from pdamper.errors import InputError
 from pdamper.files import atomic_write, atomic_write_text
 from pdamper.models import AnalyticalDamper, EffectiveFieldDamper
 from pdamper.parameters import vertical_dampers_paper as paper
@@ -198,7 +199,18 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
                                                           x0).run(duration))
     say("Fig. 7/8: effective fields (model 2)")
     m2, cs.fields_source = _fields_model(sc, cs, damper)
-    cs.run_fields = _timed(cs, "model 2", lambda: Simulation(structure, m2, x0).run(duration))
+    try:
+        cs.run_fields = _timed(cs, "model 2", lambda: Simulation(structure, m2, x0).run(
+            duration))
+    except InputError as exc:  # e.g. a DEM map with a hole on the trajectory: say so
+        if sc.fields.file is not None or getattr(cs, "dem_map", None) is None:
+            raise
+        logger.warning("model 2 on the %s failed (%s); using the analytical map",
+                       cs.fields_source, exc)
+        cs.fields_source = f"analytical Fig. 5 map (the DEM map failed: {exc.message})"
+        m2 = EffectiveFieldDamper(damper, field=cs.field_map, extrapolation="clamp")
+        cs.run_fields = _timed(cs, "model 2", lambda: Simulation(structure, m2, x0).run(
+            duration))
     # the undamped envelope is cheap: always long enough for the paper's 2 s comparison
     cs.run_empty = _timed(cs, "no particles", lambda: Simulation(
         structure, AnalyticalDamper(damper.with_count(0)), x0).run(
