@@ -207,3 +207,14 @@ def test_scenario_optimization_keys(tmp_path):
     with pytest.raises(InputError, match="optimization.objective"):
         load_scenario(p)
     assert isinstance(DesignVariable("particles", (1,)).size, int)
+
+
+def test_particle_material_is_a_design_variable():
+    """Materials by name (pdamper.materials): PVC spheres weigh 1400/7900 of steel ones, so
+    the same 32 spheres damp less (Sect. 3.2: dissipation linear in the bed mass)."""
+    res = optimize_design(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, ["particle-material=S235,PVC"])
+    steel, pvc = res.candidates
+    assert (steel.design["particle_material"], pvc.design["particle_material"]) == ("S235",
+                                                                                    "PVC")
+    assert pvc.mass == pytest.approx(steel.mass * 1400 / 7900)
+    assert res.best is steel and pvc.objective > 1.2 * steel.objective

@@ -84,7 +84,8 @@ def render_report(*, title: str, version: str, rows: Sequence, figures: Sequence
         The figures, in order.
     models
         One dict per Level III model: ``label``, ``model``, ``source``,
-        ``amplitude_0p75`` [m], ``final_amplitude`` [m], ``seconds``.
+        ``amplitude_0p75`` [m] (None: the run ends before), ``final_amplitude`` [m],
+        ``seconds`` (None: not timed).
     timings
         Wall time of each step [s].
     landscape
@@ -103,7 +104,8 @@ def render_report(*, title: str, version: str, rows: Sequence, figures: Sequence
         [["", "", "", verdict[r.agrees][1], "", ""] for r in rows])
     model_rows = [[m["label"], m["model"], m["source"],
                    "" if m["amplitude_0p75"] is None else f"{m['amplitude_0p75'] * 1e3:.2f}",
-                   f"{m['final_amplitude'] * 1e3:.2f}", f"{m['seconds']:.3f}"] for m in models]
+                   f"{m['final_amplitude'] * 1e3:.2f}",
+                   "" if m["seconds"] is None else f"{m['seconds']:.3f}"] for m in models]
     model_table = _table(["run", "model", "damper data", "amplitude at 0.75 s [mm]",
                           "final amplitude [mm]", "wall time [s]"], model_rows, "models",
                          [["", "", "", "num", "num", "num"]] * len(model_rows))

@@ -104,7 +104,7 @@ class CaseStudy:
             out.append({"label": label, "model": run.model, "source": source,
                         "amplitude_0p75": run.amplitude_at(t_cmp) if long_enough else None,
                         "final_amplitude": run.final_amplitude,
-                        "seconds": self.timings.get(key, float("nan"))})
+                        "seconds": self.timings.get(key)})
         return out
 
 
