@@ -12,8 +12,9 @@ The loss factor eta (Eq. 3), not the dissipated energy E~ (Eq. 2), by default. T
 needs ``d = E~ / (pi W X^2)`` and with Eq. (3) (``E~ = pi eta m_bed W^2 X^2``) this is
 exactly ``d = eta m_bed W``: an interpolation error of eta is the same relative error of d.
 E~ grows like X^2 W^2 across the grid, so linear interpolation of E~ adds the curvature of
-that factor to the error (measured in docs/level3.md: on the paper's 14 x 24 analytical map
-along the 32-sphere trajectory, the worst |delta d| / d is several times larger with E~).
+that factor to the error (docs/level3.md: on the paper's 14 x 24 analytical map, along the
+32-sphere trajectory, the median |delta eta| at the updates is 0.09 interpolating eta and
+0.14 interpolating E~, and the final amplitude is model 3's 10.48 mm against 9.12 mm).
 eta is also independent of the bed mass, which lets a map be reused for another particle
 material of the same geometry (Sect. 3.2) and lets maps of different particle counts be
 interpolated. ``interpolate="dissipated_energy"`` is available for comparison.
