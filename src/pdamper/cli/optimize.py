@@ -35,7 +35,7 @@ def optimize(
         help="auto, grid (brute force) or optimize (scipy differential evolution).")] = None,
     workers: Annotated[str | None, typer.Option(
         help="Parallel dask workers; 0 = in-process; auto = 0 for cheap models, all cores "
-             "for the DEM.")] = None,
+             "for the DEM (when dask.distributed is installed).")] = None,
     scheduler: Annotated[str | None, typer.Option(
         help="Address of an existing dask scheduler.")] = None,
     max_evaluations: Annotated[int | None, typer.Option(
@@ -73,8 +73,11 @@ def optimize(
                                     spec=f"particles={counts[0]}:{counts[-1]}:{step_}")]
     proto = sc.model(None, damper)
     n_workers = o.workers
-    if n_workers == "auto":
-        n_workers = (os.cpu_count() or 1) if proto.expensive else 0
+    if n_workers == "auto":  # parallel where it pays and dask.distributed is installed
+        import importlib.util
+
+        parallel = proto.expensive and importlib.util.find_spec("distributed") is not None
+        n_workers = (os.cpu_count() or 1) if parallel else 0
     res = optimize_design(sc.structure_model(), damper, sc.structure.initial_displacement,
                           variables, o.objective, o.at, model=lambda d: sc.model(None, d),
                           threshold=o.threshold, method=o.method, max_grid=o.max_grid,
