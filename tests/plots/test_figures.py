@@ -30,11 +30,26 @@ def inputs():
     check = check_restitution([0.1, 1.0], paper.PAPER_COR_PW, S235, PVC, 0.005)
     study = run_cor_sensitivity(load_scenario(None, {"dem.cycles": 2, "dem.skip_cycles": 0}),
                                 ["0.6/0.85", "paper"], [(10.0, 0.032)], level3=False)
+    from pdamper.coupling.comparison import compare_with_measurement
+    from pdamper.coupling.modal import ModeCountStudy
+    from pdamper.design import make_objective, parse_variable, run_design_study
+
+    obj = make_objective("amplitude-at", 0.8, -0.058, PAPER_STRUCTURE)
+    design = run_design_study(lambda d: (d["particles"] * d["radius"], {}), PAPER_DAMPER,
+                             [parse_variable("particles=32:160:64"),
+                              parse_variable("radius=4mm:6mm:2")], obj)
+    comparisons = {"analytic": compare_with_measurement(run, run)}
     return {
         "plot_cor_check": (check,),
         "plot_cor_sensitivity": (study,),
         "plot_material_table": ({"sphere": S235, "wall": PVC},),
         "plot_restitution_curves": ({"steel-steel": paper.PAPER_COR_PP},),
+        "plot_design_landscape": (design,),
+        "plot_mode_study": (ModeCountStudy((0.34, 0.68), (1, 2), ((0.03, 0.031), (0.02, 0.02)),
+                                           0.75),),
+        "plot_model_trajectories": ({"analytic": run}, None, comparisons),
+        "plot_model_damping_ratios": ({"analytic": run}, None, comparisons),
+        "plot_phase_drift": (comparisons,),
         "plot_bed_trajectory": (bed_trajectory(18.0, 0.05, 0.1),),
         "plot_mode_map": (ds,),
         "plot_loss_factor_map": (ds,),

@@ -15,12 +15,21 @@ from __future__ import annotations
 import functools
 import tomllib
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
-from pydantic import AliasChoices, BaseModel, BeforeValidator, ConfigDict, Field, ValidationError
+from pydantic import (
+    AliasChoices,
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+)
 
 from pdamper.contact.law import DAMPING_MODELS
 from pdamper.dem.model import DEFAULT_SAFETY
+from pdamper.design.study import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
 from pdamper.errors import InputError
 from pdamper.io.restitution import MODELS as COR_MODELS
 from pdamper.io.restitution import RestitutionSpec, resolve_files
@@ -103,8 +112,26 @@ class SimulationSpec(_Section):
 
 
 class OptimizationSpec(_Section):
+    """The design study (:mod:`pdamper.design.study`); without ``vary``, the paper's
+    particle-count study (Sect. 4.2.2)."""
+
     at: Duration = paper.PAPER_OBJECTIVE_TIME
     step: Annotated[int, Field(ge=1, strict=True)] | None = None
+    objective: Literal["amplitude-at", "settling-time", "mean-damping"] = "amplitude-at"
+    vary: list[str] = []
+    method: Literal["auto", "grid", "optimize"] = "auto"
+    threshold: PositiveLength | None = None
+    workers: Annotated[int, Field(ge=0, strict=True)] | Literal["auto"] = "auto"
+    scheduler: str | None = None
+    max_evaluations: Annotated[int, Field(ge=4, strict=True)] = DEFAULT_MAX_EVALUATIONS
+    max_grid: Annotated[int, Field(ge=1, strict=True)] = DEFAULT_MAX_GRID
+    seed: Annotated[int, Field(ge=0, strict=True)] = 0
+
+    def variables(self):
+        """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary``."""
+        from pdamper.design.study import parse_variable
+
+        return [parse_variable(v) for v in self.vary]
 
 
 def _range_text(spec: tuple[float, float, int], unit: str, scale: float) -> str:
@@ -115,6 +142,30 @@ def _range_text(spec: tuple[float, float, int], unit: str, scale: float) -> str:
 class MapSpec(_Section):
     frequency: str = _range_text(paper.PAPER_MAP_FREQUENCY, "Hz", 1.0)
     amplitude: str = _range_text(paper.PAPER_MAP_AMPLITUDE, "mm", 1e3)
+
+
+class FieldsSpec(_Section):
+    """Options of the effective-field model (:class:`pdamper.models.EffectiveFieldDamper`).
+
+    A relative ``file`` in a scenario file is taken relative to that file's directory.
+    """
+
+    file: str | None = None
+    extrapolation: Literal["error", "clamp", "analytic"] = "error"
+    interpolate: Literal["loss_factor", "dissipated_energy"] = "loss_factor"
+    nonstationary: Literal["mask", "use"] = "mask"
+    strict: bool = True
+
+    @field_validator("file")
+    @classmethod
+    def _exists(cls, v):
+        if v is not None and not Path(v).is_file():
+            raise ValueError(f"file not found: {v}")
+        return v
+
+    def options(self) -> dict:
+        """Keyword arguments of :class:`pdamper.models.EffectiveFieldDamper`."""
+        return self.model_dump()
 
 
 class DEMSpec(_Section):
@@ -140,7 +191,8 @@ class DEMSpec(_Section):
 class Scenario(_Section):
     """A complete scenario; every section is optional and defaults to the paper's case.
 
-    A section named after a damper fidelity (``[dem]``) holds that model's options.
+    A section named after a damper fidelity (``[dem]``, ``[fields]``) holds that model's
+    options.
     """
 
     title: str = "paper benchmark damper"
@@ -151,6 +203,7 @@ class Scenario(_Section):
     simulation: SimulationSpec = SimulationSpec()
     optimization: OptimizationSpec = OptimizationSpec()
     map: MapSpec = MapSpec()
+    fields: FieldsSpec = FieldsSpec()
     dem: DEMSpec = DEMSpec()
     restitution: RestitutionSpec = RestitutionSpec()
 
@@ -256,6 +309,7 @@ def _validate(sc: Scenario) -> None:
     damper = sc.damper()
     sc.structure_model()
     sc.map_grid()
+    sc.optimization.variables()
     sc.model("dem", damper)
     sc.model(None, damper)
 
@@ -292,6 +346,10 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None) -> Sce
         except UnicodeDecodeError:
             raise InputError("scenario", f"{p} is not UTF-8 text") from None
         resolve_files(data, p.parent)
+        fields = data.get("fields")  # model 2's map, relative to the scenario file too
+        if isinstance(fields, dict) and isinstance(fields.get("file"), str) \
+                and not Path(fields["file"]).expanduser().is_absolute():
+            fields["file"] = str((p.parent / fields["file"]).resolve())
     for key, value in (overrides or {}).items():
         if value is None:
             continue
@@ -342,13 +400,28 @@ damping = "{q(st.damping, 'kg/s')}"
 initial_displacement = "{q(st.initial_displacement, 'mm')}"
 
 [simulation]
-model = "{s.simulation.model}"          # damper fidelity: "analytic" (model 3) or "dem" (model 1)
+model = "{s.simulation.model}"          # damper fidelity: "analytic" (model 3), "fields" (2), "dem" (1)
 duration = "{q(s.simulation.duration, 's')}"
 sample_rate = "{q(s.simulation.sample_rate, 'Hz')}"     # of the stored trajectory
 
 [optimization]
 at = "{q(s.optimization.at, 's')}"                # objective: amplitude at this time after release
 # step = 16                 # particle-count increment; default one layer
+objective = "{s.optimization.objective}"    # or "settling-time", "mean-damping" (maximised)
+# vary = ["particles=16:176:16", "radius=3mm:6mm:4"]   # design study; default: the count
+method = "{s.optimization.method}"             # "grid" (brute force), "optimize" (scipy), or by size
+# threshold = "14.5 mm"     # settling-time threshold; default |x0| / 4
+workers = "{s.optimization.workers}"            # dask workers; "auto": 0 (in-process) for cheap models
+max_evaluations = {s.optimization.max_evaluations}     # budget of the optimiser
+max_grid = {s.optimization.max_grid}            # largest grid "auto" evaluates by brute force
+seed = {s.optimization.seed}                    # seed of the optimiser
+
+[fields]                    # options of the effective-field model ("--model fields")
+# file = "map.nc"           # map from `pdamper map` (relative to this file)
+extrapolation = "{s.fields.extrapolation}"     # outside the map: "error", "clamp" or "analytic"
+interpolate = "{s.fields.interpolate}"   # or "dissipated_energy"
+nonstationary = "{s.fields.nonstationary}"      # non-stationary cells: "mask" (holes) or "use"
+strict = {str(s.fields.strict).lower()}               # a map of another geometry is an error
 
 [map]                       # Level II grid, "start:stop:count"
 frequency = "{s.map.frequency}"

@@ -68,6 +68,9 @@ class DamperModel(ABC):
     fidelity: ClassVar[str] = ""
     #: Name of the Level III coupling strategy.
     coupling: ClassVar[str] = "pseudo_force"
+    #: Whether one Level III run costs seconds or more (design studies then evaluate
+    #: designs on parallel workers by default).
+    expensive: ClassVar[bool] = False
 
     def __init__(self, damper: ParticleDamper):
         if not isinstance(damper, ParticleDamper):

@@ -12,6 +12,13 @@ from pdamper.plots.figures import (
     plot_mode_map,
     plot_optimization,
 )
+from pdamper.plots.level3 import (
+    plot_design_landscape,
+    plot_mode_study,
+    plot_model_damping_ratios,
+    plot_model_trajectories,
+    plot_phase_drift,
+)
 from pdamper.plots.restitution import (
     plot_cor_check,
     plot_cor_sensitivity,
@@ -26,8 +33,13 @@ __all__ = [
     "plot_material_table",
     "plot_restitution_curves",
     "plot_damping_ratio",
+    "plot_design_landscape",
     "plot_free_vibration",
     "plot_loss_factor_map",
     "plot_mode_map",
+    "plot_mode_study",
+    "plot_model_damping_ratios",
+    "plot_model_trajectories",
     "plot_optimization",
+    "plot_phase_drift",
 ]

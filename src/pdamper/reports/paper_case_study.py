@@ -5,15 +5,25 @@ single DEM impacts, (Level II) the Fig. 4 trajectories and the Fig. 5a/5c
 maps with the analytical model, and (Level III) the Fig. 7/8 free vibration and the
 Sect. 4.2.2 / Fig. 9 optimisation, all from one :class:`~pdamper.io.scenario.Scenario`
 (the paper's case by default); :func:`write_case_study` writes the figures (PNG), the map
-(NetCDF) and the comparison table (Markdown and JSON). The paper's numbers and the tolerance
-of each comparison come from :mod:`pdamper.parameters.vertical_dampers_paper`.
+(NetCDF), the comparison table (Markdown and JSON) and ``report.html``, one self-contained
+page with all of it (:mod:`pdamper.reports.html`). The paper's numbers and the tolerance of
+each comparison come from :mod:`pdamper.parameters.vertical_dampers_paper`.
+
+Figs. 7 and 8 show the three damper models of Sect. 4.1: the analytical formulas (model
+3), the effective fields (model 2) and the DEM (model 1). Model 2 reads, in this order of
+preference, the scenario's ``[fields] file``, the case study's DEM map (``CaseStudy.dem_map``,
+when the study has one), or the analytical Fig. 5 map; the figure and the models table say
+which. A map of the case study's own is used with ``extrapolation = "clamp"`` and that is
+recorded with it.
 """
 
 from __future__ import annotations
 
+import io
 import json
 import logging
 import math
+import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -26,9 +36,11 @@ from pdamper.analysis.modes import MotionMode
 from pdamper.contact.restitution import ConstantRestitution
 from pdamper.coupling import FreeVibrationResult, Simulation
 from pdamper.design.optimize import OptimizationResult, optimize_particle_count
+from pdamper.errors import InputError
 from pdamper.files import atomic_write, atomic_write_text
-from pdamper.models import AnalyticalDamper
+from pdamper.models import AnalyticalDamper, EffectiveFieldDamper
 from pdamper.parameters import vertical_dampers_paper as paper
+from pdamper.reports.html import ReportFigure, render_report
 
 logger = logging.getLogger(__name__)
 
@@ -74,9 +86,52 @@ class CaseStudy:
     run_dem_curves: FreeVibrationResult | None = None
     cor_checks: list = field(default_factory=list)
     damper: object = None
+    run_fields: FreeVibrationResult | None = None
+    fields_source: str = ""
     optimization: OptimizationResult | None = None
     best_count: int = 0
     inputs: dict = field(default_factory=dict)
+    #: Wall time of each step and of each Level III model's run [s].
+    timings: dict = field(default_factory=dict)
+
+    def models(self) -> list[dict]:
+        """The Level III runs of Figs. 7/8 (and the no-particle envelope) for the tables."""
+        t_cmp = paper.PAPER_COMPARISON_TIME
+        out = []
+        for label, run, source, key in (
+                ("analytical formulas (model 3)", self.run_32, "Eqs. 5-22", "model 3"),
+                ("effective fields (model 2)", self.run_fields, self.fields_source, "model 2"),
+                ("DEM (model 1)", self.run_dem, "DEM co-simulation", "model 1"),
+                ("DEM (model 1), paper's COR curves",
+                 None if self.run_dem_curves is self.run_dem else self.run_dem_curves,
+                 "DEM co-simulation, Fig. 2 curves", "model 1, paper's COR curves"),
+                ("no particles", self.run_empty, "structure only", "no particles")):
+            if run is None:
+                continue
+            long_enough = run.time[-1] >= t_cmp * (1.0 - 1e-9)
+            out.append({"label": label, "model": run.model, "source": source,
+                        "amplitude_0p75": run.amplitude_at(t_cmp) if long_enough else None,
+                        "final_amplitude": run.final_amplitude,
+                        "seconds": self.timings.get(key)})
+        return out
+
+
+def _fields_model(sc, cs: CaseStudy, damper):
+    """Model 2 for Figs. 7/8 and a description of its map (module docstring)."""
+    if sc.fields.file is not None:
+        return sc.model("fields", damper), f"map {sc.fields.file}"
+    dem_map = getattr(cs, "dem_map", None)
+    ds, what = (dem_map, "DEM map") if dem_map is not None else (cs.field_map,
+                                                                 "analytical Fig. 5 map")
+    opts = {**sc.fields.options(), "file": None, "extrapolation": "clamp"}
+    return EffectiveFieldDamper(damper, field=ds, **opts), f"{what}, clamped at its edges"
+
+
+def _timed(cs: CaseStudy, key: str, fn):
+    t0 = time.perf_counter()
+    out = fn()
+    cs.timings[key] = time.perf_counter() - t0
+    return out
 
 
 def _zeta_at(res: FreeVibrationResult, amplitude: float) -> tuple[float, float]:
@@ -123,7 +178,8 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     f, xs = sc.map_grid()
     grid = f"{len(f)} x {len(xs)}"
     say(f"Fig. 5a/5c: analytical map {grid}")
-    ds = effective_field(AnalyticalDamper(damper), f, xs)
+    ds = _timed(cs, "Fig. 5 analytical map", lambda: effective_field(AnalyticalDamper(damper), f,
+                                                                    xs))
     cs.field_map = ds
     eta, modes = ds["loss_factor"].values, ds["motion_mode"].values
     x_opt = damper.optimal_stroke
@@ -149,10 +205,26 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
                      f"f = {f[i]:.1f} Hz", float(eta[i, j]), grid=grid))
 
     say("Fig. 7/8: free vibration, no particles and the scenario's damper")
-    cs.run_32 = Simulation(structure, AnalyticalDamper(damper), x0).run(duration)
+    cs.run_32 = _timed(cs, "model 3", lambda: Simulation(structure, AnalyticalDamper(damper),
+                                                          x0).run(duration))
+    say("Fig. 7/8: effective fields (model 2)")
+    m2, cs.fields_source = _fields_model(sc, cs, damper)
+    try:
+        cs.run_fields = _timed(cs, "model 2", lambda: Simulation(structure, m2, x0).run(
+            duration))
+    except InputError as exc:  # e.g. a DEM map with a hole on the trajectory: say so
+        if sc.fields.file is not None or getattr(cs, "dem_map", None) is None:
+            raise
+        logger.warning("model 2 on the %s failed (%s); using the analytical map",
+                       cs.fields_source, exc)
+        cs.fields_source = f"analytical Fig. 5 map (the DEM map failed: {exc.message})"
+        m2 = EffectiveFieldDamper(damper, field=cs.field_map, extrapolation="clamp")
+        cs.run_fields = _timed(cs, "model 2", lambda: Simulation(structure, m2, x0).run(
+            duration))
     # the undamped envelope is cheap: always long enough for the paper's 2 s comparison
-    cs.run_empty = Simulation(structure, AnalyticalDamper(damper.with_count(0)), x0).run(
-        max(duration, paper.PAPER_DURATION))
+    cs.run_empty = _timed(cs, "no particles", lambda: Simulation(
+        structure, AnalyticalDamper(damper.with_count(0)), x0).run(
+        max(duration, paper.PAPER_DURATION)))
     rows.append(_row("eigenfrequency", f"{structure.natural_frequency:.2f} Hz",
                      structure.natural_frequency))
     from pdamper.structure.beam import modal_reduction
@@ -180,7 +252,8 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
         _dem_rows(cs, sc, damper, structure, x0, duration, say)
 
     say("Sect. 4.2.2: optimisation of the particle count")
-    opt = optimize_particle_count(structure, damper, x0, at, step=sc.optimization.step)
+    opt = _timed(cs, "optimisation", lambda: optimize_particle_count(
+        structure, damper, x0, at, step=sc.optimization.step))
     cs.optimization = opt
     n_paper = paper.PAPER_OPTIMAL_COUNT
     ref = next((c for c in opt.candidates if c.particles == n_paper), None)
@@ -227,12 +300,14 @@ def _dem_rows(cs: CaseStudy, sc, damper, structure, x0: float, duration: float, 
     curves = damper.with_restitution(paper.PAPER_COR_PP, paper.PAPER_COR_PW)
     cor = _cor_text(damper)
     say(f"Fig. 7/8: DEM model 1, {cor}")
-    cs.run_dem = Simulation(structure, sc.model("dem", damper), x0).run(duration)
+    cs.run_dem = _timed(cs, "model 1", lambda: Simulation(
+        structure, sc.model("dem", damper), x0).run(duration))
     if curves == damper:  # the scenario already runs the paper's curves
         cs.run_dem_curves = cs.run_dem
     else:
         say("Fig. 7/8: DEM model 1, the paper's COR curves (Fig. 2)")
-        cs.run_dem_curves = Simulation(structure, sc.model("dem", curves), x0).run(duration)
+        cs.run_dem_curves = _timed(cs, "model 1, paper's COR curves", lambda: Simulation(
+            structure, sc.model("dem", curves), x0).run(duration))
     cs.rows.append(_amplitude_row("dem_amplitude_32_0p75s", cs.run_dem, t_cmp,
                                   f" (analytical {a75 * 1e3:.1f} mm)", cor=cor))
     cs.rows.append(_amplitude_row("dem_curves_amplitude_32_0p75s", cs.run_dem_curves, t_cmp,
@@ -315,18 +390,23 @@ def _figures(cs: CaseStudy):
     yield "fig5c_loss_factor.png", fig
     fig = Figure(figsize=(9, 4), layout="constrained")
     ax = fig.subplots()
-    plots.plot_free_vibration(cs.run_32, ax=ax, label=f"analytical, {n} spheres",
+    plots.plot_free_vibration(cs.run_32, ax=ax, label=f"analytical (model 3), {n} spheres",
                               envelope=cs.run_empty)
+    if cs.run_fields is not None:
+        plots.plot_free_vibration(cs.run_fields, ax=ax,
+                                  label=f"effective fields (model 2, {cs.fields_source})")
     for label, run in _dem_runs(cs):
         plots.plot_free_vibration(run, ax=ax, label=f"{label}, {n} spheres")
-    ax.set_title("Fig. 7: end-effector trajectory")
+    ax.set_title("Fig. 7: end-effector trajectory, damper models 1-3")
     yield "fig7_trajectory.png", fig
     fig = Figure(figsize=(6, 4), layout="constrained")
     ax = fig.subplots()
-    plots.plot_damping_ratio(cs.run_32, ax=ax, label=f"analytical, {n} spheres")
+    plots.plot_damping_ratio(cs.run_32, ax=ax, label=f"analytical (model 3), {n} spheres")
+    if cs.run_fields is not None:
+        plots.plot_damping_ratio(cs.run_fields, ax=ax, label="effective fields (model 2)")
     for label, run in _dem_runs(cs):
         plots.plot_damping_ratio(run, ax=ax, label=f"{label}, {n} spheres")
-    ax.set_title("Fig. 8: damping ratio")
+    ax.set_title("Fig. 8: damping ratio, damper models 1-3")
     yield "fig8_damping_ratio.png", fig
     fig = Figure(figsize=(12, 4), layout="constrained")
     a1, a2 = fig.subplots(1, 2)
@@ -351,9 +431,14 @@ def write_case_study(cs: CaseStudy, out: Path,
     out = Path(out)
     written: list[Path] = []
     say("writing figures")
+    report_figures = []
     for name, fig in _figures(cs):
-        written.append(atomic_write(out / name, lambda p, fig=fig: fig.savefig(p, dpi=120,
-                                                                               format="png")))
+        buf = io.BytesIO()
+        fig.savefig(buf, dpi=120, format="png")
+        png = buf.getvalue()
+        written.append(atomic_write(out / name, lambda p, png=png: p.write_bytes(png)))
+        caption = next((ax.get_title() for ax in fig.axes if ax.get_title()), name)
+        report_figures.append(ReportFigure(name, caption, png))
     say("writing map and table")
     cs.field_map.attrs["pdamper_version"] = __version__
     written.append(atomic_write(out / "fig5_analytic_map.nc",
@@ -382,7 +467,8 @@ def write_case_study(cs: CaseStudy, out: Path,
                         for name, run in (("scenario_damper", cs.run_32),
                                           ("no_particles", cs.run_empty),
                                           ("paper_optimum", cs.run_best), ("dem", cs.run_dem),
-                                          ("dem_paper_cor_curves", cs.run_dem_curves))
+                                          ("dem_paper_cor_curves", cs.run_dem_curves),
+                                          ("fields", cs.run_fields))
                         if run is not None},
         "restitution": {
             "scenario": {"particle_particle": cs.damper.restitution_pp.describe(),
@@ -390,6 +476,15 @@ def write_case_study(cs: CaseStudy, out: Path,
             "paper": {"particle_particle": paper.PAPER_COR_PP.describe(),
                       "particle_wall": paper.PAPER_COR_PW.describe()},
             "dem_single_impacts": [c.as_dict() for c in cs.cor_checks]},
+        "models": cs.models(),
+        "fields_source": cs.fields_source,
+        "timings": cs.timings,
         "map_shape": [int(n) for n in cs.field_map["loss_factor"].shape],
     }, indent=2)))
+    say("writing report.html")
+    written.append(atomic_write_text(out / "report.html", render_report(
+        title="pdamper: the reference paper's case study", version=__version__, rows=cs.rows,
+        figures=report_figures, models=cs.models(), timings=cs.timings,
+        landscape=[c.as_dict() for c in cs.optimization.candidates], at=cs.optimization.at,
+        inputs=cs.inputs)))
     return written
