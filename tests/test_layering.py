@@ -23,6 +23,7 @@ ROOT = Path(pdamper.__file__).parent
 LEVELS = {
     "__init__": 0, "_version": 0, "errors": 0, "units": 0, "constants": 0, "files": 0,
     "materials": 1, "contact": 1, "damper": 1,        # Level I and the design object
+    "resources": 1,                                   # what a run of the design implies
     "analysis": 2, "dem": 2,                          # Level II
     "models": 3,                                      # one interface, several fidelities
     "structure": 4, "coupling": 5, "design": 6,       # Level III

@@ -6,20 +6,22 @@ from typing import Annotated
 
 import typer
 
-from pdamper.cli._common import JsonOpt, ModelOpt, ScenarioOpt, emit, load, metadata
+from pdamper.cli._common import ForceOpt, JsonOpt, ModelOpt, ScenarioOpt, emit, load, metadata
 
 
 def optimize(
     model: ModelOpt = None,
     at: Annotated[str | None, typer.Option(help="Objective time T, e.g. '0.8s'.")] = None,
     step: Annotated[int | None, typer.Option(help="Particle-count increment (default: one layer).")] = None,
+    force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
     """Particle count with the smallest amplitude at time T; every candidate is listed."""
     from pdamper.design import optimize_particle_count
 
-    sc = load(scenario, simulation__model=model, optimization__at=at, optimization__step=step)
+    sc = load(scenario, runs=("optimization",), force=force, simulation__model=model,
+              optimization__at=at, optimization__step=step)
     res = optimize_particle_count(sc.structure_model(), sc.damper(),
                                   sc.structure.initial_displacement, sc.optimization.at,
                                   model=lambda d: sc.model(None, d), step=sc.optimization.step)

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from pdamper.cli._common import (
+    ForceOpt,
     JsonOpt,
     ModelOpt,
     ScenarioOpt,
@@ -25,26 +25,28 @@ def simulate(
     duration: Annotated[str | None, typer.Option(help="Simulated time, e.g. '2s'.")] = None,
     initial_displacement: Annotated[str | None, typer.Option(
         "--initial-displacement", help="Release deflection x0, e.g. '-58mm'.")] = None,
-    out: Annotated[Path | None, typer.Option(help="NetCDF file for the trajectory.")] = None,
+    out: Annotated[str | None, typer.Option(help="NetCDF file for the trajectory.")] = None,
+    force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
     """Release the structure from x0 and track the decay (paper Sect. 4.2.1, Figs. 7-8)."""
     from pdamper.coupling import Simulation
 
-    sc = load(scenario, simulation__model=model, particles__count=particles,
-              simulation__duration=duration, structure__initial_displacement=initial_displacement)
-    check_output(out)
+    sc = load(scenario, runs=("simulation",), force=force, simulation__model=model,
+              particles__count=particles, simulation__duration=duration,
+              structure__initial_displacement=initial_displacement)
+    target = check_output(out)
     damper_model = sc.model()
     structure = sc.structure_model()
     res = Simulation(structure, damper_model, sc.structure.initial_displacement).run(
         sc.simulation.duration, sc.simulation.sample_rate)
     amp, zeta = res.damping_ratio
     meta = metadata(sc)
-    if out is not None:
+    if target is not None:
         ds = res.to_dataset()
         ds.attrs.update(pdamper_version=meta["version"])
-        write_atomic(out, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+        write_atomic(target, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
     payload = {
         "peaks": [{"time": float(t), "amplitude": float(a)}
                   for t, a in zip(res.peak_times, res.peak_amplitudes, strict=True)],
