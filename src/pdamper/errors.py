@@ -109,3 +109,28 @@ def check_range(
     if bad_low or bad_high:
         raise InputError(field, f"must be in {allowed}{u}, got {v:g}{u}")
     return v
+
+
+def check_whole(field: str, value, low: int | None = None) -> int:
+    """Return ``value`` as int if it is a whole number (>= ``low``), else raise InputError.
+
+    Integral floats and numpy integers are whole; ``1.5``, ``True`` and ``"2"`` are not.
+
+    >>> check_whole("dem.skip_cycles", 2.0, low=0)
+    2
+    """
+    import numbers
+
+    ok = isinstance(value, numbers.Real) and not isinstance(value, bool)
+    if ok:
+        try:
+            ok = float(value) == int(value)
+        except (OverflowError, ValueError):
+            ok = False
+    at_least = "" if low is None else f" >= {low}"
+    if not ok:
+        raise InputError(field, f"must be a whole number{at_least}, got {value!r}")
+    n = int(value)
+    if low is not None and n < low:
+        raise InputError(field, f"must be a whole number{at_least}, got {n}")
+    return n

@@ -32,8 +32,11 @@ that are off by orders of magnitude, not to tune runs).
 - :data:`MEMORY_LIMIT`: 2 GiB of arrays a run holds (stored time series, snapshots,
   neighbour lists, the working arrays of a map). Never above the machine's physical memory,
   even with ``--force``: such a run cannot succeed.
-- :data:`TIME_LIMIT`: one hour of estimated run time on one core; never above
-  :data:`FORCE_TIME_LIMIT` (30 days), even with ``--force``.
+- :data:`TIME_LIMIT`: one hour of estimated run time on one core for one run (a DEM run,
+  a free vibration, an analytical map); :data:`SWEEP_TIME_LIMIT`, a day, for a sweep of
+  runs the user listed one by one (the points of a DEM map, the candidates of an
+  optimisation, which issue 9 runs in parallel), each of them within :data:`TIME_LIMIT`.
+  Never above :data:`FORCE_TIME_LIMIT` (30 days), even with ``--force``.
 
 The per-unit costs below are the README's figures (2-core machine, one core), rounded up.
 The DEM step count is that of a fixed step of ``safety`` x the shortest Hertz contact time
@@ -72,8 +75,10 @@ MAX_CONTACT_RADIUS_RATIO = 0.5
 # ---------------------------------------------------------------- cost limits
 #: Memory a run may hold without ``--force`` [bytes].
 MEMORY_LIMIT = 2 * 2**30
-#: Estimated one-core run time allowed without ``--force`` [s].
+#: Estimated one-core time of one run allowed without ``--force`` [s].
 TIME_LIMIT = 3600.0
+#: Estimated one-core time of a sweep of runs allowed without ``--force`` [s].
+SWEEP_TIME_LIMIT = 86400.0
 #: Estimated run time that not even ``--force`` allows [s].
 FORCE_TIME_LIMIT = 30 * 86400.0
 
@@ -304,6 +309,9 @@ class Cost:
     drivers
         ``(field, factor)``: each input that the cost grows with and how many times its
         usual value it is; the largest is named in an error.
+    runs
+        For a sweep: the number of runs and the estimated time of the longest
+        (``seconds`` is the total).
     """
 
     what: str
@@ -311,6 +319,8 @@ class Cost:
     memory: float
     detail: str
     drivers: tuple[tuple[str, float], ...]
+    runs: int = 1
+    longest: float | None = None
 
 
 def require(cost: Cost, force: bool = False) -> Cost:
@@ -341,10 +351,17 @@ def require(cost: Cost, force: bool = False) -> Cost:
         raise InputError(field, f"{cost.what} would need {_gib(memory)} of memory "
                          f"({cost.detail}), above the limit of {_gib(MEMORY_LIMIT)}; lower "
                          f"{lower}, or pass --force")
-    if seconds > TIME_LIMIT:
+    longest = seconds if cost.longest is None else cost.longest
+    if longest > TIME_LIMIT:
+        each = "" if cost.runs == 1 else " per run"
+        raise InputError(field, f"{cost.what} would take about {_duration(longest)}{each} on "
+                         f"one core ({cost.detail}), above the limit of "
+                         f"{_duration(TIME_LIMIT)}; lower {lower}, or pass --force")
+    if cost.runs > 1 and seconds > SWEEP_TIME_LIMIT:
         raise InputError(field, f"{cost.what} would take about {_duration(seconds)} on one "
-                         f"core ({cost.detail}), above the limit of {_duration(TIME_LIMIT)}; "
-                         f"lower {lower}, or pass --force")
+                         f"core in all ({cost.detail}), above the limit of "
+                         f"{_duration(SWEEP_TIME_LIMIT)} for a sweep; lower {lower}, or pass "
+                         f"--force")
     return cost
 
 

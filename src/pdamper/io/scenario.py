@@ -352,11 +352,12 @@ class Scenario(_Section):
         costs = [self._dem_level2_cost(damper, f, x, default, ("map.frequency", "map.amplitude"))
                  for f in fs for x in xs]
         seconds = float(np.mean([c.seconds for c in costs])) * points
-        worst = max(costs, key=lambda c: c.memory)
+        worst = max(costs, key=lambda c: (c.seconds, c.memory))
         rest = tuple(d for d in worst.drivers if not d[0].startswith("map."))
-        resources.require(resources.Cost("the DEM map", seconds, worst.memory,
-                                         f"{points:.3g} DEM runs, the largest {worst.detail}",
-                                         axes + rest), force)
+        resources.require(resources.Cost(
+            "the DEM map", seconds, max(c.memory for c in costs),
+            f"{points:.3g} DEM runs, the longest {worst.detail}", axes + rest,
+            runs=int(min(points, 2**62)), longest=worst.seconds), force)
 
     def _check_simulation(self, damper, fidelity: str, duration: float, sample_rate: float,
                           default, force: bool) -> None:
@@ -400,7 +401,8 @@ class Scenario(_Section):
                                      safety=self.dem.safety)
         resources.require(resources.Cost(
             "the optimisation", one.seconds * len(counts), one.memory,
-            f"{len(counts)} candidates, each {one.detail}", drivers), force)
+            f"{len(counts)} candidates, each {one.detail}", drivers, runs=len(counts),
+            longest=one.seconds), force)
 
 
 def _material(spec, field: str):
