@@ -18,8 +18,9 @@ ERROR_LINE = re.compile(r"^error: (?P<field>--?[a-z][a-z0-9-]*|[a-z_][a-z0-9_]*"
                         r"(\.[a-z_][a-z0-9_]*)*): \S")
 
 
-class Hang(BaseException):
-    """An invocation did not answer within its time bound."""
+class Hang(AssertionError):
+    """An invocation did not answer within its time bound (an assertion, so that
+    hypothesis reports and shrinks the example)."""
 
 
 @contextlib.contextmanager

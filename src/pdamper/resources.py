@@ -49,6 +49,7 @@ import math
 import os
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.contact.elastic import (
@@ -114,7 +115,7 @@ def _duration(s: float) -> str:
     if s >= 86400 * 365:
         return f"{s / (86400 * 365):.3g} years"
     if s >= 86400:
-        return f"{s / 86400:.3g} days"
+        return f"{s / 86400:.3g} day" + ("" if round(s / 86400, 2) == 1 else "s")
     if s >= 3600:
         return f"{s / 3600:.3g} h"
     if s >= 60:
@@ -189,9 +190,29 @@ def _ratio(value: float, usual: float) -> float:
     return value / usual if usual > 0 else math.inf
 
 
-def _blame(drivers: Sequence[tuple[str, float]]) -> str:
+class Driver(NamedTuple):
+    """An input a cost grows with: ``factor`` is how many times the usual cost its value
+    makes (e.g. ``cycles / 8``, or ``10 Hz / frequency`` for an input whose decrease costs,
+    ``raising`` then True)."""
+
+    field: str
+    factor: float
+    raising: bool = False
+
+
+def _blame(drivers: Sequence[tuple]) -> str:
     """The field that inflates a cost most (its factor over the usual value)."""
     return max(drivers, key=lambda d: d[1] if math.isfinite(d[1]) else math.inf)[0]
+
+
+def _remedy(drivers: Sequence[tuple], blamed: str) -> str:
+    """``lower a, b or raise c``: the inputs above their usual cost, the worst first."""
+    big = sorted((Driver(*d) for d in drivers if d[0] == blamed or not d[1] <= 1.0),
+                 key=lambda d: -d.factor if math.isfinite(d.factor) else -math.inf)
+    verbs = [("lower", [d.field for d in big if not d.raising]),
+             ("raise", [d.field for d in big if d.raising])]
+    return " or ".join(f"{verb} {', '.join(dict.fromkeys(fields))}"
+                       for verb, fields in verbs if fields) or "lower the inputs"
 
 
 def check_particles(damper: ParticleDamper, field: str = "particles.radius") -> None:
@@ -307,8 +328,8 @@ class Cost:
     detail
         The implied quantities, e.g. ``"8e+09 s simulated, 4.1e+15 time steps"``.
     drivers
-        ``(field, factor)``: each input that the cost grows with and how many times its
-        usual value it is; the largest is named in an error.
+        :class:`Driver` ``(field, factor[, raising])``: each input the cost grows with and
+        how many times the usual cost its value makes; the largest is named in an error.
     runs
         For a sweep: the number of runs and the estimated time of the longest
         (``seconds`` is the total).
@@ -332,35 +353,35 @@ def require(cost: Cost, force: bool = False) -> Cost:
         Naming the input that inflates the cost most, with the implied cost, the limit and
         how to get below it.
     """
-    field = _blame(cost.drivers)
-    lower = ", ".join(dict.fromkeys(f for f, _ in sorted(cost.drivers, key=lambda d: -d[1])))
+    field = _blame(cost.drivers) if cost.drivers else "run"
+    lower = _remedy(cost.drivers, field)
     seconds = cost.seconds if math.isfinite(cost.seconds) else math.inf
     memory = cost.memory if math.isfinite(cost.memory) else math.inf
     ram = physical_memory()
     if ram is not None and memory > ram:
         raise InputError(field, f"{cost.what} would need {_gib(memory)} of memory "
                          f"({cost.detail}), more than this machine has ({_gib(ram)}); "
-                         f"lower {lower}")
+                         f"{lower}")
     if seconds > FORCE_TIME_LIMIT:
         raise InputError(field, f"{cost.what} would take about {_duration(seconds)} on one "
                          f"core ({cost.detail}), beyond any run ({_duration(FORCE_TIME_LIMIT)} "
-                         f"even with --force); lower {lower}")
+                         f"even with --force); {lower}")
     if force:
         return cost
     if memory > MEMORY_LIMIT:
         raise InputError(field, f"{cost.what} would need {_gib(memory)} of memory "
-                         f"({cost.detail}), above the limit of {_gib(MEMORY_LIMIT)}; lower "
+                         f"({cost.detail}), above the limit of {_gib(MEMORY_LIMIT)}; "
                          f"{lower}, or pass --force")
     longest = seconds if cost.longest is None else cost.longest
     if longest > TIME_LIMIT:
         each = "" if cost.runs == 1 else " per run"
         raise InputError(field, f"{cost.what} would take about {_duration(longest)}{each} on "
                          f"one core ({cost.detail}), above the limit of "
-                         f"{_duration(TIME_LIMIT)}; lower {lower}, or pass --force")
+                         f"{_duration(TIME_LIMIT)}; {lower}, or pass --force")
     if cost.runs > 1 and seconds > SWEEP_TIME_LIMIT:
         raise InputError(field, f"{cost.what} would take about {_duration(seconds)} on one "
                          f"core in all ({cost.detail}), above the limit of "
-                         f"{_duration(SWEEP_TIME_LIMIT)} for a sweep; lower {lower}, or pass "
+                         f"{_duration(SWEEP_TIME_LIMIT)} for a sweep; {lower}, or pass "
                          f"--force")
     return cost
 

@@ -96,8 +96,10 @@ def simulate_pseudo_force(model, structure, duration: float, initial_displacemen
         underdamped = sigma < wn
         period = 2.0 * math.pi / math.sqrt(wn * wn - sigma * sigma) if underdamped else math.inf
         t1 = t0 + period
-        sel = (t_grid >= t0) & (t_grid < min(t1, duration + 1.0))
-        x_grid[sel] = _segment(x0, sigma, wn, t_grid[sel] - t0)
+        # the samples of this cycle, found in the sorted grid (a mask over the whole grid
+        # per cycle made long runs quadratic)
+        i0, i1 = np.searchsorted(t_grid, [t0, min(t1, duration + 1.0)], side="left")
+        x_grid[i0:i1] = _segment(x0, sigma, wn, t_grid[i0:i1] - t0)
         if t1 > duration:
             break
         x0 = float(_segment(x0, sigma, wn, np.array([period]))[0])
@@ -105,7 +107,7 @@ def simulate_pseudo_force(model, structure, duration: float, initial_displacemen
         peaks_t.append(t0)
         peaks_x.append(abs(x0))
         if abs(x0) < 1e-12:  # at rest
-            x_grid[t_grid >= t0] = 0.0
+            x_grid[np.searchsorted(t_grid, t0, side="left"):] = 0.0
             break
     else:  # a period shorter than the bare structure's: the model's m_eff was negative
         raise SimulationError(f"the free vibration did not end within {max_cycles} cycles "

@@ -312,8 +312,8 @@ class Scenario(_Section):
     def _dem_drivers(self, damper, default) -> list[tuple[str, float]]:
         dd, dm = default.dem, default.damper()
         return [("particles.count", damper.count / dm.count),
-                ("particles.radius", dm.particle_radius / damper.particle_radius),
-                ("dem.safety", dd.safety / self.dem.safety),
+                ("particles.radius", dm.particle_radius / damper.particle_radius, True),
+                ("dem.safety", dd.safety / self.dem.safety, True),
                 ("dem.sample_rate", self.dem.sample_rate / dd.sample_rate),
                 ("dem.snapshot_rate", (self.dem.snapshot_rate or 0.0) / dd.sample_rate)]
 
@@ -326,7 +326,7 @@ class Scenario(_Section):
             damper, dem.cycles / frequency, imp.speed, sample_rate=dem.sample_rate,
             safety=dem.safety, snapshot_rate=dem.snapshot_rate, frequency=frequency,
             drivers=[("dem.cycles", dem.cycles / default.dem.cycles),
-                     (fields[0], default.excitation.frequency / frequency),
+                     (fields[0], default.excitation.frequency / frequency, True),
                      *self._dem_drivers(damper, default)])
 
     def _check_map(self, damper, model: str, default, force: bool) -> None:
@@ -389,7 +389,7 @@ class Scenario(_Section):
         d0 = default.damper()
         drivers = (("optimization.at", at / default.optimization.at),
                    ("optimization.step", (d0.per_layer / step) * (damper.max_count
-                                                                  / d0.max_count)))
+                                                                  / d0.max_count), True))
         if fidelity != "dem":
             one = resources.pseudo_force_cost(duration, 200.0, structure.natural_frequency)
         else:  # the DEM's time grows with the count: the mean count stands for all
@@ -422,6 +422,10 @@ def _first_error(exc: ValidationError) -> InputError:
     loc = ".".join(str(p) for p in err["loc"]
                    if str(p) not in ("str", "MaterialSpec") and not str(p).startswith("function-"))
     msg = err["msg"].removeprefix("Value error, ")
+    union = [e for e in errors if e["loc"][:-1] == err["loc"][:-1]]
+    if err["type"] == "string_type" and any(e["type"] == "model_type" for e in union):
+        msg = (f"must be a name (e.g. \"S235\") or an inline table {{ name, youngs_modulus, "
+               f"poisson_ratio, density }}, got {err.get('input')!r}")
     if err["type"] == "extra_forbidden":
         msg = "unknown key (check the spelling; `pdamper example-scenario` lists the keys)"
     elif "input" in err and err["type"] != "missing" and repr(err["input"]) not in msg \

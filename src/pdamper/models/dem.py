@@ -158,7 +158,7 @@ class DEMDamper(DamperModel):
         resources.require(resources.dem_cost(
             d, self.cycles / f, resources.impact_speed(x, f, d.length), frequency=f,
             sample_rate=self.sample_rate, safety=self.safety, snapshot_rate=self.snapshot_rate,
-            drivers=(("dem.cycles", self.cycles), ("frequency", 1.0 / f),
+            drivers=(("dem.cycles", self.cycles), ("frequency", 1.0 / f, True),
                      ("dem.sample_rate", self.sample_rate / f))), force=True)
         return self.engine(HarmonicMotion(amplitude=x, frequency=f)).run(
             self.cycles / f, sample_rate=self.sample_rate, snapshot_rate=self.snapshot_rate)
