@@ -126,6 +126,9 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("map-range-descending", ["map", "--frequency", "20Hz:2Hz:5"], Error("map.frequency")),
     ("map-range-count-one", ["map", "--frequency", "2Hz:20Hz:1"], Error("map.frequency")),
     ("duration-unit-only", ["simulate", "--duration", "s"], Error("simulation.duration")),
+    # found by the fuzz suite: a finite number times its unit's factor overflows
+    ("amplitude-overflow-by-unit", ["analytic", "--amplitude", "1.797693134862316e+305km"],
+     Error("excitation.amplitude")),
     # -- every scenario section validated whichever command reads it
     ("map-section-analytic", ["analytic", "--scenario", "{scenario:map_empty_stop}"],
      Error("map.frequency")),

@@ -41,7 +41,7 @@ from pathlib import Path
 from pdamper.errors import InputError, OutputError
 
 __all__ = ["atomic_directory", "atomic_write", "atomic_write_text", "check_directory_target",
-           "check_file_target", "write_stdout"]
+           "check_file_target", "stdout_error", "write_stdout"]
 
 
 def _umask() -> int:
@@ -268,6 +268,13 @@ def _quiet_stdout() -> None:
         os.close(null)
 
 
+def stdout_error(exc: OSError) -> OutputError:
+    """The :class:`OutputError` for a failed write to stdout (stdout then points at
+    /dev/null, so that the interpreter's final flush raises nothing more)."""
+    _quiet_stdout()
+    return OutputError("stdout", f"cannot write: {_reason(exc)}")
+
+
 def write_stdout(text: str) -> None:
     """Write ``text`` to standard output and flush it.
 
@@ -280,5 +287,4 @@ def write_stdout(text: str) -> None:
         sys.stdout.write(text)
         sys.stdout.flush()
     except OSError as exc:
-        _quiet_stdout()
-        raise OutputError("stdout", f"cannot write: {_reason(exc)}") from None
+        raise stdout_error(exc) from None

@@ -29,6 +29,9 @@ implied cost or the reason, and how to get below the limit:
 **Cost** (``--force`` overrides; estimates are orders of magnitude, meant to catch inputs
 that are off by orders of magnitude, not to tune runs).
 
+- :data:`MAX_SCENARIO_BYTES`: a scenario file of at most 1 MiB (no override: a scenario
+  describes one damper in a few hundred bytes).
+
 - :data:`MEMORY_LIMIT`: 2 GiB of arrays a run holds (stored time series, snapshots,
   neighbour lists, the working arrays of a map). Never above the machine's physical memory,
   even with ``--force``: such a run cannot succeed.
@@ -74,6 +77,9 @@ MAX_SPEED_FRACTION = 0.1
 MAX_CONTACT_RADIUS_RATIO = 0.5
 
 # ---------------------------------------------------------------- cost limits
+#: Largest scenario file [bytes] (one damper takes a few hundred; a larger file is not a
+#: scenario, and parsing it would take the time and memory of its size).
+MAX_SCENARIO_BYTES = 2**20
 #: Memory a run may hold without ``--force`` [bytes].
 MEMORY_LIMIT = 2 * 2**30
 #: Estimated one-core time of one run allowed without ``--force`` [s].

@@ -123,7 +123,10 @@ def parse_quantity(value: str | float | int, unit: str, field: str) -> float:
     if not _UNIT_CHARS.match(unit_text):
         raise InputError(field, f"unexpected characters in the unit of {value!r}; expected "
                          f"a number and a unit, as in {_example(unit)}")
-    return number * _unit_factor(unit_text, unit, field, value)
+    magnitude = number * _unit_factor(unit_text, unit, field, value)
+    if not math.isfinite(magnitude):  # "1.7e305 km" overflows in m
+        raise InputError(field, f"must be a finite quantity, got {value!r}")
+    return magnitude
 
 
 def _unit_factor(unit_text: str, unit: str, field: str, value: str) -> float:

@@ -186,3 +186,20 @@ def test_read_only_directory_as_unprivileged_user(read_only_dir, args):
     check_answer(p.returncode, p.stdout, p.stderr, field="vtk" if "--vtk" in args else "out")
     assert "not writable" in p.stderr or "ermission" in p.stderr
     assert list(read_only_dir.iterdir()) == []
+
+
+@pytest.mark.parametrize("args", [["--help"], ["analytic", "--help"], []],
+                         ids=["help", "command-help", "no-arguments"])
+def test_help_text_on_a_broken_pipe_or_full_device(args):
+    """The help text is written by click and rich, not by pdamper: the same answer."""
+    p = subprocess.Popen(command(*args), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         env=env(), text=True)
+    p.stdout.close()
+    err = p.stderr.read()
+    assert p.wait(timeout=120) == 1 and err.startswith("error: stdout: ") and \
+        err.count("\n") == 1, err
+    with open("/dev/full", "w") as full:
+        q = subprocess.run(command(*args), stdout=full, stderr=subprocess.PIPE, text=True,
+                           env=env(), timeout=120)
+    assert q.returncode == 1 and q.stderr.startswith("error: stdout: ") and \
+        q.stderr.count("\n") == 1, q.stderr

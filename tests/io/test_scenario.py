@@ -116,3 +116,20 @@ def test_map_ranges_are_read_without_building_the_grid():
     assert (f0, f1, nf) == (2.0, 20.0, 10**20 - 1)
     with pytest.raises(InputError, match="^map.frequency: .*memory"):
         s.check_resources("map")
+
+
+@pytest.mark.parametrize("kind", ["directory", "deep", "huge", "unreadable-bytes"])
+def test_scenario_files_that_are_no_scenarios(tmp_path, kind):
+    p = tmp_path / "s.toml"
+    if kind == "directory":
+        p.mkdir()
+    elif kind == "deep":  # tomllib recurses: RecursionError
+        p.write_text("a = " + "[" * 100_000 + "]" * 100_000)
+    elif kind == "huge":
+        p.write_text("# " + "x" * (2**20 + 10) + "\n")
+    else:
+        p.write_bytes(b"title = \"\xff\xfe\"\n")
+    with pytest.raises(InputError) as info:
+        load_scenario(p)
+    assert info.value.field == "scenario" and "\n" not in str(info.value)
+    assert len(str(info.value)) < 300

@@ -11,6 +11,7 @@ its results; what their inputs imply is judged before they run
 
 from __future__ import annotations
 
+import errno
 import sys
 
 import typer
@@ -63,10 +64,27 @@ def _usage(exc: Exception) -> str:
     return f"error: {exc.format_message()}"
 
 
+def _stdout_is_null() -> bool:
+    """Standard output is /dev/null (where rich and click put it after a broken pipe)."""
+    import os
+
+    try:
+        a, b = os.fstat(sys.stdout.fileno()), os.stat(os.devnull)
+    except (OSError, ValueError, AttributeError):
+        return False
+    return (a.st_ino, a.st_dev, a.st_rdev) == (b.st_ino, b.st_dev, b.st_rdev)
+
+
+#: Errors of a failed write to a stream (what click lets through from its help text).
+_STREAM_ERRNOS = {errno.EPIPE, errno.ENOSPC, errno.EIO, errno.EDQUOT, errno.EFBIG}
+
+
 def _run(argv: list[str] | None) -> int:
     from pdamper.errors import OutputError, PdamperError
+    from pdamper.files import stdout_error
 
     _register()
+    was_null = _stdout_is_null()
     try:
         status = app(args=argv, standalone_mode=False)
     except OutputError as exc:
@@ -75,8 +93,19 @@ def _run(argv: list[str] | None) -> int:
         return _say(f"error: {exc}", 2)
     except MemoryError:
         return _say("error: memory: this machine ran out of memory; lower the sizes", 1)
-    except SystemExit as exc:  # pragma: no cover - typer may still exit
+    except SystemExit as exc:
+        # rich (help text) and click end this way on a broken pipe, stdout moved to /dev/null
+        wrapped = getattr(sys.stdout, "wrapped", None)
+        if type(sys.stdout).__name__ == "PacifyFlushWrapper" and wrapped is not None:
+            sys.stdout = wrapped
+            sys.stderr = getattr(sys.stderr, "wrapped", sys.stderr)
+        if exc.code == 1 and not was_null and _stdout_is_null():
+            return _say(f"error: {stdout_error(BrokenPipeError(errno.EPIPE, 'pipe'))}", 1)
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+    except OSError as exc:  # help and usage text of click on a full device
+        if exc.errno not in _STREAM_ERRNOS:
+            raise
+        return _say(f"error: {stdout_error(exc)}", 1)
     except Exception as exc:
         # usage errors of click: duck-typed
         message = getattr(exc, "format_message", None)
@@ -120,11 +149,18 @@ def entry() -> None:  # pragma: no cover - run as a process by the tests
     import atexit
     import os
 
+    from pdamper.files import stdout_error
+
     status = main()
     atexit._run_exitfuncs()
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            stream.flush()
-        except (OSError, ValueError):
-            status = status or 1
+    try:  # what click printed (help, usage) may still sit in the buffer
+        sys.stdout.flush()
+    except OSError as exc:
+        status = _say(f"error: {stdout_error(exc)}", 1) if status == 0 else status
+    except ValueError:
+        pass
+    try:
+        sys.stderr.flush()
+    except (OSError, ValueError):
+        status = status or 1
     os._exit(status)

@@ -425,12 +425,13 @@ def _first_error(exc: ValidationError) -> InputError:
     union = [e for e in errors if e["loc"][:-1] == err["loc"][:-1]]
     if err["type"] == "string_type" and any(e["type"] == "model_type" for e in union):
         msg = (f"must be a name (e.g. \"S235\") or an inline table {{ name, youngs_modulus, "
-               f"poisson_ratio, density }}, got {err.get('input')!r}")
+               f"poisson_ratio, density }}, got {repr(err.get('input'))[:60]}")
     if err["type"] == "extra_forbidden":
         msg = "unknown key (check the spelling; `pdamper example-scenario` lists the keys)"
     elif "input" in err and err["type"] != "missing" and repr(err["input"]) not in msg \
             and "got" not in msg:
-        msg = f"{msg} (got {err['input']!r})"
+        got = repr(err["input"])
+        msg = f"{msg} (got {got if len(got) <= 60 else got[:57] + '...'})"
     return InputError(loc or "scenario", msg)
 
 
@@ -456,6 +457,30 @@ def scenario_from_dict(data: dict) -> Scenario:
     return sc
 
 
+def _read_toml(p: Path) -> dict:
+    if not p.exists():
+        raise InputError("scenario", f"file not found: {p}")
+    if not p.is_file():
+        raise InputError("scenario", f"{p} is not a regular file; give a scenario file")
+    try:
+        size = p.stat().st_size
+        if size > resources.MAX_SCENARIO_BYTES:
+            raise InputError("scenario", f"{p} has {size} bytes; a scenario file describes one "
+                             f"damper in at most {resources.MAX_SCENARIO_BYTES} bytes")
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputError("scenario", f"cannot read {p}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise InputError("scenario", f"{p} is not UTF-8 text") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError("scenario", f"malformed TOML in {p}: {exc}") from None
+    except RecursionError:
+        raise InputError("scenario", f"malformed TOML in {p}: tables or arrays nested too "
+                         f"deeply") from None
+
+
 def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
                   runs: tuple[str, ...] = (), model: str | None = None,
                   force: bool = False) -> Scenario:
@@ -472,15 +497,7 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
     """
     data: dict = {}
     if path is not None:
-        p = Path(path)
-        if not p.is_file():
-            raise InputError("scenario", f"file not found: {p}")
-        try:
-            data = tomllib.loads(p.read_text(encoding="utf-8"))
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError("scenario", f"malformed TOML in {p}: {exc}") from None
-        except UnicodeDecodeError:
-            raise InputError("scenario", f"{p} is not UTF-8 text") from None
+        data = _read_toml(Path(path))
     for key, value in (overrides or {}).items():
         if value is None:
             continue
