@@ -30,24 +30,34 @@ def command(*args: object) -> list[str]:
     return [sys.executable, "-m", "pdamper", *map(str, args)]
 
 
+def _works(prefix: list[str]) -> bool:
+    """``prefix`` runs this Python, with numpy, as a user other than root."""
+    try:
+        probe = subprocess.run([*prefix, sys.executable, "-c",
+                                "import os, numpy; print(os.geteuid())"],
+                               capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return probe.returncode == 0 and probe.stdout.strip() not in ("", "0")
+
+
 @functools.cache
 def unprivileged_prefix() -> list[str] | None:
     """A command prefix that runs a program as an unprivileged user who can still read this
     Python installation, or None when there is no such way here.
 
     Not root: nothing to do. Root: a user namespace in which root's files belong to an
-    unprivileged user (``unshare --user --map-user=65534``): permission bits then hold as for
-    any user, so that a read-only directory is really read-only.
+    unprivileged user (``unshare --user --map-user=65534``: permission bits then hold as for
+    any user, so that a read-only directory is really read-only), else ``setpriv`` or
+    ``runuser`` to ``nobody`` where that user can read this Python.
     """
     if os.geteuid() != 0:
         return []
-    unshare = shutil.which("unshare")
-    if unshare is None:
-        return None
-    prefix = [unshare, "--user", "--map-user=65534", "--map-group=65534"]
-    probe = subprocess.run([*prefix, sys.executable, "-c",
-                            "import os, numpy; print(os.geteuid())"],
-                           capture_output=True, text=True, timeout=60)
-    if probe.returncode != 0 or probe.stdout.strip() != "65534":
-        return None
-    return prefix
+    candidates = []
+    if shutil.which("unshare"):
+        candidates.append(["unshare", "--user", "--map-user=65534", "--map-group=65534"])
+    if shutil.which("setpriv"):
+        candidates.append(["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"])
+    if shutil.which("runuser"):
+        candidates.append(["runuser", "-u", "nobody", "--"])
+    return next((c for c in candidates if _works(c)), None)

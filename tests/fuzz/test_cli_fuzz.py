@@ -49,7 +49,7 @@ def test_simulate(cli, args):
     answered(cli, ["simulate", "--model", "analytic", *args, "--json"])
 
 
-@settings(max_examples=15)
+@settings(max_examples=max(5, settings.default.max_examples // 3))  # ~0.3 s each
 @given(options(at=quantity("s", bounded_number(2.0), quick=True),
                step=st.one_of(st.integers(16, 400), st.integers(-3, 0),
                               st.sampled_from([10**20, "x"]))))

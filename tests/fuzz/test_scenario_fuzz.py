@@ -58,7 +58,7 @@ def _document(doc: dict, corrupt: int | None) -> str:
     return text
 
 
-@settings(max_examples=80)
+@settings(max_examples=2 * settings.default.max_examples)  # of the profile: 80 in CI
 @given(SCENARIOS, st.one_of(st.none(), st.none(), st.integers(0, 10**6)))
 def test_scenario_files(cli, tmp_path_factory, doc, corrupt):
     path = tmp_path_factory.mktemp("fuzz") / "s.toml"
