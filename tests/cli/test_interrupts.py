@@ -133,3 +133,33 @@ def test_dem(tmp_path):
     assert_interrupted(*interrupt(["dem", "--particles", 192, "--cycles", 60, "--out",
                                    tmp_path / "d.nc"], after=8.0))
     assert list(tmp_path.iterdir()) == []
+
+
+_IN_A_FINALIZER = textwrap.dedent("""
+    import os, signal
+    from pdamper.cli._signals import raising_interrupts
+    from pdamper.errors import Interrupted
+
+    class Finalized:
+        def __del__(self):  # the signal lands here, where Python prints and goes on
+            os.kill(os.getpid(), signal.SIGINT)
+            for _ in range(1000):
+                pass
+
+    try:
+        with raising_interrupts():
+            Finalized()
+            for _ in range(10**8):
+                pass
+        print("not interrupted")
+    except Interrupted as exc:
+        print("interrupted", exc.signum)
+""")
+
+
+def test_a_signal_in_a_finalizer_is_delivered_again():
+    """A signal whose exception is raised in a finalizer (a generator closed by the
+    garbage collector, a ``__del__``) would be printed as "Exception ignored" and lost."""
+    p = subprocess.run([sys.executable, "-c", _IN_A_FINALIZER], capture_output=True,
+                       text=True, env=env(), timeout=120)
+    assert (p.stdout, p.stderr) == ("interrupted 2\n", "")

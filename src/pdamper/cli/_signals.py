@@ -5,13 +5,16 @@ the main thread, so that every cleanup runs (the atomic writer removes its tempo
 file, a staging directory disappears) and the command line ends with one line,
 ``interrupted``, and status ``128 + signal`` (130 for SIGINT, 143 for SIGTERM). A second
 signal while the first unwinds is ignored for :data:`GRACE` seconds, so that the cleanup
-finishes; after that, another one raises again.
+finishes; after that, another one raises again. A signal that lands in a finalizer (where
+Python prints an exception and goes on) is delivered again.
 """
 
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
+import sys
 import threading
 import time
 from collections.abc import Iterator
@@ -41,9 +44,25 @@ def raising_interrupts() -> Iterator[None]:
         first[:] = [now]
         raise Interrupted(signum)
 
+    previous_hook = sys.unraisablehook
+
+    def unraisable(info):
+        # the signal landed in a finalizer (a generator closed by the garbage collector, a
+        # __del__), where Python prints an exception and goes on: deliver it again, now
+        # outside the finalizer
+        if isinstance(info.exc_value, Interrupted):
+            first.clear()
+            again = threading.Timer(0.01, os.kill, (os.getpid(), info.exc_value.signum))
+            again.daemon = True
+            again.start()
+            return
+        previous_hook(info)
+
     previous = {s: signal.signal(s, handler) for s in SIGNALS}
+    sys.unraisablehook = unraisable
     try:
         yield
     finally:
+        sys.unraisablehook = previous_hook
         for s, h in previous.items():
             signal.signal(s, h)
