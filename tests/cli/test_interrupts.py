@@ -20,7 +20,7 @@ AFTER = 3.0
 #: the margin is for a loaded 2-core CI machine).
 PROMPT = 1.5
 
-_BIG_MAP = ["map", "--frequency", "2Hz:20Hz:150", "--amplitude", "1mm:200mm:150"]
+_BIG_MAP = ["map", "--frequency", "2Hz:20Hz:100", "--amplitude", "1mm:200mm:100"]
 
 
 def interrupt(args, sig=signal.SIGINT, after=AFTER, cwd=None):
@@ -53,26 +53,68 @@ def no_temporaries(directory):
     return [p.name for p in directory.rglob("*") if p.name.startswith(".")]
 
 
-def test_map_sigterm(tmp_path):
-    sig = signal.SIGTERM
-    assert_interrupted(*interrupt([*_BIG_MAP, "--out", tmp_path / "m.nc"], sig), sig)
+def _interrupt_map_in_process(cli, monkeypatch, args, sig):
+    """Run ``pdamper map ARGS`` in this process and send ``sig`` to it as soon as the field
+    is being computed (deterministic, unlike a timed signal); (status, stderr, seconds)."""
+    import os
+    import threading
+
+    import pdamper.analysis.fields as fields
+
+    started, finished = threading.Event(), threading.Event()
+    compute = fields.effective_field
+
+    def effective_field(*a, **kw):
+        started.set()
+        try:
+            return compute(*a, **kw)
+        finally:
+            finished.set()
+
+    monkeypatch.setattr(fields, "effective_field", effective_field)
+    sent: list[float] = []
+
+    def send():
+        if not started.wait(20):
+            return
+        time.sleep(0.05)  # inside the computation (~0.5 s)
+        if not finished.is_set():  # never at this process when the handler is gone
+            sent.append(time.monotonic())
+            os.kill(os.getpid(), sig)
+
+    sender = threading.Thread(target=send, daemon=True)
+    sender.start()
+    code, _, err = cli(*args)
+    done = time.monotonic()
+    sender.join(30)
+    assert sent, f"the field was not being computed: {code} {err!r}"
+    return code, err, done - sent[0]
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_map(tmp_path, cli, monkeypatch, sig):
+    assert_interrupted(*_interrupt_map_in_process(
+        cli, monkeypatch, [*_BIG_MAP, "--out", tmp_path / "m.nc"], sig), sig)
     assert list(tmp_path.iterdir()) == []
 
 
-def test_map_keeps_the_earlier_result(tmp_path):
+def test_map_keeps_the_earlier_result(tmp_path, cli, monkeypatch):
     out = tmp_path / "m.nc"
-    done = subprocess.run(command("map", "--frequency", "2Hz:4Hz:2", "--amplitude",
-                                  "1mm:2mm:2", "--out", out), env=env(), capture_output=True)
-    assert done.returncode == 0, done.stderr
+    assert cli("map", "--frequency", "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2", "--out",
+               out)[0] == 0
     before = out.read_bytes()
-    assert_interrupted(*interrupt([*_BIG_MAP, "--out", out]))
+    assert_interrupted(*_interrupt_map_in_process(cli, monkeypatch,
+                                                  [*_BIG_MAP, "--out", out], signal.SIGINT))
     assert out.read_bytes() == before
     assert no_temporaries(tmp_path) == []
 
 
 def test_simulate(tmp_path):
-    assert_interrupted(*interrupt(["simulate", "--duration", "3000s", "--out",
-                                   tmp_path / "s.nc"]))
+    # an undamped structure without particles never comes to rest: every cycle is computed
+    scenario = tmp_path.parent / f"{tmp_path.name}-undamped.toml"
+    scenario.write_text('[structure]\ndamping = "0 kg/s"\n[particles]\ncount = 0\n')
+    assert_interrupted(*interrupt(["simulate", "--scenario", scenario, "--duration", "600s",
+                                   "--out", tmp_path / "s.nc"]))
     assert list(tmp_path.iterdir()) == []
 
 
