@@ -80,13 +80,18 @@ def test_wheel_installed_read_only_runs_the_dem_as_an_unprivileged_user():
 
 
 def _install_and_run(root: Path, base: Path, prefix, unprivileged: bool) -> None:
-    wheels, site, work = base / "wheels", base / "site", base / "work"
+    wheels, site, work, source = (base / n for n in ("wheels", "site", "work", "source"))
     work.mkdir()
     work.chmod(0o777)  # the outputs and the numba cache of the other user
+    # build from a copy: setuptools leaves build/ and *.egg-info beside the sources
+    shutil.copytree(root / "src", source / "src",
+                    ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
+    for name in ("pyproject.toml", "README.md"):
+        shutil.copy(root / name, source / name)
     build = [sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", str(wheels)]
-    offline = subprocess.run([*build, "--no-build-isolation", str(root)], capture_output=True)
+    offline = subprocess.run([*build, "--no-build-isolation", str(source)], capture_output=True)
     if offline.returncode != 0:  # no setuptools/wheel here: an isolated build fetches them
-        _run([*build, str(root)])
+        _run([*build, str(source)])
     wheel = next(wheels.glob("pdamper-*.whl"))
     _run([sys.executable, "-m", "pip", "install", "--no-deps", "-q", "--target", str(site),
           str(wheel)])
