@@ -46,3 +46,11 @@ def container(box=BOX, material=PVC, **kw) -> Container:
 def engine(ps: ParticleSet, box: Container | None = None, cp: ContactParameters | None = None,
            **kw) -> DEMEngine:
     return DEMEngine(ps, box or container(), cp or contact(), **kw)
+
+
+def engine_at(n: int, frequency: float, amplitude: float, **kw) -> DEMEngine:
+    """A lattice of ``n`` benchmark spheres under harmonic excitation (Verlet)."""
+    from pdamper.dem import HarmonicMotion
+
+    kw.setdefault("integrator", "verlet")
+    return engine(lattice(n), motion=HarmonicMotion(amplitude, frequency), **kw)

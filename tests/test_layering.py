@@ -21,8 +21,10 @@ ROOT = Path(pdamper.__file__).parent
 
 #: Level of each top-level module or package of ``pdamper``.
 LEVELS = {
-    "__init__": 0, "_version": 0, "errors": 0, "units": 0, "constants": 0, "files": 0,
+    "__init__": 0, "_version": 0, "_numba_cache": 0, "errors": 0, "units": 0, "constants": 0,
+    "files": 0,
     "materials": 1, "contact": 1, "damper": 1,        # Level I and the design object
+    "resources": 1,                                   # what a run of the design implies
     "analysis": 2, "dem": 2,                          # Level II
     "models": 3,                                      # one interface, several fidelities
     "structure": 4, "coupling": 5, "design": 6,       # Level III

@@ -44,3 +44,49 @@ def test_format_echoes_units():
     assert format_quantity(0.032, "mm") == "32 mm"
     assert format_quantity(math.pi, "Hz", digits=3) == "3.14 Hz"
     assert format_quantity(0.0131, "g") == "13.1 g"
+
+
+@pytest.mark.parametrize("bad", [
+    "Hz", " Hz ", "mm", "10Hz🙂", "10 Hz!", "10 Hz Hz", "10 Hz * 2", "2*5 Hz", "10 Hz + 1 Hz",
+    "(10) Hz", "10**2 Hz", "10 Hz)", "inf Hz", "nan Hz", "1e400 Hz", "10", "10 per Hz",
+    "600 rpm", "62.8 rad/s", "10 turn/s", "10 %", "0x10 Hz", "1.7e306 kHz",
+])
+def test_a_quantity_is_a_number_and_a_unit_and_nothing_else(bad):
+    """Issue 11: ``"Hz"`` was read as 1 Hz, ``"10Hz🙂"`` as 10 Hz and ``"600 rpm"`` as
+    62.8 Hz (pint's radian is dimensionless)."""
+    with pytest.raises(InputError) as info:
+        parse_quantity(bad, "Hz", "excitation.frequency")
+    assert info.value.field == "excitation.frequency" and "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize(("text", "si"), [
+    ("1e3 mHz", 1.0), (".5 kHz", 500.0), ("5. Hz", 5.0), ("+5Hz", 5.0), ("600 1/min", 10.0),
+    ("10 s^-1", 10.0), (" 10 Hz ", 10.0),
+])
+def test_number_forms_that_are_accepted(text, si):
+    assert parse_quantity(text, "Hz", "f") == pytest.approx(si)
+
+
+def test_pasted_characters():
+    assert parse_quantity("\u221258 mm", "m", "x0") == pytest.approx(-0.058)
+    assert parse_quantity("7.9 g\u00b7cm\u207b\u00b3", "kg/m^3", "rho") == pytest.approx(7900)
+
+
+def test_dimensionless_quantities_take_bare_text_and_percent():
+    assert parse_quantity("0.3", "", "nu") == 0.3
+    assert parse_quantity("10 %", "", "nu") == pytest.approx(0.1)
+
+
+@pytest.mark.parametrize("bad", ["2Hz::5", ":20Hz:5", "2Hz:20Hz:", "2Hz:20Hz:5:6",
+                                 "2Hz:20Hz:1", "20Hz:2Hz:5", "2Hz:2Hz:5", "2Hz:20Hz:-3",
+                                 "2Hz:20Hz:1e3", "2Hz:20Hz:5.0", "2:20Hz:5", "::", 5])
+def test_ranges_must_be_well_formed(bad):
+    """Issue 11: ``'2Hz::5'`` was read as one quantity, 10 Hz."""
+    with pytest.raises(InputError) as info:
+        parse_range(bad, "Hz", "map.frequency")
+    assert info.value.field == "map.frequency"
+
+
+def test_a_range_count_is_not_allocated():
+    """The count is returned as is (the resource model judges it), not turned into a grid."""
+    assert parse_range("2Hz:20Hz:99999999999999999999", "Hz", "f")[2] == 10**20 - 1

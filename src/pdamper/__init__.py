@@ -10,10 +10,15 @@ The package follows the three levels of the design toolchain of the reference pa
   :mod:`pdamper.design`.
 
 Heavy modules (numba kernels, xarray, matplotlib) are imported where used, so that
-``import pdamper`` stays fast.
+``import pdamper`` stays fast. Installed read-only, pdamper points numba's cache at a
+writable per-user directory (:mod:`pdamper._numba_cache`).
 """
 
+from pdamper import _numba_cache
 from pdamper._version import __version__
 from pdamper.errors import InputError, PdamperError, SimulationError
+
+# before any module of pdamper imports numba: a read-only installation caches elsewhere
+_numba_cache.configure()
 
 __all__ = ["__version__", "InputError", "PdamperError", "SimulationError"]

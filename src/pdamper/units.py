@@ -1,7 +1,9 @@
 """Quantities with units at the edges, plain SI floats inside.
 
 Inputs such as ``"32 mm"``, ``"10 Hz"`` or ``"7900 kg/m^3"`` are parsed with pint and
-converted to SI floats. A bare number is taken as already in SI units.
+converted to SI floats. A quantity as text is a number and a unit, nothing more (no
+arithmetic, nothing after the unit); a bare number (a TOML or Python float) is taken as
+already in SI units. Ranges ``"start:stop:count"`` describe grids.
 """
 
 from __future__ import annotations
@@ -37,22 +39,52 @@ def _registry():
     return pint.UnitRegistry()
 
 
+#: A quantity as text: a decimal number, then (after optional blanks) a unit expression.
+_NUMBER = re.compile(r"^\s*(?P<num>[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?)\s*(?P<unit>.*?)\s*$",
+                     re.DOTALL)
+#: What a unit expression may contain: names, digits (powers, ``1/min``), ``* / ^ ( )``.
+_UNIT_CHARS = re.compile(r"^[A-Za-z\u00b5\u03bc\u03a9\u2126_0-9 .*/^()%\-]*$")
+#: Characters people paste, in the spelling pint reads: minus sign, dot operators and
+#: superscript powers (``cm⁻³`` -> ``cm^-3``).
+_PASTED = str.maketrans({"\u2212": "-", "\u00b7": "*", "\u22c5": "*"})
+_SUPERSCRIPT = re.compile("\u207b?[\u2070\u00b9\u00b2\u00b3\u2074-\u2079]+")
+_SUPERSCRIPT_DIGITS = str.maketrans("\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079",
+                                    "-0123456789")
+
+
+def _pasted(text: str) -> str:
+    text = text.translate(_PASTED)
+    return _SUPERSCRIPT.sub(lambda m: "^" + m[0].translate(_SUPERSCRIPT_DIGITS), text)
+
+
+def _example(unit: str) -> str:
+    return f"'1 {unit}'" if unit else "'0.5'"
+
+
 def parse_quantity(value: str | float | int, unit: str, field: str) -> float:
     """Convert ``value`` to a float in ``unit`` (a pint unit string).
+
+    A string must be a decimal number followed by a unit expression of the dimension of
+    ``unit`` (``"32 mm"``, ``"7.9 g/cm^3"``, ``"600 1/min"``) and nothing else: a unit
+    without a number (``"Hz"``), arithmetic (``"10 Hz * 2"``), anything after the unit
+    (``"10 Hz!"``) and angle units in a frequency (``"600 rpm"``, ``"62.8 rad/s"``: pint
+    would read them as 2 pi times too large) are errors. A bare number (``float``/``int``)
+    is taken as already in ``unit``; a bare number as text only for a dimensionless
+    ``unit``.
 
     Parameters
     ----------
     value
         A number (taken as already in ``unit``) or a string with units.
     unit
-        Target unit, e.g. ``"m"``, ``"Hz"``.
+        Target unit, e.g. ``"m"``, ``"Hz"`` (``""``: dimensionless).
     field
         Name of the input, used in error messages.
 
     Returns
     -------
     float
-        Magnitude in ``unit``.
+        Magnitude in ``unit``, finite.
 
     Examples
     --------
@@ -64,62 +96,107 @@ def parse_quantity(value: str | float | int, unit: str, field: str) -> float:
     0.5
     """
     if isinstance(value, bool):
-        raise InputError(field, f"must be a quantity in {unit or 'dimensionless'}, got {value!r}")
+        raise InputError(field, f"must be a quantity such as {_example(unit)}, got {value!r}")
     if isinstance(value, int | float):
-        v = float(value)
+        try:
+            v = float(value)
+        except OverflowError:
+            v = math.inf
         if not math.isfinite(v):
-            raise InputError(field, f"must be a finite quantity, got {v}")
+            raise InputError(field, f"must be a finite quantity, got {value!r}")
         return v
     if not isinstance(value, str) or not value.strip():
-        raise InputError(field, f"must be a quantity such as '1 {unit}', got {value!r}")
+        raise InputError(field, f"must be a quantity such as {_example(unit)}, got {value!r}")
+    text = _pasted(value)
+    m = _NUMBER.match(text)
+    if m is None:
+        raise InputError(field, f"must start with a number, as in {_example(unit)}; "
+                         f"got {value!r}")
+    number, unit_text = float(m["num"]), m["unit"]
+    if not math.isfinite(number):
+        raise InputError(field, f"must be a finite quantity, got {value!r}")
+    if not unit_text:
+        if unit:
+            raise InputError(field, f"{value!r} has no unit; write e.g. "
+                             f"'{m['num']} {unit}'")
+        return number
+    if not _UNIT_CHARS.match(unit_text):
+        raise InputError(field, f"unexpected characters in the unit of {value!r}; expected "
+                         f"a number and a unit, as in {_example(unit)}")
+    magnitude = number * _unit_factor(unit_text, unit, field, value)
+    if not math.isfinite(magnitude):  # "1.7e305 km" overflows in m
+        raise InputError(field, f"must be a finite quantity, got {value!r}")
+    return magnitude
+
+
+def _unit_factor(unit_text: str, unit: str, field: str, value: str) -> float:
+    """Magnitude of one ``unit_text`` in ``unit``."""
     import pint
 
     ureg = _registry()
-    text = value.strip()
-    # pint reads "7900 kg/m^3" fine; accept the unicode "·" and "²/³" people paste too.
-    text = text.replace("·", "*").replace("²", "^2").replace("³", "^3")
     try:
-        q = ureg.Quantity(text)
+        parsed = ureg.parse_units(unit_text)
     except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError) as exc:
         raise InputError(field, f"unknown unit in {value!r} ({exc}); "
                          f"expected a unit of {unit or 'dimensionless'}") from None
     except Exception:
-        raise InputError(field, f"cannot read {value!r} as a quantity; expected e.g. '1 {unit}'") from None
+        raise InputError(field, f"cannot read the unit of {value!r}; expected a number and a "
+                         f"unit, as in {_example(unit)}") from None
+    if unit:
+        # angles are dimensionless to pint: "600 rpm" would become 62.8 Hz, not 10 Hz
+        root = ureg.get_root_units(parsed)[1]
+        named = sorted({name for u in (parsed, root) for name in getattr(u, "_units", {})
+                        if ureg.Unit(name).dimensionless})
+        if named:
+            raise InputError(field, f"{value!r}: {', '.join(named)} is dimensionless and has no "
+                             f"place in a quantity of {unit} (an angle would be read 2 pi "
+                             f"times too large); write e.g. {_example(unit)}")
     try:
-        if isinstance(q, int | float):
-            mag = float(q)
-        else:
-            mag = float(q.to(unit).magnitude) if unit else float(q.to("").magnitude)
+        factor = float(ureg.Quantity(1.0, parsed).to(unit or "").magnitude)
     except pint.errors.DimensionalityError:
         raise InputError(field, f"{value!r} is not convertible to "
                          f"{unit or 'a dimensionless number'}") from None
-    if not math.isfinite(mag):
-        raise InputError(field, f"must be a finite quantity, got {value!r}")
-    return mag
-
-
-_RANGE = re.compile(r"^\s*(?P<a>[^:]+):(?P<b>[^:]+):(?P<n>\s*\d+\s*)$")
+    return factor
 
 
 def parse_range(value: str, unit: str, field: str) -> tuple[float, float, int]:
     """Parse ``"start:stop:count"`` (e.g. ``"2Hz:20Hz:14"``) into SI floats and a count.
 
+    A range is well-formed when it has exactly three parts, both ends are quantities,
+    ``start < stop`` and the count is a whole number >= 2; one quantity alone is a range of
+    one point. Nothing is allocated: the count may be checked against the resource limits
+    (:mod:`pdamper.resources`) before a grid is built.
+
     >>> parse_range("1mm:200mm:24", "m", "amplitude")
     (0.001, 0.2, 24)
+    >>> parse_range("5 Hz", "Hz", "frequency")
+    (5.0, 5.0, 1)
     """
-    m = _RANGE.match(value)
-    if not m:
-        try:
-            v = parse_quantity(value, unit, field)
-        except InputError:
-            raise InputError(field, f"expected 'start:stop:count' such as '1{unit}:2{unit}:10' "
-                             f"or one quantity, got {value!r}") from None
+    if not isinstance(value, str):
+        raise InputError(field, f"must be text 'start:stop:count' such as "
+                         f"'1{unit}:2{unit}:10', or one quantity; got {value!r}")
+    form = f"'start:stop:count' such as '1{unit}:2{unit}:10'"
+    parts = value.split(":")
+    if len(parts) == 1:
+        v = parse_quantity(value, unit, field)
         return v, v, 1
-    a = parse_quantity(m["a"], unit, field)
-    b = parse_quantity(m["b"], unit, field)
-    n = int(m["n"])
-    if n < 1:
-        raise InputError(field, f"count must be >= 1, got {n}")
+    if len(parts) != 3:
+        raise InputError(field, f"expected {form} or one quantity, got {value!r} "
+                         f"({len(parts)} parts)")
+    for name, part in zip(("start", "stop", "count"), parts, strict=True):
+        if not part.strip():
+            raise InputError(field, f"the {name} of {value!r} is empty; expected {form}")
+    a = parse_quantity(parts[0], unit, field)
+    b = parse_quantity(parts[1], unit, field)
+    count = parts[2].strip()
+    if not count.isdigit() or not count.isascii():
+        raise InputError(field, f"the count of {value!r} must be a whole number, got {count!r}")
+    n = int(count)
+    if n < 2:
+        raise InputError(field, f"the count of {value!r} must be >= 2 (one point: give one "
+                         f"quantity), got {n}")
+    if not a < b:
+        raise InputError(field, f"start must be below stop in {value!r}")
     return a, b, n
 
 

@@ -202,3 +202,37 @@ def test_bad_input_names_the_field(kwargs, field):
     args = {"frequency": 10.0, "amplitude": 0.03, "clearance": H, "bed_mass": M_BED, **kwargs}
     with pytest.raises(InputError, match=field):
         bed_response(**args)
+
+
+@pytest.mark.parametrize(("f", "x"), [(1e300, 0.032), (10.0, 1e300), (1e7, 0.032),
+                                      (5.56, 1e300), (1e-300, 1e-300), (5.0, 5e-324)])
+def test_extremes_answer_at_once(f, x):
+    """Issue 11: the phase scan is bounded (``MAX_FLIGHT_CYCLES``); ``1e300 Hz`` used to run
+    for minutes. Far outside a damper's range the answer is an error naming the input."""
+    import time
+
+    t0 = time.perf_counter()
+    with np.errstate(over="raise", invalid="raise", divide="raise"):
+        try:
+            r = bed_response(f, x, H, M_BED)
+            assert np.isfinite(r.loss_factor)
+        except InputError as exc:
+            assert exc.field in ("frequency", "amplitude") and "range" in exc.message
+    assert time.perf_counter() - t0 < 2.0
+
+
+def test_longest_meaningful_flight_is_prompt():
+    """19 kHz at 0.6 mm is at the edge of what pdamper.resources admits (impacts at
+    145 m/s, one contact per period); the bottom-impact scan stops at the lid impact (it
+    scanned 3e5 cycles, 12 s, before)."""
+    import time
+
+    t0 = time.perf_counter()
+    r = bed_response(19e3, 6e-4, H, M_BED)
+    assert np.isfinite(r.top_impact_phase) and np.isfinite(r.loss_factor)
+    assert time.perf_counter() - t0 < 2.0
+
+
+def test_text_is_no_frequency():
+    with pytest.raises(InputError, match="^frequency: must be a number"):
+        bed_response("10 Hz", 0.03, H, M_BED)

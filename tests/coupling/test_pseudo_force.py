@@ -136,3 +136,32 @@ def test_simulation_checks_its_arguments():
         Simulation(PAPER_STRUCTURE, PAPER_DAMPER, -0.058)
     with pytest.raises(InputError, match="structure"):
         Simulation(None, AnalyticalDamper(PAPER_DAMPER), -0.058)
+
+
+def test_the_cycle_loop_is_bounded():
+    """Issue 11: every loop has a bound valid inputs cannot reach. A model whose effective
+    mass is negative (no damper's) shortens the period below the bare structure's: the
+    loop ends with an error, at once, instead of running on."""
+    import time
+
+    from pdamper.errors import SimulationError
+
+    s = PAPER_STRUCTURE
+    t0 = time.perf_counter()
+    with pytest.raises(SimulationError, match="negative effective mass"):
+        Simulation(s, ConstantDamper(-0.5 * s.mass, 0.0), -0.05).run(2.0)
+    assert time.perf_counter() - t0 < 5.0
+    # the bound is not reached by a massless, undamped damper: as many cycles as fit
+    res = Simulation(s, ConstantDamper(0.0, 0.0), -0.05).run(2.0)
+    assert len(res.peak_times) == math.floor(2.0 * s.natural_frequency * (1 + 1e-9)) + 1 or \
+        len(res.peak_times) == math.floor(2.0 * s.natural_frequency) + 1
+
+
+def test_release_from_far_away_answers_at_once():
+    """``--initial-displacement='-1e300 m'`` ran for minutes."""
+    import time
+
+    t0 = time.perf_counter()
+    with pytest.raises(InputError) as info:
+        Simulation(PAPER_STRUCTURE, AnalyticalDamper(PAPER_DAMPER), -1e300).run(2.0)
+    assert info.value.field == "amplitude" and time.perf_counter() - t0 < 2.0

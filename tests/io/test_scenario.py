@@ -65,3 +65,71 @@ def test_bad_scenarios_name_the_field(tmp_path, text, field):
 def test_missing_scenario_file():
     with pytest.raises(InputError, match="not found"):
         load_scenario("/nonexistent/scenario.toml")
+
+
+@pytest.mark.parametrize(("text", "field"), [
+    ('[particles]\nmaterial = { name = "g", youngs_modulus = "63 GPa", poisson_ratio = 0.5, '
+     'density = "2500 kg/m^3" }', "particles.material.poisson_ratio"),
+    ('[container]\nmaterial = { name = "g", youngs_modulus = "63 GPa", poisson_ratio = 0.2, '
+     'density = "-2500 kg/m^3" }', "container.material.density"),
+    ('[particles]\nmaterial = { name = "g", youngs_modulus = "63 GPa", poisson_ratio = 0.2, '
+     'density = "2500 kg/m^3", colour = "red" }', "particles.material.colour"),
+    ('[particles]\nmaterial = { name = "g", poisson_ratio = 0.2, density = "2500 kg/m^3" }',
+     "particles.material.youngs_modulus"),
+    ("[particles]\nmaterial = 5", "particles.material"),
+], ids=["poisson", "density", "unknown-key", "missing-key", "not-a-table"])
+def test_errors_inside_an_inline_material_name_the_sub_key(tmp_path, text, field):
+    """Issue 11: every such error read "particles.material: Input should be a valid
+    string"."""
+    p = tmp_path / "bad.toml"
+    p.write_text(text)
+    with pytest.raises(InputError) as info:
+        load_scenario(p)
+    assert info.value.field == field, str(info.value)
+    assert "valid string" not in info.value.message
+
+
+@pytest.mark.parametrize(("text", "field"), [
+    ('[map]\nfrequency = "2Hz::5"', "map.frequency"),
+    ('[map]\namplitude = "1mm:200mm"', "map.amplitude"),
+    ('[map]\nfrequency = "20Hz:2Hz:5"', "map.frequency"),
+    ('[map]\nfrequency = "2Hz:1e300Hz:3"', "map.frequency"),
+    ('[particles]\nradius = "1 um"', "particles.radius"),
+    ('[excitation]\nfrequency = "Hz"', "excitation.frequency"),
+    ('[structure]\ninitial_displacement = "-1e300 m"', "structure.initial_displacement"),
+    ('[structure]\nstiffness = "1e20 N/m"', "structure.stiffness"),
+], ids=["map-empty-stop", "map-no-count", "map-descending", "map-meaningless", "radius",
+        "unit-only", "release", "stiffness"])
+def test_every_section_is_validated_on_load(tmp_path, text, field):
+    """Whichever command reads the scenario: a malformed or meaningless section is an error
+    at load, not when (or if) a command uses it."""
+    p = tmp_path / "bad.toml"
+    p.write_text(text)
+    with pytest.raises(InputError) as info:
+        load_scenario(p)
+    assert info.value.field == field, str(info.value)
+
+
+def test_map_ranges_are_read_without_building_the_grid():
+    s = load_scenario(None, {"map.frequency": "2Hz:20Hz:99999999999999999999"})
+    (f0, f1, nf), _ = s.map_ranges()
+    assert (f0, f1, nf) == (2.0, 20.0, 10**20 - 1)
+    with pytest.raises(InputError, match="^map.frequency: .*memory"):
+        s.check_resources("map")
+
+
+@pytest.mark.parametrize("kind", ["directory", "deep", "huge", "unreadable-bytes"])
+def test_scenario_files_that_are_no_scenarios(tmp_path, kind):
+    p = tmp_path / "s.toml"
+    if kind == "directory":
+        p.mkdir()
+    elif kind == "deep":  # tomllib recurses: RecursionError
+        p.write_text("a = " + "[" * 100_000 + "]" * 100_000)
+    elif kind == "huge":
+        p.write_text("# " + "x" * (2**20 + 10) + "\n")
+    else:
+        p.write_bytes(b"title = \"\xff\xfe\"\n")
+    with pytest.raises(InputError) as info:
+        load_scenario(p)
+    assert info.value.field == "scenario" and "\n" not in str(info.value)
+    assert len(str(info.value)) < 300

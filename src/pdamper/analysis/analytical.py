@@ -42,7 +42,7 @@ import numpy as np
 
 from pdamper.analysis.modes import EFFECTIVE_MASS_RATIO, MotionMode
 from pdamper.constants import STANDARD_GRAVITY
-from pdamper.errors import InputError
+from pdamper.errors import InputError, SimulationError, check_range
 
 #: Eq. (8): solid-like and scattering beds dissipate 1/1000 of 2 pi E_kin per cycle.
 SOLID_LOSS_FACTOR = 1.0e-3
@@ -52,6 +52,10 @@ ETA_MAX = 4.0 / math.pi
 
 _SAMPLES_PER_CYCLE = 256
 _BISECTIONS = 60
+#: Longest flight [excitation cycles] the phase scan follows. Inputs a damper can have stay
+#: far below (the physics checks of pdamper.resources bound the acceleration ratio to
+#: ~1e6, a flight to ~3e5 cycles); beyond, the answer is an error, not minutes of scanning.
+MAX_FLIGHT_CYCLES = 1_000_000
 
 
 def optimal_stroke(clearance):
@@ -137,6 +141,35 @@ class BedResponse:
         return np.vectorize(MotionMode, otypes=[object])(self.mode)
 
 
+def _floats(name: str, value, unit: str) -> np.ndarray:
+    if isinstance(value, str | bytes):
+        raise InputError(name, f"must be a number or an array of numbers in {unit}, got "
+                         f"{value!r}")
+    try:
+        return np.asarray(value, float)
+    except (TypeError, ValueError):
+        raise InputError(name, f"must be a number or an array of numbers in {unit}, got "
+                         f"{value!r}") from None
+
+
+def _out_of_range(i: int, frequency, amplitude, gam, why: str) -> InputError:
+    f, x = float(frequency[i]), float(amplitude[i])
+    return InputError("amplitude" if x > 1.0 else "frequency",
+                      f"at f = {f:.3g} Hz, X = {x:.3g} m {why} (acceleration ratio "
+                      f"X (2 pi f)^2 / g = {float(gam[i]):.3g}): outside the analytical "
+                      f"model's range; lower the amplitude or the frequency")
+
+
+def _check_flight(phi_start, max_phase, active, frequency, amplitude, gam) -> None:
+    """Refuse flights longer than :data:`MAX_FLIGHT_CYCLES` (the scan's bound)."""
+    with np.errstate(invalid="ignore"):
+        span = np.where(active, max_phase - phi_start, 0.0)
+    bad = ~(span <= 2.0 * math.pi * MAX_FLIGHT_CYCLES)  # NaN and inf included
+    if np.any(bad):
+        raise _out_of_range(int(np.flatnonzero(bad)[0]), frequency, amplitude, gam,
+                            f"the bed would fly for more than {MAX_FLIGHT_CYCLES:.0e} cycles")
+
+
 def _validate(name: str, arr: np.ndarray, low: float, unit: str, strict: bool = True) -> None:
     if not np.all(np.isfinite(arr)):
         raise InputError(name, f"must be finite, got {arr[~np.isfinite(arr)].ravel()[0]}")
@@ -151,7 +184,9 @@ def _first_crossing(gap, phi_start, active, max_phase, rising: bool):
 
     ``rising``: crossing from negative to >= 0 (else from positive to <= 0). Scans cycle by
     cycle on a fine phase grid and refines the bracketing interval by bisection. Returns NaN
-    where no crossing occurs before ``max_phase``.
+    where no crossing occurs before ``max_phase``. The scan ends after at most
+    ``(max_phase - phi_start) / 2 pi + 2`` cycles, which the caller bounds
+    (:func:`_check_flight`).
     """
     n = phi_start.size
     result = np.full(n, np.nan)
@@ -162,8 +197,13 @@ def _first_crossing(gap, phi_start, active, max_phase, rising: bool):
     # the gap is zero at phi_start itself for take-off; start just after it
     offsets = np.arange(1, k + 1) * (2.0 * math.pi / k)
     lo_phase = phi_start[todo].copy()
-    cycle = 0
-    while todo.size:
+    span = float(np.max(max_phase[todo] - lo_phase))
+    if not span <= 2.0 * math.pi * MAX_FLIGHT_CYCLES:
+        raise SimulationError(f"phase scan over {span:.3g} rad: the flight was not bounded")
+    cycles = int(math.ceil(span / (2.0 * math.pi))) + 2
+    for cycle in range(cycles):
+        if not todo.size:
+            break
         grid = lo_phase[:, None] + offsets[None, :] - (2.0 * math.pi / k) * (cycle == 0) * 0.999
         vals = gap(grid, todo)
         hit = vals >= 0 if rising else vals <= 0
@@ -184,7 +224,8 @@ def _first_crossing(gap, phi_start, active, max_phase, rising: bool):
         keep = ~any_hit & (grid[:, -1] < max_phase[todo])
         todo = todo[keep]
         lo_phase = grid[keep, -1]
-        cycle += 1
+    if todo.size:  # the bound above is exact: never here
+        raise SimulationError(f"phase scan did not end within {cycles} cycles")
     return result
 
 
@@ -223,19 +264,24 @@ def bed_response(
     >>> MotionMode(int(r.mode)).label
     'double_cac_harmonic'
     """
-    f, x, h, m = np.broadcast_arrays(*(np.asarray(v, float) for v in
-                                       (frequency, amplitude, clearance, bed_mass)))
+    f, x, h, m = np.broadcast_arrays(*(_floats(name, v, unit) for name, v, unit in (
+        ("frequency", frequency, "Hz"), ("amplitude", amplitude, "m"),
+        ("clearance", clearance, "m"), ("bed_mass", bed_mass, "kg"))))
     _validate("frequency", f, 0.0, "Hz")
     _validate("amplitude", x, 0.0, "m")
     _validate("clearance", h, 0.0, "m", strict=False)
     _validate("bed_mass", m, 0.0, "kg", strict=False)
-    if not (math.isfinite(gravity) and gravity > 0):
-        raise InputError("gravity", f"must be > 0 m/s^2, got {gravity}")
+    check_range("gravity", gravity, low=0.0, low_inclusive=False, unit="m/s^2")
     shape = f.shape
     f, x, h, m = (a.ravel() for a in (f, x, h, m))
-    w = 2.0 * math.pi * f
-    gam = x * w**2 / gravity  # Gamma = A / g
-    ht = h / x  # clearance in strokes
+    with np.errstate(over="ignore"):
+        w = 2.0 * math.pi * f
+        gam = x * w**2 / gravity  # Gamma = A / g
+    if not np.all(np.isfinite(gam)):
+        raise _out_of_range(int(np.flatnonzero(~np.isfinite(gam))[0]), f, x, gam,
+                            "the container acceleration overflows")
+    with np.errstate(over="ignore"):  # a vanishing stroke: the lid is out of reach
+        ht = h / x  # clearance in strokes
     n = f.size
 
     mode = np.full(n, int(MotionMode.SOLID))
@@ -257,11 +303,13 @@ def bed_response(
     with np.errstate(invalid="ignore", divide="ignore"):
         s_max = gam * (c0 + np.sqrt(c0**2 + 2.0 * (1.0 + s0) / gam))
     max_phase = phi0 + s_max + 2.0 * math.pi
+    _check_flight(phi0, max_phase, flying, f, x, gam)
 
     top = _first_crossing(lambda p, i: y_bed(p, i) - np.sin(p) - ht[i, None],
                           phi0, flying, max_phase, rising=True)
+    # a bottom impact counts only before the lid's: no need to scan the flight beyond it
     bot = _first_crossing(lambda p, i: y_bed(p, i) - np.sin(p),
-                          phi0, flying, max_phase, rising=False)
+                          phi0, flying, np.fmin(max_phase, top), rising=False)
     double = flying & np.isfinite(top) & ~(np.isfinite(bot) & (bot < top))
     single = flying & ~double
 
@@ -293,6 +341,7 @@ def bed_response(
     act[i] = True
     with np.errstate(invalid="ignore"):
         max2 = phi_tt + gam * (ct + np.sqrt(ct**2 + 2.0 * (1.0 + st + ht) / gam)) + 2 * math.pi
+    _check_flight(phi_tt, max2, act, f, x, gam)
     bot2 = _first_crossing(lambda p, k: y_bed2(p, k) - np.sin(p), phi_tt, act, max2,
                            rising=False)
     # leave the lid just after release: a renewed lid contact first means no repetition

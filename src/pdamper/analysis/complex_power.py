@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pdamper.errors import InputError
+from pdamper.errors import InputError, check_range
 
 
 def complex_amplitude(t: np.ndarray, signal: np.ndarray, frequency: float) -> complex:
@@ -33,6 +33,20 @@ def complex_amplitude(t: np.ndarray, signal: np.ndarray, frequency: float) -> co
     w = 2.0 * math.pi * frequency
     span = t[-1] - t[0]
     return complex(2.0 / span * np.trapezoid(s * np.exp(-1j * w * t), t))
+
+
+def _samples(field: str, values, shape: tuple[int, ...] | None = None) -> np.ndarray:
+    """A 1-D series of finite numbers (of ``shape``), or an InputError."""
+    try:
+        s = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(field, f"must be a 1-D series of numbers, got {values!r:.60}") from None
+    if s.ndim != 1 or (shape is not None and s.shape != shape):
+        raise InputError(field, f"must be a 1-D series of {shape[0] if shape else 'n'} samples "
+                         f"(one per time point), got shape {s.shape}")
+    if not np.all(np.isfinite(s)):
+        raise InputError(field, "must be finite")
+    return s
 
 
 @dataclass(frozen=True)
@@ -87,8 +101,13 @@ def complex_power(
     container_mass
         m_con [kg], subtracted in Eq. (4).
     """
-    if bed_mass <= 0:
-        raise InputError("bed_mass", f"must be > 0 kg, got {bed_mass}")
+    check_range("frequency", frequency, low=0.0, low_inclusive=False, unit="Hz")
+    check_range("bed_mass", bed_mass, low=0.0, low_inclusive=False, unit="kg")
+    check_range("container_mass", container_mass, low=0.0, unit="kg")
+    t = _samples("t", t)
+    force, velocity, acceleration = (
+        _samples(name, s, t.shape) for name, s in (("force", force), ("velocity", velocity),
+                                                   ("acceleration", acceleration)))
     w = 2.0 * math.pi * frequency
     f_star = complex_amplitude(t, force, frequency)
     v_star = complex_amplitude(t, velocity, frequency)

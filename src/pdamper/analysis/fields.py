@@ -14,9 +14,25 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pdamper.analysis.modes import MODE_FLAG_ATTRS
+from pdamper.errors import InputError
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
+
+
+def _grid(field: str, values, unit: str) -> np.ndarray:
+    """A 1-D grid of numbers, or an InputError saying what was expected."""
+    expected = f"a 1-D sequence of numbers in {unit}"
+    if isinstance(values, str | bytes):
+        raise InputError(field, f"must be {expected}, got {values!r}")
+    try:
+        grid = np.array(values, dtype=float, ndmin=1)
+    except (TypeError, ValueError):
+        raise InputError(field, f"must be {expected}, got {values!r}") from None
+    if grid.ndim != 1 or grid.size == 0:
+        raise InputError(field, f"must be {expected} with at least one value, got shape "
+                         f"{grid.shape}")
+    return grid
 
 
 def effective_field(model, frequency, amplitude, attrs: dict | None = None) -> xr.Dataset:
@@ -39,8 +55,12 @@ def effective_field(model, frequency, amplitude, attrs: dict | None = None) -> x
     """
     import xarray as xr
 
-    f = np.asarray(frequency, float).ravel()
-    x = np.asarray(amplitude, float).ravel()
+    if not callable(getattr(model, "response", None)):
+        raise InputError("model", "must be a damper model with response(f, X) (a "
+                         "pdamper.models.DamperModel, e.g. AnalyticalDamper(damper)), got "
+                         f"{type(model).__name__}")
+    f = _grid("frequency", frequency, "Hz")
+    x = _grid("amplitude", amplitude, "m")
     r = model.response(f[:, None], x[None, :])
     dims = ("frequency", "amplitude")
     ds = xr.Dataset(

@@ -1,10 +1,14 @@
-"""Helpers shared by the CLI commands: options, JSON output, scenario loading, output files."""
+"""Helpers shared by the CLI commands: options, JSON output, scenario loading, output files.
+
+Output paths are taken as text (``--out ""`` and ``--out newdir/`` must stay visible) and
+checked by :mod:`pdamper.files` before any computation; every result goes through its
+writer, standard output included.
+"""
 
 from __future__ import annotations
 
 import json
 import math
-import sys
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -15,6 +19,9 @@ ScenarioOpt = Annotated[Path | None, typer.Option("--scenario", "-s", help="Scen
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON for scripts.")]
 ModelOpt = Annotated[str | None, typer.Option(
     "--model", "--damper", help="Damper model (fidelity): analytic or dem.")]
+ForceOpt = Annotated[bool, typer.Option(
+    "--force", help="Run although the implied memory or time is above the limits "
+    "(see pdamper.resources); never beyond what this machine can hold.")]
 
 
 def _default(o: Any):
@@ -47,20 +54,22 @@ def dumps(payload: dict) -> str:
 
 def emit(payload: dict, as_json: bool, human: str | None = None) -> None:
     """Print ``payload`` as JSON (``--json``) or a human-readable text."""
-    if as_json or human is None:
-        sys.stdout.write(dumps(payload) + "\n")
-    else:
-        sys.stdout.write(human.rstrip() + "\n")
+    from pdamper.files import write_stdout
+
+    write_stdout(dumps(payload) + "\n" if as_json or human is None else human.rstrip() + "\n")
 
 
-def load(scenario: Path | None, **overrides):
-    """Scenario from ``--scenario`` with the command-line options applied on top.
+def load(scenario: Path | None, *, runs: tuple[str, ...] = (), model: str | None = None,
+         force: bool = False, **overrides):
+    """Scenario from ``--scenario`` with the command-line options applied on top, and what
+    ``runs`` imply checked (:meth:`pdamper.io.scenario.Scenario.check_resources`).
 
     ``overrides`` maps ``"section__key"`` to the option's value (None: not given).
     """
     from pdamper.io.scenario import load_scenario
 
-    return load_scenario(scenario, {k.replace("__", "."): v for k, v in overrides.items()})
+    return load_scenario(scenario, {k.replace("__", "."): v for k, v in overrides.items()},
+                         runs=runs, model=model, force=force)
 
 
 def metadata(scenario, **extra) -> dict:
@@ -70,23 +79,22 @@ def metadata(scenario, **extra) -> dict:
     return {"inputs": scenario.model_dump(mode="json"), "version": __version__, **extra}
 
 
-def check_output(path: Path | None, field: str = "out") -> Path | None:
-    """Refuse an output file whose directory is missing, before any computation."""
-    from pdamper.errors import InputError
+def check_output(path: str | None, field: str = "out") -> Path | None:
+    """The file ``--out`` names, checked before any computation (None: not given)."""
+    from pdamper.files import check_file_target
 
-    if path is None:
-        return None
-    path = Path(path)
-    if not path.parent.is_dir():
-        raise InputError(field, f"directory does not exist: {path.parent}")
-    if path.is_dir():
-        raise InputError(field, f"{path} is a directory; give a file name")
-    return path
+    return None if path is None else check_file_target(path, field)
 
 
-def write_atomic(path: Path, writer) -> Path:
+def check_output_directory(path: str | None, field: str = "out") -> Path | None:
+    """The directory ``--out``/``--vtk`` names, checked before any computation."""
+    from pdamper.files import check_directory_target
+
+    return None if path is None else check_directory_target(path, field)
+
+
+def write_atomic(path: Path, writer, field: str = "out") -> Path:
     """Write an output file through the one atomic writer (:mod:`pdamper.files`)."""
     from pdamper.files import atomic_write
 
-    check_output(path)
-    return atomic_write(path, writer)
+    return atomic_write(path, writer, field)

@@ -23,7 +23,8 @@ def analytic(
     from pdamper.analysis.modes import MotionMode
     from pdamper.units import format_quantity
 
-    sc = load(scenario, excitation__frequency=frequency, excitation__amplitude=amplitude,
+    sc = load(scenario, runs=("excitation",), model="analytic",
+              excitation__frequency=frequency, excitation__amplitude=amplitude,
               particles__count=particles)
     damper = sc.damper()
     f, x = sc.excitation.frequency, sc.excitation.amplitude

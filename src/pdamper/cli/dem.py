@@ -17,7 +17,16 @@ from typing import Annotated
 
 import typer
 
-from pdamper.cli._common import JsonOpt, ScenarioOpt, check_output, emit, load, metadata
+from pdamper.cli._common import (
+    ForceOpt,
+    JsonOpt,
+    ScenarioOpt,
+    check_output,
+    check_output_directory,
+    emit,
+    load,
+    metadata,
+)
 
 
 def dem(
@@ -29,7 +38,7 @@ def dem(
                          help="Number of spheres (benchmark box: <= 192).")] = None,
     cycles: Annotated[int | None, typer.Option("--cycles",
                       help="Number of excitation cycles.")] = None,
-    out: Annotated[Path | None, typer.Option("--out",
+    out: Annotated[str | None, typer.Option("--out",
                    help="NetCDF file for the time series.")] = None,
     integrator: Annotated[str | None, typer.Option("--integrator",
                           help="gear (variable step, default) or verlet.")] = None,
@@ -51,10 +60,12 @@ def dem(
                            help="Sampling rate of the time series, e.g. '4 kHz'.")] = None,
     safety: Annotated[float | None, typer.Option("--safety",
                       help="Time step / Hertz contact time.")] = None,
-    vtk: Annotated[Path | None, typer.Option("--vtk",
-                   help="Directory for ParaView snapshots (.vtp + .pvd).")] = None,
+    vtk: Annotated[str | None, typer.Option("--vtk",
+                   help="Directory for ParaView snapshots (.vtp + .pvd); its parent must "
+                   "exist.")] = None,
     snapshot_rate: Annotated[str | None, typer.Option("--snapshot-rate",
                              help="Snapshots per second for --vtk.")] = None,
+    force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -65,16 +76,17 @@ def dem(
 
     from pdamper.dem.vtk import DEFAULT_SNAPSHOT_RATE
     from pdamper.errors import InputError
+    from pdamper.files import atomic_directory
 
-    sc = load(scenario, excitation__frequency=frequency, excitation__amplitude=amplitude,
+    sc = load(scenario, runs=("excitation",), model="dem", force=force,
+              excitation__frequency=frequency, excitation__amplitude=amplitude,
               particles__count=particles, particles__friction=friction, dem__cycles=cycles,
               dem__integrator=integrator, dem__skip_cycles=skip_cycles,
               dem__restitution_pp=restitution_pp, dem__restitution_pw=restitution_pw,
               dem__damping_model=damping_model, dem__seed=seed, dem__packing=packing,
               dem__sample_rate=sample_rate, dem__safety=safety, dem__snapshot_rate=snapshot_rate)
-    check_output(out)
-    if vtk is not None and vtk.exists() and not vtk.is_dir():
-        raise InputError("vtk", f"{vtk} is a file; give a directory")
+    target = check_output(out)
+    vtk_dir = check_output_directory(vtk, "vtk")
     if vtk is not None and sc.dem.snapshot_rate is None:  # option > scenario > VTK default
         sc = sc.model_copy(update={"dem": sc.dem.model_copy(
             update={"snapshot_rate": DEFAULT_SNAPSHOT_RATE})})
@@ -104,10 +116,13 @@ def dem(
         **meta,
     }
     attrs = {"inputs": json.dumps(meta["inputs"]), "pdamper_version": meta["version"]}
-    if out is not None:
-        payload["out"] = str(res.write_netcdf(out, attrs=attrs))
-    if vtk is not None:
-        payload["vtk"] = str(res.write_vtk(vtk))
+    if target is not None:
+        res.write_netcdf(target, attrs=attrs)
+        payload["out"] = str(Path(out))
+    if vtk_dir is not None:
+        with atomic_directory(vtk_dir, "vtk") as stage:
+            pvd = res.write_vtk(stage)
+        payload["vtk"] = str(vtk_dir / pvd.name)
     human = (
         f"DEM ({model.integrator}), {damper.count} spheres, f = {f:g} Hz, X = {x * 1e3:g} mm, "
         f"{model.cycles} cycles (complex power over cycles {model.skip_cycles + 1}-{model.cycles})\n"

@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from pdamper.cli._common import (
+    ForceOpt,
     JsonOpt,
     ScenarioOpt,
     check_output,
@@ -25,7 +26,8 @@ def map_(
     amplitude: Annotated[str | None, typer.Option(
         help="Grid 'start:stop:count', e.g. '1mm:200mm:24'.")] = None,
     particles: Annotated[int | None, typer.Option(help="Number of spheres.")] = None,
-    out: Annotated[Path | None, typer.Option(help="NetCDF file to write.")] = None,
+    out: Annotated[str | None, typer.Option(help="NetCDF file to write.")] = None,
+    force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -37,9 +39,9 @@ def map_(
 
     from pdamper.analysis.fields import effective_field
 
-    sc = load(scenario, map__frequency=frequency, map__amplitude=amplitude,
-              particles__count=particles)
-    check_output(out)
+    sc = load(scenario, runs=("map",), model=model, force=force, map__frequency=frequency,
+              map__amplitude=amplitude, particles__count=particles)
+    target = check_output(out)
     damper_model = sc.model(model)
     f, x = sc.map_grid()
     t0 = time.perf_counter()
@@ -48,12 +50,12 @@ def map_(
                          attrs={"pdamper_version": meta["version"],
                                 "inputs": json.dumps(meta["inputs"])})
     seconds = time.perf_counter() - t0
-    if out is not None:
-        write_atomic(out, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+    if target is not None:
+        write_atomic(target, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
     eta = ds["loss_factor"].values
     i, j = np.unravel_index(np.argmax(eta), eta.shape)
     payload = {
-        "out": str(out) if out else None, "shape": [len(f), len(x)], "seconds": seconds,
+        "out": str(Path(out)) if out else None, "shape": [len(f), len(x)], "seconds": seconds,
         "max_loss_factor": float(eta[i, j]),
         "max_at": {"frequency": float(f[i]), "amplitude": float(x[j])}, **meta,
     }

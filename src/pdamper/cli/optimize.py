@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from pdamper.cli._common import (
+    ForceOpt,
     JsonOpt,
     ModelOpt,
     ScenarioOpt,
@@ -41,7 +41,8 @@ def optimize(
     max_evaluations: Annotated[int | None, typer.Option(
         "--max-evaluations", help="Evaluation budget of the optimiser.")] = None,
     seed: Annotated[int | None, typer.Option(help="Seed of the optimiser.")] = None,
-    plot: Annotated[Path | None, typer.Option(help="PNG file of the landscape.")] = None,
+    plot: Annotated[str | None, typer.Option(help="PNG file of the landscape.")] = None,
+    force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -57,12 +58,13 @@ def optimize(
         except ValueError:
             raise InputError("optimization.workers", f"must be a whole number >= 0 or 'auto', "
                              f"got {workers!r}") from None
-    sc = load(scenario, simulation__model=model, optimization__at=at, optimization__step=step,
+    sc = load(scenario, runs=("optimization",), force=force, simulation__model=model,
+              optimization__at=at, optimization__step=step,
               optimization__vary=vary or None, optimization__objective=objective,
               optimization__threshold=threshold, optimization__method=method,
               optimization__workers=workers, optimization__scheduler=scheduler,
               optimization__max_evaluations=max_evaluations, optimization__seed=seed)
-    check_output(plot, "plot")
+    plot = check_output(plot, "plot")
     o = sc.optimization
     damper = sc.damper()
     variables = o.variables()

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import sys
-
 
 def example_scenario() -> None:
     """Print a commented scenario TOML with every key and its default."""
+    from pdamper.files import write_stdout
     from pdamper.io.scenario import EXAMPLE_SCENARIO
 
-    sys.stdout.write(EXAMPLE_SCENARIO)
+    write_stdout(EXAMPLE_SCENARIO)

@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from pdamper.cli._common import (
+    ForceOpt,
     JsonOpt,
     ModelOpt,
     ScenarioOpt,
@@ -62,9 +63,10 @@ def simulate(
     measured: Annotated[Path | None, typer.Option(
         help="Measured end-effector trajectory (CSV with unit headers, e.g. 'time [ms], "
              "displacement [mm]'; or velocity, acceleration).")] = None,
-    plot: Annotated[Path | None, typer.Option(
+    plot: Annotated[str | None, typer.Option(
         help="PNG figure: trajectories, damping ratios (and phase drift).")] = None,
-    out: Annotated[Path | None, typer.Option(help="NetCDF file for the trajectory.")] = None,
+    out: Annotated[str | None, typer.Option(help="NetCDF file for the trajectory.")] = None,
+    force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -74,17 +76,20 @@ def simulate(
     from pdamper.coupling import Simulation
     from pdamper.errors import InputError
 
-    sc = load(scenario, simulation__model=model, particles__count=particles,
-              simulation__duration=duration, structure__initial_displacement=initial_displacement,
+    sc = load(scenario, runs=("simulation",), force=force, simulation__model=model,
+              particles__count=particles, simulation__duration=duration,
+              structure__initial_displacement=initial_displacement,
               fields__file=None if fields is None else str(fields))
-    check_output(out)
-    check_output(plot, "plot")
+    out = check_output(out)
+    plot = check_output(plot, "plot")
     names = [sc.simulation.model]
     if compare is not None:
         names = [n.strip() for n in compare.split(",") if n.strip()]
         if not names or len(set(names)) != len(names):
             raise InputError("compare", f"expected distinct model names such as "
                              f"'analytic,fields,dem', got {compare!r}")
+        for n in names:  # what each compared model implies, before any run
+            sc.check_resources("simulation", n, force)
     damper = sc.damper()
     models = {n: sc.model(n, damper) for n in names}  # all built (and checked) before any run
     aligned = None

@@ -1,57 +1,27 @@
 """Hertz contact of spheres and of a sphere on a flat wall.
 
-The normal force is ``F = K delta^(3/2)`` with ``K = 4/3 E* sqrt(R*)``.
+The normal force is ``F = K delta^(3/2)`` with ``K = 4/3 E* sqrt(R*)``. The closed forms
+live in :mod:`pdamper.contact.elastic` (no numba, for the scenario reader and the resource
+model); this module re-exports them and compiles the stiffness for the kernels.
 """
 
 from __future__ import annotations
 
-import math
-
 from numba import njit
 
-from pdamper.materials import Material
+from pdamper.contact import elastic
+from pdamper.contact.elastic import (
+    HERTZ_EXPONENT,
+    contact_duration,
+    effective_modulus,
+    effective_radius,
+    max_overlap,
+    rayleigh_time,
+)
 
-HERTZ_EXPONENT = 1.5
+__all__ = ["HERTZ_EXPONENT", "contact_duration", "effective_modulus", "effective_radius",
+           "hertz_stiffness", "max_overlap", "rayleigh_time"]
 
-
-def effective_modulus(a: Material, b: Material) -> float:
-    """E* = [ (1 - nu_a^2)/E_a + (1 - nu_b^2)/E_b ]^-1 [Pa]."""
-    return 1.0 / ((1 - a.poisson_ratio**2) / a.youngs_modulus
-                  + (1 - b.poisson_ratio**2) / b.youngs_modulus)
-
-
-def effective_radius(r_a: float, r_b: float = math.inf) -> float:
-    """R* = (1/r_a + 1/r_b)^-1 [m]; ``r_b = inf`` for a flat wall."""
-    return 1.0 / (1.0 / r_a + (0.0 if math.isinf(r_b) else 1.0 / r_b))
-
-
-@njit(cache=True)
-def hertz_stiffness(e_star, r_star):
-    """Hertz stiffness K = 4/3 E* sqrt(R*) [N/m^1.5]; numba-compiled, callable from Python
-    and from the DEM kernels (its one home)."""
-    return 4.0 / 3.0 * e_star * math.sqrt(r_star)
-
-
-# 2 * int_0^1 (1 - u^(5/2))^(-1/2) du = (4/5) B(2/5, 1/2)
-_HERTZ_TIME_FACTOR = 0.8 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)
-
-
-def max_overlap(m_star: float, k: float, v_impact: float) -> float:
-    """Maximum overlap of an elastic Hertz impact, (5 m* v^2 / (4 K))^(2/5) [m]."""
-    return (5.0 * m_star * v_impact**2 / (4.0 * k)) ** 0.4
-
-
-def contact_duration(m_star: float, k: float, v_impact: float) -> float:
-    """Duration of an elastic Hertz impact [s].
-
-    ``t_c = 2.9432 * delta_max / v``, from integrating the energy balance
-    ``m v^2/2 = m v0^2/2 - 2/5 K delta^(5/2)`` over the approach and the rebound.
-    """
-    return _HERTZ_TIME_FACTOR * max_overlap(m_star, k, v_impact) / v_impact
-
-
-def rayleigh_time(radius: float, material: Material) -> float:
-    """Rayleigh wave time of a sphere, pi R sqrt(rho/G) / (0.1631 nu + 0.8766) [s]."""
-    nu = material.poisson_ratio
-    return (math.pi * radius * math.sqrt(material.density / material.shear_modulus)
-            / (0.1631 * nu + 0.8766))
+#: Hertz stiffness K = 4/3 E* sqrt(R*) [N/m^1.5]; numba-compiled, callable from Python and
+#: from the DEM kernels (the formula's home is :func:`pdamper.contact.elastic.hertz_stiffness`).
+hertz_stiffness = njit(cache=True)(elastic.hertz_stiffness)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pdamper import resources
 from pdamper.coupling.decrement import negative_peaks
 from pdamper.coupling.results import FreeVibrationResult
 from pdamper.errors import InputError, check_range
@@ -29,6 +30,15 @@ def co_simulate(model, structure, duration: float, initial_displacement: float,
     if not initial_displacement < 0:
         raise InputError("structure.initial_displacement",
                          f"must be < 0 m (released from a minimum), got {initial_displacement:g} m")
+    # what no run can do; the edges hold runs to the lower limits unless forced
+    f_n = structure.natural_frequency
+    resources.require(resources.dem_cost(
+        model.damper, duration,
+        resources.impact_speed(abs(initial_displacement), f_n, model.damper.length),
+        sample_rate=sample_rate, safety=model.safety,
+        drivers=(("simulation.duration", duration * f_n),
+                 ("simulation.sample_rate", sample_rate / f_n))),
+        force=True)
     motion = StructureMotion(mass=structure.mass, damping=structure.damping,
                              stiffness=structure.stiffness, x0=initial_displacement)
     engine = model.engine(motion)

@@ -29,8 +29,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pdamper import resources
 from pdamper.coupling.measurement import lobe_minima
-from pdamper.coupling.pseudo_force import MAX_SAMPLES, _update, motion_mode
+from pdamper.coupling.pseudo_force import _update, motion_mode
 from pdamper.coupling.results import CycleUpdate, FreeVibrationResult
 from pdamper.errors import InputError, SimulationError, check_range
 
@@ -162,10 +163,11 @@ def simulate_modal_pseudo_force(model, structure, duration: float, initial_displ
     check_range("simulation.duration", duration, low=0.0, low_inclusive=False, unit="s")
     check_range("simulation.sample_rate", sample_rate, low=0.0, low_inclusive=False, unit="Hz")
     check_range("structure.initial_displacement", initial_displacement, unit="m")
-    if duration * sample_rate * structure.modes > MAX_SAMPLES:
-        raise InputError("simulation.duration",
-                         f"duration x sample_rate x modes must be <= {MAX_SAMPLES:.0e} samples, "
-                         f"got {duration:g} s x {sample_rate:g} Hz x {structure.modes}")
+    # what no run can do (more memory than the machine has), as for one mode
+    resources.require(resources.pseudo_force_cost(
+        duration, sample_rate * structure.modes, structure.natural_frequency,
+        (("simulation.duration", duration * structure.natural_frequency),
+         ("simulation.sample_rate", sample_rate / structure.natural_frequency))), force=True)
     if initial_displacement >= 0:
         raise InputError("structure.initial_displacement",
                          f"must be < 0 m (released from a minimum), got {initial_displacement:g} m")

@@ -18,14 +18,13 @@ import math
 
 import numpy as np
 
+from pdamper import resources
 from pdamper.analysis.modes import MotionMode
 from pdamper.coupling.results import CycleUpdate, FreeVibrationResult
-from pdamper.errors import InputError, check_range
+from pdamper.errors import InputError, SimulationError, check_range
+from pdamper.structure import SingleDOFStructure
 
 logger = logging.getLogger(__name__)
-
-#: Largest stored trajectory [samples] (a longer run is a typo, not a design question).
-MAX_SAMPLES = 2e7
 
 #: Fixed-point iterations between the effective eigenfrequency and the effective mass.
 _FREQUENCY_ITERATIONS = 3
@@ -73,10 +72,16 @@ def simulate_pseudo_force(model, structure, duration: float, initial_displacemen
     check_range("simulation.duration", duration, low=0.0, low_inclusive=False, unit="s")
     check_range("simulation.sample_rate", sample_rate, low=0.0, low_inclusive=False, unit="Hz")
     check_range("structure.initial_displacement", initial_displacement, unit="m")
-    if duration * sample_rate > MAX_SAMPLES:
-        raise InputError("simulation.duration",
-                         f"duration x sample_rate must be <= {MAX_SAMPLES:.0e} samples, got "
-                         f"{duration:g} s x {sample_rate:g} Hz")
+    if not isinstance(structure, SingleDOFStructure):
+        raise InputError("structure", "must be a SingleDOFStructure, got "
+                         f"{type(structure).__name__}")
+    # what no run can do (more memory than the machine has); the edges (scenario, command
+    # line) hold runs to the lower limits of pdamper.resources unless forced
+    resources.require(resources.pseudo_force_cost(
+        duration, sample_rate, structure.natural_frequency,
+        (("simulation.duration", duration * structure.natural_frequency),
+         ("simulation.sample_rate", sample_rate / structure.natural_frequency))),
+        force=True)
     if initial_displacement >= 0:
         raise InputError("structure.initial_displacement",
                          f"must be < 0 m (released from a minimum), got {initial_displacement:g} m")
@@ -86,7 +91,10 @@ def simulate_pseudo_force(model, structure, duration: float, initial_displacemen
     peaks_t, peaks_x, cycles = [0.0], [abs(initial_displacement)], []
     t0, x0 = 0.0, initial_displacement
     m_eff = 0.0
-    while True:
+    # a damped period is at least the bare structure's (m_eff >= 0, any damping): at most
+    # this many cycles fit in the duration
+    max_cycles = math.ceil(duration * math.sqrt(k_s / m_s) / (2.0 * math.pi)) + 2
+    for _ in range(max_cycles):
         amp = abs(x0)
         m_eff, d, freq, resp = _update(model, structure, amp, m_eff)
         cycles.append(CycleUpdate(t0, amp, freq, motion_mode(resp.mode), m_eff, d,
@@ -97,8 +105,10 @@ def simulate_pseudo_force(model, structure, duration: float, initial_displacemen
         underdamped = sigma < wn
         period = 2.0 * math.pi / math.sqrt(wn * wn - sigma * sigma) if underdamped else math.inf
         t1 = t0 + period
-        sel = (t_grid >= t0) & (t_grid < min(t1, duration + 1.0))
-        x_grid[sel] = _segment(x0, sigma, wn, t_grid[sel] - t0)
+        # the samples of this cycle, found in the sorted grid (a mask over the whole grid
+        # per cycle made long runs quadratic)
+        i0, i1 = np.searchsorted(t_grid, [t0, min(t1, duration + 1.0)], side="left")
+        x_grid[i0:i1] = _segment(x0, sigma, wn, t_grid[i0:i1] - t0)
         if t1 > duration:
             break
         x0 = float(_segment(x0, sigma, wn, np.array([period]))[0])
@@ -106,8 +116,12 @@ def simulate_pseudo_force(model, structure, duration: float, initial_displacemen
         peaks_t.append(t0)
         peaks_x.append(abs(x0))
         if abs(x0) < 1e-12:  # at rest
-            x_grid[t_grid >= t0] = 0.0
+            x_grid[np.searchsorted(t_grid, t0, side="left"):] = 0.0
             break
+    else:  # a period shorter than the bare structure's: the model's m_eff was negative
+        raise SimulationError(f"the free vibration did not end within {max_cycles} cycles "
+                              f"of {duration:g} s; the damper model gave a negative "
+                              f"effective mass (m_eff = {m_eff:.3g} kg)")
     return FreeVibrationResult(
         time=t_grid, displacement=x_grid, peak_times=np.array(peaks_t),
         peak_amplitudes=np.array(peaks_x), cycles=tuple(cycles), model=model.fidelity,

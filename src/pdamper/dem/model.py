@@ -28,6 +28,16 @@ DEFAULT_GEAR_TOLERANCE = 1e-5
 DEFAULT_GEAR_VELOCITY_SCALE = 0.05
 
 
+def _floats(field: str, value, expected: str, ndmin: int = 0) -> np.ndarray:
+    """``value`` as a float array, or an InputError saying what was expected."""
+    if isinstance(value, str | bytes):
+        raise InputError(field, f"must be {expected}, got {value!r}")
+    try:
+        return np.array(value, dtype=float, ndmin=ndmin)
+    except (TypeError, ValueError):
+        raise InputError(field, f"must be {expected}, got {value!r}") from None
+
+
 @dataclass(frozen=True)
 class Container:
     """A rectangular box container.
@@ -49,8 +59,10 @@ class Container:
     def __post_init__(self) -> None:
         if not isinstance(self.material, Material):
             raise InputError("container.material", f"must be a Material, got {self.material!r}")
-        if len(self.box) != 3:
-            raise InputError("container.box", "needs three inner dimensions (Lx, Ly, Lz) in m")
+        if isinstance(self.box, str | bytes) or not hasattr(self.box, "__len__") \
+                or len(self.box) != 3:
+            raise InputError("container.box", "needs three inner dimensions (Lx, Ly, Lz) in m, "
+                             f"got {self.box!r}")
         for name, v in zip("xyz", self.box, strict=True):
             check_range(f"container.box.L{name}", v, low=0.0, low_inclusive=False, unit="m")
         check_range("container.mass", self.mass, low=0.0, unit="kg")
@@ -80,26 +92,38 @@ class ParticleSet:
     angular_velocities: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        pos = np.array(self.positions, dtype=float, ndmin=2)
+        pos = _floats("particles.positions", self.positions, "an (n, 3) array of centres in m",
+                      ndmin=2)
         if pos.ndim != 2 or pos.shape[1] != 3 or pos.shape[0] < 1:
             raise InputError("particles.positions", "must have shape (n, 3) with n >= 1")
         if not np.all(np.isfinite(pos)):
             raise InputError("particles.positions", "must be finite")
         n = pos.shape[0]
         self.positions = pos
-        r = np.broadcast_to(np.asarray(self.radius, dtype=float), (n,)).copy()
+        r = _floats("particles.radius", self.radius, f"one radius or {n} of them in m")
+        if r.ndim > 1 or r.size not in (1, n):
+            raise InputError("particles.radius", f"one radius or {n} of them in m, got shape "
+                             f"{r.shape}")
+        r = np.broadcast_to(r, (n,)).copy()
         if np.any(~np.isfinite(r)) or np.any(r <= 0):
             raise InputError("particles.radius", "must be finite and > 0 m")
         self.radius = r
         for name in ("velocities", "angular_velocities"):
             v = getattr(self, name)
-            v = np.zeros((n, 3)) if v is None else np.array(v, dtype=float)
+            v = (np.zeros((n, 3)) if v is None else
+                 _floats(f"particles.{name}", v, f"an ({n}, 3) array"))
             if v.shape != (n, 3) or not np.all(np.isfinite(v)):
                 raise InputError(f"particles.{name}", f"must be finite with shape ({n}, 3)")
             setattr(self, name, v)
-        mats = [self.material] * n if isinstance(self.material, Material) else list(self.material)
+        if isinstance(self.material, Material):
+            mats = [self.material] * n
+        elif isinstance(self.material, str | bytes) or not hasattr(self.material, "__iter__"):
+            mats = []
+        else:
+            mats = list(self.material)
         if len(mats) != n or not all(isinstance(m, Material) for m in mats):
-            raise InputError("particles.material", f"one Material or {n} of them")
+            raise InputError("particles.material", f"must be one Material or {n} of them "
+                             f"(pdamper.materials), got {self.material!r}")
         self.material = mats
 
     @property

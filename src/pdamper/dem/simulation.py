@@ -37,7 +37,7 @@ from pdamper.dem.model import (
     PrescribedMotion,
     StructureMotion,
 )
-from pdamper.errors import InputError, SimulationError, check_range
+from pdamper.errors import InputError, SimulationError, check_range, check_whole
 
 log = logging.getLogger(__name__)
 
@@ -149,6 +149,8 @@ class DEMResult:
 
     def window(self, skip_cycles: int = 2, cycles: int | None = None) -> np.ndarray:
         """Boolean mask of the samples in whole cycles ``skip_cycles + 1 ...`` (harmonic)."""
+        skip_cycles = check_whole("skip_cycles", skip_cycles)
+        cycles = None if cycles is None else check_whole("cycles", cycles)
         if self.frequency is None or self.frequency <= 0:
             raise InputError("skip_cycles", "the complex power needs a harmonic excitation")
         period = 1.0 / self.frequency

@@ -14,7 +14,7 @@ from dataclasses import asdict, dataclass
 
 from pdamper.coupling.simulation import Simulation
 from pdamper.damper import ParticleDamper
-from pdamper.errors import InputError, check_range
+from pdamper.errors import InputError, check_range, check_whole
 from pdamper.models.analytical import AnalyticalDamper
 
 logger = logging.getLogger(__name__)
@@ -77,13 +77,14 @@ def optimize_particle_count(
     progress
         Optional callback ``progress(done, total)``.
     """
+    if not isinstance(damper, ParticleDamper):
+        raise InputError("damper", "must be a ParticleDamper (e.g. "
+                         f"pdamper.parameters.PAPER_DAMPER), got {type(damper).__name__}")
     check_range("optimization.at", at, low=0.0, low_inclusive=False, unit="s")
     if counts is None:
-        step = damper.per_layer if step is None else step
-        if int(step) != step or step < 1:
-            raise InputError("optimization.step", f"must be a whole number >= 1, got {step}")
-        counts = range(0, damper.max_count, int(step))
-    counts = list(counts)
+        step = damper.per_layer if step is None else check_whole("optimization.step", step, 1)
+        counts = range(0, damper.max_count, step)
+    counts = [check_whole("optimization.counts", n, 0) for n in counts]
     if not counts:
         raise InputError("optimization.counts", "needs at least one particle count")
     # one period past T so that the envelope at T is bracketed by two peaks

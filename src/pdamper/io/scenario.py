@@ -2,9 +2,13 @@
 
 Every quantity is written with its unit (``"120 mm"``, ``"7900 kg/m^3"``) and converted to
 an SI float on load; a bare number is taken as SI. :func:`load_scenario` turns every
-problem (malformed TOML, unknown unit, out-of-range value, unknown key) into a one-line
-:class:`~pdamper.errors.InputError` naming the field. Every section is validated on load,
-whichever command reads the scenario, by building the objects it describes.
+problem (malformed TOML, unknown unit, out-of-range value, unknown key, an error inside an
+inline material table) into a one-line :class:`~pdamper.errors.InputError` naming the field.
+Every section is validated on load, whichever command reads the scenario, by building the
+objects it describes and by the physical checks of :mod:`pdamper.resources` (a ``[map]``
+that is malformed or physically meaningless is an error for ``pdamper analytic`` too).
+What a run implies (memory, time steps, grid points) is checked by
+:meth:`Scenario.check_resources` for the runs a command makes, before it makes them.
 
 The defaults are the reference paper's case (:mod:`pdamper.parameters`) and the models' own
 defaults; nothing here restates a number.
@@ -18,6 +22,7 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 from pydantic import (
+    AfterValidator,
     AliasChoices,
     BaseModel,
     BeforeValidator,
@@ -27,6 +32,7 @@ from pydantic import (
     field_validator,
 )
 
+from pdamper import resources
 from pdamper.contact.law import DAMPING_MODELS
 from pdamper.dem.model import DEFAULT_SAFETY
 from pdamper.design.study import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
@@ -35,7 +41,7 @@ from pdamper.io.restitution import MODELS as COR_MODELS
 from pdamper.io.restitution import RestitutionSpec, resolve_files
 from pdamper.models.dem import DEFAULT_CYCLES, DEFAULT_SAMPLE_RATE, DEFAULT_SKIP_CYCLES
 from pdamper.parameters import vertical_dampers_paper as paper
-from pdamper.units import format_quantity, parse_quantity
+from pdamper.units import format_quantity, parse_quantity, parse_range
 
 
 def _q(unit: str):
@@ -62,6 +68,11 @@ Restitution = Annotated[float, Field(gt=0, le=1)]
 Count = Annotated[int, Field(strict=True)]
 
 _D = paper.PAPER_DAMPER
+#: Usual (f [Hz], X [m]) of a Level II run: the paper's benchmark point; of the two, the
+#: one further above its usual value is named when a motion is too fast.
+_USUAL_EXCITATION = paper.BENCHMARK_EXCITATION
+#: Runs whose cost :meth:`Scenario.check_resources` judges.
+_RUNS = ("excitation", "map", "simulation", "optimization", "case_study", "case_study_dem")
 
 
 class _Section(BaseModel):
@@ -139,9 +150,22 @@ def _range_text(spec: tuple[float, float, int], unit: str, scale: float) -> str:
     return f"{a * scale:g}{unit}:{b * scale:g}{unit}:{n}"
 
 
+def _grid(unit: str):
+    def check(v: str) -> str:
+        try:
+            parse_range(v, unit, "value")
+        except InputError as exc:  # pydantic adds the location
+            raise ValueError(exc.message) from None
+        return v
+
+    return AfterValidator(check)
+
+
 class MapSpec(_Section):
-    frequency: str = _range_text(paper.PAPER_MAP_FREQUENCY, "Hz", 1.0)
-    amplitude: str = _range_text(paper.PAPER_MAP_AMPLITUDE, "mm", 1e3)
+    """The Level II grid, ``"start:stop:count"`` (or one quantity) per axis."""
+
+    frequency: Annotated[str, _grid("Hz")] = _range_text(paper.PAPER_MAP_FREQUENCY, "Hz", 1.0)
+    amplitude: Annotated[str, _grid("m")] = _range_text(paper.PAPER_MAP_AMPLITUDE, "mm", 1e3)
 
 
 class FieldsSpec(_Section):
@@ -266,18 +290,193 @@ class Scenario(_Section):
         options = section.options() if hasattr(section, "options") else {}
         return cls(self.damper() if damper is None else damper, **options)
 
-    def map_grid(self):
-        """The Level II grid ``(frequency [Hz], amplitude [m])`` of ``[map]``."""
-        import numpy as np
-
-        from pdamper.units import parse_range
-
-        f0, f1, nf = parse_range(self.map.frequency, "Hz", "map.frequency")
-        x0, x1, nx = parse_range(self.map.amplitude, "m", "map.amplitude")
-        for name, lo in (("map.frequency", min(f0, f1)), ("map.amplitude", min(x0, x1))):
+    def map_ranges(self) -> tuple[tuple[float, float, int], tuple[float, float, int]]:
+        """``(start, stop, count)`` of the frequency [Hz] and amplitude [m] axes of
+        ``[map]``, without building the grid."""
+        f = parse_range(self.map.frequency, "Hz", "map.frequency")
+        x = parse_range(self.map.amplitude, "m", "map.amplitude")
+        for name, (lo, _, _) in (("map.frequency", f), ("map.amplitude", x)):
             if lo <= 0:
                 raise InputError(name, f"grid values must be > 0, got {lo:g}")
+        return f, x
+
+    def map_grid(self):
+        """The Level II grid ``(frequency [Hz], amplitude [m])`` of ``[map]`` (check its
+        size first: :meth:`check_resources` with ``"map"``)."""
+        import numpy as np
+
+        (f0, f1, nf), (x0, x1, nx) = self.map_ranges()
         return np.linspace(f0, f1, nf), np.linspace(x0, x1, nx)
+
+    # -- what the runs imply ------------------------------------------------------------
+    def check_physics(self, damper=None) -> None:
+        """Refuse what has no physical meaning in any model (:mod:`pdamper.resources`):
+        spheres too small, strokes too long, impacts too fast, excitations faster than a
+        contact, in ``[particles]``, ``[excitation]``, ``[structure]`` and ``[map]``."""
+        d = self.damper() if damper is None else damper
+        resources.check_particles(d)
+        resources.check_motion(d, self.excitation.frequency, self.excitation.amplitude,
+                               usual=_USUAL_EXCITATION)
+        resources.check_release(d, self.structure_model().natural_frequency,
+                                self.structure.initial_displacement)
+        (f0, f1, _), (x0, x1, _) = self.map_ranges()
+        resources.check_grid(d, (f0, f1), (x0, x1), usual=_USUAL_EXCITATION)
+
+    def check_resources(self, run: str, model: str | None = None, force: bool = False) -> None:
+        """Refuse a run whose implied memory or time is above the limits of
+        :mod:`pdamper.resources` (``force``: up to the hard limits), or for which its
+        model's physics does not hold (the DEM's contact law).
+
+        Parameters
+        ----------
+        run
+            ``"excitation"`` (Level II at ``[excitation]``), ``"map"`` (Level II over
+            ``[map]``), ``"simulation"`` (Level III, ``[simulation]``), ``"optimization"``
+            (``[optimization]``), ``"case_study"`` or ``"case_study_dem"`` (the paper's,
+            without or with the DEM model 1 run).
+        model
+            Damper fidelity of ``excitation``, ``map`` and ``simulation`` (default
+            ``"analytic"``; for ``simulation`` and ``optimization`` the ``[simulation]``
+            model).
+        force
+            Allow more than the limits, up to what this machine can hold.
+
+        Examples
+        --------
+        >>> s = load_scenario(None, {"map.frequency": "2Hz:20Hz:10000"})
+        >>> try:
+        ...     s.check_resources("map")
+        ... except InputError as exc:
+        ...     print(exc.field, "--force" in exc.message)
+        map.frequency True
+        """
+        from pdamper.models import get_damper_model
+
+        if run not in _RUNS:
+            raise InputError("run", f"must be one of {', '.join(_RUNS)}, got {run!r}")
+        damper = self.damper()
+        default = Scenario()
+        if run == "excitation":
+            if get_damper_model(model or "analytic", "model").fidelity == "dem":
+                resources.require(self._dem_level2_cost(damper, self.excitation.frequency,
+                                                        self.excitation.amplitude, default),
+                                  force)
+        elif run == "map":
+            self._check_map(damper, model or "analytic", default, force)
+        elif run == "simulation":
+            field = "model" if model else "simulation.model"
+            fidelity = get_damper_model(model or self.simulation.model, field).fidelity
+            self._check_simulation(damper, fidelity, self.simulation.duration,
+                                   self.simulation.sample_rate, default, force)
+        elif run == "optimization":
+            field = "model" if model else "simulation.model"
+            fidelity = get_damper_model(model or self.simulation.model, field).fidelity
+            self._check_optimization(damper, fidelity, default, force)
+        else:  # the paper's case study (pdamper.reports.paper_case_study)
+            self._check_map(damper, "analytic", default, force)
+            for duration in (self.simulation.duration,
+                             max(self.simulation.duration, paper.PAPER_DURATION)):
+                self._check_simulation(damper, "analytic", duration,
+                                       self.simulation.sample_rate, default, force)
+            self._check_optimization(damper, "analytic", default, force)
+            if run == "case_study_dem":
+                self._check_simulation(damper, "dem", self.simulation.duration,
+                                       self.simulation.sample_rate, default, force)
+
+    def _dem_drivers(self, damper, default) -> list[tuple[str, float]]:
+        dd, dm = default.dem, default.damper()
+        return [("particles.count", damper.count / dm.count),
+                ("particles.radius", dm.particle_radius / damper.particle_radius, True),
+                ("dem.safety", dd.safety / self.dem.safety, True),
+                ("dem.sample_rate", self.dem.sample_rate / dd.sample_rate),
+                ("dem.snapshot_rate", (self.dem.snapshot_rate or 0.0) / dd.sample_rate)]
+
+    def _dem_level2_cost(self, damper, frequency: float, amplitude: float, default,
+                         fields=("excitation.frequency", "excitation.amplitude")):
+        imp = resources.check_motion(damper, frequency, amplitude, fields=fields,
+                                     usual=_USUAL_EXCITATION, contact_law=True)
+        dem = self.dem
+        return resources.dem_cost(
+            damper, dem.cycles / frequency, imp.speed, sample_rate=dem.sample_rate,
+            safety=dem.safety, snapshot_rate=dem.snapshot_rate, frequency=frequency,
+            drivers=[("dem.cycles", dem.cycles / default.dem.cycles),
+                     (fields[0], default.excitation.frequency / frequency, True),
+                     *self._dem_drivers(damper, default)])
+
+    def _check_map(self, damper, model: str, default, force: bool) -> None:
+        import numpy as np
+
+        from pdamper.models import get_damper_model
+
+        fidelity = get_damper_model(model, "model").fidelity
+        (f0, f1, nf), (x0, x1, nx) = self.map_ranges()
+        (_, _, nf0), (_, _, nx0) = default.map_ranges()
+        axes = (("map.frequency", nf / nf0), ("map.amplitude", nx / nx0))
+        points = float(nf) * float(nx)
+        # the grid and the four result arrays, whichever the model
+        resources.require(resources.Cost("the map", 0.0, points * 40.0,
+                                         f"{nf} x {nx} = {points:.3g} points", axes), force)
+        if fidelity != "dem":
+            resources.require(resources.analytic_map_cost(points, axes), force)
+            return
+        resources.check_grid(damper, (f0, f1), (x0, x1), usual=_USUAL_EXCITATION,
+                             contact_law=True)
+        # a DEM point costs more at low frequency (more time per cycle): a sample, scaled
+        fs, xs = np.linspace(f0, f1, min(nf, 8)), np.linspace(x0, x1, min(nx, 8))
+        costs = [self._dem_level2_cost(damper, f, x, default, ("map.frequency", "map.amplitude"))
+                 for f in fs for x in xs]
+        seconds = float(np.mean([c.seconds for c in costs])) * points
+        worst = max(costs, key=lambda c: (c.seconds, c.memory))
+        rest = tuple(d for d in worst.drivers if not d[0].startswith("map."))
+        resources.require(resources.Cost(
+            "the DEM map", seconds, max(c.memory for c in costs),
+            f"{points:.3g} DEM runs, the longest {worst.detail}", axes + rest,
+            runs=int(min(points, 2**62)), longest=worst.seconds), force)
+
+    def _check_simulation(self, damper, fidelity: str, duration: float, sample_rate: float,
+                          default, force: bool) -> None:
+        structure = self.structure_model()
+        ds = default.simulation
+        drivers = [("simulation.duration", duration / ds.duration),
+                   ("simulation.sample_rate", sample_rate / ds.sample_rate),
+                   ("structure.stiffness", structure.natural_frequency
+                    / default.structure_model().natural_frequency)]
+        if fidelity != "dem":
+            resources.require(resources.pseudo_force_cost(
+                duration, sample_rate, structure.natural_frequency, drivers), force)
+            return
+        imp = resources.check_release(damper, structure.natural_frequency,
+                                      self.structure.initial_displacement, contact_law=True)
+        resources.require(resources.dem_cost(
+            damper, duration, imp.speed, sample_rate=sample_rate, safety=self.dem.safety,
+            drivers=[*drivers, *self._dem_drivers(damper, default)],
+            what="the DEM free vibration"), force)
+
+    def _check_optimization(self, damper, fidelity: str, default, force: bool) -> None:
+        """Cost of :func:`pdamper.design.optimize_particle_count`: one free vibration of
+        ``at`` plus two periods, sampled at 200 Hz, per candidate count."""
+        structure = self.structure_model()
+        step = self.optimization.step or damper.per_layer
+        counts = range(0, damper.max_count, step)
+        at = self.optimization.at
+        duration = at + 2.0 / structure.natural_frequency
+        d0 = default.damper()
+        drivers = (("optimization.at", at / default.optimization.at),
+                   ("optimization.step", (d0.per_layer / step) * (damper.max_count
+                                                                  / d0.max_count), True))
+        if fidelity != "dem":
+            one = resources.pseudo_force_cost(duration, 200.0, structure.natural_frequency)
+        else:  # the DEM's time grows with the count: the mean count stands for all
+            imp = resources.check_release(damper, structure.natural_frequency,
+                                          self.structure.initial_displacement,
+                                          contact_law=True)
+            mean = damper.with_count(max(1, round(counts[-1] / 2)) if counts else 1)
+            one = resources.dem_cost(mean, duration, imp.speed, sample_rate=200.0,
+                                     safety=self.dem.safety)
+        resources.require(resources.Cost(
+            "the optimisation", one.seconds * len(counts), one.memory,
+            f"{len(counts)} candidates, each {one.detail}", drivers, runs=len(counts),
+            longest=one.seconds), force)
 
 
 def _material(spec, field: str):
@@ -290,28 +489,39 @@ def _material(spec, field: str):
 
 
 def _first_error(exc: ValidationError) -> InputError:
-    err = exc.errors()[0]
+    errors = exc.errors()
+    # a table where a union (``str | MaterialSpec``) allows a name or a table: the table's
+    # own error names the sub-key, not "should be a valid string"
+    err = next((e for e in errors if not (e["type"] == "string_type"
+                                          and isinstance(e.get("input"), dict))), errors[0])
     loc = ".".join(str(p) for p in err["loc"]
                    if str(p) not in ("str", "MaterialSpec", *COR_MODELS)
                    and not str(p).startswith("function-"))
     msg = err["msg"].removeprefix("Value error, ")
+    union = [e for e in errors if e["loc"][:-1] == err["loc"][:-1]]
+    if err["type"] == "string_type" and any(e["type"] == "model_type" for e in union):
+        msg = (f"must be a name (e.g. \"S235\") or an inline table {{ name, youngs_modulus, "
+               f"poisson_ratio, density }}, got {repr(err.get('input'))[:60]}")
     if err["type"] == "extra_forbidden":
         msg = "unknown key (check the spelling; `pdamper example-scenario` lists the keys)"
     elif "input" in err and err["type"] != "missing" and repr(err["input"]) not in msg \
             and "got" not in msg:
-        msg = f"{msg} (got {err['input']!r})"
+        got = repr(err["input"])
+        msg = f"{msg} (got {got if len(got) <= 60 else got[:57] + '...'})"
     return InputError(loc or "scenario", msg)
 
 
 def _validate(sc: Scenario) -> None:
-    """Build what every section describes (cheaply: no DEM run, no numba), so that its
-    errors surface at load time whichever command reads the scenario."""
+    """Build what every section describes and check its physics (cheaply: no DEM run, no
+    numba, no grid), so that its errors surface at load time whichever command reads the
+    scenario."""
     damper = sc.damper()
     sc.structure_model()
-    sc.map_grid()
+    sc.map_ranges()
     sc.optimization.variables()
     sc.model("dem", damper)
     sc.model(None, damper)
+    sc.check_physics(damper)
 
 
 def scenario_from_dict(data: dict) -> Scenario:
@@ -324,9 +534,37 @@ def scenario_from_dict(data: dict) -> Scenario:
     return sc
 
 
-def load_scenario(path: str | Path | None, overrides: dict | None = None) -> Scenario:
+def _read_toml(p: Path) -> dict:
+    if not p.exists():
+        raise InputError("scenario", f"file not found: {p}")
+    if not p.is_file():
+        raise InputError("scenario", f"{p} is not a regular file; give a scenario file")
+    try:
+        size = p.stat().st_size
+        if size > resources.MAX_SCENARIO_BYTES:
+            raise InputError("scenario", f"{p} has {size} bytes; a scenario file describes one "
+                             f"damper in at most {resources.MAX_SCENARIO_BYTES} bytes")
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputError("scenario", f"cannot read {p}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise InputError("scenario", f"{p} is not UTF-8 text") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError("scenario", f"malformed TOML in {p}: {exc}") from None
+    except RecursionError:
+        raise InputError("scenario", f"malformed TOML in {p}: tables or arrays nested too "
+                         f"deeply") from None
+
+
+def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
+                  runs: tuple[str, ...] = (), model: str | None = None,
+                  force: bool = False) -> Scenario:
     """Load a scenario TOML file (or the defaults when ``path`` is None) and apply
-    ``overrides`` given as ``{"section.key": value}`` (None values are skipped).
+    ``overrides`` given as ``{"section.key": value}`` (None values are skipped); then check
+    what each of ``runs`` implies (:meth:`Scenario.check_resources` with ``model`` and
+    ``force``).
 
     Examples
     --------
@@ -337,14 +575,7 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None) -> Sce
     data: dict = {}
     if path is not None:
         p = Path(path)
-        if not p.is_file():
-            raise InputError("scenario", f"file not found: {p}")
-        try:
-            data = tomllib.loads(p.read_text(encoding="utf-8"))
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError("scenario", f"malformed TOML in {p}: {exc}") from None
-        except UnicodeDecodeError:
-            raise InputError("scenario", f"{p} is not UTF-8 text") from None
+        data = _read_toml(p)
         resolve_files(data, p.parent)
         fields = data.get("fields")  # model 2's map, relative to the scenario file too
         if isinstance(fields, dict) and isinstance(fields.get("file"), str) \
@@ -358,7 +589,10 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None) -> Sce
         if not isinstance(node, dict):
             raise InputError(section, "must be a table")
         node[name] = value
-    return scenario_from_dict(data)
+    sc = scenario_from_dict(data)
+    for run in runs:
+        sc.check_resources(run, model, force)
+    return sc
 
 
 def _example() -> str:

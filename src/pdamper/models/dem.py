@@ -12,6 +12,7 @@ import logging
 
 import numpy as np
 
+from pdamper import resources
 from pdamper.contact.law import ContactParameters
 from pdamper.damper import ParticleDamper
 from pdamper.dem.model import DEFAULT_SAFETY, INTEGRATORS
@@ -152,6 +153,14 @@ class DEMDamper(DamperModel):
 
         f = check_range("frequency", frequency, low=0.0, low_inclusive=False, unit="Hz")
         x = check_range("amplitude", amplitude, low=0.0, low_inclusive=False, unit="m")
+        # what no run can do (more memory than the machine has, months of computing); the
+        # edges (scenario, command line) hold runs to the lower limits unless forced
+        d = self.damper
+        resources.require(resources.dem_cost(
+            d, self.cycles / f, resources.impact_speed(x, f, d.length), frequency=f,
+            sample_rate=self.sample_rate, safety=self.safety, snapshot_rate=self.snapshot_rate,
+            drivers=(("dem.cycles", self.cycles), ("frequency", 1.0 / f, True),
+                     ("dem.sample_rate", self.sample_rate / f))), force=True)
         return self.engine(HarmonicMotion(amplitude=x, frequency=f)).run(
             self.cycles / f, sample_rate=self.sample_rate, snapshot_rate=self.snapshot_rate)
 

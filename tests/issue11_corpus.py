@@ -1,0 +1,168 @@
+"""The hostile-but-realistic inputs of issue 11, and the ones found since, as data.
+
+Each case is one ``pdamper`` invocation and what it must answer: ``OK`` (exit 0, finite
+JSON when ``--json`` is given) or ``Error(field)`` (exit 2, exactly one line on stderr,
+``error: <field>...``). Arguments may name paths under the test's temporary directory with
+``{tmp}``; a temporary directory holds a directory ``dir``, a regular file ``file``, a FIFO
+``fifo`` and a scenario for every ``SCENARIOS`` entry (``{scenario:NAME}``).
+
+The corpus runs as ordinary tests (``tests/cli/test_corpus.py``); the fuzz suite
+(``tests/fuzz``) adds what it finds here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class OK:
+    """Exit status 0 (and finite JSON with ``--json``)."""
+
+
+@dataclass(frozen=True)
+class Error:
+    """Exit status 2 and one line ``error: <field>...`` on stderr."""
+
+    field: str
+
+
+#: Scenario files of the corpus, by name.
+SCENARIOS = {
+    "radius_1um": '[particles]\nradius = "1 um"\n',
+    "map_empty_stop": '[map]\nfrequency = "2Hz::5"\n',
+    "map_no_count": '[map]\namplitude = "1mm:200mm"\n',
+    "map_not_text": "[map]\nfrequency = 5\n",
+    "material_unknown_key": '[particles]\nmaterial = { name = "glass", youngs_modulus = '
+                            '"63 GPa", poisson_ratio = 0.2, density = "2500 kg/m^3", '
+                            'colour = "green" }\n',
+    "material_poisson_half": '[particles]\nmaterial = { name = "x", youngs_modulus = "3 GPa",'
+                             ' poisson_ratio = 0.5, density = "1000 kg/m^3" }\n',
+    "material_negative_density": '[container]\nmaterial = { name = "x", youngs_modulus = '
+                                 '"3 GPa", poisson_ratio = 0.3, density = "-1000 kg/m^3" }\n',
+    "material_missing_key": '[particles]\nmaterial = { name = "x", youngs_modulus = "3 GPa",'
+                            ' poisson_ratio = 0.3 }\n',
+    "material_modulus_unitless": '[particles]\nmaterial = { name = "x", youngs_modulus = '
+                                 '"GPa", poisson_ratio = 0.3, density = "1000 kg/m^3" }\n',
+    "sample_rate_huge": '[dem]\nsample_rate = "1e12 Hz"\n',
+    "duration_huge": '[simulation]\nduration = "1e9 s"\n',
+    "frequency_decorated": '[excitation]\nfrequency = "10Hz🙂"\n',
+    "glass": '[particles]\nmaterial = { name = "glass", youngs_modulus = "63 GPa", '
+             'poisson_ratio = 0.2, density = "2500 kg/m^3" }\n',
+}
+
+_MAP = ["map", "--frequency", "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2"]
+_DEM = ["dem", "--particles", "4", "--cycles", "2", "--skip-cycles", "1"]
+
+#: (id, arguments, expected answer); the ids name the row of the issue's table.
+CASES: list[tuple[str, list[str], OK | Error]] = [
+    # -- output paths: checked before any computation, one line
+    ("out-is-directory-map", [*_MAP, "--out", "{tmp}/dir"], Error("out")),
+    ("out-under-file-map", [*_MAP, "--out", "{tmp}/file/x.nc"], Error("out")),
+    ("out-missing-dir-map", [*_MAP, "--out", "{tmp}/missing/x.nc"], Error("out")),
+    ("out-empty-map", [*_MAP, "--out", ""], Error("out")),
+    ("out-blank-map", [*_MAP, "--out", "  "], Error("out")),
+    ("out-trailing-slash-map", [*_MAP, "--out", "{tmp}/newdir/"], Error("out")),
+    ("out-proc-map", [*_MAP, "--out", "/proc/pdamper-corpus.nc"], Error("out")),
+    ("out-fifo-map", [*_MAP, "--out", "{tmp}/fifo"], Error("out")),
+    ("out-is-directory-simulate", ["simulate", "--out", "{tmp}/dir"], Error("out")),
+    ("out-proc-simulate", ["simulate", "--out", "/proc/pdamper-corpus.nc"], Error("out")),
+    ("out-under-file-simulate", ["simulate", "--out", "{tmp}/file/x.nc"], Error("out")),
+    ("out-proc-dem", [*_DEM, "--out", "/proc/pdamper-corpus.nc"], Error("out")),
+    ("out-under-file-dem", [*_DEM, "--out", "{tmp}/file/x.nc"], Error("out")),
+    ("out-is-directory-dem", [*_DEM, "--out", "{tmp}/dir"], Error("out")),
+    ("vtk-is-file-dem", [*_DEM, "--vtk", "{tmp}/file"], Error("vtk")),
+    ("vtk-missing-parent-dem", [*_DEM, "--vtk", "{tmp}/missing/sub"], Error("vtk")),
+    ("vtk-proc-dem", [*_DEM, "--vtk", "/proc/pdamper-corpus"], Error("vtk")),
+    ("out-is-file-paper", ["paper", "--no-dem", "--out", "{tmp}/file"], Error("out")),
+    ("out-missing-parent-paper", ["paper", "--no-dem", "--out", "{tmp}/missing/sub"],
+     Error("out")),
+    ("out-empty-paper", ["paper", "--no-dem", "--out", ""], Error("out")),
+    ("out-proc-paper", ["paper", "--no-dem", "--out", "/proc/pdamper-corpus"], Error("out")),
+    # -- inputs that imply absurd work: refused up front by the resource model
+    ("dem-frequency-1e-9Hz", ["dem", "--frequency", "1e-9Hz", "--particles", "4"],
+     Error("excitation.frequency")),
+    ("dem-sample-rate-1e12Hz", [*_DEM, "--sample-rate", "1e12Hz"], Error("dem.sample_rate")),
+    ("dem-sample-rate-1e12Hz-scenario", [*_DEM, "--scenario", "{scenario:sample_rate_huge}"],
+     Error("dem.sample_rate")),
+    ("dem-cycles-1e20", ["dem", "--particles", "4", "--cycles", "99999999999999999999"],
+     Error("dem.cycles")),
+    ("radius-1um-analytic", ["analytic", "--scenario", "{scenario:radius_1um}"],
+     Error("particles.radius")),
+    ("radius-1um-dem", [*_DEM, "--scenario", "{scenario:radius_1um}"],
+     Error("particles.radius")),
+    ("radius-1um-map", [*_MAP, "--scenario", "{scenario:radius_1um}"],
+     Error("particles.radius")),
+    ("map-count-1e9", ["map", "--frequency", "2Hz:20Hz:1000000000"], Error("map.frequency")),
+    ("map-count-1e20", ["map", "--amplitude", "1mm:2mm:99999999999999999999"],
+     Error("map.amplitude")),
+    ("map-dem-grid-too-long", ["map", "--model", "dem", "--frequency", "2Hz:20Hz:200",
+                               "--amplitude", "1mm:200mm:200"], Error("map.frequency")),
+    ("simulate-duration-1e9s", ["simulate", "--duration", "1e9s"], Error("simulation.duration")),
+    ("simulate-duration-1e9s-scenario", ["simulate", "--scenario", "{scenario:duration_huge}"],
+     Error("simulation.duration")),
+    ("simulate-dem-duration-1e5s", ["simulate", "--model", "dem", "--duration", "1e5s"],
+     Error("simulation.duration")),
+    ("optimize-at-1e8s", ["optimize", "--at", "1e8s"], Error("optimization.at")),
+    # -- extreme values: an answer at once, never minutes
+    ("frequency-1e300Hz", ["analytic", "--frequency", "1e300Hz"], Error("excitation.frequency")),
+    ("frequency-10MHz", ["analytic", "--frequency", "10 MHz"], Error("excitation.frequency")),
+    ("amplitude-1e300m", ["analytic", "--amplitude", "1e300m"], Error("excitation.amplitude")),
+    ("x0-minus-1e300m", ["simulate", "--initial-displacement=-1e300 m"],
+     Error("structure.initial_displacement")),
+    ("frequency-1e300Hz-dem", [*_DEM, "--frequency", "1e300Hz"], Error("excitation.frequency")),
+    ("map-frequency-1e300Hz", ["map", "--frequency", "2Hz:1e300Hz:3"], Error("map.frequency")),
+    # -- quantities need a number; nothing after the unit; well-formed ranges
+    ("frequency-unit-only", ["analytic", "--frequency", "Hz"], Error("excitation.frequency")),
+    ("amplitude-unit-only", ["analytic", "--amplitude", "mm"], Error("excitation.amplitude")),
+    ("frequency-emoji", ["analytic", "--frequency", "10Hz🙂"], Error("excitation.frequency")),
+    ("frequency-emoji-scenario", ["analytic", "--scenario", "{scenario:frequency_decorated}"],
+     Error("excitation.frequency")),
+    ("frequency-expression", ["analytic", "--frequency", "10 Hz * 2"],
+     Error("excitation.frequency")),
+    ("frequency-rpm", ["analytic", "--frequency", "600 rpm"], Error("excitation.frequency")),
+    ("map-range-empty-stop", ["map", "--frequency", "2Hz::5"], Error("map.frequency")),
+    ("map-range-four-parts", ["map", "--frequency", "2Hz:4Hz:5:6"], Error("map.frequency")),
+    ("map-range-descending", ["map", "--frequency", "20Hz:2Hz:5"], Error("map.frequency")),
+    ("map-range-count-one", ["map", "--frequency", "2Hz:20Hz:1"], Error("map.frequency")),
+    ("duration-unit-only", ["simulate", "--duration", "s"], Error("simulation.duration")),
+    # found by the fuzz suite: a finite number times its unit's factor overflows
+    ("amplitude-overflow-by-unit", ["analytic", "--amplitude", "1.797693134862316e+305km"],
+     Error("excitation.amplitude")),
+    # -- every scenario section validated whichever command reads it
+    ("map-section-analytic", ["analytic", "--scenario", "{scenario:map_empty_stop}"],
+     Error("map.frequency")),
+    ("map-section-no-count-analytic", ["analytic", "--scenario", "{scenario:map_no_count}"],
+     Error("map.amplitude")),
+    ("map-section-not-text-simulate", ["simulate", "--scenario", "{scenario:map_not_text}"],
+     Error("map.frequency")),
+    ("material-unknown-key", ["analytic", "--scenario", "{scenario:material_unknown_key}"],
+     Error("particles.material.colour")),
+    ("material-poisson-half", ["analytic", "--scenario", "{scenario:material_poisson_half}"],
+     Error("particles.material.poisson_ratio")),
+    ("material-negative-density", ["analytic", "--scenario",
+                                   "{scenario:material_negative_density}"],
+     Error("container.material.density")),
+    ("material-missing-key", ["analytic", "--scenario", "{scenario:material_missing_key}"],
+     Error("particles.material.density")),
+    ("material-modulus-unitless", ["analytic", "--scenario",
+                                   "{scenario:material_modulus_unitless}"],
+     Error("particles.material.youngs_modulus")),
+    # -- physically meaningless values: refused with the reason
+    ("frequency-above-contact", ["analytic", "--frequency", "50kHz", "--amplitude", "0.01mm"],
+     Error("excitation.frequency")),
+    ("stroke-20m", ["analytic", "--amplitude", "20 m"], Error("excitation.amplitude")),
+    ("dem-200Hz-32mm", [*_DEM, "--frequency", "200Hz", "--amplitude", "32mm"],
+     Error("excitation.frequency")),
+    # -- what must keep working
+    ("ok-analytic-mhz", ["analytic", "--frequency", "1e4 mHz", "--json"], OK()),
+    ("ok-analytic-per-minute", ["analytic", "--frequency", "600 1/min", "--json"], OK()),
+    ("ok-analytic-unicode-minus", ["simulate", "--initial-displacement", "\u221258 mm",
+                                   "--duration", "0.5 s", "--json"], OK()),
+    ("ok-map-out", [*_MAP, "--out", "{tmp}/m.nc", "--json"], OK()),
+    ("ok-map-out-replaces", [*_MAP, "--out", "{tmp}/file", "--json"], OK()),
+    ("ok-glass-analytic", ["analytic", "--scenario", "{scenario:glass}", "--json"], OK()),
+    ("ok-paper-corner-analytic", ["analytic", "--frequency", "20Hz", "--amplitude", "200mm",
+                                  "--json"], OK()),
+    ("ok-example-scenario", ["example-scenario"], OK()),
+]
