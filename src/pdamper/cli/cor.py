@@ -15,7 +15,6 @@ the real engine without gravity. ``--json``: ``velocity``, ``cor_target``,
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Annotated
 
 import typer
@@ -43,7 +42,7 @@ def cor(
         "--integrator", help="gear (default) or verlet.")] = None,
     radius: Annotated[str | None, typer.Option(
         "--radius", help="Sphere radius, e.g. '5mm' (default: the scenario's).")] = None,
-    plot: Annotated[Path | None, typer.Option(
+    plot: Annotated[str | None, typer.Option(
         "--plot", help="Figure file (.png, .pdf or .svg).")] = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -60,7 +59,7 @@ def cor(
 
     sc = load(scenario, particles__radius=radius, dem__damping_model=damping_model,
               dem__integrator=integrator)
-    check_output(plot, "plot")
+    plot = check_output(plot, "plot")
     if plot is not None and plot.suffix.lower() not in _FORMATS:
         raise InputError("plot", f"must end in {', '.join(_FORMATS)}, got {plot.name!r}")
     v0, v1, n = parse_range(velocity, "m/s", "velocity")

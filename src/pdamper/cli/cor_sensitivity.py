@@ -18,7 +18,6 @@ point), ``level3`` (amplitude at 0.75 s, damping ratios near 53 and 41 mm).
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Annotated
 
 import typer
@@ -62,7 +61,7 @@ def cor_sensitivity(
     skip_cycles: Annotated[int | None, typer.Option(
         "--skip-cycles", help="Cycles left out of the complex power (default: the "
                               "scenario's, else 16).")] = None,
-    plot: Annotated[Path | None, typer.Option("--plot", help="Figure file (.png).")] = None,
+    plot: Annotated[str | None, typer.Option("--plot", help="Figure file (.png).")] = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -77,7 +76,7 @@ def cor_sensitivity(
 
     sc = load(scenario, simulation__duration=duration, dem__cycles=cycles,
               dem__skip_cycles=skip_cycles)
-    check_output(plot, "plot")
+    plot = check_output(plot, "plot")
     if plot is not None and plot.suffix.lower() != ".png":
         raise InputError("plot", f"must end in .png, got {plot.name!r}")
     names = DEFAULT_VARIANTS if variants is None else [v for v in variants.split(",") if v.strip()]
