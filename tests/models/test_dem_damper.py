@@ -2,6 +2,7 @@
 
 import pytest
 
+from pdamper.analysis.modes import MotionMode
 from pdamper.errors import InputError
 from pdamper.models import DEMDamper
 from pdamper.parameters import PAPER_DAMPER
@@ -17,7 +18,10 @@ def test_response_complex_power_agrees_with_the_energy_ledger():
     assert float(r.dissipated_energy_per_cycle) == pytest.approx(ledger["container_work"],
                                                                  rel=0.05)
     assert 0.3 < float(r.loss_factor) < 1.6
-    assert int(r.mode) == -1  # the DEM does not classify motion modes
+    assert int(r.mode) in {int(m) for m in MotionMode}  # classified from the run
+    st = r.diagnostics["stationarity"].item()
+    assert (st.first_cycle, st.last_cycle) == (3, 5)  # the paper's window: after 2 cycles
+    assert r.stationary.item() == st.stationary
     assert not hasattr(model, "last_results")
 
 

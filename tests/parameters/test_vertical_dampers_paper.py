@@ -31,8 +31,11 @@ def test_benchmark_damper_numbers_of_the_paper():
     assert d.friction == 0.1
 
 
-def test_fig4_example_points_cover_every_mode():
-    assert {m for _, _, m, _ in paper.FIG4_EXAMPLES} == set(MotionMode)
+def test_fig4_example_points_cover_every_mode_the_paper_names():
+    from pdamper.analysis.modes import PAPER_MODES
+
+    assert {m for _, _, m, _ in paper.FIG4_EXAMPLES} == set(PAPER_MODES)
+    assert set(MotionMode) - set(PAPER_MODES) == {MotionMode.RATTLING}
 
 
 def test_reported_keys_are_unique_and_ordered_as_the_table():

@@ -12,7 +12,7 @@ from pdamper.analysis.analytical import bed_trajectory  # noqa: E402
 from pdamper.analysis.fields import effective_field  # noqa: E402
 from pdamper.coupling import Simulation  # noqa: E402
 from pdamper.design import optimize_particle_count  # noqa: E402
-from pdamper.models import AnalyticalDamper  # noqa: E402
+from pdamper.models import AnalyticalDamper, DEMDamper  # noqa: E402
 from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE  # noqa: E402
 
 
@@ -22,10 +22,20 @@ def inputs():
     ds = effective_field(model, np.linspace(2, 20, 5), np.linspace(0.005, 0.1, 6))
     run = Simulation(PAPER_STRUCTURE, model, -0.058).run(1.0)
     opt = optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, 0.8, counts=[0, 32, 64])
+    dem = ds.copy()  # a DEM-like field: a transient cell, a failed one, a rattling bed
+    dem["loss_factor"][0, 0] = 2.5
+    dem["stationary"][1, 1] = 0
+    dem["status"][2, 2] = 1
+    dem["motion_mode"][2, 2] = -1
+    dem["motion_mode"][3, 3] = 6
+    dem_run = DEMDamper(PAPER_DAMPER, cycles=2, skip_cycles=1, snapshot_rate=200.0).run(10.0, 0.032)
     return {
         "plot_bed_trajectory": (bed_trajectory(18.0, 0.05, 0.1),),
-        "plot_mode_map": (ds,),
-        "plot_loss_factor_map": (ds,),
+        "plot_mode_map": (dem,),
+        "plot_effective_mass_map": (dem,),
+        "plot_field_difference": (dem, ds),
+        "plot_particle_snapshots": (dem_run,),
+        "plot_loss_factor_map": (dem,),
         "plot_free_vibration": (run,),
         "plot_damping_ratio": (run,),
         "plot_optimization": (opt,),
@@ -42,4 +52,18 @@ def test_plot_uses_given_axes_and_returns_it(inputs, name, monkeypatch):
     assert ax.has_data()
     new = getattr(plots, name)(*inputs[name])
     assert new is not ax and new.has_data()
+    plt.close("all")
+
+
+def test_loss_factor_scale_shows_values_above_one():
+    """Fig. 5c saturated at 1 and hid 1.0-1.27: the colour scale now reaches 4/pi (or the
+    field's maximum)."""
+    model = AnalyticalDamper(PAPER_DAMPER)
+    ds = effective_field(model, np.linspace(8, 20, 4), np.linspace(0.02, 0.05, 4))
+    ax = plots.plot_loss_factor_map(ds)
+    norm = ax.collections[0].norm
+    assert norm.vmax == pytest.approx(4 / np.pi) and norm.vmin == pytest.approx(0.1)
+    assert float(ds["loss_factor"].max()) > 1.0  # the band the old scale hid
+    ds["loss_factor"][0, 0] = 2.0
+    assert plots.plot_loss_factor_map(ds).collections[0].norm.vmax == pytest.approx(2.0)
     plt.close("all")

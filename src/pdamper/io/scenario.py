@@ -15,14 +15,20 @@ from __future__ import annotations
 import functools
 import tomllib
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 from pydantic import AliasChoices, BaseModel, BeforeValidator, ConfigDict, Field, ValidationError
 
 from pdamper.contact.law import DAMPING_MODELS
 from pdamper.dem.model import DEFAULT_SAFETY
 from pdamper.errors import InputError
-from pdamper.models.dem import DEFAULT_CYCLES, DEFAULT_SAMPLE_RATE, DEFAULT_SKIP_CYCLES
+from pdamper.models.dem import (
+    DEFAULT_CYCLES,
+    DEFAULT_MAX_CYCLES,
+    DEFAULT_SAMPLE_RATE,
+    DEFAULT_SKIP_CYCLES,
+    PAPER_CYCLES,
+)
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.units import format_quantity, parse_quantity
 
@@ -109,17 +115,34 @@ def _range_text(spec: tuple[float, float, int], unit: str, scale: float) -> str:
     return f"{a * scale:g}{unit}:{b * scale:g}{unit}:{n}"
 
 
+#: Grid of the DEM map of ``pdamper paper`` (7 x 8 points: a few minutes on two cores; the
+#: paper's 14 x 24 grid is ``pdamper map --model dem``).
+CASE_STUDY_DEM_FREQUENCY = "2Hz:20Hz:7"
+CASE_STUDY_DEM_AMPLITUDE = "5mm:200mm:8"
+
+
 class MapSpec(_Section):
+    """Level II grids: ``"start:stop:count"``, ``"log:start:stop:count"`` (geometric
+    spacing) or one value."""
+
     frequency: str = _range_text(paper.PAPER_MAP_FREQUENCY, "Hz", 1.0)
     amplitude: str = _range_text(paper.PAPER_MAP_AMPLITUDE, "mm", 1e3)
+    particles: str | Count | None = None
+    dem_frequency: str = CASE_STUDY_DEM_FREQUENCY
+    dem_amplitude: str = CASE_STUDY_DEM_AMPLITUDE
 
 
 class DEMSpec(_Section):
     """Options of the DEM damper model (:class:`pdamper.models.DEMDamper`)."""
 
     integrator: str = "gear"
-    cycles: Count = DEFAULT_CYCLES
+    cycles: Count | Literal["auto"] = DEFAULT_CYCLES
     skip_cycles: Count = DEFAULT_SKIP_CYCLES
+    max_cycles: Count = DEFAULT_MAX_CYCLES
+    window_cycles: Count = 4
+    steady_windows: Count = 3
+    steady_rtol: float = 0.1
+    steady_atol: float = 0.03
     restitution_pp: Restitution = _D.restitution_pp.e
     restitution_pw: Restitution = _D.restitution_pw.e
     damping_model: str = "exact"
@@ -187,16 +210,81 @@ class Scenario(_Section):
 
     def map_grid(self):
         """The Level II grid ``(frequency [Hz], amplitude [m])`` of ``[map]``."""
-        import numpy as np
+        return (grid(self.map.frequency, "Hz", "map.frequency"),
+                grid(self.map.amplitude, "m", "map.amplitude"))
 
-        from pdamper.units import parse_range
+    def map_particles(self):
+        """The particle-count axis of ``[map] particles`` (None: the one count of
+        ``[particles]``)."""
+        if self.map.particles is None:
+            return None
+        return count_grid(self.map.particles, "map.particles")
 
-        f0, f1, nf = parse_range(self.map.frequency, "Hz", "map.frequency")
-        x0, x1, nx = parse_range(self.map.amplitude, "m", "map.amplitude")
-        for name, lo in (("map.frequency", min(f0, f1)), ("map.amplitude", min(x0, x1))):
-            if lo <= 0:
-                raise InputError(name, f"grid values must be > 0, got {lo:g}")
-        return np.linspace(f0, f1, nf), np.linspace(x0, x1, nx)
+    def dem_map_grid(self):
+        """The grid of the case study's DEM map (``[map] dem_frequency, dem_amplitude``)."""
+        return (grid(self.map.dem_frequency, "Hz", "map.dem_frequency"),
+                grid(self.map.dem_amplitude, "m", "map.dem_amplitude"))
+
+
+def grid(text: str, unit: str, field: str):
+    """A grid from ``"start:stop:count"`` (linear), ``"log:start:stop:count"`` (geometric)
+    or one quantity; values must be > 0.
+
+    >>> grid("log:1mm:100mm:3", "m", "map.amplitude").round(4).tolist()
+    [0.001, 0.01, 0.1]
+    """
+    import numpy as np
+
+    from pdamper.units import parse_range
+
+    log = isinstance(text, str) and text.strip().lower().startswith("log:")
+    body = text.strip()[4:] if log else text
+    a, b, n = parse_range(body, unit, field)
+    if min(a, b) <= 0:
+        raise InputError(field, f"grid values must be > 0, got {min(a, b):g}")
+    return np.geomspace(a, b, n) if log else np.linspace(a, b, n)
+
+
+def count_grid(value, field: str):
+    """Whole particle counts from ``N``, ``"start:stop:count"`` or ``"log:..."`` (rounded;
+    counts must be >= 1 and distinct).
+
+    >>> count_grid("16:96:6", "map.particles").tolist()
+    [16, 32, 48, 64, 80, 96]
+    """
+    import numpy as np
+
+    if isinstance(value, int) and not isinstance(value, bool):
+        counts = np.array([value])
+    else:
+        text = str(value).strip()
+        log = text.lower().startswith("log:")
+        body = text[4:] if log else text
+        parts = body.split(":")
+        try:
+            nums = [float(p) for p in parts]
+        except ValueError:
+            raise InputError(field, f"expected N, 'start:stop:count' or 'log:start:stop:count' "
+                             f"of particle counts, got {value!r}") from None
+        if len(parts) == 1:
+            raw = np.array(nums)
+        elif len(parts) == 3 and nums[2] == int(nums[2]) and nums[2] >= 1:
+            if min(nums[:2]) <= 0 and log:
+                raise InputError(field, f"log spacing needs counts > 0, got {value!r}")
+            raw = (np.geomspace if log else np.linspace)(nums[0], nums[1], int(nums[2]))
+        else:
+            raise InputError(field, f"expected N, 'start:stop:count' or 'log:start:stop:count' "
+                             f"of particle counts, got {value!r}")
+        counts = np.rint(raw)
+        if not log and np.any(np.abs(raw - counts) > 1e-9):
+            raise InputError(field, f"{value!r} gives counts that are not whole: "
+                             f"{', '.join(f'{v:g}' for v in raw)}")
+    counts = counts.astype(int)
+    if np.any(counts < 1):
+        raise InputError(field, f"particle counts must be >= 1, got {counts.min()}")
+    if len(set(counts.tolist())) != counts.size:
+        raise InputError(field, f"{value!r} gives repeated counts {counts.tolist()}")
+    return counts
 
 
 def _material(spec, field: str):
@@ -226,6 +314,11 @@ def _validate(sc: Scenario) -> None:
     damper = sc.damper()
     sc.structure_model()
     sc.map_grid()
+    sc.dem_map_grid()
+    counts = sc.map_particles()
+    if counts is not None and counts.max() > damper.max_count:
+        raise InputError("map.particles", f"counts must be in [1, {damper.max_count}] (n_max of "
+                         f"this container), got {counts.max()}")
     sc.model("dem", damper)
     sc.model(None, damper)
 
@@ -318,14 +411,24 @@ sample_rate = "{q(s.simulation.sample_rate, 'Hz')}"     # of the stored trajecto
 at = "{q(s.optimization.at, 's')}"                # objective: amplitude at this time after release
 # step = 16                 # particle-count increment; default one layer
 
-[map]                       # Level II grid, "start:stop:count"
+[map]                       # Level II grids: "start:stop:count", "log:start:stop:count" or one value
 frequency = "{s.map.frequency}"
 amplitude = "{s.map.amplitude}"
+# particles = "16:96:6"     # a particle-count axis (default: the one count of [particles])
+dem_frequency = "{s.map.dem_frequency}"      # grid of the DEM map in "pdamper paper"
+dem_amplitude = "{s.map.dem_amplitude}"
 
 [dem]                       # options of the DEM model ("pdamper dem", "--model dem")
 integrator = "{dem.integrator}"         # "gear" (variable step, the paper's) or "verlet"
-cycles = {dem.cycles}                  # excitation cycles of a Level II run
-skip_cycles = {dem.skip_cycles}             # cycles left out of the complex power (Eqs. 1-4)
+cycles = "{dem.cycles}"               # Level II: "auto" runs until the loss factor is steady;
+                            # a number runs that many cycles (the paper: {PAPER_CYCLES})
+skip_cycles = {dem.skip_cycles}             # cycles never averaged (complex power, Eqs. 1-4)
+max_cycles = {dem.max_cycles}             # upper bound of a run until steady
+window_cycles = {dem.window_cycles}           # steady: steady_windows windows of window_cycles cycles
+steady_windows = {dem.steady_windows}          # whose loss factors agree within max(steady_rtol |eta|,
+steady_rtol = {dem.steady_rtol}           # steady_atol), no trend, no symmetric lattice state
+                            # (docs/fields.md)
+steady_atol = {dem.steady_atol}
 restitution_pp = {dem.restitution_pp}        # constant sphere-sphere COR
 restitution_pw = {dem.restitution_pw}       # constant sphere-wall COR
 damping_model = "{dem.damping_model}"     # COR-damping relation: {_MODELS}
