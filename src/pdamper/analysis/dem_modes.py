@@ -16,12 +16,13 @@ over an averaging window of whole cycles. The features, in the order of the deci
     regular motion is seen anymore").
 ``contact_fraction``
     Share of the window in which the bed presses on a wall (``|F_z| > CONTACT_FORCE`` x
-    ``m_bed g``). A collect-and-collide bed adopts the wall's velocity at every impact and
-    rides on it (0.17-0.5 in the benchmark runs); a bed that rebounds elastically touches the
-    walls only during short impacts (0.01-0.03). Periodic with less than
-    ``MIN_CONTACT_FRACTION``: **rattling**, a mode the paper does not name (the locked
-    columns of the constant-COR lattice bed bounce between bottom and lid, eta up to 2.6 >
-    4/pi, docs/fields.md).
+    ``m_bed g``). A collect-and-collide bed collects at every impact over many particle
+    collisions and adopts the wall's velocity: it presses on a wall for 17-50 % of a cycle
+    in the benchmark runs; a bed that rebounds elastically touches the walls only during
+    short impacts (1-3 %). Periodic, with less than ``MIN_CONTACT`` cycles of wall contact
+    per period (``contact_fraction x period``): **rattling**, a mode the paper does not name
+    (the locked columns of the constant-COR lattice bed bounce between bottom and lid, eta
+    up to 2.6 > 4/pi, docs/fields.md).
 ``lid_contacts_per_cycle``
     Separate episodes of the force pushing the lid up (``F_z > LID_FORCE`` x ``m_bed g``)
     while the bed is in the upper half of its travel (episodes less than 1/8 cycle apart
@@ -55,8 +56,8 @@ PERIODIC_TOLERANCE = 0.1
 MAX_PERIOD = 4
 #: Bed on a wall: |F_z| above this x m_bed g.
 CONTACT_FORCE = 0.2
-#: Collect-and-collide beds ride on a wall at least this share of the time.
-MIN_CONTACT_FRACTION = 0.1
+#: Collect-and-collide beds press on a wall at least this long per period [cycles].
+MIN_CONTACT = 0.1
 #: Lid impact: F_z above this x m_bed g with the bed in the upper half of its travel.
 LID_FORCE = 0.5
 
@@ -216,10 +217,10 @@ def classify_motion(signals: BedSignals, first_cycle: int | None = None,
                     f"no repetition within {len(residuals)} cycles (best residual {best:.2f} > "
                     f"{PERIODIC_TOLERANCE:g})")
     res = residuals[period - 1]
-    if contact < MIN_CONTACT_FRACTION:
+    if contact * period < MIN_CONTACT:
         return done(MotionMode.RATTLING, period - 1, period, res, lid,
-                    f"repeats every {period} cycle(s) but rides on a wall only "
-                    f"{100 * contact:.0f} % of the time: elastic rebounds, not collected")
+                    f"repeats every {period} cycle(s) but presses on a wall only "
+                    f"{contact * period:.2g} cycles per period: elastic rebounds, not collected")
     double = lid * period >= 0.5
     if period == 1:
         mode = MotionMode.DOUBLE_CAC_HARMONIC if double else MotionMode.SINGLE_CAC_HARMONIC
@@ -227,4 +228,4 @@ def classify_motion(signals: BedSignals, first_cycle: int | None = None,
         mode = MotionMode.DOUBLE_CAC_SUBHARMONIC if double else MotionMode.SINGLE_CAC_SUBHARMONIC
     return done(mode, period - 1, period, res, lid,
                 f"repeats every {period} cycle(s), {lid:.2g} lid impacts per cycle, on a wall "
-                f"{100 * contact:.0f} % of the time")
+                f"{contact * period:.2g} cycles per period")

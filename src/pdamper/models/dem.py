@@ -53,6 +53,8 @@ DEFAULT_SAMPLE_RATE = 4000.0
 PACKINGS = ("lattice", "random")
 
 _STEADY = SteadyStateCriterion()
+#: Fewest cycles in each half of an averaged window whose motion modes must agree.
+MIN_HALF_WINDOW = 3
 
 
 def _whole(field: str, value, low: int) -> int:
@@ -300,6 +302,8 @@ class DEMDamper(DamperModel):
         Running until steady, the averaged window is the last ``steady_windows x
         window_cycles`` cycles; with a fixed number of cycles it is every cycle after
         ``skip_cycles`` (the paper's procedure), split into ``steady_windows`` windows.
+        Besides the loss-factor criterion, a window of at least ``2 x MIN_HALF_WINDOW``
+        cycles is steady only if its two halves show the same motion mode.
         """
         f = float(result.frequency)
         eta = cycle_loss_factors(result.time, -result.force[:, 2], result.container_velocity,
@@ -314,9 +318,18 @@ class DEMDamper(DamperModel):
             length = max(n - self.skip_cycles, 1)
             m = max(1, length // self.steady.windows)
             crit = dataclasses.replace(self.steady, window_cycles=m, windows=max(2, length // m))
-        motion = classify_motion(BedSignals.from_dem(result), n - length + 1, n)
+        signals = BedSignals.from_dem(result)
+        motion = classify_motion(signals, n - length + 1, n)
         st = crit.evaluate(eta, cycle_symmetry(result.time, result.force, f),
                            resting=motion.mode is MotionMode.SOLID)
+        if st.stationary and length >= 2 * MIN_HALF_WINDOW:
+            # the motion must have settled too: both halves of the window in one mode
+            half = length // 2
+            a = classify_motion(signals, n - length + 1, n - length + half).mode
+            b = classify_motion(signals, n - half + 1, n).mode
+            if a is not b:
+                st = dataclasses.replace(st, stationary=False,
+                                         reason=f"motion mode changes ({a.label} -> {b.label})")
         if st.first_cycle != n - length + 1:  # report the whole averaged window
             st = dataclasses.replace(st, first_cycle=n - length + 1,
                                      loss_factor=float(np.mean(eta[n - length:])))
