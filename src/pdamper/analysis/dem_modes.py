@@ -50,8 +50,9 @@ from pdamper.errors import InputError
 
 #: Take-off: the bed's height in the container varies by more than this x particle radius.
 LIFT_THRESHOLD = 0.1
-#: Repetitive: RMS difference of the bed height one period apart <= this x its range.
-PERIODIC_TOLERANCE = 0.1
+#: Repetitive: RMS difference of the bed height one period apart <= this x its range. The
+#: repetitive DEM beds of the benchmark stay below 0.067, the irregular ones above 0.10.
+PERIODIC_TOLERANCE = 0.08
 #: Longest period tested [cycles].
 MAX_PERIOD = 4
 #: Bed on a wall: |F_z| above this x m_bed g.
