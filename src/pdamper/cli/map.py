@@ -52,6 +52,10 @@ def map_(
     from pdamper.errors import InputError
     from pdamper.reports.maps import run_map
 
+    if workers is not None and workers < 1:
+        raise InputError("workers", f"must be a whole number >= 1, got {workers}")
+    if retries < 0:
+        raise InputError("retries", f"must be a whole number >= 0, got {retries}")
     count, axis = None, None
     if particles is not None:
         if ":" in particles:
