@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from pdamper.analysis.fields import effective_field, field_point, sweep_field
+from pdamper.analysis.modes import MotionMode
 from pdamper.errors import SimulationError
 from pdamper.models import AnalyticalDamper
 from pdamper.parameters import PAPER_DAMPER
@@ -65,3 +66,21 @@ def test_field_point_returns_plain_numbers():
     assert out["motion_mode"] == 3 and out["stationary"] == 1
     assert out["bed_mass"] == pytest.approx(PAPER_DAMPER.with_count(64).bed_mass)
     assert all(isinstance(v, int | float | str) for v in out.values())
+
+
+def test_field_agreement_counts_modes_and_loss_factor_differences():
+    from pdamper.analysis.fields import field_agreement
+
+    model = AnalyticalDamper(PAPER_DAMPER)
+    ref = effective_field(model, F, X)
+    other = ref.copy(deep=True)
+    assert field_agreement(other, ref)["mode_agreement"] == 1.0
+    other["loss_factor"][0, 0] += 0.4
+    other["motion_mode"][0, 0] = 5
+    other["status"][2, 1] = 1  # a failed point does not count
+    a = field_agreement(other, ref)
+    assert a["cells"] == 5 and a["failed"] == 1
+    assert a["mode_agreement"] == pytest.approx(4 / 5)
+    by = a["by_mode"][MotionMode(int(ref["motion_mode"][0, 0])).label]
+    assert by["mode_agreement"] < 1.0
+    assert sum(v["cells"] for v in a["by_mode"].values()) == 5

@@ -66,8 +66,11 @@ class _Engine:
             self.run = self._run_chunked
 
     def run(self, duration, sample_rate=2000.0, snapshot_rate=None, settle=True):
+        from pdamper.models.dem import truncate_result
+
         self.calls.append(("whole", duration))
-        return self.result
+        n = round(duration * 10.0)
+        return self.result if n >= 6 else truncate_result(self.result, n)
 
     def _run_chunked(self, duration, sample_rate=2000.0, snapshot_rate=None, settle=True, *,
                      stop=None):
@@ -82,12 +85,18 @@ def test_run_until_uses_the_chunked_engine_when_it_is_there(six_cycles):
         return part.time[-1] >= 0.3 - 1e-9
 
     eng = _Engine(six_cycles, chunked=False)
-    part = run_until(eng, 0.6, stop, 4000.0)
+    part = run_until(eng, 0.6, stop, 4000.0, frequency=10.0)
     assert eng.calls == [("whole", 0.6)] and part.time[-1] == pytest.approx(0.3)
     eng = _Engine(six_cycles, chunked=True)
     assert run_until(eng, 0.6, stop, 4000.0) is six_cycles and eng.calls == [("chunked", 0.6)]
-    never = run_until(_Engine(six_cycles, chunked=False), 0.6, lambda p: False, 4000.0)
+    never = run_until(_Engine(six_cycles, chunked=False), 0.6, lambda p: False, 4000.0,
+                      frequency=10.0)
     assert never is six_cycles
+    # staged: a first attempt of 2 cycles is too short, the second (4 cycles) stops at 3
+    eng = _Engine(six_cycles, chunked=False)
+    part = run_until(eng, 0.6, stop, 4000.0, frequency=10.0, first=0.2)
+    assert [d for _, d in eng.calls] == pytest.approx([0.2, 0.4])
+    assert part.time[-1] == pytest.approx(0.3)
 
 
 def test_run_until_steady_averages_the_last_windows():

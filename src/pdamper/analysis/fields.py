@@ -41,6 +41,7 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "dissipated_energy_per_cycle": ("dissipated energy per cycle E~ (Eq. 2)", "J"),
     "subharmonic_order": ("subharmonic order n_s (Eqs. 12, 18; -1: none)", "1"),
     "wall_seconds": ("wall time of the run", "s"),
+    "point_seconds": ("wall time of the point on its worker (all runs and the analysis)", "s"),
     "steps": ("time steps of the run (settling included)", "1"),
     "energy_balance_error": ("relative closure error of the energy ledger", "1"),
     "max_overlap_ratio": ("largest contact overlap / particle radius", "1"),
@@ -280,6 +281,7 @@ def sweep_field(model, frequency, amplitude, particles=None, *, store=None,
     values["status"] = sweep.status_codes().reshape(shape)
     values["error"] = np.array(sweep.errors(), dtype=str).reshape(shape)
     values["attempts"] = np.array([p.attempts for p in sweep.points]).reshape(shape)
+    values["point_seconds"] = np.array([p.seconds for p in sweep.points]).reshape(shape)
     coords, dims = _coords(f, x, counts)
     ds = _dataset(values, coords, dims, {})
     reasons = {k: np.array([p.values.get(k, "") for p in sweep.points], dtype=str)
@@ -300,3 +302,44 @@ def sweep_field(model, frequency, amplitude, particles=None, *, store=None,
                     sweep_retries=int(sweep.attrs["retries"]))
     ds.attrs.update(attrs or {})
     return ds, sweep
+
+
+def field_agreement(ds, reference) -> dict:
+    """How well the field ``ds`` (e.g. the DEM's) agrees with ``reference`` (e.g. the
+    analytical one) on the points where ``ds`` has a result (``status == 0``).
+
+    ``reference`` is interpolated onto the grid of ``ds`` where the grids differ (its
+    modes by nearest neighbour).
+
+    Returns
+    -------
+    dict
+        ``cells`` (points with a result), ``failed``, ``steady`` (of the cells),
+        ``mode_agreement`` (share of cells with the same motion mode),
+        ``median_abs_delta_eta`` (all cells) and ``by_mode``: for every motion mode of the
+        reference, ``{"cells", "mode_agreement", "median_abs_delta_eta"}``.
+    """
+    from pdamper.analysis.modes import MotionMode
+
+    same = (np.array_equal(reference["frequency"].values, ds["frequency"].values)
+            and np.array_equal(reference["amplitude"].values, ds["amplitude"].values))
+    ref = reference if same else reference.interp(frequency=ds["frequency"],
+                                                  amplitude=ds["amplitude"])
+    ref_mode = (reference["motion_mode"] if same else reference["motion_mode"].sel(
+        frequency=ds["frequency"], amplitude=ds["amplitude"], method="nearest")).values
+    ok = (ds["status"].values == 0) if "status" in ds else np.ones(ds["loss_factor"].shape, bool)
+    delta = np.abs(ds["loss_factor"].values - ref["loss_factor"].values)
+    agree = ds["motion_mode"].values == ref_mode
+    out = {"cells": int(ok.sum()), "failed": int((~ok).sum()),
+           "steady": int(((ds["stationary"].values == 1) & ok).sum()) if "stationary" in ds
+           else int(ok.sum()),
+           "mode_agreement": float(agree[ok].mean()) if ok.any() else math.nan,
+           "median_abs_delta_eta": float(np.median(delta[ok])) if ok.any() else math.nan,
+           "by_mode": {}}
+    for mode in MotionMode:
+        sel = ok & (ref_mode == int(mode))
+        if sel.any():
+            out["by_mode"][mode.label] = {"cells": int(sel.sum()),
+                                          "mode_agreement": float(agree[sel].mean()),
+                                          "median_abs_delta_eta": float(np.median(delta[sel]))}
+    return out

@@ -114,31 +114,40 @@ def truncate_result(result, cycles: int):
 
 
 def run_until(engine, duration: float, stop, sample_rate: float, snapshot_rate=None,
-              frequency: float | None = None):
+              frequency: float | None = None, first: float | None = None):
     """Run ``engine`` for at most ``duration`` [s], ending early once ``stop(partial)``.
 
     The chunked engine (issue #7: ``DEMEngine.run(..., stop=...)`` calls ``stop`` after
-    each chunk of whole cycles) is used when it is there. Until then this ADAPTER runs the
-    whole duration and cuts the result at the first whole cycle where ``stop`` holds, which
-    is what the chunked engine returns with one-cycle chunks (it only costs the wall time
-    of the cycles after that point).
+    each chunk of whole cycles) is used when it is there. Until then this ADAPTER runs
+    ``first`` seconds (default: all), finds the first whole cycle at which ``stop`` holds
+    and returns the run cut there; if there is none, it runs again from the start for twice
+    as long (at most ``duration``). The engine is deterministic, so a longer run repeats a
+    shorter one sample for sample (except the force of a run's very last sample, a half
+    window): the result is what the chunked engine returns with one-cycle chunks.
     """
     run = engine.run
     if "stop" in inspect.signature(run).parameters:
         return run(duration, sample_rate=sample_rate, snapshot_rate=snapshot_rate, stop=stop)
-    full = run(duration, sample_rate=sample_rate, snapshot_rate=snapshot_rate)
-    return _emulate_stop(full, stop, frequency or full.frequency)
+    f = frequency or engine.motion.frequency
+    total = max(1, int(round(duration * f)))
+    cycles = total if first is None else min(total, max(1, int(round(first * f))))
+    while True:
+        full = run(cycles / f, sample_rate=sample_rate, snapshot_rate=snapshot_rate)
+        part, stopped = _emulate_stop(full, stop, f)
+        if stopped or cycles >= total:
+            return part
+        cycles = min(total, 2 * cycles)
 
 
 def _emulate_stop(result, stop, frequency: float):
-    """ADAPTER (until the chunked engine of issue #7): ``result`` cut at the first whole
-    cycle at which ``stop`` returns True, else ``result`` itself."""
+    """ADAPTER (until the chunked engine of issue #7): ``(result cut at the first whole
+    cycle at which stop holds, True)``, else ``(result, False)``."""
     n = whole_cycles(result.time, frequency)
-    for k in range(1, n):
-        part = truncate_result(result, k)
+    for k in range(1, n + 1):
+        part = result if k == n else truncate_result(result, k)
         if stop(part):
-            return part
-    return result
+            return part, True
+    return result, False
 
 
 class DEMDamper(DamperModel):
@@ -286,9 +295,16 @@ class DEMDamper(DamperModel):
         x = check_range("amplitude", amplitude, low=0.0, low_inclusive=False, unit="m")
         engine = self.engine(HarmonicMotion(amplitude=x, frequency=f))
         if self.run_until_steady:
-            res = run_until(engine, self.max_cycles / f,
-                            lambda part: self.assess(part)[0].stationary,
-                            self.sample_rate, self.snapshot_rate, f)
+            need = self.steady.min_cycles
+
+            def steady(part) -> bool:
+                return (whole_cycles(part.time, f) >= need
+                        and self.assess(part)[0].stationary)
+
+            # the adapter's first attempt: the shortest steady run and one more window
+            res = run_until(engine, self.max_cycles / f, steady, self.sample_rate,
+                            self.snapshot_rate, f,
+                            first=(need + self.steady.window_cycles) / f)
         else:
             res = engine.run(self.cycles / f, sample_rate=self.sample_rate,
                              snapshot_rate=self.snapshot_rate)

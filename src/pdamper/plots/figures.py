@@ -184,7 +184,8 @@ def plot_field_difference(ds, reference, ax=None, variable: str = "loss_factor",
     return ax
 
 
-def plot_particle_snapshots(result, ax=None, count: int = 8, cycle: int | None = None):
+def plot_particle_snapshots(result, ax=None, count: int = 8, cycle: int | None = None,
+                            vmax: float | None = None):
     """Fig. 3: the particles at ``count`` instants of one excitation cycle, side view
     (x-z), coloured by the particle speed over the container velocity amplitude V.
 
@@ -197,6 +198,8 @@ def plot_particle_snapshots(result, ax=None, count: int = 8, cycle: int | None =
         Instants shown, evenly spread over the cycle [-].
     cycle
         Which cycle (1-based; default the last whole one).
+    vmax
+        Top of the colour scale [-] (default: 1, or the largest speed if larger).
     """
     from matplotlib.collections import PatchCollection
     from matplotlib.patches import Circle, Rectangle
@@ -239,7 +242,7 @@ def plot_particle_snapshots(result, ax=None, count: int = 8, cycle: int | None =
                 fontsize="x-small")
     coll = PatchCollection(patches, cmap="jet", edgecolor="k", linewidth=0.2)
     coll.set_array(np.asarray(speeds))
-    coll.set_clim(0.0, max(1.0, float(np.max(speeds))))
+    coll.set_clim(0.0, max(1.0, float(np.max(speeds))) if vmax is None else vmax)
     ax.add_collection(coll)
     ax.figure.colorbar(coll, ax=ax, label="particle speed / V")
     ax.set_aspect("equal")
