@@ -130,7 +130,8 @@ def run_map(scenario, model_name: str, *, frequency=None, amplitude=None, partic
     from pdamper.files import atomic_write
 
     t0 = time.perf_counter()
-    model = scenario.model(model_name)
+    model = scenario.map_model(model_name)
+    effective = scenario.for_map()
     if frequency is None or amplitude is None:
         f_sc, x_sc = scenario.map_grid()
         frequency = f_sc if frequency is None else frequency
@@ -139,11 +140,11 @@ def run_map(scenario, model_name: str, *, frequency=None, amplitude=None, partic
         particles = scenario.map_particles()
     f = np.asarray(frequency, float)
     x = np.asarray(amplitude, float)
-    context = map_context(scenario, model_name)
+    context = map_context(effective, model_name)
     key = map_key(context, f, x, particles)
     attrs = {"pdamper_version": __version__, "inputs": json.dumps(scenario.model_dump(
         mode="json")), "seed": int(scenario.dem.seed), "map_key": key,
-        "model_fidelity": model_name}
+        "model_fidelity": model_name, "packing": effective.dem.packing}
     if out is not None and cache:
         ds = load_cached_map(out, key)
         if ds is not None:
