@@ -46,7 +46,8 @@ def main(argv=None) -> dict:
     ap.add_argument("--amplitude", default="1mm:200mm:24")
     ap.add_argument("--particles", type=int, default=32)
     ap.add_argument("--workers", type=int, default=None)
-    ap.add_argument("--packing", default=None, help="lattice (default) or random")
+    ap.add_argument("--packing", default=None,
+                    help="initial packing of the runs, random (a map's default) or lattice")
     ap.add_argument("--cycles", default=None, help="'auto' (default) or a number (paper: 8)")
     ap.add_argument("--out", type=Path, default=None)
     ap.add_argument("--json", type=Path, default=None)
@@ -61,7 +62,7 @@ def main(argv=None) -> dict:
     from pdamper.sweep.cluster import default_workers
 
     overrides = {"map.frequency": args.frequency, "map.amplitude": args.amplitude,
-                 "particles.count": args.particles, "dem.packing": args.packing,
+                 "particles.count": args.particles, "map.dem_packing": args.packing,
                  "dem.cycles": None if args.cycles in (None, "auto") else int(args.cycles)}
     if args.cycles == "auto":
         overrides["dem.cycles"] = "auto"
@@ -81,7 +82,7 @@ def main(argv=None) -> dict:
     ok = ds["status"].values == 0
     wall = ds["point_seconds"].values
     cycles = ds["cycles"].values.astype(float)
-    model = sc.model("dem")
+    model = sc.map_model("dem")
     settle = model.engine(HarmonicMotion(0.01, 10.0)).settle_time  # same for every point
     needed = np.where(ok, cycles, np.nan)
     simulated = np.nansum(needed / f[:, None] + settle)  # what a run until steady needs
@@ -98,7 +99,7 @@ def main(argv=None) -> dict:
     eta_xopt = ds["loss_factor"].values[near, jx]
     result = {
         "grid": [int(f.size), int(x.size)], "points": int(ok.size), "workers": workers,
-        "packing": sc.dem.packing, "cycles_option": sc.dem.cycles,
+        "packing": sc.for_map().dem.packing, "cycles_option": sc.dem.cycles,
         "engine_stops_early": chunked, "total_seconds": total,
         "per_point_seconds": {"median": float(np.nanmedian(wall)),
                               "mean": float(np.nanmean(wall)), "max": float(np.nanmax(wall)),

@@ -15,7 +15,7 @@ from __future__ import annotations
 import functools
 import tomllib
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 from pydantic import AliasChoices, BaseModel, BeforeValidator, ConfigDict, Field, ValidationError
 
@@ -55,6 +55,15 @@ Density = Annotated[float, _q("kg/m^3"), Field(gt=0)]
 Modulus = Annotated[float, _q("Pa"), Field(gt=0)]
 Restitution = Annotated[float, Field(gt=0, le=1)]
 Count = Annotated[int, Field(strict=True)]
+
+
+def _cycles(v: Any) -> Any:
+    if v == "auto" or (isinstance(v, int) and not isinstance(v, bool) and v >= 1):
+        return v
+    raise ValueError(f"must be 'auto' or a whole number >= 1, got {v!r}")
+
+
+Cycles = Annotated[Any, BeforeValidator(_cycles)]
 
 _D = paper.PAPER_DAMPER
 
@@ -141,7 +150,7 @@ class DEMSpec(_Section):
     """Options of the DEM damper model (:class:`pdamper.models.DEMDamper`)."""
 
     integrator: str = "gear"
-    cycles: Count | Literal["auto"] = DEFAULT_CYCLES
+    cycles: Cycles = DEFAULT_CYCLES
     skip_cycles: Count = DEFAULT_SKIP_CYCLES
     max_cycles: Count = DEFAULT_MAX_CYCLES
     window_cycles: Count = 4

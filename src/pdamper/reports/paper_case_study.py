@@ -260,9 +260,9 @@ def _dem_map(cs: CaseStudy, sc, damper, say, out, map_progress, sweep_options) -
     else:
         rows.append(_row("dem_eta_xopt", "no DEM result at f >= 8 Hz near X_opt", None))
     say("Fig. 3: DEM snapshots over one cycle")
-    model = sc.model("dem", damper)
+    model = sc.map_model("dem", damper)  # as the DEM map: a steady cycle, the map's packing
     for label, f, x in FIG3_POINTS:
-        snap = model.with_damper(damper)
+        snap = model.with_damper(damper)  # a copy, recording 24 snapshots per cycle
         snap.snapshot_rate = 24.0 * f
         try:
             cs.snapshots.append((label, snap.run(f, x)))
