@@ -74,3 +74,19 @@ def test_killed_worker_loses_no_point(tmp_path, reference):
     assert r.failed == 0 and r.computed == N and len(PointStore(tmp_path / "store")) == N
     for a, b in zip(r.points, reference.points, strict=True):
         assert _same(a.values, b.values)
+
+
+def test_existing_cluster_by_scheduler_address(tmp_path, reference):
+    """--scheduler ADDRESS: the sweep runs on a cluster it did not start and leaves it up."""
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, protocol="tcp",
+                      host="127.0.0.1",
+                      dashboard_address="127.0.0.1:0") as cluster:
+        r = run_sweep(point, points(6), context={"test": "resume"},
+                      scheduler=cluster.scheduler_address)
+        with Client(cluster.scheduler_address) as c:  # still running
+            assert len(c.scheduler_info()["workers"]) == 1
+    assert r.computed == 6 and r.workers == 1
+    for a, b in zip(r.points, reference.points[:6], strict=True):
+        assert _same(a.values, b.values)

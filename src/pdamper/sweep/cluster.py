@@ -24,8 +24,8 @@ def default_workers() -> int:
 def open_client(workers: int | None = None, scheduler: str | None = None) -> Iterator:
     """A ``distributed.Client``: to the scheduler at ``scheduler`` (an existing cluster;
     left running afterwards), else on a new local cluster of ``workers`` single-threaded
-    worker processes (default: every core), bound to localhost, without a dashboard; the
-    local cluster is shut down on exit.
+    worker processes (default: every core), bound to localhost (its status page too, on a
+    free port); the local cluster is shut down on exit.
     """
     if workers is not None and (isinstance(workers, bool) or int(workers) != workers
                                 or workers < 1):
@@ -48,6 +48,6 @@ def open_client(workers: int | None = None, scheduler: str | None = None) -> Ite
     n = default_workers() if workers is None else int(workers)
     logger.info("starting a local dask cluster of %d worker processes", n)
     with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
-                      dashboard_address=None, silence_logs=logging.ERROR) as cluster, \
+                      dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR) as cluster, \
             Client(cluster) as client:
         yield client
