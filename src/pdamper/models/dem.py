@@ -211,8 +211,13 @@ class DEMDamper(DamperModel):
         if packing not in PACKINGS:
             raise InputError("dem.packing", f"must be one of {', '.join(PACKINGS)}, "
                              f"got {packing!r}")
-        self.cycles = AUTO if cycles == AUTO else _whole(
-            "dem.cycles", cycles, 1) if not isinstance(cycles, str) else _bad_cycles(cycles)
+        if isinstance(cycles, str):
+            if cycles != AUTO:
+                raise InputError("dem.cycles", f"must be {AUTO!r} or a whole number >= 1, "
+                                 f"got {cycles!r}")
+            self.cycles: int | str = AUTO
+        else:
+            self.cycles = _whole("dem.cycles", cycles, 1)
         self.skip_cycles = _whole("dem.skip_cycles", skip_cycles, 0)
         self.steady = SteadyStateCriterion(
             window_cycles=_whole("dem.window_cycles", window_cycles, 1),
@@ -390,10 +395,6 @@ class DEMDamper(DamperModel):
     def __repr__(self) -> str:
         return (f"DEMDamper(count={self.damper.count}, integrator={self.integrator!r}, "
                 f"packing={self.packing!r})")
-
-
-def _bad_cycles(value):
-    raise InputError("dem.cycles", f"must be 'auto' or a whole number >= 1, got {value!r}")
 
 
 def point_diagnostics(run: SteadyRun) -> dict:

@@ -80,6 +80,10 @@ def _mark_cells(ax, ds) -> None:
 def _field_axes(ax, ds) -> None:
     _grid_lines(ax, ds)
     _mark_cells(ax, ds)
+    x = ds["amplitude"].values
+    if x.size > 2 and np.all(x > 0) and np.allclose(np.diff(np.log(x)), np.log(x[1] / x[0])) \
+            and not np.allclose(np.diff(x), x[1] - x[0]):
+        ax.set_yscale("log")  # a geometric grid ("log:..."): equal cells
     ax.set_xlabel("excitation frequency f [Hz]")
     ax.set_ylabel("container stroke X [mm]")
 
