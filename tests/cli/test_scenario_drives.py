@@ -16,6 +16,8 @@ step = 32
 [map]
 frequency = "4Hz:20Hz:5"
 amplitude = "5mm:150mm:6"
+dem_frequency = "10Hz"
+dem_amplitude = "32mm"
 [dem]
 integrator = "gear"
 safety = 0.03
@@ -41,7 +43,8 @@ def test_paper_honours_the_scenario(tmp_path, cli):
     assert "maximum eta on the 5 x 6 grid" in rows
     opt = next(r for q, r in rows.items() if q.startswith("optimal particle count"))
     assert "64 within" in opt["ours"]
-    assert len(res["rows"]) == 27
+    assert len(res["rows"]) == 36
+    assert res["dem_map"]["shape"] == [1, 1]  # the scenario's DEM grid
 
 
 def test_paper_count_off_the_step_is_still_compared():

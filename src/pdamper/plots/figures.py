@@ -58,7 +58,9 @@ def _grid_lines(ax, ds, gravity=STANDARD_GRAVITY):
     if "clearance" in ds.attrs:
         ax.axhline(ds.attrs["clearance"] / math.pi * 1e3, color="k", ls=":", lw=1,
                    label="X_opt = h / pi")
-    ax.set_ylim(ds["amplitude"].values.min() * 1e3, ds["amplitude"].values.max() * 1e3)
+    lo, hi = ds["amplitude"].values.min() * 1e3, ds["amplitude"].values.max() * 1e3
+    if hi > lo:  # (a one-stroke grid keeps the limits of its cell)
+        ax.set_ylim(lo, hi)
 
 
 def _mark_cells(ax, ds) -> None:
