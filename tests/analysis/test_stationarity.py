@@ -69,6 +69,8 @@ def test_noisy_steady_state_is_accepted_and_a_step_or_a_trend_is_not():
 
 def test_too_few_cycles_and_bad_parameters():
     assert CRIT.evaluate([0.5] * 5).reason == "too few cycles"
+    short = SteadyStateCriterion(window_cycles=1, windows=3, skip_cycles=0)
+    assert short.evaluate([0.5, 0.9, 0.1]).reason == "too few cycles"  # 3 < 4 cycles
     assert not CRIT.evaluate([]).stationary
     with pytest.raises(InputError, match="dem.windows"):
         SteadyStateCriterion(windows=1)

@@ -27,7 +27,8 @@ window_cycles`` cycles after at least ``skip_cycles`` cycles:
    went to the value a random packing shows from its second cycle on (docs/fields.md).
    A resting (solid-like) bed may stay symmetric: it is steady.
 
-The tolerances default to ``rtol = 0.1``, ``atol = 0.03`` (the resolution of the paper's
+A window of fewer than ``MIN_JUDGED_CYCLES`` (4) cycles is never steady. The tolerances
+default to ``rtol = 0.1``, ``atol = 0.03`` (the resolution of the paper's
 Fig. 5 colour scale, log 0.1-1), ``windows = 3`` of ``window_cycles = 4`` cycles and
 ``z = 2``.
 """
@@ -42,6 +43,9 @@ import numpy as np
 from pdamper.analysis.complex_power import complex_amplitude
 from pdamper.errors import InputError
 
+#: Fewest cycles a window must hold to be judged steady at all (with fewer, the scatter
+#: allowance of test 1 covers any difference).
+MIN_JUDGED_CYCLES = 4
 #: Horizontal / vertical force ratio below which a cycle counts as mirror-symmetric [-].
 #: The symmetric lattice state shows <= 3e-7 (round-off); a broken symmetry >= 2e-4.
 SYMMETRY_TOLERANCE = 1.0e-5
@@ -254,7 +258,7 @@ class SteadyStateCriterion:
                          and np.any(np.asarray(symmetry, float)[n - L:n]
                                     < self.symmetry_tolerance))
         reason = ""
-        if L < self.span:
+        if L < self.span or L < MIN_JUDGED_CYCLES:
             reason = "too few cycles"
         elif spread > tau + self.z * robust / math.sqrt(m):
             reason = "windows disagree"
