@@ -211,3 +211,10 @@ class ParticleDamper:
     def with_count(self, count: int) -> ParticleDamper:
         """The same damper with another particle count."""
         return replace(self, count=count)
+
+    def with_restitution(self, restitution_pp: RestitutionCurve | None = None,
+                         restitution_pw: RestitutionCurve | None = None) -> ParticleDamper:
+        """The same damper with other COR curves (None: keep that pair's curve)."""
+        return replace(self,
+                       restitution_pp=self.restitution_pp if restitution_pp is None else restitution_pp,
+                       restitution_pw=self.restitution_pw if restitution_pw is None else restitution_pw)

@@ -43,8 +43,12 @@ def test_paper_honours_the_scenario(tmp_path, cli):
     assert "maximum eta on the 5 x 6 grid" in rows
     opt = next(r for q, r in rows.items() if q.startswith("optimal particle count"))
     assert "64 within" in opt["ours"]
-    assert len(res["rows"]) == 36
+    from pdamper.parameters import PAPER_REPORTED
+
+    assert len(res["rows"]) == len(PAPER_REPORTED) == 40  # every reported number, DEM ones too
     assert res["dem_map"]["shape"] == [1, 1]  # the scenario's DEM grid
+    assert runs["dem_paper_cor_curves"]["duration"] == 1.2  # the paper's COR curves, same options
+    assert runs["dem_paper_cor_curves"]["seed"] == 3
 
 
 def test_paper_count_off_the_step_is_still_compared():

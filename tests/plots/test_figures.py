@@ -11,9 +11,14 @@ from pdamper import plots  # noqa: E402
 from pdamper.analysis.analytical import bed_trajectory  # noqa: E402
 from pdamper.analysis.fields import effective_field  # noqa: E402
 from pdamper.coupling import Simulation  # noqa: E402
+from pdamper.dem.impacts import check_restitution  # noqa: E402
 from pdamper.design import optimize_particle_count  # noqa: E402
+from pdamper.io.scenario import load_scenario  # noqa: E402
+from pdamper.materials import PVC, S235  # noqa: E402
 from pdamper.models import AnalyticalDamper, DEMDamper  # noqa: E402
 from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE  # noqa: E402
+from pdamper.parameters import vertical_dampers_paper as paper  # noqa: E402
+from pdamper.reports.cor_sensitivity import run_cor_sensitivity  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -29,7 +34,29 @@ def inputs():
     dem["motion_mode"][2, 2] = -1
     dem["motion_mode"][3, 3] = 6
     dem_run = DEMDamper(PAPER_DAMPER, cycles=2, skip_cycles=1, snapshot_rate=200.0).run(10.0, 0.032)
+    check = check_restitution([0.1, 1.0], paper.PAPER_COR_PW, S235, PVC, 0.005)
+    study = run_cor_sensitivity(load_scenario(None, {"dem.cycles": 2, "dem.skip_cycles": 0}),
+                                ["0.6/0.85", "paper"], [(10.0, 0.032)], level3=False)
+    from pdamper.coupling.comparison import compare_with_measurement
+    from pdamper.coupling.modal import ModeCountStudy
+    from pdamper.design import make_objective, parse_variable, run_design_study
+
+    obj = make_objective("amplitude-at", 0.8, -0.058, PAPER_STRUCTURE)
+    design = run_design_study(lambda d: (d["particles"] * d["radius"], {}), PAPER_DAMPER,
+                             [parse_variable("particles=32:160:64"),
+                              parse_variable("radius=4mm:6mm:2")], obj)
+    comparisons = {"analytic": compare_with_measurement(run, run)}
     return {
+        "plot_cor_check": (check,),
+        "plot_cor_sensitivity": (study,),
+        "plot_material_table": ({"sphere": S235, "wall": PVC},),
+        "plot_restitution_curves": ({"steel-steel": paper.PAPER_COR_PP},),
+        "plot_design_landscape": (design,),
+        "plot_mode_study": (ModeCountStudy((0.34, 0.68), (1, 2), ((0.03, 0.031), (0.02, 0.02)),
+                                           0.75),),
+        "plot_model_trajectories": ({"analytic": run}, None, comparisons),
+        "plot_model_damping_ratios": ({"analytic": run}, None, comparisons),
+        "plot_phase_drift": (comparisons,),
         "plot_bed_trajectory": (bed_trajectory(18.0, 0.05, 0.1),),
         "plot_mode_map": (dem,),
         "plot_effective_mass_map": (dem,),
@@ -49,9 +76,9 @@ def test_plot_uses_given_axes_and_returns_it(inputs, name, monkeypatch):
     fig, ax = plt.subplots()
     out = getattr(plots, name)(*inputs[name], ax=ax)
     assert out is ax
-    assert ax.has_data()
+    assert ax.has_data() or ax.tables  # Fig. 2-left is a table
     new = getattr(plots, name)(*inputs[name])
-    assert new is not ax and new.has_data()
+    assert new is not ax and (new.has_data() or new.tables)
     plt.close("all")
 
 

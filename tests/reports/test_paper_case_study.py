@@ -53,3 +53,28 @@ def test_short_runs_give_no_verdict_instead_of_a_wrong_one():
     cs = run_case_study(sc, dem=False)
     row = next(r for r in cs.rows if r.quantity == "amplitude at 0.75 s, 32 spheres")
     assert row.agrees is None and row.ours.startswith("n/a")
+
+
+def test_dem_rows_fig2_and_both_cor_runs(tmp_path):
+    """With the DEM (reduced: 0.8 s, small grid): the Fig. 2 single-impact check within 0.01,
+    DEM model 1 with the scenario's constant COR and, next to it, with the paper's curves
+    (two different runs), Fig. 2 written, the COR models recorded in results.json."""
+    sc = load_scenario(None, {"simulation.duration": "0.8 s", "map.frequency": "5Hz:10Hz:2",
+                              "map.amplitude": "10mm:50mm:2"})
+    cs = run_case_study(sc, dem=True)
+    rows = {r.quantity: r for r in cs.rows}
+    cal = rows["Fig. 2 COR curves in single DEM impacts, 0.01-2 m/s (max |e_DEM - e|)"]
+    assert cal.agrees and all(c.max_deviation < 0.01 for c in cs.cor_checks)
+    const = rows["amplitude at 0.75 s, 32 spheres, DEM model 1, constant COR 0.6 / 0.85"]
+    curves = rows["amplitude at 0.75 s, 32 spheres, DEM model 1, the paper's COR curves (Fig. 2)"]
+    assert const.ours.endswith("mm)") and curves.ours.endswith("mm)")
+    keys = [r.key for r in paper.PAPER_REPORTED]
+    assert keys.index("dem_curves_amplitude_32_0p75s") == keys.index("dem_amplitude_32_0p75s") + 1
+    assert cs.run_dem is not cs.run_dem_curves
+    assert cs.run_dem.inputs["steps"] != cs.run_dem_curves.inputs["steps"]
+    files = write_case_study(cs, tmp_path)
+    assert (tmp_path / "fig2_materials_cor.png") in files
+    data = json.loads((tmp_path / "results.json").read_text())
+    assert data["restitution"]["scenario"]["particle_wall"] == "constant 0.85"
+    assert "dem_paper_cor_curves" in data["level3_runs"]
+    assert len(data["restitution"]["dem_single_impacts"]) == 2

@@ -1,33 +1,117 @@
-"""``pdamper optimize``: brute-force particle count (paper Sect. 4.2.2)."""
+"""``pdamper optimize``: design study; by default the paper's particle count (Sect. 4.2.2)."""
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from pdamper.cli._common import JsonOpt, ModelOpt, ScenarioOpt, emit, load, metadata
+from pdamper.cli._common import (
+    JsonOpt,
+    ModelOpt,
+    ScenarioOpt,
+    check_output,
+    emit,
+    load,
+    metadata,
+    write_atomic,
+)
 
 
 def optimize(
     model: ModelOpt = None,
     at: Annotated[str | None, typer.Option(help="Objective time T, e.g. '0.8s'.")] = None,
     step: Annotated[int | None, typer.Option(help="Particle-count increment (default: one layer).")] = None,
+    vary: Annotated[list[str] | None, typer.Option(
+        "--vary", help="Design variable, repeatable: 'particles=16:176:16' (start:stop:step), "
+        "'radius=3mm:6mm:4' (start:stop:count), 'container-length=100mm:140mm:3', "
+        "'particle-material=S235,PVC'. Default: the particle count.")] = None,
+    objective: Annotated[str | None, typer.Option(
+        help="amplitude-at (min), settling-time (min) or mean-damping (max).")] = None,
+    threshold: Annotated[str | None, typer.Option(
+        help="Settling threshold, e.g. '15mm' (default |x0| / 4).")] = None,
+    method: Annotated[str | None, typer.Option(
+        help="auto, grid (brute force) or optimize (scipy differential evolution).")] = None,
+    workers: Annotated[str | None, typer.Option(
+        help="Parallel dask workers; 0 = in-process; auto = 0 for cheap models, all cores "
+             "for the DEM (when dask.distributed is installed).")] = None,
+    scheduler: Annotated[str | None, typer.Option(
+        help="Address of an existing dask scheduler.")] = None,
+    max_evaluations: Annotated[int | None, typer.Option(
+        "--max-evaluations", help="Evaluation budget of the optimiser.")] = None,
+    seed: Annotated[int | None, typer.Option(help="Seed of the optimiser.")] = None,
+    plot: Annotated[Path | None, typer.Option(help="PNG file of the landscape.")] = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
-    """Particle count with the smallest amplitude at time T; every candidate is listed."""
-    from pdamper.design import optimize_particle_count
+    """Design with the best objective; every candidate (the landscape) is listed."""
+    import os
 
-    sc = load(scenario, simulation__model=model, optimization__at=at, optimization__step=step)
-    res = optimize_particle_count(sc.structure_model(), sc.damper(),
-                                  sc.structure.initial_displacement, sc.optimization.at,
-                                  model=lambda d: sc.model(None, d), step=sc.optimization.step)
-    payload = {**res.as_dict(), "units": {"mass": "kg", "objective": "m", "at": "s"},
+    from pdamper.design.study import DesignVariable, optimize_design
+    from pdamper.errors import InputError
+
+    if workers is not None and workers != "auto":
+        try:
+            workers = int(workers)
+        except ValueError:
+            raise InputError("optimization.workers", f"must be a whole number >= 0 or 'auto', "
+                             f"got {workers!r}") from None
+    sc = load(scenario, simulation__model=model, optimization__at=at, optimization__step=step,
+              optimization__vary=vary or None, optimization__objective=objective,
+              optimization__threshold=threshold, optimization__method=method,
+              optimization__workers=workers, optimization__scheduler=scheduler,
+              optimization__max_evaluations=max_evaluations, optimization__seed=seed)
+    check_output(plot, "plot")
+    o = sc.optimization
+    damper = sc.damper()
+    variables = o.variables()
+    if not variables:  # the paper's study: whole layers 0, step, ... below n_max
+        step_ = damper.per_layer if o.step is None else o.step
+        counts = tuple(range(0, damper.max_count, step_))
+        variables = [DesignVariable("particles", counts,
+                                    spec=f"particles={counts[0]}:{counts[-1]}:{step_}")]
+    proto = sc.model(None, damper)
+    n_workers = o.workers
+    if n_workers == "auto":  # parallel where it pays and dask.distributed is installed
+        import importlib.util
+
+        parallel = proto.expensive and importlib.util.find_spec("distributed") is not None
+        n_workers = (os.cpu_count() or 1) if parallel else 0
+    res = optimize_design(sc.structure_model(), damper, sc.structure.initial_displacement,
+                          variables, o.objective, o.at, model=lambda d: sc.model(None, d),
+                          threshold=o.threshold, method=o.method, max_grid=o.max_grid,
+                          max_evaluations=o.max_evaluations, seed=o.seed,
+                          workers=n_workers, scheduler=o.scheduler)
+    if plot is not None:
+        from matplotlib.figure import Figure
+
+        from pdamper.plots import plot_design_landscape
+
+        fig = Figure(figsize=(7, 5), layout="constrained")
+        plot_design_landscape(res, ax=fig.subplots())
+        write_atomic(plot, lambda p: fig.savefig(p, dpi=120, format="png"))
+    unit = {"m": "m", "s": "s", "1": "1"}[res.objective.unit]
+    payload = {**res.as_dict(), "workers": n_workers,
+               "units": {"mass": "kg", "objective": unit, "at": "s", "radius": "m",
+                         "container_length": "m", "container_width": "m",
+                         "container_depth": "m", "threshold": "m"},
                **metadata(sc)}
-    lines = [f"amplitude at t = {res.at:g} s ({sc.simulation.model} model)",
-             "  particles  mass [g]  amplitude [mm]"]
+    names = [v.name for v in res.variables]
+    shown = {"amplitude-at": (1e3, "amplitude [mm]"), "settling-time": (1.0, "settling [s]"),
+             "mean-damping": (1.0, "mean zeta [-]")}[res.objective.name]
+    head = f"{res.objective.name} (t = {res.at:g} s" if res.objective.name != "settling-time" \
+        else f"settling-time (to {res.objective.threshold * 1e3:g} mm"
+    lines = [f"{head}, {sc.simulation.model} model, {res.method}: {len(res.candidates)} designs)",
+             "  " + "  ".join(f"{n:>17s}" for n in names) + f"  mass [g]  {shown[1]}"]
     for c in res.candidates:
+        cells = []
+        for n in names:
+            v = c.design[n]
+            cells.append(f"{v * 1e3:15.3f}mm" if isinstance(v, float) else f"{v!s:>17s}")
+        value = (f"{c.objective * shown[0]:12.4g}" if c.objective is not None
+                 else f"{c.status:>12s}")
+        mass = f"{c.mass * 1e3:8.1f}" if c.mass is not None else "       -"
         mark = "  <- best" if c is res.best else ""
-        lines.append(f"  {c.particles:9d}  {c.mass * 1e3:8.1f}  {c.objective * 1e3:14.2f}{mark}")
+        lines.append("  " + "  ".join(cells) + f"  {mass}  {value}{mark}")
     emit(payload, as_json, "\n".join(lines))

@@ -19,33 +19,10 @@ from pdamper.cli._common import (
 )
 
 
-def simulate(
-    model: ModelOpt = None,
-    particles: Annotated[int | None, typer.Option(help="Number of spheres.")] = None,
-    duration: Annotated[str | None, typer.Option(help="Simulated time, e.g. '2s'.")] = None,
-    initial_displacement: Annotated[str | None, typer.Option(
-        "--initial-displacement", help="Release deflection x0, e.g. '-58mm'.")] = None,
-    out: Annotated[Path | None, typer.Option(help="NetCDF file for the trajectory.")] = None,
-    scenario: ScenarioOpt = None,
-    as_json: JsonOpt = False,
-) -> None:
-    """Release the structure from x0 and track the decay (paper Sect. 4.2.1, Figs. 7-8)."""
-    from pdamper.coupling import Simulation
-
-    sc = load(scenario, simulation__model=model, particles__count=particles,
-              simulation__duration=duration, structure__initial_displacement=initial_displacement)
-    check_output(out)
-    damper_model = sc.model()
-    structure = sc.structure_model()
-    res = Simulation(structure, damper_model, sc.structure.initial_displacement).run(
-        sc.simulation.duration, sc.simulation.sample_rate)
+def _run_payload(res, seconds: float) -> dict:
     amp, zeta = res.damping_ratio
-    meta = metadata(sc)
-    if out is not None:
-        ds = res.to_dataset()
-        ds.attrs.update(pdamper_version=meta["version"])
-        write_atomic(out, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
-    payload = {
+    return {
+        "model": res.model,
         "peaks": [{"time": float(t), "amplitude": float(a)}
                   for t, a in zip(res.peak_times, res.peak_amplitudes, strict=True)],
         "damping_ratio": [{"amplitude": float(a), "zeta": float(z)}
@@ -53,18 +30,141 @@ def simulate(
         "final_amplitude": res.final_amplitude,
         "effective_frequency": [float(v) for v in res.effective_frequency],
         "cycles": [{"time": c.time, "amplitude": c.amplitude, "frequency": c.frequency,
-                    "mode": c.mode.label, "effective_mass": c.effective_mass,
-                    "damping": c.damping, "loss_factor": c.loss_factor} for c in res.cycles],
-        "units": {"time": "s", "amplitude": "m", "frequency": "Hz", "effective_mass": "kg",
-                  "damping": "kg/s"},
-        **meta,
+                    "mode": c.mode.label if c.mode is not None else "unclassified",
+                    "effective_mass": c.effective_mass, "damping": c.damping,
+                    "loss_factor": c.loss_factor} for c in res.cycles],
+        "wall_seconds": seconds,
     }
-    lines = [f"{damper_model!r} on M={structure.mass:.4g} kg, K={structure.stiffness:g} N/m; "
-             f"x0 = {sc.structure.initial_displacement * 1e3:g} mm",
-             "   t [s]   X [mm]   zeta     mode"]
-    modes = [c.mode.title for c in res.cycles] or ["(not classified)"] * len(res.peak_times)
+
+
+def _table(label: str, res) -> list[str]:
+    _, zeta = res.damping_ratio
+    lines = [f"{label}", "   t [s]   X [mm]   zeta     mode"]
+    modes = [c.mode.title if c.mode is not None else "unclassified" for c in res.cycles] \
+        or ["(not classified)"] * len(res.peak_times)
     for t, a, z, m in zip(res.peak_times, res.peak_amplitudes, list(zeta) + [float("nan")],
                           modes, strict=False):
         lines.append(f"  {t:6.3f}  {a * 1e3:7.2f}  {z:7.4f}  {m}")
     lines.append(f"final amplitude {res.final_amplitude * 1e3:.2f} mm")
+    return lines
+
+
+def simulate(
+    model: ModelOpt = None,
+    particles: Annotated[int | None, typer.Option(help="Number of spheres.")] = None,
+    duration: Annotated[str | None, typer.Option(help="Simulated time, e.g. '2s'.")] = None,
+    initial_displacement: Annotated[str | None, typer.Option(
+        "--initial-displacement", help="Release deflection x0, e.g. '-58mm'.")] = None,
+    fields: Annotated[Path | None, typer.Option(
+        help="Effective-field map (NetCDF from `pdamper map`) of the fields model.")] = None,
+    compare: Annotated[str | None, typer.Option(
+        help="Several models overlaid, e.g. 'analytic,fields,dem'.")] = None,
+    measured: Annotated[Path | None, typer.Option(
+        help="Measured end-effector trajectory (CSV with unit headers, e.g. 'time [ms], "
+             "displacement [mm]'; or velocity, acceleration).")] = None,
+    plot: Annotated[Path | None, typer.Option(
+        help="PNG figure: trajectories, damping ratios (and phase drift).")] = None,
+    out: Annotated[Path | None, typer.Option(help="NetCDF file for the trajectory.")] = None,
+    scenario: ScenarioOpt = None,
+    as_json: JsonOpt = False,
+) -> None:
+    """Release the structure from x0 and track the decay (paper Sect. 4.2.1, Figs. 7-8)."""
+    import time
+
+    from pdamper.coupling import Simulation
+    from pdamper.errors import InputError
+
+    sc = load(scenario, simulation__model=model, particles__count=particles,
+              simulation__duration=duration, structure__initial_displacement=initial_displacement,
+              fields__file=None if fields is None else str(fields))
+    check_output(out)
+    check_output(plot, "plot")
+    names = [sc.simulation.model]
+    if compare is not None:
+        names = [n.strip() for n in compare.split(",") if n.strip()]
+        if not names or len(set(names)) != len(names):
+            raise InputError("compare", f"expected distinct model names such as "
+                             f"'analytic,fields,dem', got {compare!r}")
+    damper = sc.damper()
+    models = {n: sc.model(n, damper) for n in names}  # all built (and checked) before any run
+    aligned = None
+    if measured is not None:
+        from pdamper.coupling.measurement import align_measurement
+        from pdamper.io.measured import read_measured
+
+        aligned = align_measurement(read_measured(measured))
+    structure = sc.structure_model()
+    x0 = sc.structure.initial_displacement
+    runs, seconds = {}, {}
+    for n, m in models.items():
+        t0 = time.perf_counter()
+        runs[n] = Simulation(structure, m, x0).run(sc.simulation.duration,
+                                                   sc.simulation.sample_rate)
+        seconds[n] = time.perf_counter() - t0
+    first = runs[names[0]]
+    meta = metadata(sc)
+    if out is not None:
+        ds = first.to_dataset()
+        ds.attrs.update(pdamper_version=meta["version"])
+        write_atomic(out, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+    payload = {k: v for k, v in _run_payload(first, seconds[names[0]]).items() if k != "model"}
+    payload["units"] = {"time": "s", "amplitude": "m", "frequency": "Hz",
+                        "effective_mass": "kg", "damping": "kg/s", "wall_seconds": "s"}
+    if compare is not None:
+        payload["models"] = {n: _run_payload(r, seconds[n]) for n, r in runs.items()}
+    comparisons = {}
+    if aligned is not None:
+        from pdamper.coupling.comparison import compare_with_measurement
+
+        comparisons = {n: compare_with_measurement(r, aligned) for n, r in runs.items()}
+        amp, zeta = aligned.damping_ratio
+        payload["comparison"] = {
+            "measured": {
+                "file": aligned.source, "quantity": aligned.quantity,
+                "time_offset": aligned.time_offset, "static_offset": aligned.static_offset,
+                "initial_deflection": aligned.initial_deflection,
+                "simulated_initial_deflection": x0,
+                "peaks": [{"time": float(t), "amplitude": float(a)} for t, a in
+                          zip(aligned.peak_times, aligned.peak_amplitudes, strict=True)],
+                "damping_ratio": [{"amplitude": float(a), "zeta": float(z)}
+                                  for a, z in zip(amp, zeta, strict=True)],
+            },
+            "models": {n: c.as_dict() for n, c in comparisons.items()},
+            "units": {"peak_rms_error": "m", "peak_rms_relative": "1", "time_drift": "s",
+                      "phase_drift": "rad", "zeta": "1"},
+        }
+    payload.update(meta)
+    if plot is not None:
+        _figure(plot, runs, aligned, comparisons)
+    lines = [f"on M={structure.mass:.4g} kg, K={structure.stiffness:g} N/m; "
+             f"x0 = {x0 * 1e3:g} mm"]
+    for n, r in runs.items():
+        lines += _table(f"{models[n]!r} ({seconds[n]:.2f} s)", r)
+    if aligned is not None:
+        lines.append(f"measured {aligned.source}: released at {aligned.time_offset:.4f} s, "
+                     f"x0 = {aligned.initial_deflection * 1e3:.2f} mm")
+        for n, c in comparisons.items():
+            lines.append(f"  {n}: peak RMS error {c.peak_rms_error * 1e3:.3f} mm "
+                         f"({c.peak_rms_relative * 100:.2f} %), zeta RMS error "
+                         f"{c.zeta_rms_error:.4f}, phase drift {c.final_phase_drift:+.3f} rad "
+                         f"after {c.peaks} peaks")
     emit(payload, as_json, "\n".join(lines))
+
+
+def _figure(path: Path, runs: dict, aligned, comparisons: dict) -> None:
+    from matplotlib.figure import Figure
+
+    from pdamper import plots
+    from pdamper.cli._common import write_atomic
+
+    panels = 3 if aligned is not None else 2
+    fig = Figure(figsize=(11, 3.6 * panels), layout="constrained")
+    axes = fig.subplots(panels, 1)
+    plots.plot_model_trajectories(runs, aligned, comparisons, ax=axes[0])
+    axes[0].set_title("end-effector trajectory (Fig. 7)")
+    plots.plot_model_damping_ratios(runs, aligned, comparisons, ax=axes[1])
+    axes[1].set_title("damping ratio (Fig. 8)")
+    if aligned is not None:
+        plots.plot_phase_drift(comparisons, ax=axes[2])
+        axes[2].set_title("phase drift against the measurement")
+    write_atomic(path, lambda p: fig.savefig(p, dpi=110, format="png"))

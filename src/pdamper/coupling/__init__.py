@@ -1,7 +1,9 @@
 """Level III: damper models coupled to a structure (paper Sect. 4.1).
 
-Coupling strategies: the pseudo force of models 2 and 3 (:mod:`pdamper.coupling.pseudo_force`)
-and the co-simulation of model 1 (:mod:`pdamper.coupling.cosimulation`). :class:`Simulation`
+Coupling strategies: the pseudo force of models 2 and 3 (:mod:`pdamper.coupling.pseudo_force`,
+on N modes :mod:`pdamper.coupling.modal`) and the co-simulation of model 1
+(:mod:`pdamper.coupling.cosimulation`). Measured trajectories are aligned and compared in
+:mod:`pdamper.coupling.measurement` and :mod:`pdamper.coupling.comparison`. :class:`Simulation`
 runs any :class:`~pdamper.models.DamperModel` on a structure with the strategy the model
 names; the damping ratio follows from the logarithmic decrement (Eqs. 24-25).
 """
@@ -9,10 +11,11 @@ names; the damping ratio follows from the logarithmic decrement (Eqs. 24-25).
 from pdamper.coupling.decrement import damping_ratio_from_peaks, negative_peaks
 from pdamper.coupling.pseudo_force import pseudo_force_coefficients
 from pdamper.coupling.results import CycleUpdate, FreeVibrationResult
-from pdamper.coupling.simulation import COUPLINGS, Simulation
+from pdamper.coupling.simulation import COUPLINGS, MODAL_COUPLINGS, Simulation
 
 __all__ = [
     "COUPLINGS",
+    "MODAL_COUPLINGS",
     "CycleUpdate",
     "FreeVibrationResult",
     "Simulation",

@@ -31,6 +31,15 @@ MAX_SAMPLES = 2e7
 _FREQUENCY_ITERATIONS = 3
 
 
+def motion_mode(code) -> MotionMode | None:
+    """The :class:`MotionMode` of a response's mode code; None for unclassified (-1) or
+    codes this version does not know."""
+    try:
+        return MotionMode(int(code))
+    except ValueError:
+        return None
+
+
 def pseudo_force_coefficients(model, frequency: float, amplitude: float):
     """Effective mass m_eff [kg], viscous damping d = E~ / (pi W X^2) [kg/s] and the
     response of ``model`` at one (f [Hz], X [m]) point (Sect. 4.1)."""
@@ -80,7 +89,7 @@ def simulate_pseudo_force(model, structure, duration: float, initial_displacemen
     while True:
         amp = abs(x0)
         m_eff, d, freq, resp = _update(model, structure, amp, m_eff)
-        cycles.append(CycleUpdate(t0, amp, freq, MotionMode(int(resp.mode)), m_eff, d,
+        cycles.append(CycleUpdate(t0, amp, freq, motion_mode(resp.mode), m_eff, d,
                                   float(resp.loss_factor)))
         m_tot = m_s + m_eff
         sigma = (d_s + d) / (2.0 * m_tot)
@@ -108,15 +117,15 @@ def simulate_pseudo_force(model, structure, duration: float, initial_displacemen
 
 
 def _update(model, structure, amplitude: float, m_eff: float):
-    freq = math.sqrt(structure.stiffness / (structure.mass + m_eff)) / (2.0 * math.pi)
+    """m_eff, d, the effective frequency and the response at ``amplitude``: a short fixed
+    point between the frequency (``structure.effective_frequency(m_eff)``) and m_eff."""
+    freq = structure.effective_frequency(m_eff)
     for _ in range(_FREQUENCY_ITERATIONS):
         m_new, d, resp = pseudo_force_coefficients(model, freq, amplitude)
-        freq_new = math.sqrt(structure.stiffness / (structure.mass + m_new)) / (2.0 * math.pi)
+        freq_new = structure.effective_frequency(m_new)
         converged = abs(freq_new - freq) < 1e-9 * freq
         freq = freq_new
         if converged:
             break
     m_new, d, resp = pseudo_force_coefficients(model, freq, amplitude)
     return m_new, d, freq, resp
-
-

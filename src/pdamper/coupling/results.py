@@ -24,7 +24,8 @@ class CycleUpdate:
     frequency
         Effective eigenfrequency used for the update, sqrt(K / (M + m_eff)) / 2 pi [Hz].
     mode
-        Motion mode of the damper at (frequency, amplitude).
+        Motion mode of the damper at (frequency, amplitude); None if the model does not
+        classify it (e.g. effective fields from an unclassified DEM map).
     effective_mass
         m_eff [kg].
     damping
@@ -36,7 +37,7 @@ class CycleUpdate:
     time: float
     amplitude: float
     frequency: float
-    mode: MotionMode
+    mode: MotionMode | None
     effective_mass: float
     damping: float
     loss_factor: float

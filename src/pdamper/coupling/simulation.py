@@ -1,7 +1,12 @@
 """One :class:`Simulation` for every damper fidelity on a structure (paper Sect. 4.2).
 
-The coupling strategy is chosen by the model's ``coupling`` name through :data:`COUPLINGS`:
-a new strategy registers here, no caller branches on the model's type.
+The coupling strategy is chosen by the model's ``coupling`` name through :data:`COUPLINGS`
+(structures of one mode, :class:`~pdamper.structure.SingleDOFStructure`) or
+:data:`MODAL_COUPLINGS` (N modes, :class:`~pdamper.structure.modal.ModalStructure`): a new
+strategy registers here, no caller branches on the model's type. A one-mode
+``ModalStructure`` whose damper, output and release points coincide is Eq. (23) and runs
+with every coupling (the DEM co-simulation included) through its 1-DOF equivalent when the
+strategy has no N-mode form.
 """
 
 from __future__ import annotations
@@ -9,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from pdamper.coupling.cosimulation import co_simulate
+from pdamper.coupling.modal import simulate_modal_pseudo_force
 from pdamper.coupling.pseudo_force import simulate_pseudo_force
 from pdamper.coupling.results import FreeVibrationResult
 from pdamper.errors import InputError, check_range
@@ -21,6 +27,11 @@ COUPLINGS: dict[str, Callable[..., FreeVibrationResult]] = {
     "co_simulation": co_simulate,
 }
 
+#: Coupling strategies of N-mode structures, same signature.
+MODAL_COUPLINGS: dict[str, Callable[..., FreeVibrationResult]] = {
+    "pseudo_force": simulate_modal_pseudo_force,
+}
+
 
 class Simulation:
     """A structure with a damper model, released from an initial deflection (Sect. 4.2).
@@ -28,7 +39,8 @@ class Simulation:
     Parameters
     ----------
     structure
-        The :class:`~pdamper.structure.SingleDOFStructure`.
+        The :class:`~pdamper.structure.SingleDOFStructure`, or a
+        :class:`~pdamper.structure.modal.ModalStructure` (N modes, damper anywhere).
     model
         Any :class:`~pdamper.models.DamperModel` (analytic, effective fields, DEM).
     initial_displacement
@@ -44,15 +56,29 @@ class Simulation:
     """
 
     def __init__(self, structure, model, initial_displacement: float):
-        if not isinstance(structure, SingleDOFStructure):
+        from pdamper.structure.modal import ModalStructure
+
+        if not isinstance(structure, SingleDOFStructure | ModalStructure):
             raise InputError("structure", "must be a SingleDOFStructure (e.g. "
-                             f"pdamper.parameters.PAPER_STRUCTURE), got {type(structure).__name__}")
+                             "pdamper.parameters.PAPER_STRUCTURE) or a ModalStructure, got "
+                             f"{type(structure).__name__}")
         if not isinstance(model, DamperModel):
             raise InputError("model", "must be a DamperModel (e.g. AnalyticalDamper(damper)), "
                              f"got {type(model).__name__}")
         if model.coupling not in COUPLINGS:
             raise InputError("model", f"coupling {model.coupling!r} of {type(model).__name__} "
                              f"is not one of {', '.join(COUPLINGS)}")
+        self._strategy = COUPLINGS[model.coupling]
+        if isinstance(structure, ModalStructure):
+            if model.coupling in MODAL_COUPLINGS:
+                self._strategy = MODAL_COUPLINGS[model.coupling]
+            elif structure.modes == 1 and structure.coincident:
+                structure = structure.equivalent_single_dof()
+            else:
+                raise InputError("structure", f"the {model.coupling} coupling of "
+                                 f"{type(model).__name__} needs a single-DOF structure (or one "
+                                 "mode with the damper at the output and release point); use "
+                                 "a pseudo-force model (analytic, fields) for N modes")
         self.structure = structure
         self.model = model
         self.initial_displacement = check_range("structure.initial_displacement",
@@ -61,5 +87,5 @@ class Simulation:
 
     def run(self, duration: float, sample_rate: float = 2000.0) -> FreeVibrationResult:
         """Simulate ``duration`` [s]; the trajectory is sampled at ``sample_rate`` [Hz]."""
-        return COUPLINGS[self.model.coupling](self.model, self.structure, duration,
-                                              self.initial_displacement, sample_rate)
+        return self._strategy(self.model, self.structure, duration, self.initial_displacement,
+                              sample_rate)

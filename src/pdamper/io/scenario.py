@@ -15,13 +15,24 @@ from __future__ import annotations
 import functools
 import tomllib
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
-from pydantic import AliasChoices, BaseModel, BeforeValidator, ConfigDict, Field, ValidationError
+from pydantic import (
+    AliasChoices,
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+)
 
 from pdamper.contact.law import DAMPING_MODELS
 from pdamper.dem.model import DEFAULT_SAFETY
+from pdamper.design.study import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
 from pdamper.errors import InputError
+from pdamper.io.restitution import MODELS as COR_MODELS
+from pdamper.io.restitution import RestitutionSpec, resolve_files
 from pdamper.models.dem import (
     DEFAULT_CYCLES,
     DEFAULT_MAX_CYCLES,
@@ -73,12 +84,13 @@ class _Section(BaseModel):
 
 
 class MaterialSpec(_Section):
-    """A material given by its constants instead of a built-in name."""
+    """A material given by its constants instead of a library name."""
 
     name: str
     youngs_modulus: Modulus
     poisson_ratio: Annotated[float, Field(gt=-1, lt=0.5)]
     density: Density
+    yield_strength: Modulus | None = None
 
 
 class ContainerSpec(_Section):
@@ -115,8 +127,26 @@ class SimulationSpec(_Section):
 
 
 class OptimizationSpec(_Section):
+    """The design study (:mod:`pdamper.design.study`); without ``vary``, the paper's
+    particle-count study (Sect. 4.2.2)."""
+
     at: Duration = paper.PAPER_OBJECTIVE_TIME
     step: Annotated[int, Field(ge=1, strict=True)] | None = None
+    objective: Literal["amplitude-at", "settling-time", "mean-damping"] = "amplitude-at"
+    vary: list[str] = []
+    method: Literal["auto", "grid", "optimize"] = "auto"
+    threshold: PositiveLength | None = None
+    workers: Annotated[int, Field(ge=0, strict=True)] | Literal["auto"] = "auto"
+    scheduler: str | None = None
+    max_evaluations: Annotated[int, Field(ge=4, strict=True)] = DEFAULT_MAX_EVALUATIONS
+    max_grid: Annotated[int, Field(ge=1, strict=True)] = DEFAULT_MAX_GRID
+    seed: Annotated[int, Field(ge=0, strict=True)] = 0
+
+    def variables(self):
+        """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary``."""
+        from pdamper.design.study import parse_variable
+
+        return [parse_variable(v) for v in self.vary]
 
 
 def _range_text(spec: tuple[float, float, int], unit: str, scale: float) -> str:
@@ -144,6 +174,30 @@ class MapSpec(_Section):
     dem_frequency: str = CASE_STUDY_DEM_FREQUENCY
     dem_amplitude: str = CASE_STUDY_DEM_AMPLITUDE
     dem_packing: str | None = MAP_DEM_PACKING
+
+
+class FieldsSpec(_Section):
+    """Options of the effective-field model (:class:`pdamper.models.EffectiveFieldDamper`).
+
+    A relative ``file`` in a scenario file is taken relative to that file's directory.
+    """
+
+    file: str | None = None
+    extrapolation: Literal["error", "clamp", "analytic"] = "error"
+    interpolate: Literal["loss_factor", "dissipated_energy"] = "loss_factor"
+    nonstationary: Literal["mask", "use"] = "mask"
+    strict: bool = True
+
+    @field_validator("file")
+    @classmethod
+    def _exists(cls, v):
+        if v is not None and not Path(v).is_file():
+            raise ValueError(f"file not found: {v}")
+        return v
+
+    def options(self) -> dict:
+        """Keyword arguments of :class:`pdamper.models.EffectiveFieldDamper`."""
+        return self.model_dump()
 
 
 class DEMSpec(_Section):
@@ -174,7 +228,8 @@ class DEMSpec(_Section):
 class Scenario(_Section):
     """A complete scenario; every section is optional and defaults to the paper's case.
 
-    A section named after a damper fidelity (``[dem]``) holds that model's options.
+    A section named after a damper fidelity (``[dem]``, ``[fields]``) holds that model's
+    options.
     """
 
     title: str = "paper benchmark damper"
@@ -185,22 +240,48 @@ class Scenario(_Section):
     simulation: SimulationSpec = SimulationSpec()
     optimization: OptimizationSpec = OptimizationSpec()
     map: MapSpec = MapSpec()
+    fields: FieldsSpec = FieldsSpec()
     dem: DEMSpec = DEMSpec()
+    restitution: RestitutionSpec = RestitutionSpec()
 
     # -- builders of the domain objects ------------------------------------------------
     def damper(self):
         """The :class:`~pdamper.damper.ParticleDamper` this scenario describes."""
-        from pdamper.contact.restitution import ConstantRestitution
         from pdamper.damper import ParticleDamper
 
         c, p = self.container, self.particles
+        sphere = _material(p.material, "particles.material")
+        wall = _material(c.material, "container.material")
+        pp, pw = self.restitution_curves(sphere, wall, p.radius)
         return ParticleDamper(length=c.length, width=c.width, depth=c.depth,
                               particle_radius=p.radius, count=p.count,
-                              particle_material=_material(p.material, "particles.material"),
-                              wall_material=_material(c.material, "container.material"),
+                              particle_material=sphere, wall_material=wall,
                               container_mass=c.mass, friction=p.friction,
-                              restitution_pp=ConstantRestitution(self.dem.restitution_pp),
-                              restitution_pw=ConstantRestitution(self.dem.restitution_pw))
+                              restitution_pp=pp, restitution_pw=pw)
+
+    def restitution_curves(self, sphere, wall, radius: float):
+        """COR curves ``(sphere-sphere, sphere-wall)`` of spheres of ``sphere`` material and
+        ``radius`` [m] in a container of ``wall`` material.
+
+        Precedence: an entry of ``[restitution]``; else ``[dem] restitution_pp / _pw`` (a
+        constant; default the benchmark's 0.6 / 0.85). Giving one pair in both places is an
+        error (docs/restitution.md).
+        """
+        from pdamper.contact.restitution import ConstantRestitution
+        from pdamper.io.restitution import build_curve
+
+        curves = []
+        for pair, legacy, partner in (("particle_particle", "restitution_pp", sphere),
+                                      ("particle_wall", "restitution_pw", wall)):
+            spec = getattr(self.restitution, pair)
+            if spec is None:
+                curves.append(ConstantRestitution(getattr(self.dem, legacy)))
+                continue
+            if legacy in self.dem.model_fields_set:
+                raise InputError(f"restitution.{pair}", f"also given as dem.{legacy}; give "
+                                 "the COR of a pair in one place ([restitution] for curves)")
+            curves.append(build_curve(spec, pair, sphere, partner, radius))
+        return tuple(curves)
 
     def structure_model(self):
         """The :class:`~pdamper.structure.SingleDOFStructure`; M defaults to the paper's
@@ -322,14 +403,16 @@ def _material(spec, field: str):
     from pdamper.materials import Material, get_material
 
     if isinstance(spec, MaterialSpec):
-        return Material(spec.name, spec.youngs_modulus, spec.poisson_ratio, spec.density)
+        return Material(spec.name, spec.youngs_modulus, spec.poisson_ratio, spec.density,
+                        spec.yield_strength)
     return get_material(spec, field)
 
 
 def _first_error(exc: ValidationError) -> InputError:
     err = exc.errors()[0]
     loc = ".".join(str(p) for p in err["loc"]
-                   if str(p) not in ("str", "MaterialSpec") and not str(p).startswith("function-"))
+                   if str(p) not in ("str", "MaterialSpec", *COR_MODELS)
+                   and not str(p).startswith("function-"))
     msg = err["msg"].removeprefix("Value error, ")
     if err["type"] == "extra_forbidden":
         msg = "unknown key (check the spelling; `pdamper example-scenario` lists the keys)"
@@ -350,6 +433,7 @@ def _validate(sc: Scenario) -> None:
     if counts is not None and counts.max() > damper.max_count:
         raise InputError("map.particles", f"counts must be in [1, {damper.max_count}] (n_max of "
                          f"this container), got {counts.max()}")
+    sc.optimization.variables()
     sc.map_model("dem", damper)
     sc.model(None, damper)
 
@@ -385,6 +469,11 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None) -> Sce
             raise InputError("scenario", f"malformed TOML in {p}: {exc}") from None
         except UnicodeDecodeError:
             raise InputError("scenario", f"{p} is not UTF-8 text") from None
+        resolve_files(data, p.parent)
+        fields = data.get("fields")  # model 2's map, relative to the scenario file too
+        if isinstance(fields, dict) and isinstance(fields.get("file"), str) \
+                and not Path(fields["file"]).expanduser().is_absolute():
+            fields["file"] = str((p.parent / fields["file"]).resolve())
     for key, value in (overrides or {}).items():
         if value is None:
             continue
@@ -412,8 +501,9 @@ title = "{s.title}"
 length = "{q(c.length, 'mm')}"           # along the excitation (vertical), L in h = L (1 - n_p/n_max)
 width = "{q(c.width, 'mm')}"
 depth = "{q(c.depth, 'mm')}"
-material = "{c.material}"            # built-in: "PVC", "S235"; or an inline table:
-# material = {{ name = "PMMA", youngs_modulus = "3.2 GPa", poisson_ratio = 0.35, density = "1190 kg/m^3" }}
+material = "{c.material}"            # a library name (docs/materials.md: "S235", "POM", ...) or inline:
+# material = {{ name = "my PMMA", youngs_modulus = "3.2 GPa", poisson_ratio = 0.35,
+#              density = "1190 kg/m^3", yield_strength = "70 MPa" }}   # (one line in TOML)
 mass = "{q(c.mass, 'kg')}"               # m_con, subtracted in Eq. (4) when a driving force includes it
 
 [particles]
@@ -434,13 +524,28 @@ damping = "{q(st.damping, 'kg/s')}"
 initial_displacement = "{q(st.initial_displacement, 'mm')}"
 
 [simulation]
-model = "{s.simulation.model}"          # damper fidelity: "analytic" (model 3) or "dem" (model 1)
+model = "{s.simulation.model}"          # damper fidelity: "analytic" (model 3), "fields" (2), "dem" (1)
 duration = "{q(s.simulation.duration, 's')}"
 sample_rate = "{q(s.simulation.sample_rate, 'Hz')}"     # of the stored trajectory
 
 [optimization]
 at = "{q(s.optimization.at, 's')}"                # objective: amplitude at this time after release
 # step = 16                 # particle-count increment; default one layer
+objective = "{s.optimization.objective}"    # or "settling-time", "mean-damping" (maximised)
+# vary = ["particles=16:176:16", "radius=3mm:6mm:4"]   # design study; default: the count
+method = "{s.optimization.method}"             # "grid" (brute force), "optimize" (scipy), or by size
+# threshold = "14.5 mm"     # settling-time threshold; default |x0| / 4
+workers = "{s.optimization.workers}"            # dask workers; "auto": 0 (in-process) for cheap models
+max_evaluations = {s.optimization.max_evaluations}     # budget of the optimiser
+max_grid = {s.optimization.max_grid}            # largest grid "auto" evaluates by brute force
+seed = {s.optimization.seed}                    # seed of the optimiser
+
+[fields]                    # options of the effective-field model ("--model fields")
+# file = "map.nc"           # map from `pdamper map` (relative to this file)
+extrapolation = "{s.fields.extrapolation}"     # outside the map: "error", "clamp" or "analytic"
+interpolate = "{s.fields.interpolate}"   # or "dissipated_energy"
+nonstationary = "{s.fields.nonstationary}"      # non-stationary cells: "mask" (holes) or "use"
+strict = {str(s.fields.strict).lower()}               # a map of another geometry is an error
 
 [map]                       # Level II grids: "start:stop:count", "log:start:stop:count" or one value
 frequency = "{s.map.frequency}"
@@ -462,14 +567,23 @@ steady_windows = {dem.steady_windows}          # whose loss factors agree within
 steady_rtol = {dem.steady_rtol}           # steady_atol), no trend, no symmetric lattice state
                             # (docs/fields.md)
 steady_atol = {dem.steady_atol}
-restitution_pp = {dem.restitution_pp}        # constant sphere-sphere COR
-restitution_pw = {dem.restitution_pw}       # constant sphere-wall COR
+# restitution_pp = {dem.restitution_pp}      # constant sphere-sphere COR (default; or [restitution])
+# restitution_pw = {dem.restitution_pw}     # constant sphere-wall COR (default; or [restitution])
 damping_model = "{dem.damping_model}"     # COR-damping relation: {_MODELS}
 packing = "{dem.packing}"         # "lattice" (the paper's 4 x 4 layers) or "random"
 seed = {dem.seed}                    # seed of the random packing (recorded always)
 safety = {dem.safety}               # time step / Hertz contact time
 sample_rate = "{q(dem.sample_rate, 'Hz')}"     # of the force and container series
 # snapshot_rate = "200 Hz"  # particle snapshots per second (default: first and last)
+
+[restitution]               # COR model of each pair (Level I, docs/restitution.md), instead of the
+                            # [dem] constants above (a pair given in both places is an error)
+# particle_particle = "paper"                  # the paper's Fig. 2 curve (reconstructed from its text)
+# particle_wall = 0.85                         # a constant
+# particle_wall = "thornton"                   # Thornton 1997 from the materials' yield strength
+# particle_wall = {{ model = "table", file = "cor.csv" }}   # rows "velocity [m/s], cor [-], std [-]"
+# particle_wall = {{ model = "table", file = "cor.csv", fit = "exponential" }}  # "thornton", "linear"
+# particle_wall = {{ model = "paper", scale = 1.5 }}        # e -> 1 - 1.5 (1 - e)
 """
 
 

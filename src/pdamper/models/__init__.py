@@ -7,13 +7,16 @@ strategies (:mod:`pdamper.coupling`) run any of them on a structure, chosen by t
 ``coupling`` name. A new fidelity is a new subclass registered in :mod:`pdamper.models.registry`.
 
 - :class:`AnalyticalDamper` (``"analytic"``, the paper's model 3): Eqs. (5)-(22).
+- :class:`EffectiveFieldDamper` (``"fields"``, the paper's model 2): effective fields
+  (a ``pdamper map``) interpolated in frequency and stroke.
 - :class:`DEMDamper` (``"dem"``, the paper's model 1): the discrete element method.
 """
 
 from pdamper.models.analytical import AnalyticalDamper
 from pdamper.models.base import DamperModel, DamperResponse
 from pdamper.models.dem import DEMDamper
+from pdamper.models.fields import EffectiveFieldDamper
 from pdamper.models.registry import DAMPER_MODELS, get_damper_model
 
 __all__ = ["AnalyticalDamper", "DAMPER_MODELS", "DEMDamper", "DamperModel", "DamperResponse",
-           "get_damper_model"]
+           "EffectiveFieldDamper", "get_damper_model"]

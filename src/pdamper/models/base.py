@@ -85,6 +85,9 @@ class DamperModel(ABC):
     #: Whether one ``response`` call evaluates a whole grid cheaply (closed forms); maps of
     #: other models run point by point on the sweep engine (:mod:`pdamper.sweep`).
     vectorised: ClassVar[bool] = False
+    #: Whether one Level III run costs seconds or more (design studies then evaluate
+    #: designs on parallel workers by default).
+    expensive: ClassVar[bool] = False
 
     def __init__(self, damper: ParticleDamper):
         if not isinstance(damper, ParticleDamper):

@@ -9,9 +9,11 @@ from pdamper.errors import InputError
 from pdamper.models.analytical import AnalyticalDamper
 from pdamper.models.base import DamperModel
 from pdamper.models.dem import DEMDamper
+from pdamper.models.fields import EffectiveFieldDamper
 
 DAMPER_MODELS: dict[str, type[DamperModel]] = {
     AnalyticalDamper.fidelity: AnalyticalDamper,
+    EffectiveFieldDamper.fidelity: EffectiveFieldDamper,
     DEMDamper.fidelity: DEMDamper,
 }
 

@@ -280,7 +280,8 @@ def plot_damping_ratio(result, ax=None, label: str | None = None):
     ax.plot(amp * 1e3, zeta, "o-", ms=4, label=label or result.model)
     ax.set_xlabel("mean amplitude X_n+1/2 [mm]")
     ax.set_ylabel("damping ratio zeta [-]")
-    ax.invert_xaxis()
+    if not ax.xaxis_inverted():  # once, also when several runs share the axes
+        ax.invert_xaxis()
     ax.legend(fontsize="small")
     return ax
 

@@ -1,21 +1,32 @@
 """The reference paper's case study, end to end, with each reported number next to ours.
 
-:func:`run_case_study` computes (Level II) the Fig. 4 trajectories and the Fig. 5a/5c
-maps with the analytical model, the Fig. 5b/5d map with the DEM (on the scenario's
-``[map] dem_frequency x dem_amplitude`` grid, on dask.distributed, cached under the output
-directory) with its agreement with the analytical map, Fig. 3 snapshots, and (Level III)
+:func:`run_case_study` computes (Level I) the Fig. 2 material table and COR curves with
+single DEM impacts, (Level II) the Fig. 4 trajectories and the Fig. 5a/5c maps with the
+analytical model, the Fig. 5b/5d map with the DEM (on the scenario's ``[map]
+dem_frequency x dem_amplitude`` grid, on dask.distributed, cached under the output
+directory) with its agreement with the analytical map and Fig. 3 snapshots, and (Level III)
 the Fig. 7/8 free vibration and the Sect. 4.2.2 / Fig. 9 optimisation, all from one
 :class:`~pdamper.io.scenario.Scenario` (the paper's case by default);
-:func:`write_case_study` writes the figures (PNG), the maps (NetCDF) and the comparison
-table (Markdown and JSON). The paper's numbers and the tolerance of each comparison come
+:func:`write_case_study` writes the figures (PNG), the maps (NetCDF), the comparison table
+(Markdown and JSON) and ``report.html``, one self-contained page with all of it
+(:mod:`pdamper.reports.html`). The paper's numbers and the tolerance of each comparison come
 from :mod:`pdamper.parameters.vertical_dampers_paper`.
+
+Figs. 7 and 8 show the three damper models of Sect. 4.1: the analytical formulas (model
+3), the effective fields (model 2) and the DEM (model 1). Model 2 reads, in this order of
+preference, the scenario's ``[fields] file``, the case study's DEM map (``CaseStudy.dem_map``,
+when the study has one), or the analytical Fig. 5 map; the figure and the models table say
+which. A map of the case study's own is used with ``extrapolation = "clamp"`` and that is
+recorded with it.
 """
 
 from __future__ import annotations
 
+import io
 import json
 import logging
 import math
+import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -25,12 +36,14 @@ import numpy as np
 from pdamper.analysis.analytical import bed_response, bed_trajectory
 from pdamper.analysis.fields import effective_field, field_agreement
 from pdamper.analysis.modes import PAPER_MODES, MotionMode
+from pdamper.contact.restitution import ConstantRestitution
 from pdamper.coupling import FreeVibrationResult, Simulation
 from pdamper.design.optimize import OptimizationResult, optimize_particle_count
-from pdamper.errors import SimulationError
+from pdamper.errors import InputError, SimulationError
 from pdamper.files import atomic_write, atomic_write_text
-from pdamper.models import AnalyticalDamper
+from pdamper.models import AnalyticalDamper, EffectiveFieldDamper
 from pdamper.parameters import vertical_dampers_paper as paper
+from pdamper.reports.html import ReportFigure, render_report
 
 logger = logging.getLogger(__name__)
 
@@ -86,9 +99,63 @@ class CaseStudy:
     dem_map_run: object = None  # pdamper.reports.maps.MapRun
     agreement: dict = field(default_factory=dict)
     snapshots: list = field(default_factory=list)  # (label, DEMResult)
+    run_dem_curves: FreeVibrationResult | None = None
+    cor_checks: list = field(default_factory=list)
+    damper: object = None
+    run_fields: FreeVibrationResult | None = None
+    fields_source: str = ""
     optimization: OptimizationResult | None = None
     best_count: int = 0
     inputs: dict = field(default_factory=dict)
+    #: Wall time of each step and of each Level III model's run [s].
+    timings: dict = field(default_factory=dict)
+
+    def models(self) -> list[dict]:
+        """The Level III runs of Figs. 7/8 (and the no-particle envelope) for the tables."""
+        t_cmp = paper.PAPER_COMPARISON_TIME
+        out = []
+        for label, run, source, key in (
+                ("analytical formulas (model 3)", self.run_32, "Eqs. 5-22", "model 3"),
+                ("effective fields (model 2)", self.run_fields, self.fields_source, "model 2"),
+                ("DEM (model 1)", self.run_dem, "DEM co-simulation", "model 1"),
+                ("DEM (model 1), paper's COR curves",
+                 None if self.run_dem_curves is self.run_dem else self.run_dem_curves,
+                 "DEM co-simulation, Fig. 2 curves", "model 1, paper's COR curves"),
+                ("no particles", self.run_empty, "structure only", "no particles")):
+            if run is None:
+                continue
+            long_enough = run.time[-1] >= t_cmp * (1.0 - 1e-9)
+            out.append({"label": label, "model": run.model, "source": source,
+                        "amplitude_0p75": run.amplitude_at(t_cmp) if long_enough else None,
+                        "final_amplitude": run.final_amplitude,
+                        "seconds": self.timings.get(key)})
+        return out
+
+
+def _fields_model(sc, cs: CaseStudy, damper):
+    """Model 2 for Figs. 7/8 and a description of its map (module docstring)."""
+    if sc.fields.file is not None:
+        return sc.model("fields", damper), f"map {sc.fields.file}"
+    dem_map = getattr(cs, "dem_map", None)
+    opts = {**sc.fields.options(), "file": None, "extrapolation": "clamp"}
+    what = "analytical Fig. 5 map"
+    if dem_map is not None:
+        try:
+            return (EffectiveFieldDamper(damper, field=dem_map, **opts),
+                    "DEM map, clamped at its edges")
+        except InputError as exc:  # e.g. a DEM grid too small to interpolate
+            logger.warning("model 2 cannot use the DEM map (%s); using the analytical map",
+                           exc.message)
+            what = "analytical Fig. 5 map (the DEM map cannot serve it)"
+    return EffectiveFieldDamper(damper, field=cs.field_map, **opts), \
+        f"{what}, clamped at its edges"
+
+
+def _timed(cs: CaseStudy, key: str, fn):
+    t0 = time.perf_counter()
+    out = fn()
+    cs.timings[key] = time.perf_counter() - t0
+    return out
 
 
 def _zeta_at(res: FreeVibrationResult, amplitude: float) -> tuple[float, float]:
@@ -98,12 +165,13 @@ def _zeta_at(res: FreeVibrationResult, amplitude: float) -> tuple[float, float]:
     return float(zeta[i]), float(amp[i])
 
 
-def _amplitude_row(key: str, res: FreeVibrationResult, t: float, extra: str = "") -> Row:
+def _amplitude_row(key: str, res: FreeVibrationResult, t: float, extra: str = "",
+                   **fmt) -> Row:
     """Amplitude envelope at ``t`` [s], or no verdict if the run ends before ``t``."""
     if res.time[-1] < t * (1.0 - 1e-9):
-        return _row(key, f"n/a (the run ends at {res.time[-1]:g} s)", None)
+        return _row(key, f"n/a (the run ends at {res.time[-1]:g} s)", None, **fmt)
     a = res.amplitude_at(t)
-    return _row(key, f"{a * 1e3:.1f} mm{extra}", a)
+    return _row(key, f"{a * 1e3:.1f} mm{extra}", a, **fmt)
 
 
 def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
@@ -116,7 +184,9 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     with the paper's number. ``dem`` adds the DEM: the Fig. 5b/5d map (its points on the
     sweep engine, ``sweep_options`` such as ``workers``; cached as ``out/fig5_dem_map.nc``
     when ``out`` is given, so that a rerun does not recompute it; ``map_progress`` gets
-    its points), the Fig. 3 snapshots and model 1 in the Level III runs.
+    its points), the Fig. 3 snapshots, the Fig. 2 check (the paper's COR curves in single
+    DEM impacts) and DEM model 1, run with the scenario's COR and with the paper's Fig. 2
+    curves.
     """
     from pdamper.io.scenario import Scenario
 
@@ -124,7 +194,7 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     say = progress or (lambda _msg: None)
     damper, structure = sc.damper(), sc.structure_model()
     x0, duration, at = sc.structure.initial_displacement, sc.simulation.duration, sc.optimization.at
-    cs = CaseStudy(inputs=sc.model_dump(mode="json"))
+    cs = CaseStudy(inputs=sc.model_dump(mode="json"), damper=damper)
     rows = cs.rows
     h = damper.clearance
 
@@ -137,7 +207,8 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     f, xs = sc.map_grid()
     grid = f"{len(f)} x {len(xs)}"
     say(f"Fig. 5a/5c: analytical map {grid}")
-    ds = effective_field(AnalyticalDamper(damper), f, xs)
+    ds = _timed(cs, "Fig. 5 analytical map", lambda: effective_field(AnalyticalDamper(damper), f,
+                                                                    xs))
     cs.field_map = ds
     eta, modes = ds["loss_factor"].values, ds["motion_mode"].values
     x_opt = damper.optimal_stroke
@@ -165,10 +236,26 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
         _dem_map(cs, sc, damper, say, out, map_progress, sweep_options)
 
     say("Fig. 7/8: free vibration, no particles and the scenario's damper")
-    cs.run_32 = Simulation(structure, AnalyticalDamper(damper), x0).run(duration)
+    cs.run_32 = _timed(cs, "model 3", lambda: Simulation(structure, AnalyticalDamper(damper),
+                                                          x0).run(duration))
+    say("Fig. 7/8: effective fields (model 2)")
+    m2, cs.fields_source = _fields_model(sc, cs, damper)
+    try:
+        cs.run_fields = _timed(cs, "model 2", lambda: Simulation(structure, m2, x0).run(
+            duration))
+    except InputError as exc:  # e.g. a DEM map with a hole on the trajectory: say so
+        if sc.fields.file is not None or getattr(cs, "dem_map", None) is None:
+            raise
+        logger.warning("model 2 on the %s failed (%s); using the analytical map",
+                       cs.fields_source, exc)
+        cs.fields_source = f"analytical Fig. 5 map (the DEM map failed: {exc.message})"
+        m2 = EffectiveFieldDamper(damper, field=cs.field_map, extrapolation="clamp")
+        cs.run_fields = _timed(cs, "model 2", lambda: Simulation(structure, m2, x0).run(
+            duration))
     # the undamped envelope is cheap: always long enough for the paper's 2 s comparison
-    cs.run_empty = Simulation(structure, AnalyticalDamper(damper.with_count(0)), x0).run(
-        max(duration, paper.PAPER_DURATION))
+    cs.run_empty = _timed(cs, "no particles", lambda: Simulation(
+        structure, AnalyticalDamper(damper.with_count(0)), x0).run(
+        max(duration, paper.PAPER_DURATION)))
     rows.append(_row("eigenfrequency", f"{structure.natural_frequency:.2f} Hz",
                      structure.natural_frequency))
     from pdamper.structure.beam import modal_reduction
@@ -193,17 +280,11 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     rows.append(_amplitude_row("amplitude_32_0p75s", cs.run_32, t_cmp))
 
     if dem:
-        say("Fig. 7/8: DEM model 1 (structure and particles together)")
-        cs.run_dem = Simulation(structure, sc.model("dem", damper), x0).run(duration)
-        a75 = cs.run_32.amplitude_at(t_cmp)
-        rows.append(_amplitude_row("dem_amplitude_32_0p75s", cs.run_dem, t_cmp,
-                                   f" (analytical {a75 * 1e3:.1f} mm)"))
-        for key, target in (("dem_zeta_53mm", 0.053), ("dem_zeta_41mm", 0.041)):
-            z, a = _zeta_at(cs.run_dem, target)
-            rows.append(_row(key, f"{z:.4f} at {a * 1e3:.1f} mm", z))
+        _dem_rows(cs, sc, damper, structure, x0, duration, say)
 
     say("Sect. 4.2.2: optimisation of the particle count")
-    opt = optimize_particle_count(structure, damper, x0, at, step=sc.optimization.step)
+    opt = _timed(cs, "optimisation", lambda: optimize_particle_count(
+        structure, damper, x0, at, step=sc.optimization.step))
     cs.optimization = opt
     n_paper = paper.PAPER_OPTIMAL_COUNT
     ref = next((c for c in opt.candidates if c.particles == n_paper), None)
@@ -270,6 +351,53 @@ def _dem_map(cs: CaseStudy, sc, damper, say, out, map_progress, sweep_options) -
             logger.warning("Fig. 3 %s: %s", label, exc)
 
 
+def _cor_text(damper) -> str:
+    """The COR models of a damper, for row labels."""
+    pp, pw = damper.restitution_pp, damper.restitution_pw
+    if (pp, pw) == (paper.PAPER_COR_PP, paper.PAPER_COR_PW):
+        return "the paper's COR curves"
+    if isinstance(pp, ConstantRestitution) and isinstance(pw, ConstantRestitution):
+        return f"constant COR {pp.e:g} / {pw.e:g}"
+    return f"COR {pp.describe()} / {pw.describe()}"
+
+
+def _dem_rows(cs: CaseStudy, sc, damper, structure, x0: float, duration: float, say) -> None:
+    """Fig. 2 check and DEM model 1 with the scenario's COR and with the paper's curves."""
+    from pdamper.dem.impacts import check_restitution
+    from pdamper.materials import PVC, S235
+
+    say("Fig. 2: the paper's COR curves in single DEM impacts")
+    v = np.linspace(0.01, 2.0, 20)
+    r = paper.PAPER_PARTICLE_RADIUS
+    cs.cor_checks = [check_restitution(v, paper.PAPER_COR_PP, S235, S235, r),
+                     check_restitution(v, paper.PAPER_COR_PW, S235, PVC, r)]
+    worst = max(c.max_deviation for c in cs.cor_checks)
+    cs.rows.append(_row("dem_cor_calibration", f"{worst:.1e} (steel-steel and steel-PVC, "
+                        f"{len(v)} speeds each)", worst))
+
+    t_cmp = paper.PAPER_COMPARISON_TIME
+    a75 = cs.run_32.amplitude_at(t_cmp)
+    curves = damper.with_restitution(paper.PAPER_COR_PP, paper.PAPER_COR_PW)
+    cor = _cor_text(damper)
+    say(f"Fig. 7/8: DEM model 1, {cor}")
+    cs.run_dem = _timed(cs, "model 1", lambda: Simulation(
+        structure, sc.model("dem", damper), x0).run(duration))
+    if curves == damper:  # the scenario already runs the paper's curves
+        cs.run_dem_curves = cs.run_dem
+    else:
+        say("Fig. 7/8: DEM model 1, the paper's COR curves (Fig. 2)")
+        cs.run_dem_curves = _timed(cs, "model 1, paper's COR curves", lambda: Simulation(
+            structure, sc.model("dem", curves), x0).run(duration))
+    cs.rows.append(_amplitude_row("dem_amplitude_32_0p75s", cs.run_dem, t_cmp,
+                                  f" (analytical {a75 * 1e3:.1f} mm)", cor=cor))
+    cs.rows.append(_amplitude_row("dem_curves_amplitude_32_0p75s", cs.run_dem_curves, t_cmp,
+                                  f" (analytical {a75 * 1e3:.1f} mm)"))
+    for prefix, run in (("dem", cs.run_dem), ("dem_curves", cs.run_dem_curves)):
+        for key, target in ((f"{prefix}_zeta_53mm", 0.053), (f"{prefix}_zeta_41mm", 0.041)):
+            z, a = _zeta_at(run, target)
+            cs.rows.append(_row(key, f"{z:.4f} at {a * 1e3:.1f} mm", z, cor=cor))
+
+
 def _markdown(rows: list[Row]) -> str:
     mark = {True: "yes", False: "**no**", None: ""}
     lines = ["| quantity | paper | pdamper | agrees | source | note |",
@@ -279,12 +407,50 @@ def _markdown(rows: list[Row]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _dem_runs(cs: CaseStudy) -> list:
+    """The DEM (model 1) runs with their labels: the paper's curves and the scenario's COR."""
+    runs = []
+    if cs.run_dem_curves is not None:
+        runs.append(("DEM (model 1), paper's COR curves", cs.run_dem_curves))
+    if cs.run_dem is not None and cs.run_dem is not cs.run_dem_curves:
+        runs.append((f"DEM (model 1), {_cor_text(cs.damper)}", cs.run_dem))
+    return runs
+
+
+def _fig2(cs: CaseStudy):
+    """Fig. 2: material table (left) and COR curves (right), with the single DEM impacts."""
+    from matplotlib.figure import Figure
+
+    from pdamper import plots
+
+    d = cs.damper
+    fig = Figure(figsize=(12, 4.5), layout="constrained")
+    a1, a2 = fig.subplots(1, 2, width_ratios=(1, 1.5))
+    plots.plot_material_table({"sphere": d.particle_material, "wall": d.wall_material}, ax=a1,
+                              friction=d.friction)
+    a1.set_title("Fig. 2-left: material data (scenario)", fontsize="medium")
+    curves = [("sphere-sphere, paper (reconstructed)", paper.PAPER_COR_PP),
+              ("sphere-wall, paper (reconstructed)", paper.PAPER_COR_PW)]
+    styles = ["-", "-"]
+    if (d.restitution_pp, d.restitution_pw) != (paper.PAPER_COR_PP, paper.PAPER_COR_PW):
+        curves += [(f"sphere-sphere, scenario: {d.restitution_pp.describe()}", d.restitution_pp),
+                   (f"sphere-wall, scenario: {d.restitution_pw.describe()}", d.restitution_pw)]
+        styles += ["--", "--"]
+    points = {f"DEM single impacts, {c.pair}": (c.velocity, c.cor_simulated)
+              for c in cs.cor_checks}
+    plots.plot_restitution_curves(curves, ax=a2, styles=styles, points=points)
+    a2.axvline(paper.PAPER_COR_MAX_VELOCITY, color="k", ls=":", lw=1)
+    a2.set_title("Fig. 2-right: COR over impact velocity", fontsize="medium")
+    return fig
+
+
 def _figures(cs: CaseStudy):
     """The case study's figures as ``(file name, matplotlib Figure)``; no pyplot state."""
     from matplotlib.figure import Figure
 
     from pdamper import plots
 
+    yield "fig2_materials_cor.png", _fig2(cs)
     fig = Figure(figsize=(13, 7), layout="constrained")
     axes = fig.subplots(2, 3)
     for ax, (case, tr) in zip(axes.ravel(), cs.trajectories, strict=True):
@@ -306,18 +472,23 @@ def _figures(cs: CaseStudy):
         yield from _dem_figures(cs, n)
     fig = Figure(figsize=(9, 4), layout="constrained")
     ax = fig.subplots()
-    plots.plot_free_vibration(cs.run_32, ax=ax, label=f"analytical, {n} spheres",
+    plots.plot_free_vibration(cs.run_32, ax=ax, label=f"analytical (model 3), {n} spheres",
                               envelope=cs.run_empty)
-    if cs.run_dem is not None:
-        plots.plot_free_vibration(cs.run_dem, ax=ax, label=f"DEM (model 1), {n} spheres")
-    ax.set_title("Fig. 7: end-effector trajectory")
+    if cs.run_fields is not None:
+        plots.plot_free_vibration(cs.run_fields, ax=ax,
+                                  label=f"effective fields (model 2, {cs.fields_source})")
+    for label, run in _dem_runs(cs):
+        plots.plot_free_vibration(run, ax=ax, label=f"{label}, {n} spheres")
+    ax.set_title("Fig. 7: end-effector trajectory, damper models 1-3")
     yield "fig7_trajectory.png", fig
     fig = Figure(figsize=(6, 4), layout="constrained")
     ax = fig.subplots()
-    plots.plot_damping_ratio(cs.run_32, ax=ax, label=f"analytical, {n} spheres")
-    if cs.run_dem is not None:
-        plots.plot_damping_ratio(cs.run_dem, ax=ax, label=f"DEM (model 1), {n} spheres")
-    ax.set_title("Fig. 8: damping ratio")
+    plots.plot_damping_ratio(cs.run_32, ax=ax, label=f"analytical (model 3), {n} spheres")
+    if cs.run_fields is not None:
+        plots.plot_damping_ratio(cs.run_fields, ax=ax, label="effective fields (model 2)")
+    for label, run in _dem_runs(cs):
+        plots.plot_damping_ratio(run, ax=ax, label=f"{label}, {n} spheres")
+    ax.set_title("Fig. 8: damping ratio, damper models 1-3")
     yield "fig8_damping_ratio.png", fig
     fig = Figure(figsize=(12, 4), layout="constrained")
     a1, a2 = fig.subplots(1, 2)
@@ -399,9 +570,14 @@ def write_case_study(cs: CaseStudy, out: Path,
     out = Path(out)
     written: list[Path] = []
     say("writing figures")
+    report_figures = []
     for name, fig in _figures(cs):
-        written.append(atomic_write(out / name, lambda p, fig=fig: fig.savefig(p, dpi=120,
-                                                                               format="png")))
+        buf = io.BytesIO()
+        fig.savefig(buf, dpi=120, format="png")
+        png = buf.getvalue()
+        written.append(atomic_write(out / name, lambda p, png=png: p.write_bytes(png)))
+        caption = next((ax.get_title() for ax in fig.axes if ax.get_title()), name)
+        report_figures.append(ReportFigure(name, caption, png))
     say("writing map and table")
     cs.field_map.attrs["pdamper_version"] = __version__
     written.append(atomic_write(out / "fig5_analytic_map.nc",
@@ -439,12 +615,29 @@ def write_case_study(cs: CaseStudy, out: Path,
         "level3_runs": {name: {"model": run.model, **run.inputs}
                         for name, run in (("scenario_damper", cs.run_32),
                                           ("no_particles", cs.run_empty),
-                                          ("paper_optimum", cs.run_best), ("dem", cs.run_dem))
+                                          ("paper_optimum", cs.run_best), ("dem", cs.run_dem),
+                                          ("dem_paper_cor_curves", cs.run_dem_curves),
+                                          ("fields", cs.run_fields))
                         if run is not None},
+        "restitution": {
+            "scenario": {"particle_particle": cs.damper.restitution_pp.describe(),
+                         "particle_wall": cs.damper.restitution_pw.describe()},
+            "paper": {"particle_particle": paper.PAPER_COR_PP.describe(),
+                      "particle_wall": paper.PAPER_COR_PW.describe()},
+            "dem_single_impacts": [c.as_dict() for c in cs.cor_checks]},
+        "models": cs.models(),
+        "fields_source": cs.fields_source,
+        "timings": cs.timings,
         "map_shape": [int(n) for n in cs.field_map["loss_factor"].shape],
         "dem_map": None if cs.dem_map is None else {
             "file": DEM_MAP_FILE, "shape": [int(n) for n in cs.dem_map["loss_factor"].shape],
             "agreement": cs.agreement, "cached": bool(cs.dem_map_run.cached),
             "seconds": cs.dem_map_run.seconds, "workers": cs.dem_map_run.workers},
     }, indent=2)))
+    say("writing report.html")
+    written.append(atomic_write_text(out / "report.html", render_report(
+        title="pdamper: the reference paper's case study", version=__version__, rows=cs.rows,
+        figures=report_figures, models=cs.models(), timings=cs.timings,
+        landscape=[c.as_dict() for c in cs.optimization.candidates], at=cs.optimization.at,
+        inputs=cs.inputs)))
     return written

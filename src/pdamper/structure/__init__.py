@@ -1,4 +1,9 @@
-"""Level III: reduced structural models (paper Sect. 4.1, Eq. 23)."""
+"""Level III: reduced structural models (paper Sect. 4.1, Eq. 23).
+
+:class:`SingleDOFStructure` is the paper's one-mode model; :mod:`pdamper.structure.modal`
+keeps N modes with the damper anywhere (``ModalStructure``), and
+:mod:`pdamper.structure.beam` is the Timoshenko FE cantilever both can be derived from.
+"""
 
 from __future__ import annotations
 
@@ -53,6 +58,15 @@ class SingleDOFStructure:
     def damping_ratio(self) -> float:
         """zeta = D / (2 sqrt(K M)) [-]."""
         return self.damping / (2.0 * math.sqrt(self.stiffness * self.mass))
+
+    def effective_frequency(self, added_mass: float = 0.0) -> float:
+        """Undamped eigenfrequency sqrt(K / (M + m)) / 2 pi with ``added_mass`` m [kg]
+        moving with the structure [Hz] (the frequency at which the pseudo force is updated).
+
+        >>> round(SingleDOFStructure(1.514, 0.55, 1848.0).effective_frequency(0.1), 3)
+        5.385
+        """
+        return math.sqrt(self.stiffness / (self.mass + added_mass)) / (2.0 * math.pi)
 
     def min_amplitude(self, static_mass: float = 0.0, gravity: float = STANDARD_GRAVITY) -> float:
         """X_min = g / omega^2 [m] with ``static_mass`` added (paper Sect. 4.2.1)."""

@@ -14,7 +14,7 @@ from functools import partial
 from pathlib import Path
 
 import pytest
-from points import calls, point, points
+from sweep_points import calls, point, points
 
 from pdamper.sweep import PointStore, run_sweep
 
@@ -38,7 +38,7 @@ def test_killed_sweep_process_resumes_with_only_the_missing_points(tmp_path, ref
     store, log = tmp_path / "store", tmp_path / "calls"
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(
         [str(HERE), *os.environ.get("PYTHONPATH", "").split(os.pathsep)])}
-    proc = subprocess.Popen([sys.executable, str(HERE / "points.py"), str(store), str(N),
+    proc = subprocess.Popen([sys.executable, str(HERE / "sweep_points.py"), str(store), str(N),
                              str(log)], env=env, start_new_session=True,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:

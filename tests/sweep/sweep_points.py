@@ -46,8 +46,8 @@ def calls(log: str) -> list[int]:
     return [int(line) for line in p.read_text().split()] if p.exists() else []
 
 
-if __name__ == "__main__":  # the sweep a test kills: python points.py STORE N LOG
-    import points as this  # by its module name: the same function name (key) as the tests'
+if __name__ == "__main__":  # the sweep a test kills: python sweep_points.py STORE N LOG
+    import sweep_points as this  # by its module name: the same function name (key) as the tests'
 
     from pdamper.sweep import run_sweep
 

@@ -9,7 +9,7 @@ from functools import partial
 
 import numpy as np
 import pytest
-from points import calls, point, points, value_of
+from sweep_points import calls, point, points, value_of
 
 from pdamper.errors import InputError
 from pdamper.sweep import PointStore, point_key, run_sweep

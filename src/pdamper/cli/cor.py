@@ -1,0 +1,117 @@
+"""``pdamper cor``: a COR curve and the COR of simulated single impacts (Level I).
+
+Example::
+
+    pdamper cor --pair S235:PVC --velocity 0.01m/s:2m/s:40 --model paper --plot cor.png
+
+``--pair SPHERE:PARTNER`` names the sphere material and its partner: the same material twice
+(``S235:S235``) is a sphere-sphere impact of two equal spheres, otherwise a sphere hits a
+wall of the partner material. The target curve is ``--model`` (``0.6``, ``paper``,
+``thornton``, ``cor.csv``, each optionally ``*scale``) or else the scenario's model of that
+pair type (``[restitution]``, or the ``[dem]`` constants). Each velocity is one DEM run of
+the real engine without gravity. ``--json``: ``velocity``, ``cor_target``,
+``cor_simulated``, ``max_deviation`` and what was simulated.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from pdamper.cli._common import JsonOpt, ScenarioOpt, check_output, emit, load, metadata
+
+#: Default velocity grid of ``--velocity``.
+DEFAULT_VELOCITY = "0.01m/s:2m/s:40"
+_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
+
+
+def cor(
+    pair: Annotated[str | None, typer.Option(
+        "--pair", help="SPHERE:PARTNER materials, e.g. S235:PVC (sphere-wall) or S235:S235 "
+                       "(sphere-sphere); default: the scenario's sphere and wall.")] = None,
+    velocity: Annotated[str, typer.Option(
+        "--velocity", help="Impact speeds 'start:stop:count', e.g. '0.01m/s:2m/s:40'.")
+    ] = DEFAULT_VELOCITY,
+    model: Annotated[str | None, typer.Option(
+        "--model", help="Target COR model: 0.6, paper, thornton or a CSV table, optionally "
+                        "*scale (default: the scenario's model of this pair).")] = None,
+    damping_model: Annotated[str | None, typer.Option(
+        "--damping-model", help="COR-damping relation: exact (default) or gonthier.")] = None,
+    integrator: Annotated[str | None, typer.Option(
+        "--integrator", help="gear (default) or verlet.")] = None,
+    radius: Annotated[str | None, typer.Option(
+        "--radius", help="Sphere radius, e.g. '5mm' (default: the scenario's).")] = None,
+    plot: Annotated[Path | None, typer.Option(
+        "--plot", help="Figure file (.png, .pdf or .svg).")] = None,
+    scenario: ScenarioOpt = None,
+    as_json: JsonOpt = False,
+) -> None:
+    """Show a COR curve and the COR that the DEM contact law gives in single impacts
+    (paper Sect. 2, Fig. 2-right)."""
+    import numpy as np
+
+    from pdamper.dem.impacts import check_restitution
+    from pdamper.errors import InputError
+    from pdamper.io.restitution import build_curve, parse_model_text, validate_spec
+    from pdamper.materials import get_material
+    from pdamper.units import parse_range
+
+    sc = load(scenario, particles__radius=radius, dem__damping_model=damping_model,
+              dem__integrator=integrator)
+    check_output(plot, "plot")
+    if plot is not None and plot.suffix.lower() not in _FORMATS:
+        raise InputError("plot", f"must end in {', '.join(_FORMATS)}, got {plot.name!r}")
+    v0, v1, n = parse_range(velocity, "m/s", "velocity")
+    if min(v0, v1) <= 0:
+        raise InputError("velocity", f"impact speeds must be > 0 m/s, got {min(v0, v1):g} m/s")
+    v = np.linspace(v0, v1, n)
+
+    damper = sc.damper()
+    own = {m.name.lower(): m for m in (damper.particle_material, damper.wall_material)}
+
+    def material(name: str):
+        return own.get(name.strip().lower()) or get_material(name.strip(), "pair")
+
+    if pair is None:
+        sphere, partner = damper.particle_material, damper.wall_material
+    else:
+        names = pair.split(":")
+        if len(names) != 2 or not all(x.strip() for x in names):
+            raise InputError("pair", f"expected SPHERE:PARTNER such as S235:PVC or S235:S235, "
+                             f"got {pair!r}")
+        sphere, partner = material(names[0]), material(names[1])
+    sphere_sphere = sphere.name == partner.name
+    kind = "particle_particle" if sphere_sphere else "particle_wall"
+    r = damper.particle_radius
+    if model is not None:
+        curve = build_curve(validate_spec(parse_model_text(model), "model"), kind, sphere,
+                            partner, r)
+    else:
+        curve = sc.restitution_curves(sphere, partner, r)[0 if sphere_sphere else 1]
+
+    check = check_restitution(v, curve, sphere, partner, r, sphere_sphere,
+                              sc.dem.damping_model, sc.dem.integrator)
+    payload = {**check.as_dict(), **metadata(sc, model=model)}
+    if plot is not None:
+        from matplotlib.figure import Figure
+
+        from pdamper.cli._common import write_atomic
+        from pdamper.plots import plot_cor_check
+
+        fig = Figure(figsize=(7, 4.5), layout="constrained")
+        plot_cor_check(check, ax=fig.subplots(), curve=curve)
+        fmt = _FORMATS[plot.suffix.lower()]
+        payload["plot"] = str(write_atomic(plot, lambda p: fig.savefig(p, format=fmt, dpi=120)))
+    kind_text = "sphere-sphere" if sphere_sphere else "sphere-wall"
+    lines = [f"{check.pair} ({kind_text}, r = {r * 1e3:g} mm): target {check.curve}",
+             f"DEM single impacts: {check.damping_model} COR-damping relation, "
+             f"{check.integrator} integrator",
+             "  v [m/s]   target   simulated   deviation"]
+    lines += [f"  {a:7.4f}  {b:7.4f}  {c:9.4f}  {c - b:+10.2e}"
+              for a, b, c in zip(check.velocity, check.cor_target, check.cor_simulated,
+                                 strict=True)]
+    lines.append(f"max |deviation| {check.max_deviation:.2e}"
+                 + (f"; figure written to {payload['plot']}" if plot is not None else ""))
+    emit(payload, as_json, "\n".join(lines))

@@ -1,0 +1,663 @@
+"""Design studies over several damper variables (extends paper Sect. 4.2.2).
+
+The paper optimises one variable, the particle count, by brute force for the smallest
+amplitude after 0.8 s. A design study varies any of the damper's design variables
+(:data:`VARIABLES`: particle count, sphere radius, container length, width and depth,
+particle material) and ranks the designs by one objective (:data:`OBJECTIVES`):
+
+- ``amplitude-at``: amplitude envelope at T (the paper's objective; minimised) [m];
+- ``settling-time``: first time the envelope of the negative peaks falls below a
+  threshold (default a quarter of the release deflection; minimised; a design that never
+  gets there within the simulated time is reported at that time with ``settled: false``) [s];
+- ``mean-damping``: mean damping ratio (Eqs. 24-25) of the cycles that end by T
+  (maximised) [-].
+
+Search
+------
+``method="grid"`` evaluates every combination (brute force, the paper's method);
+``"optimize"`` runs :func:`scipy.optimize.differential_evolution` over the variables'
+ranges (integer and categorical variables through ``integrality``; a continuous variable
+given as ``start:stop:count`` spans [start, stop]); ``"auto"`` (default) takes the grid
+when it has at most ``max_grid`` points and every variable is discrete, the optimiser
+otherwise. Either way *every* evaluated design is returned (the landscape), and the
+evaluations of a grid or of one optimiser generation run together through
+:func:`pdamper.design.parallel.evaluate_parallel` (in-process or on dask.distributed).
+
+A design whose spheres do not fit the container (more than n_max, or a diameter larger
+than the container) is *infeasible*: it stays in the landscape with its reason and no
+objective; an evaluation that fails is kept as ``failed`` with its error.
+
+Variable specifications (CLI ``--vary``, scenario ``[optimization] vary``)
+-------------------------------------------------------------------------
+``particles=16:176:16``
+    Particle count, ``start:stop:STEP`` (counts go in layers, like the paper's increment of
+    16; the stop is included and must be reached by whole steps), or a list ``16,32,64``.
+``radius=3mm:6mm:4``
+    A continuous variable, ``start:stop:COUNT`` (as ``pdamper map``), a list
+    ``3mm,4mm``, one value, or an interval ``3mm:6mm`` (optimiser only).
+``particle-material=S235,PVC``
+    Names of materials (:func:`pdamper.materials.get_material`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from pdamper.coupling.simulation import Simulation
+from pdamper.damper import ParticleDamper
+from pdamper.design.parallel import Outcome, evaluate_parallel
+from pdamper.errors import InputError, check_range
+
+logger = logging.getLogger(__name__)
+
+#: Most grid points of a brute-force study before ``method="auto"`` turns to the optimiser.
+DEFAULT_MAX_GRID = 400
+#: Evaluation budget of the optimiser.
+DEFAULT_MAX_EVALUATIONS = 200
+#: Largest grid a study accepts (a typo guard, not a design question).
+MAX_GRID = 100_000
+#: Objective value given to the optimiser for infeasible or failed designs.
+_PENALTY = 1e6
+#: Sample rate of the objective runs [Hz]: peaks are exact in the pseudo-force coupling;
+#: the stored trajectory is not used.
+_SAMPLE_RATE = 200.0
+METHODS = ("auto", "grid", "optimize")
+
+
+# ----------------------------------------------------------------------------- variables
+@dataclass(frozen=True)
+class _VariableKind:
+    kind: str  # "integer", "continuous", "categorical"
+    unit: str
+    attribute: str  # ParticleDamper field
+    description: str
+
+
+#: Design variables: name -> kind, unit, the :class:`ParticleDamper` field it sets.
+VARIABLES: dict[str, _VariableKind] = {
+    "particles": _VariableKind("integer", "", "count", "particle count n_p"),
+    "radius": _VariableKind("continuous", "m", "particle_radius", "sphere radius"),
+    "container_length": _VariableKind("continuous", "m", "length",
+                                      "container length L (vertical)"),
+    "container_width": _VariableKind("continuous", "m", "width", "container width"),
+    "container_depth": _VariableKind("continuous", "m", "depth", "container depth"),
+    "particle_material": _VariableKind("categorical", "", "particle_material",
+                                       "particle material"),
+}
+
+
+@dataclass(frozen=True)
+class DesignVariable:
+    """One varied design variable.
+
+    Attributes
+    ----------
+    name
+        Key of :data:`VARIABLES` (``"particles"``, ``"radius"``, ...).
+    values
+        The values of a grid (SI floats, whole counts, or material names); None for a
+        continuous interval.
+    bounds
+        (low, high) of a continuous variable in SI units, else None.
+    spec
+        The specification as given, for the record.
+    """
+
+    name: str
+    values: tuple | None
+    bounds: tuple[float, float] | None = None
+    spec: str = ""
+
+    @property
+    def kind(self) -> str:
+        return VARIABLES[self.name].kind
+
+    @property
+    def size(self) -> float:
+        """Number of grid values (inf for an interval)."""
+        return math.inf if self.values is None else len(self.values)
+
+
+def _name(raw: str) -> str:
+    name = raw.strip().lower().replace("-", "_")
+    aliases = {"count": "particles", "particle_count": "particles", "particle_radius": "radius",
+               "length": "container_length", "material": "particle_material"}
+    name = aliases.get(name, name)
+    if name not in VARIABLES:
+        raise InputError("optimization.vary", f"unknown design variable {raw.strip()!r}; "
+                         f"known: {', '.join(n.replace('_', '-') for n in VARIABLES)}")
+    return name
+
+
+def parse_variable(spec: str) -> DesignVariable:
+    """A :class:`DesignVariable` from ``"name=..."`` (module docstring for the forms).
+
+    Examples
+    --------
+    >>> parse_variable("particles=16:176:16").values[:3]
+    (16, 32, 48)
+    >>> [round(v * 1e3, 3) for v in parse_variable("radius=3mm:6mm:4").values]
+    [3.0, 4.0, 5.0, 6.0]
+    >>> parse_variable("radius=3mm:6mm").bounds
+    (0.003, 0.006)
+    """
+    from pdamper.units import parse_quantity
+
+    field_ = "optimization.vary"
+    if not isinstance(spec, str) or "=" not in spec:
+        raise InputError(field_, f"expected 'name=values' such as 'particles=16:176:16', "
+                         f"got {spec!r}")
+    raw_name, _, text = spec.partition("=")
+    name = _name(raw_name)
+    kind = VARIABLES[name]
+    text = text.strip()
+    if not text:
+        raise InputError(field_, f"{spec!r}: no values after '='")
+    where = f"{field_} ({name.replace('_', '-')})"
+    if kind.kind == "categorical":
+        from pdamper.materials import get_material
+
+        names = tuple(p.strip() for p in text.split(",") if p.strip())
+        for n in names:
+            get_material(n, where)
+        return DesignVariable(name, names, spec=spec)
+    if kind.kind == "integer":
+        if ":" in text:
+            parts = text.split(":")
+            try:
+                a, b, step = (int(p) for p in parts) if len(parts) == 3 else (None,) * 3
+            except ValueError:
+                a = b = step = None
+            if a is None or step < 1 or b < a:
+                raise InputError(where, f"expected 'start:stop:step' of whole numbers with "
+                                 f"stop >= start and step >= 1, got {text!r}")
+            if (b - a) % step:
+                raise InputError(where, f"{text!r}: stop - start = {b - a} is not a multiple of "
+                                 f"the step {step} (particle counts use start:stop:STEP, e.g. "
+                                 "16:176:16)")
+            values = tuple(range(a, b + 1, step))
+        else:
+            try:
+                values = tuple(int(p) for p in text.split(","))
+            except ValueError:
+                raise InputError(where, f"expected whole numbers, got {text!r}") from None
+        if any(v < 0 for v in values):
+            raise InputError(where, f"counts must be >= 0, got {text!r}")
+        return DesignVariable(name, values, spec=spec)
+    # continuous
+    parts = text.split(":")
+    if len(parts) == 1:
+        values = tuple(parse_quantity(p, kind.unit, where) for p in text.split(","))
+        bounds = None
+    elif len(parts) == 2:
+        lo, hi = (parse_quantity(p, kind.unit, where) for p in parts)
+        if not lo < hi:
+            raise InputError(where, f"interval {text!r} must have start < stop")
+        values, bounds = None, (lo, hi)
+    elif len(parts) == 3:
+        lo, hi = (parse_quantity(p, kind.unit, where) for p in parts[:2])
+        try:
+            n = int(parts[2])
+        except ValueError:
+            raise InputError(where, f"count {parts[2]!r} of {text!r} must be a whole "
+                             "number") from None
+        if n < 1 or not lo <= hi or (n == 1 and lo != hi):
+            raise InputError(where, f"expected 'start:stop:count' with start <= stop and "
+                             f"count >= 1, got {text!r}")
+        values = tuple(float(v) for v in np.linspace(lo, hi, n))
+        bounds = (lo, hi)
+    else:
+        raise InputError(where, f"expected 'start:stop:count', 'start:stop' or a list, "
+                         f"got {text!r}")
+    for v in values or bounds:
+        check_range(where, v, low=0.0, low_inclusive=False, unit=kind.unit)
+    return DesignVariable(name, values, bounds, spec=spec)
+
+
+def apply_design(damper: ParticleDamper, design: dict[str, Any]) -> ParticleDamper:
+    """``damper`` with the design's variables set; raises InputError if it cannot be built
+    (e.g. more spheres than fit)."""
+    from pdamper.materials import get_material
+
+    changes = {}
+    for name, value in design.items():
+        kind = VARIABLES[name]
+        if kind.kind == "categorical":
+            value = get_material(value, f"optimization.vary ({name})")
+        changes[kind.attribute] = value
+    return replace(damper, **changes)
+
+
+def design_values(damper: ParticleDamper) -> dict[str, Any]:
+    """Every design variable's value in ``damper`` (SI units, material names)."""
+    out = {}
+    for name, kind in VARIABLES.items():
+        v = getattr(damper, kind.attribute)
+        out[name] = v.name if kind.kind == "categorical" else v
+    return out
+
+
+# ----------------------------------------------------------------------------- objectives
+@dataclass(frozen=True)
+class Objective:
+    """An objective on the free vibration of a design.
+
+    Attributes
+    ----------
+    name
+        ``"amplitude-at"``, ``"settling-time"`` or ``"mean-damping"``.
+    sense
+        ``"min"`` or ``"max"``.
+    unit
+        Unit of the value (SI).
+    at
+        T [s]: time of the amplitude, or end of the cycles averaged.
+    threshold
+        Settling threshold [m] (settling-time).
+    duration
+        Simulated time of each design [s] (settling-time: the longest settling time that
+        can be found).
+    """
+
+    name: str
+    sense: str
+    unit: str
+    at: float
+    threshold: float | None = None
+    duration: float | None = None
+
+    def evaluate(self, res) -> tuple[float, dict]:
+        """Objective value of a :class:`~pdamper.coupling.FreeVibrationResult` and extras."""
+        if self.name == "amplitude-at":
+            return res.amplitude_at(self.at), {}
+        if self.name == "mean-damping":
+            amp, zeta = res.damping_ratio
+            ends = np.asarray(res.peak_times[1:])
+            sel = ends <= self.at * (1 + 1e-12)
+            if not np.any(sel):
+                return float("nan"), {"cycles": 0}
+            return float(np.mean(zeta[sel])), {"cycles": int(np.count_nonzero(sel))}
+        t = settling_time(res.peak_times, res.peak_amplitudes, self.threshold)
+        if t is None:
+            return float(res.time[-1]), {"settled": False}
+        return t, {"settled": True}
+
+
+def settling_time(peak_times, peak_amplitudes, threshold: float) -> float | None:
+    """First time [s] the exponential envelope of the negative peaks reaches ``threshold``
+    [m] (interpolated as :meth:`FreeVibrationResult.amplitude_at`); None if it never does.
+
+    >>> settling_time([0.0, 1.0, 2.0], [0.04, 0.02, 0.01], 0.02)
+    1.0
+    >>> round(settling_time([0.0, 1.0], [0.04, 0.01], 0.02), 3)
+    0.5
+    """
+    tp = np.asarray(peak_times, float)
+    ap = np.asarray(peak_amplitudes, float)
+    if ap[0] <= threshold:
+        return float(tp[0])
+    k = np.flatnonzero(ap <= threshold)
+    if k.size == 0:
+        return None
+    i = int(k[0])
+    a0, a1 = ap[i - 1], ap[i]
+    if a1 <= 0:
+        return float(tp[i])
+    q = math.log(threshold / a0) / math.log(a1 / a0)
+    return float(tp[i - 1] + q * (tp[i] - tp[i - 1]))
+
+
+OBJECTIVES = {"amplitude-at": ("min", "m"), "settling-time": ("min", "s"),
+              "mean-damping": ("max", "1")}
+
+
+def make_objective(name: str, at: float, initial_displacement: float, structure,
+                   threshold: float | None = None, duration: float | None = None) -> Objective:
+    """The :class:`Objective` ``name`` with its defaults (module docstring).
+
+    ``duration`` (settling-time) defaults to ``max(2 s, 2 at)``; the other objectives run to
+    two periods of ``structure``'s natural frequency past T (so that two peaks bracket T,
+    as in :func:`pdamper.design.optimize_particle_count`).
+    """
+    if name not in OBJECTIVES:
+        raise InputError("optimization.objective", f"must be one of {', '.join(OBJECTIVES)}, "
+                         f"got {name!r}")
+    check_range("optimization.at", at, low=0.0, low_inclusive=False, unit="s")
+    sense, unit = OBJECTIVES[name]
+    if name == "settling-time":
+        thr = 0.25 * abs(initial_displacement) if threshold is None else threshold
+        check_range("optimization.threshold", thr, low=0.0, high=abs(initial_displacement),
+                    low_inclusive=False, high_inclusive=False, unit="m")
+        dur = max(2.0, 2.0 * at) if duration is None else duration
+        return Objective(name, sense, unit, at, thr, dur)
+    return Objective(name, sense, unit, at, None, at + 2.0 / structure.natural_frequency)
+
+
+# ----------------------------------------------------------------------------- results
+@dataclass(frozen=True)
+class DesignCandidate:
+    """One evaluated design.
+
+    Attributes
+    ----------
+    design
+        Every design variable's value (SI units, material names).
+    particles, mass
+        n_p and the bed mass [kg] (the paper study's keys).
+    objective
+        The objective's value (SI), None if infeasible or failed.
+    status
+        ``"ok"``, ``"infeasible"`` (does not fit the container) or ``"failed"``.
+    reason
+        Why infeasible or failed.
+    extra
+        Objective extras (``settled``, ``cycles``).
+    """
+
+    design: dict
+    particles: int
+    mass: float | None
+    objective: float | None
+    status: str = "ok"
+    reason: str = ""
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def feasible(self) -> bool:
+        return self.status != "infeasible"
+
+    def as_dict(self) -> dict:
+        return {"particles": self.particles, "mass": self.mass, "objective": self.objective,
+                **self.design, "feasible": self.feasible, "status": self.status,
+                "reason": self.reason, **self.extra}
+
+
+@dataclass(frozen=True)
+class DesignStudyResult:
+    """The landscape of a design study and its best design.
+
+    ``best`` is None when no design could be evaluated.
+    """
+
+    best: DesignCandidate | None
+    candidates: tuple[DesignCandidate, ...]
+    variables: tuple[DesignVariable, ...]
+    objective: Objective
+    method: str
+    seed: int | None = None
+
+    @property
+    def at(self) -> float:
+        return self.objective.at
+
+    def as_dict(self) -> dict:
+        return {
+            "best": None if self.best is None else self.best.as_dict(),
+            "candidates": [c.as_dict() for c in self.candidates],
+            "at": self.objective.at,
+            "objective_name": self.objective.name,
+            "sense": self.objective.sense,
+            "threshold": self.objective.threshold,
+            "method": self.method,
+            "seed": self.seed,
+            "evaluations": len(self.candidates),
+            "infeasible": sum(c.status == "infeasible" for c in self.candidates),
+            "failed": sum(c.status == "failed" for c in self.candidates),
+            "variables": [{"name": v.name, "spec": v.spec, "kind": v.kind,
+                           "values": None if v.values is None else list(v.values),
+                           "bounds": None if v.bounds is None else list(v.bounds)}
+                          for v in self.variables],
+        }
+
+
+# ----------------------------------------------------------------------------- evaluation
+@dataclass
+class DesignEvaluator:
+    """Objective of one design: build the damper, its model, run the structure.
+
+    Picklable (for dask) when ``model`` is (cloudpickle takes closures).
+    """
+
+    structure: Any
+    damper: ParticleDamper
+    initial_displacement: float
+    objective: Objective
+    model: Callable[[ParticleDamper], Any]
+
+    def __call__(self, design: dict) -> tuple[float, dict]:
+        d = apply_design(self.damper, design)
+        res = Simulation(self.structure, self.model(d), self.initial_displacement).run(
+            self.objective.duration, sample_rate=_SAMPLE_RATE)
+        return self.objective.evaluate(res)
+
+
+def _feasibility(damper: ParticleDamper, design: dict) -> tuple[ParticleDamper | None, str]:
+    try:
+        return apply_design(damper, design), ""
+    except InputError as exc:
+        return None, str(exc)
+
+
+def _canonical(design: dict) -> tuple:
+    return tuple(sorted((k, round(v, 12) if isinstance(v, float) else v)
+                        for k, v in design.items()))
+
+
+class _Landscape:
+    """Evaluates batches of designs (feasibility first), caching repeated designs."""
+
+    def __init__(self, damper, evaluate, workers, scheduler, progress):
+        self.damper, self.evaluate = damper, evaluate
+        self.workers, self.scheduler, self.progress = workers, scheduler, progress
+        self.candidates: list[DesignCandidate] = []
+        self._seen: dict[tuple, DesignCandidate] = {}
+
+    def batch(self, designs: Sequence[dict]) -> list[DesignCandidate]:
+        """Evaluate ``designs`` (feasible ones together, in parallel); the landscape keeps
+        them in the order given, each distinct design once."""
+        out: list[DesignCandidate | None] = [None] * len(designs)
+        fresh = []  # (index, key) of designs first seen in this batch
+        todo = []
+        for k, design in enumerate(designs):
+            key = _canonical(design)
+            if key in self._seen or any(key == f for _, f in fresh):
+                continue
+            fresh.append((k, key))
+            full, reason = _feasibility(self.damper, design)
+            values = _reported_values(self.damper, design)
+            if full is None:
+                out[k] = DesignCandidate(values, values["particles"], None, None, "infeasible",
+                                         reason)
+            else:
+                todo.append((k, design, values, full.bed_mass))
+        outcomes: list[Outcome] = evaluate_parallel(
+            self.evaluate, [t[1] for t in todo], workers=self.workers,
+            scheduler=self.scheduler, progress=self.progress) if todo else []
+        for (k, _design, values, mass), oc in zip(todo, outcomes, strict=True):
+            if oc.ok and oc.value is not None and math.isfinite(oc.value[0]):
+                out[k] = DesignCandidate(values, values["particles"], mass, float(oc.value[0]),
+                                         extra=oc.value[1])
+            else:
+                out[k] = DesignCandidate(values, values["particles"], mass, None, "failed",
+                                         oc.error or "objective is not a finite number")
+        for k, key in fresh:
+            self._seen[key] = out[k]
+            self.candidates.append(out[k])
+        return [self._seen[_canonical(d)] for d in designs]
+
+
+def _reported_values(damper: ParticleDamper, design: dict) -> dict[str, Any]:
+    """Every design variable's value: the base damper's, overridden by ``design`` (also
+    for an infeasible design, which cannot be built)."""
+    from pdamper.materials import get_material
+
+    out = design_values(damper)
+    for name, value in design.items():
+        out[name] = get_material(value).name if VARIABLES[name].kind == "categorical" else value
+    return out
+
+
+def run_design_study(
+    evaluate: Callable[[dict], tuple[float, dict]],
+    damper: ParticleDamper,
+    variables: Sequence[DesignVariable],
+    objective: Objective,
+    *,
+    method: str = "auto",
+    max_grid: int = DEFAULT_MAX_GRID,
+    max_evaluations: int = DEFAULT_MAX_EVALUATIONS,
+    seed: int = 0,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> DesignStudyResult:
+    """Evaluate designs of ``damper`` over ``variables`` and rank them by ``objective``.
+
+    Parameters
+    ----------
+    evaluate
+        ``evaluate(design) -> (value, extras)`` for a feasible design (a dict of variable
+        values), e.g. a :class:`DesignEvaluator`; a synthetic function for tests.
+    damper
+        The base design; unvaried variables keep its values.
+    variables
+        The varied :class:`DesignVariable` objects (distinct names).
+    objective
+        The :class:`Objective` (its sense ranks the candidates).
+    method, max_grid, max_evaluations, seed
+        Search (module docstring); the optimiser is seeded.
+    workers, scheduler
+        Parallel evaluation (:func:`pdamper.design.parallel.evaluate_parallel`).
+    """
+    variables = tuple(variables)
+    if not variables:
+        raise InputError("optimization.vary", "needs at least one design variable")
+    names = [v.name for v in variables]
+    if len(set(names)) != len(names):
+        raise InputError("optimization.vary", f"each variable at most once, got {names}")
+    if method not in METHODS:
+        raise InputError("optimization.method", f"must be one of {', '.join(METHODS)}, "
+                         f"got {method!r}")
+    grid_size = math.prod(v.size for v in variables)
+    if method == "auto":
+        method = "grid" if grid_size <= max_grid else "optimize"
+    land = _Landscape(damper, evaluate, workers, scheduler, progress)
+    if method == "grid":
+        open_ = [v.spec for v in variables if v.values is None]
+        if open_:
+            raise InputError("optimization.vary", f"{open_[0]!r} is an interval: give "
+                             "start:stop:count for a grid, or use the optimiser "
+                             "(method 'optimize')")
+        if grid_size > MAX_GRID:
+            raise InputError("optimization.vary", f"the grid has {grid_size:.0f} designs, more "
+                             f"than {MAX_GRID}; use fewer values or the optimiser")
+        import itertools
+
+        designs = [dict(zip(names, combo, strict=True))
+                   for combo in itertools.product(*(v.values for v in variables))]
+        land.batch(designs)
+    else:
+        _differential_evolution(land, variables, objective, max_evaluations, seed)
+    sign = 1.0 if objective.sense == "min" else -1.0
+    ok = [c for c in land.candidates if c.status == "ok"]
+    best = min(ok, key=lambda c: sign * c.objective) if ok else None
+    return DesignStudyResult(best, tuple(land.candidates), variables, objective, method,
+                             seed if method == "optimize" else None)
+
+
+def _differential_evolution(land: _Landscape, variables, objective, max_evaluations, seed):
+    """scipy's differential evolution, one generation per parallel batch."""
+    from scipy.optimize import differential_evolution
+
+    check_range("optimization.max_evaluations", max_evaluations, low=4)
+    fixed = {v.name: v.values[0] for v in variables if v.values is not None and len(v.values) == 1}
+    free = [v for v in variables if v.name not in fixed]
+    if not free:
+        land.batch([fixed])
+        return
+    bounds, integrality = [], []
+    for v in free:
+        if v.kind == "continuous":
+            bounds.append(v.bounds if v.bounds is not None else (min(v.values), max(v.values)))
+            integrality.append(False)
+        else:  # an index into the values (a count grid or the materials)
+            bounds.append((0, len(v.values) - 1))
+            integrality.append(True)
+
+    def decode(x) -> dict:
+        out = dict(fixed)
+        for v, xi in zip(free, x, strict=True):
+            if v.kind == "continuous":
+                out[v.name] = float(xi)
+            else:
+                out[v.name] = v.values[int(np.clip(round(xi), 0, len(v.values) - 1))]
+        return out
+
+    sign = 1.0 if objective.sense == "min" else -1.0
+
+    def batch(xs):  # vectorised: xs has shape (n_variables, n_designs)
+        cands = land.batch([decode(x) for x in np.atleast_2d(xs).T])
+        return np.array([sign * c.objective if c.status == "ok" else _PENALTY for c in cands])
+
+    popsize = max(5, min(15, max_evaluations // (4 * len(free))))
+    per_generation = popsize * len(free)
+    maxiter = max(1, max_evaluations // per_generation - 1)
+    differential_evolution(batch, bounds, integrality=integrality, vectorized=True,
+                           updating="deferred", popsize=popsize, maxiter=maxiter, seed=seed,
+                           polish=False, tol=1e-6)
+
+
+def optimize_design(
+    structure,
+    damper: ParticleDamper,
+    initial_displacement: float,
+    variables: Sequence[DesignVariable | str],
+    objective: str = "amplitude-at",
+    at: float = 0.8,
+    model: Callable[[ParticleDamper], Any] | None = None,
+    threshold: float | None = None,
+    duration: float | None = None,
+    **options,
+) -> DesignStudyResult:
+    """A design study of ``damper`` on ``structure`` (module docstring).
+
+    Parameters
+    ----------
+    structure
+        :class:`~pdamper.structure.SingleDOFStructure` or
+        :class:`~pdamper.structure.ModalStructure`.
+    damper
+        The base design.
+    initial_displacement
+        x0 [m] (paper: -58 mm).
+    variables
+        :class:`DesignVariable` objects or specifications (``"particles=16:176:16"``).
+    objective, at, threshold, duration
+        See :func:`make_objective`.
+    model
+        Damper model factory taking a :class:`ParticleDamper` (default: the analytical model).
+    options
+        ``method``, ``max_grid``, ``max_evaluations``, ``seed``, ``workers``, ``scheduler``,
+        ``progress`` of :func:`run_design_study`.
+
+    Examples
+    --------
+    >>> from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE
+    >>> r = optimize_design(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, ["particles=0:64:32"])
+    >>> [c.particles for c in r.candidates], r.best.particles
+    ([0, 32, 64], 64)
+    """
+    if model is None:
+        from pdamper.models.analytical import AnalyticalDamper
+
+        model = AnalyticalDamper
+    variables = [parse_variable(v) if isinstance(v, str) else v for v in variables]
+    obj = make_objective(objective, at, initial_displacement, structure, threshold, duration)
+    evaluate = DesignEvaluator(structure, damper, initial_displacement, obj, model)
+    return run_design_study(evaluate, damper, variables, obj, **options)

@@ -1,0 +1,185 @@
+"""Level III figures beyond the paper's: several models against a measurement, the design
+landscape, and the one-mode-enough study."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pdamper.plots.figures import _axes
+
+
+def _label(name: str, comparison) -> str:
+    if comparison is None:
+        return name
+    return (f"{name} (peaks RMS {comparison.peak_rms_error * 1e3:.2f} mm, "
+            f"zeta RMS {comparison.zeta_rms_error:.4f}, "
+            f"drift {comparison.final_phase_drift:+.2f} rad)")
+
+
+def plot_model_trajectories(results: dict, measured=None, comparisons: dict | None = None,
+                            ax=None, envelope=None):
+    """End-effector trajectories of several models (Fig. 7 with models 1-3), optionally
+    with the aligned measurement and each model's error metrics in its label.
+
+    Parameters
+    ----------
+    results
+        ``{label: FreeVibrationResult}``.
+    measured
+        An :class:`~pdamper.coupling.measurement.AlignedMeasurement`, or None.
+    comparisons
+        ``{label: ModelComparison}`` (metrics shown in the legend).
+    envelope
+        A run without particles whose negative peaks are drawn as a dashed envelope.
+    """
+    ax = _axes(ax)
+    comparisons = comparisons or {}
+    if measured is not None:
+        keep = measured.time >= 0
+        ax.plot(measured.time[keep], measured.displacement[keep] * 1e3, color="k", lw=1.6,
+                alpha=0.45, label=f"measured ({measured.quantity})")
+    for label, res in results.items():
+        ax.plot(res.time, res.displacement * 1e3, lw=1, label=_label(label,
+                                                                       comparisons.get(label)))
+    if envelope is not None:
+        ax.plot(envelope.peak_times, -envelope.peak_amplitudes * 1e3, "k--", lw=1,
+                label="envelope without particles")
+    ax.set_xlabel("time t [s]")
+    ax.set_ylabel("end-effector displacement x [mm]")
+    ax.legend(fontsize="x-small", loc="lower right")
+    return ax
+
+
+def plot_model_damping_ratios(results: dict, measured=None, comparisons: dict | None = None,
+                              ax=None):
+    """Damping ratio over the mean cycle amplitude (Fig. 8, Eqs. 24-25) for several models
+    and the measurement, with the amplitude bands of the comparison shaded."""
+    ax = _axes(ax)
+    if measured is not None:
+        amp, zeta = measured.damping_ratio
+        ax.plot(amp * 1e3, zeta, "ks", ms=5, label="measured")
+    for label, res in results.items():
+        amp, zeta = res.damping_ratio
+        ax.plot(amp * 1e3, zeta, "o-", ms=4, label=_label(label, (comparisons or {}).get(label)))
+    bands = next((c.bands for c in (comparisons or {}).values() if c.bands), ())
+    for k, b in enumerate(bands):
+        ax.axvspan(b.low * 1e3, b.high * 1e3, color="0.85" if k % 2 else "0.93", zorder=0)
+    ax.set_xlabel("mean amplitude X_n+1/2 [mm]")
+    ax.set_ylabel("damping ratio zeta [-]")
+    if not ax.xaxis_inverted():
+        ax.invert_xaxis()
+    ax.legend(fontsize="x-small")
+    return ax
+
+
+def plot_phase_drift(comparisons: dict, ax=None):
+    """Phase drift of each model's negative peaks against the measurement [rad]."""
+    ax = _axes(ax)
+    for label, c in comparisons.items():
+        ax.plot(np.arange(1, c.phase_drift.size + 1), c.phase_drift, "o-", ms=4, label=label)
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set_xlabel("negative peak n")
+    ax.set_ylabel("phase drift 2 pi (t_model - t_measured) / T [rad]")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_design_landscape(study, ax=None):
+    """Objective over the design variables of a design study
+    (:class:`~pdamper.design.DesignStudyResult`); infeasible designs as grey crosses,
+    failed ones as red crosses, the best as a star.
+
+    One variable: objective against it. Two or more: the first two variables as axes,
+    the objective as colour (categorical variables by index).
+    """
+    ax = _axes(ax)
+    names = [v.name for v in study.variables]
+    unit = {"m": 1e3, "s": 1.0, "1": 1.0}[study.objective.unit]
+    ylabel = {"amplitude-at": f"amplitude at t = {study.at:g} s [mm]",
+              "settling-time": "settling time [s]",
+              "mean-damping": "mean damping ratio [-]"}[study.objective.name]
+
+    def coord(v, c):
+        value = c.design[v.name]
+        if v.kind == "categorical":
+            return float(list(v.values).index(value)) if v.values else 0.0
+        return value * 1e3 if v.kind == "continuous" else float(value)
+
+    def axis_label(v):
+        return {"particles": "particle count n_p", "radius": "sphere radius [mm]",
+                "container_length": "container length [mm]",
+                "container_width": "container width [mm]",
+                "container_depth": "container depth [mm]",
+                "particle_material": "particle material"}[v.name]
+
+    ok = [c for c in study.candidates if c.status == "ok"]
+    bad = [c for c in study.candidates if c.status != "ok"]
+    v0 = study.variables[0]
+    if len(names) == 1:
+        pts = sorted(ok, key=lambda c: coord(v0, c))
+        ax.plot([coord(v0, c) for c in pts], [c.objective * unit for c in pts], "o-",
+                label="designs")
+        if bad:
+            y0 = min((c.objective * unit for c in ok), default=0.0)
+            for status, color in (("infeasible", "0.5"), ("failed", "r")):
+                sel = [c for c in bad if c.status == status]
+                if sel:
+                    ax.plot([coord(v0, c) for c in sel], [y0] * len(sel), "x", color=color,
+                            label=status)
+        if study.best is not None:
+            ax.plot([coord(v0, study.best)], [study.best.objective * unit], "r*", ms=14,
+                    label=f"best: {_describe(study.best, names)}")
+        ax.set_xlabel(axis_label(v0))
+        ax.set_ylabel(ylabel)
+    else:
+        v1 = study.variables[1]
+        if ok:
+            m = ax.scatter([coord(v0, c) for c in ok], [coord(v1, c) for c in ok],
+                           c=[c.objective * unit for c in ok], cmap="viridis_r"
+                           if study.objective.sense == "min" else "viridis", s=60,
+                           edgecolors="k", linewidths=0.3)
+            ax.figure.colorbar(m, ax=ax, label=ylabel)
+        for status, color in (("infeasible", "0.5"), ("failed", "r")):
+            sel = [c for c in bad if c.status == status]
+            if sel:
+                ax.plot([coord(v0, c) for c in sel], [coord(v1, c) for c in sel], "x",
+                        color=color, label=status)
+        if study.best is not None:
+            ax.plot([coord(v0, study.best)], [coord(v1, study.best)], "r*", ms=16,
+                    label=f"best: {_describe(study.best, names)}")
+        for v, setter in ((v0, ax.set_xticks), (v1, ax.set_yticks)):
+            if v.kind == "categorical":
+                setter(range(len(v.values)), list(v.values))
+        ax.set_xlabel(axis_label(v0))
+        ax.set_ylabel(axis_label(v1))
+        if len(names) > 2:
+            ax.set_title(f"{len(names) - 2} more variable(s) not shown on the axes",
+                         fontsize="small")
+    ax.legend(fontsize="x-small")
+    return ax
+
+
+def _describe(c, names) -> str:
+    parts = []
+    for n in names:
+        v = c.design[n]
+        parts.append(f"{v * 1e3:.3g} mm" if isinstance(v, float) else str(v))
+    return ", ".join(parts)
+
+
+def plot_mode_study(study, ax=None):
+    """Amplitude at T against the number of retained modes, one line per damper position
+    (a :class:`~pdamper.coupling.modal.ModeCountStudy`)."""
+    ax = _axes(ax)
+    for k, pos in enumerate(study.positions):
+        ax.plot(study.modes, np.asarray(study.amplitude[k]) * 1e3, "o-",
+                label=f"damper at x = {pos * 1e3:.0f} mm")
+    ax.set_xlabel("retained bending modes N")
+    ax.set_ylabel(f"amplitude at t = {study.at:g} s [mm]")
+    ax.set_xticks(list(study.modes))
+    ax.legend(fontsize="small")
+    if not math.isnan(study.at):
+        ax.set_title("when is one mode enough?", fontsize="medium")
+    return ax
