@@ -23,6 +23,7 @@ ROOT = Path(pdamper.__file__).parent
 LEVELS = {
     "__init__": 0, "_version": 0, "_numba_cache": 0, "errors": 0, "units": 0, "constants": 0,
     "files": 0,
+    "sweep": 0,                                       # generic resumable sweeps (dask)
     "materials": 1, "contact": 1, "damper": 1,        # Level I and the design object
     "resources": 1,                                   # what a run of the design implies
     "analysis": 2, "dem": 2,                          # Level II
@@ -98,6 +99,8 @@ def test_the_checker_catches_an_upward_import():
     ("pdamper.models", "numba"),
     ("pdamper", "numba"),
     ("pdamper.io.scenario", "numba"),
+    ("pdamper.sweep", "distributed"),
+    ("pdamper.models", "distributed"),
 ])
 def test_import_does_not_pull_in(module, absent):
     """``import pdamper.models`` does not import the coupling; the package, the models and

@@ -119,20 +119,34 @@ def test_failed_map_leaves_no_file(tmp_path, capsys, run):
 
 @pytest.mark.slow
 def test_paper_main_job_writes_figures_and_table(tmp_path, capsys, run):
-    """`pdamper paper --out DIR`: Figs. 4, 5a, 5c, 7, 8, 9, the map and the table."""
+    """`pdamper paper --out DIR`: Figs. 3, 4, 5, 7, 8, 9, the maps and the table; the DEM
+    map (a reduced 2 x 2 grid here) is cached in DIR: a rerun does not recompute it."""
     out_dir = tmp_path / "paper"
-    code, out, _ = run(capsys, "paper", "--out", str(out_dir), "--json")
+    sc = tmp_path / "s.toml"
+    sc.write_text('[map]\nfrequency = "2Hz:20Hz:7"\namplitude = "2mm:200mm:9"\n'
+                  'dem_frequency = "6Hz:10Hz:2"\ndem_amplitude = "15mm:32mm:2"\n'
+                  '[dem]\ncycles = 4\nskip_cycles = 1\n')
+    code, out, _ = run(capsys, "paper", "--out", str(out_dir), "--scenario", str(sc),
+                       "--workers", "2", "--json")
     assert code == 0
     names = {p.name for p in out_dir.iterdir()}
     for n in ("fig4_trajectories.png", "fig5a_motion_modes.png", "fig5c_loss_factor.png",
               "fig7_trajectory.png", "fig8_damping_ratio.png", "fig9_optimization.png",
-              "results.md", "results.json", "fig5_analytic_map.nc"):
+              "results.md", "results.json", "fig5_analytic_map.nc", "fig5_dem_map.nc",
+              "fig5_dem_vs_analytic.png", "fig5_dem_minus_analytic.png", "fig3_snapshots.png"):
         assert n in names
     table = json.loads((out_dir / "results.json").read_text())
     rows = {r["quantity"]: r for r in table["rows"]}
     assert all(rows[q]["agrees"] for q in rows if q.startswith("Fig. 4"))
     assert "| quantity | paper | pdamper |" in (out_dir / "results.md").read_text()
-    assert not any(n.startswith(".partial") for n in names)
+    assert not any(n.startswith(".") or n.endswith(".partial") for n in names)
+    assert table["dem_map"]["shape"] == [2, 2] and not table["dem_map"]["cached"]
+    assert len(table["rows"]) == len(table["paper_reported"])  # every row, DEM ones too
+    assert "steady DEM cells of the 2 x 2 DEM map" in rows
+    stamp = (out_dir / "fig5_dem_map.nc").stat().st_mtime_ns
+    code, _, _ = run(capsys, "paper", "--out", str(out_dir), "--scenario", str(sc), "--json")
+    assert code == 0 and json.loads((out_dir / "results.json").read_text())["dem_map"]["cached"]
+    assert (out_dir / "fig5_dem_map.nc").stat().st_mtime_ns == stamp
 
 
 @pytest.mark.parametrize("args", [["analytic", "--frequency"], ["analytic", "--bogus"],

@@ -118,7 +118,7 @@ def _fake_case_study(monkeypatch):
     from pdamper.files import atomic_write_text
 
     monkeypatch.setattr(study, "run_case_study",
-                        lambda scenario, progress=None, dem=True: types.SimpleNamespace(rows=[]))
+                        lambda scenario, progress=None, dem=True, **kw: types.SimpleNamespace(rows=[]))
     monkeypatch.setattr(study, "write_case_study", lambda cs, out, progress=None: [
         atomic_write_text(out / "a.txt", "A"), atomic_write_text(out / "b.txt", "B")])
 

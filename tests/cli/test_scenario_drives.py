@@ -16,6 +16,8 @@ step = 32
 [map]
 frequency = "4Hz:20Hz:5"
 amplitude = "5mm:150mm:6"
+dem_frequency = "10Hz"
+dem_amplitude = "32mm"
 [dem]
 integrator = "gear"
 safety = 0.03
@@ -43,7 +45,8 @@ def test_paper_honours_the_scenario(tmp_path, cli):
     assert "64 within" in opt["ours"]
     from pdamper.parameters import PAPER_REPORTED
 
-    assert len(res["rows"]) == len(PAPER_REPORTED) == 31  # every reported number, DEM ones too
+    assert len(res["rows"]) == len(PAPER_REPORTED) == 40  # every reported number, DEM ones too
+    assert res["dem_map"]["shape"] == [1, 1]  # the scenario's DEM grid
     assert runs["dem_paper_cor_curves"]["duration"] == 1.2  # the paper's COR curves, same options
     assert runs["dem_paper_cor_curves"]["seed"] == 3
 

@@ -2,6 +2,7 @@
 
 import tomllib
 
+import numpy as np
 import pytest
 
 from pdamper.errors import InputError
@@ -133,3 +134,39 @@ def test_scenario_files_that_are_no_scenarios(tmp_path, kind):
         load_scenario(p)
     assert info.value.field == "scenario" and "\n" not in str(info.value)
     assert len(str(info.value)) < 300
+
+
+def test_level2_keys_of_issue_9(tmp_path):
+    """[dem] cycles = "auto" (default) or a number, the steady-state options; [map] log
+    grids, a particle-count axis, the case study's DEM grid and the maps' packing."""
+    s = load_scenario(None)
+    assert s.dem.cycles == "auto" and s.dem.max_cycles == 60
+    assert s.map_particles() is None and s.map_model("dem").packing == "random"
+    assert s.model("dem").packing == "lattice"  # single runs and Level III: the lattice
+    p = tmp_path / "s.toml"
+    p.write_text('[dem]\ncycles = 8\nwindow_cycles = 2\n[map]\nparticles = "log:16:192:4"\n'
+                 'amplitude = "log:1mm:100mm:3"\ndem_packing = "lattice"\n')
+    s = load_scenario(p)
+    assert s.model("dem").cycles == 8 and s.model("dem").steady.window_cycles == 2
+    assert s.map_particles().tolist() == [16, 37, 84, 192]
+    assert s.map_grid()[1] == pytest.approx([0.001, 0.01, 0.1])
+    assert s.map_model("dem").packing == "lattice"
+    f, x = s.dem_map_grid()
+    assert f.tolist() == [4, 8, 12, 16, 20] and 0.032 in np.round(x, 4)
+
+
+@pytest.mark.parametrize(("text", "field"), [
+    ('[dem]\ncycles = "forever"', "dem.cycles"),
+    ("[dem]\nmax_cycles = 5", "dem.max_cycles"),
+    ("[dem]\nsteady_rtol = -1", "dem.steady_rtol"),
+    ('[map]\nparticles = "16:90:6"', "map.particles"),
+    ('[map]\nparticles = "100:300:3"', "map.particles"),
+    ('[map]\ndem_packing = "hex"', "map.dem_packing"),
+    ('[map]\ndem_amplitude = "log:-1mm:1mm:3"', "map.dem_amplitude"),
+])
+def test_bad_level2_keys_name_the_field(tmp_path, text, field):
+    p = tmp_path / "bad.toml"
+    p.write_text(text)
+    with pytest.raises(InputError) as info:
+        load_scenario(p)
+    assert info.value.field == field

@@ -31,13 +31,16 @@ def test_benchmark_damper_numbers_of_the_paper():
     assert d.friction == 0.1
 
 
-def test_fig4_example_points_cover_every_mode():
-    assert {m for _, _, m, _ in paper.FIG4_EXAMPLES} == set(MotionMode)
+def test_fig4_example_points_cover_every_mode_the_paper_names():
+    from pdamper.analysis.modes import PAPER_MODES
+
+    assert {m for _, _, m, _ in paper.FIG4_EXAMPLES} == set(PAPER_MODES)
+    assert set(MotionMode) - set(PAPER_MODES) == {MotionMode.RATTLING}
 
 
 def test_reported_keys_are_unique_and_ordered_as_the_table():
     keys = [r.key for r in paper.PAPER_REPORTED]
-    assert len(keys) == len(set(keys)) == 31
+    assert len(keys) == len(set(keys)) == 40
     assert keys[:6] == [f"fig4_{c}" for *_, c in paper.FIG4_EXAMPLES]
 
 
@@ -49,5 +52,6 @@ def test_tolerance_semantics():
     assert r.agrees((0.26, 1.25)) and not r.agrees((0.1, 1.25)) and not r.agrees((0.3, 1.3))
     assert paper.REPORTED["fig4_3ii"].agrees(MotionMode.DOUBLE_CAC_SUBHARMONIC)
     assert not paper.REPORTED["fig4_3ii"].agrees(MotionMode.SCATTERING)
+    assert paper.REPORTED["dem_mode_agreement"].agrees(0.3) is None  # no number to compare
     assert paper.REPORTED["amplitude_32_0p75s"].agrees(0.019 * 1.29)
     assert not paper.REPORTED["amplitude_32_0p75s"].agrees(0.019 * 1.31)

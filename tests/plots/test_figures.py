@@ -15,7 +15,7 @@ from pdamper.dem.impacts import check_restitution  # noqa: E402
 from pdamper.design import optimize_particle_count  # noqa: E402
 from pdamper.io.scenario import load_scenario  # noqa: E402
 from pdamper.materials import PVC, S235  # noqa: E402
-from pdamper.models import AnalyticalDamper  # noqa: E402
+from pdamper.models import AnalyticalDamper, DEMDamper  # noqa: E402
 from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE  # noqa: E402
 from pdamper.parameters import vertical_dampers_paper as paper  # noqa: E402
 from pdamper.reports.cor_sensitivity import run_cor_sensitivity  # noqa: E402
@@ -27,6 +27,13 @@ def inputs():
     ds = effective_field(model, np.linspace(2, 20, 5), np.linspace(0.005, 0.1, 6))
     run = Simulation(PAPER_STRUCTURE, model, -0.058).run(1.0)
     opt = optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, 0.8, counts=[0, 32, 64])
+    dem = ds.copy()  # a DEM-like field: a transient cell, a failed one, a rattling bed
+    dem["loss_factor"][0, 0] = 2.5
+    dem["stationary"][1, 1] = 0
+    dem["status"][2, 2] = 1
+    dem["motion_mode"][2, 2] = -1
+    dem["motion_mode"][3, 3] = 6
+    dem_run = DEMDamper(PAPER_DAMPER, cycles=2, skip_cycles=1, snapshot_rate=200.0).run(10.0, 0.032)
     check = check_restitution([0.1, 1.0], paper.PAPER_COR_PW, S235, PVC, 0.005)
     study = run_cor_sensitivity(load_scenario(None, {"dem.cycles": 2, "dem.skip_cycles": 0}),
                                 ["0.6/0.85", "paper"], [(10.0, 0.032)], level3=False)
@@ -51,8 +58,11 @@ def inputs():
         "plot_model_damping_ratios": ({"analytic": run}, None, comparisons),
         "plot_phase_drift": (comparisons,),
         "plot_bed_trajectory": (bed_trajectory(18.0, 0.05, 0.1),),
-        "plot_mode_map": (ds,),
-        "plot_loss_factor_map": (ds,),
+        "plot_mode_map": (dem,),
+        "plot_effective_mass_map": (dem,),
+        "plot_field_difference": (dem, ds),
+        "plot_particle_snapshots": (dem_run,),
+        "plot_loss_factor_map": (dem,),
         "plot_free_vibration": (run,),
         "plot_damping_ratio": (run,),
         "plot_optimization": (opt,),
@@ -69,4 +79,18 @@ def test_plot_uses_given_axes_and_returns_it(inputs, name, monkeypatch):
     assert ax.has_data() or ax.tables  # Fig. 2-left is a table
     new = getattr(plots, name)(*inputs[name])
     assert new is not ax and (new.has_data() or new.tables)
+    plt.close("all")
+
+
+def test_loss_factor_scale_shows_values_above_one():
+    """Fig. 5c saturated at 1 and hid 1.0-1.27: the colour scale now reaches 4/pi (or the
+    field's maximum)."""
+    model = AnalyticalDamper(PAPER_DAMPER)
+    ds = effective_field(model, np.linspace(8, 20, 4), np.linspace(0.02, 0.05, 4))
+    ax = plots.plot_loss_factor_map(ds)
+    norm = ax.collections[0].norm
+    assert norm.vmax == pytest.approx(4 / np.pi) and norm.vmin == pytest.approx(0.1)
+    assert float(ds["loss_factor"].max()) > 1.0  # the band the old scale hid
+    ds["loss_factor"][0, 0] = 2.0
+    assert plots.plot_loss_factor_map(ds).collections[0].norm.vmax == pytest.approx(2.0)
     plt.close("all")

@@ -15,6 +15,10 @@ class MotionMode(IntEnum):
     DOUBLE_CAC_HARMONIC = 3
     DOUBLE_CAC_SUBHARMONIC = 4
     SCATTERING = 5
+    #: Not in the paper: a bed that repeats its motion but rebounds elastically from the
+    #: walls instead of collecting (the locked columns of a constant-COR lattice bed).
+    #: Only the DEM classifier (:mod:`pdamper.analysis.dem_modes`) reports it.
+    RATTLING = 6
 
     @property
     def label(self) -> str:
@@ -38,9 +42,13 @@ _TITLES = {
     MotionMode.DOUBLE_CAC_HARMONIC: "double CaC, harmonic",
     MotionMode.DOUBLE_CAC_SUBHARMONIC: "double CaC, subharmonic",
     MotionMode.SCATTERING: "scattering",
+    MotionMode.RATTLING: "rattling (not in the paper)",
 }
 
-#: Effective particle mass over bed mass per motion mode, paper Eq. (22).
+#: The modes the paper names (Sect. 3.1.1, Fig. 4); the analytical model reports only these.
+PAPER_MODES: tuple[MotionMode, ...] = tuple(m for m in MotionMode if m is not MotionMode.RATTLING)
+
+#: Effective particle mass over bed mass per motion mode, paper Eq. (22) (the paper's modes).
 EFFECTIVE_MASS_RATIO: dict[MotionMode, float] = {
     MotionMode.SOLID: 0.75,
     MotionMode.DOUBLE_CAC_HARMONIC: 0.75,
@@ -51,7 +59,7 @@ EFFECTIVE_MASS_RATIO: dict[MotionMode, float] = {
 }
 
 #: CF-style attributes describing the integer mode codes in NetCDF files.
-#: ``-1`` marks points whose mode a model does not classify (the DEM).
+#: ``-1`` marks points without a mode (not classified, or the run failed).
 MODE_FLAG_ATTRS = {
     "flag_values": [-1] + [int(m) for m in MotionMode],
     "flag_meanings": " ".join(["unclassified"] + [m.label for m in MotionMode]),

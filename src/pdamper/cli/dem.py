@@ -36,8 +36,11 @@ def dem(
                          help="Excitation amplitude X, e.g. '32mm'.")] = None,
     particles: Annotated[int | None, typer.Option("--particles",
                          help="Number of spheres (benchmark box: <= 192).")] = None,
-    cycles: Annotated[int | None, typer.Option("--cycles",
-                      help="Number of excitation cycles.")] = None,
+    cycles: Annotated[str | None, typer.Option("--cycles",
+                      help="'auto' (until the loss factor is steady, default) or a number of "
+                           "excitation cycles (the paper: 8).")] = None,
+    max_cycles: Annotated[int | None, typer.Option("--max-cycles",
+                          help="Upper bound of a run until steady.")] = None,
     out: Annotated[str | None, typer.Option("--out",
                    help="NetCDF file for the time series.")] = None,
     integrator: Annotated[str | None, typer.Option("--integrator",
@@ -78,9 +81,16 @@ def dem(
     from pdamper.errors import InputError
     from pdamper.files import atomic_directory
 
+    if cycles is not None and cycles != "auto":
+        try:
+            cycles = int(cycles)
+        except ValueError:
+            raise InputError("dem.cycles", f"must be 'auto' or a whole number >= 1, "
+                             f"got {cycles!r}") from None
     sc = load(scenario, runs=("excitation",), model="dem", force=force,
               excitation__frequency=frequency, excitation__amplitude=amplitude,
               particles__count=particles, particles__friction=friction, dem__cycles=cycles,
+              dem__max_cycles=max_cycles,
               dem__integrator=integrator, dem__skip_cycles=skip_cycles,
               dem__restitution_pp=restitution_pp, dem__restitution_pw=restitution_pw,
               dem__damping_model=damping_model, dem__seed=seed, dem__packing=packing,
@@ -98,6 +108,9 @@ def dem(
     f, x = sc.excitation.frequency, sc.excitation.amplitude
     r = model.response(f, x)
     res = r.details.item()
+    st = r.diagnostics["stationarity"].item()
+    motion = r.diagnostics["motion"].item()
+    skip, span = st.first_cycle - 1, st.last_cycle - st.first_cycle + 1
     meta = metadata(sc, seed=model.seed)
     payload = {
         "steps": res.steps,
@@ -106,7 +119,15 @@ def dem(
         "effective_mass_ratio": float(r.effective_mass_ratio),
         "energy_balance_error": res.energy_balance_error(),
         "dissipated_energy_per_cycle": float(r.dissipated_energy_per_cycle),
-        "ledger_per_cycle": res.ledger_per_cycle(model.skip_cycles),
+        "ledger_per_cycle": res.ledger_per_cycle(skip, span),
+        "stationary": bool(st.stationary),
+        "steady_reason": st.reason,
+        "cycles": st.cycles,
+        "averaged_cycles": [st.first_cycle, st.last_cycle],
+        "loss_factor_stderr": st.stderr,
+        "motion_mode": motion.mode.label,
+        "subharmonic_order": motion.subharmonic_order,
+        "mode_reason": motion.reason,
         "settle_steps": res.settle_steps,
         "time_step": res.time_step,
         "contact_time": res.contact_time,
@@ -125,8 +146,10 @@ def dem(
         payload["vtk"] = str(vtk_dir / pvd.name)
     human = (
         f"DEM ({model.integrator}), {damper.count} spheres, f = {f:g} Hz, X = {x * 1e3:g} mm, "
-        f"{model.cycles} cycles (complex power over cycles {model.skip_cycles + 1}-{model.cycles})\n"
-        f"  effective loss factor        {float(r.loss_factor):.4g}\n"
+        f"{st.cycles} cycles (complex power over cycles {st.first_cycle}-{st.last_cycle}, "
+        + ("steady)\n" if st.stationary else f"NOT steady: {st.reason})\n")
+        + f"  effective loss factor        {float(r.loss_factor):.4g} +- {st.stderr:.2g}\n"
+        f"  motion mode                  {motion.mode.title} ({motion.reason})\n"
         f"  effective mass ratio         {float(r.effective_mass_ratio):.4g}\n"
         f"  dissipated energy per cycle  {float(r.dissipated_energy_per_cycle) * 1e3:.4g} mJ\n"
         f"  energy ledger closes to      {res.energy_balance_error():.2e}\n"

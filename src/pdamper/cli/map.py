@@ -1,65 +1,152 @@
-"""``pdamper map``: an effective field over a (frequency x amplitude) grid, to NetCDF."""
+"""``pdamper map``: an effective field over a (frequency x amplitude [x particles]) grid.
+
+The analytical model is evaluated in one vectorised call; the DEM point by point on
+dask.distributed (a local cluster of every core by default, ``--workers N``, or
+``--scheduler ADDRESS``), with a progress bar, every finished point stored in
+``<out>.partial/`` (a stopped map started again computes only the missing points) and
+failed points recorded in the ``status`` and ``error`` variables.
+"""
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from pdamper.cli._common import (
-    ForceOpt,
-    JsonOpt,
-    ScenarioOpt,
-    check_output,
-    emit,
-    load,
-    metadata,
-    write_atomic,
-)
+from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, check_output, emit, load
 
 
 def map_(
     model: Annotated[str, typer.Option(help="Damper model (fidelity): analytic or dem.")] = "analytic",
     frequency: Annotated[str | None, typer.Option(
-        help="Grid 'start:stop:count', e.g. '2Hz:20Hz:14'.")] = None,
+        help="Grid 'start:stop:count' (or 'log:start:stop:count'), e.g. '2Hz:20Hz:14'.")] = None,
     amplitude: Annotated[str | None, typer.Option(
-        help="Grid 'start:stop:count', e.g. '1mm:200mm:24'.")] = None,
-    particles: Annotated[int | None, typer.Option(help="Number of spheres.")] = None,
+        help="Grid 'start:stop:count' (or 'log:...'), e.g. '1mm:200mm:24'.")] = None,
+    particles: Annotated[str | None, typer.Option(
+        help="Number of spheres, or a particle-count axis '16:96:6' (or 'log:...').")] = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file to write.")] = None,
     force: ForceOpt = False,
+    workers: Annotated[int | None, typer.Option(
+        help="Worker processes of the local cluster (default: every core).")] = None,
+    scheduler: Annotated[str | None, typer.Option(
+        help="Address of an existing dask scheduler, e.g. 'tcp://10.0.0.5:8786'.")] = None,
+    retries: Annotated[int, typer.Option(
+        help="Further attempts of a point that failed for a non-deterministic reason.")] = 1,
+    retry_failed: Annotated[bool, typer.Option(
+        "--retry-failed", help="Compute points again that an earlier run recorded as failed.")
+    ] = False,
+    keep_partial: Annotated[bool, typer.Option(
+        "--keep-partial", help="Keep <out>.partial/ (the per-point results) afterwards.")] = False,
+    serial: Annotated[bool, typer.Option(
+        "--serial", help="Run the points in this process, without dask.")] = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
-    """Loss factor, effective mass and motion mode over a grid (paper Fig. 5)."""
-    import json
-    import time
+    """Loss factor, effective mass, motion mode and stationarity over a grid (paper Fig. 5)."""
+    import math
+    import sys
 
     import numpy as np
 
-    from pdamper.analysis.fields import effective_field
+    from pdamper.cli._common import metadata
+    from pdamper.errors import InputError
+    from pdamper.reports.maps import run_map
 
+    if workers is not None and workers < 1:
+        raise InputError("workers", f"must be a whole number >= 1, got {workers}")
+    if retries < 0:
+        raise InputError("retries", f"must be a whole number >= 0, got {retries}")
+    count, axis = None, None
+    if particles is not None:
+        if ":" in particles:
+            axis = particles
+        else:
+            try:
+                count = int(particles)
+            except ValueError:
+                raise InputError("particles", f"expected a whole number or 'start:stop:count', "
+                                 f"got {particles!r}") from None
     sc = load(scenario, runs=("map",), model=model, force=force, map__frequency=frequency,
-              map__amplitude=amplitude, particles__count=particles)
-    target = check_output(out)
-    damper_model = sc.model(model)
-    f, x = sc.map_grid()
-    t0 = time.perf_counter()
-    meta = metadata(sc, model=model)
-    ds = effective_field(damper_model, f, x,
-                         attrs={"pdamper_version": meta["version"],
-                                "inputs": json.dumps(meta["inputs"])})
-    seconds = time.perf_counter() - t0
-    if target is not None:
-        write_atomic(target, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
-    eta = ds["loss_factor"].values
-    i, j = np.unravel_index(np.argmax(eta), eta.shape)
+              map__amplitude=amplitude, particles__count=count, map__particles=axis)
+    out = check_output(out)
+    if out is not None and scheduler is None:
+        from pdamper.reports.maps import partial_store
+
+        part = partial_store(out)
+        if part.exists() and not part.is_dir():
+            raise InputError("out", f"{part} exists and is not a directory")
+    options = {"retries": retries, "retry_failed": retry_failed, "serial": serial}
+    if workers is not None:
+        options["workers"] = workers
+    if scheduler is not None:
+        options["scheduler"] = scheduler
+    meta = metadata(sc, model=model, seed=sc.dem.seed)
+    with _progress(sys.stderr, as_json) as progress:
+        result = run_map(sc, model, out=out, keep_partial=keep_partial, progress=progress,
+                         **options)
+    ds = result.dataset
+    eta = np.asarray(ds["loss_factor"].values, float)
+    finite = np.isfinite(eta)
+    best = {}
+    if finite.any():
+        idx = np.unravel_index(np.nanargmax(np.where(finite, eta, -math.inf)), eta.shape)
+        best = {d: float(ds[d].values[i]) for d, i in zip(ds["loss_factor"].dims, idx,
+                                                           strict=True)}
+    steady = int((ds["stationary"].values == 1).sum())
     payload = {
-        "out": str(Path(out)) if out else None, "shape": [len(f), len(x)], "seconds": seconds,
-        "max_loss_factor": float(eta[i, j]),
-        "max_at": {"frequency": float(f[i]), "amplitude": float(x[j])}, **meta,
+        "out": str(out) if out else None, "shape": list(eta.shape),
+        "dims": list(ds["loss_factor"].dims), "seconds": result.seconds,
+        "points": int(eta.size), "computed": result.computed, "reused": result.reused,
+        "failed": result.failed, "steady": steady, "workers": result.workers,
+        "max_loss_factor": float(np.nanmax(eta)) if finite.any() else None, "max_at": best,
+        **meta,
     }
-    human = (f"{model} field {len(f)} x {len(x)} in {seconds * 1e3:.0f} ms; max loss factor "
-             f"{eta[i, j]:.3f} at f = {f[i]:.3g} Hz, X = {x[j] * 1e3:.3g} mm"
+    where = ", ".join(f"{k} = {v:.4g}" for k, v in best.items())
+    human = (f"{model} field {' x '.join(map(str, eta.shape))} in {result.seconds:.3g} s "
+             f"({result.computed} computed, {result.reused} reused, {result.failed} failed, "
+             f"{steady} steady)"
+             + (f"; max loss factor {np.nanmax(eta):.3f} at {where}" if finite.any() else "")
              + (f"; written to {out}" if out else ""))
     emit(payload, as_json, human)
+
+
+class _progress:
+    """A rich progress bar on stderr (none with --json), as a sweep ``progress`` callback."""
+
+    def __init__(self, stream, quiet: bool):
+        self.stream, self.quiet = stream, quiet
+        self.bar = self.task = None
+        self.failed = 0
+
+    def __enter__(self):
+        if self.quiet:
+            return None
+        from rich.console import Console
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            Progress,
+            TextColumn,
+            TimeElapsedColumn,
+            TimeRemainingColumn,
+        )
+
+        self.bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                            TimeElapsedColumn(), TimeRemainingColumn(),
+                            console=Console(file=self.stream), transient=False,
+                            disable=not Console(file=self.stream).is_terminal)
+        self.bar.__enter__()
+        self.task = self.bar.add_task("map points", total=None)
+        return self
+
+    def __call__(self, done: int, total: int, point) -> None:
+        self.failed += not point.ok
+        desc = f"map points ({self.failed} failed)" if self.failed else "map points"
+        self.bar.update(self.task, completed=done, total=total, description=desc)
+
+    def __exit__(self, *exc):
+        if self.bar is not None:
+            if self.bar.tasks[0].total is None:  # vectorised: no points were reported
+                self.bar.remove_task(self.task)
+            self.bar.__exit__(*exc)
+        return False

@@ -39,7 +39,13 @@ from pdamper.design.study import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
 from pdamper.errors import InputError
 from pdamper.io.restitution import MODELS as COR_MODELS
 from pdamper.io.restitution import RestitutionSpec, resolve_files
-from pdamper.models.dem import DEFAULT_CYCLES, DEFAULT_SAMPLE_RATE, DEFAULT_SKIP_CYCLES
+from pdamper.models.dem import (
+    DEFAULT_CYCLES,
+    DEFAULT_MAX_CYCLES,
+    DEFAULT_SAMPLE_RATE,
+    DEFAULT_SKIP_CYCLES,
+    PAPER_CYCLES,
+)
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.units import format_quantity, parse_quantity, parse_range
 
@@ -66,6 +72,15 @@ Density = Annotated[float, _q("kg/m^3"), Field(gt=0)]
 Modulus = Annotated[float, _q("Pa"), Field(gt=0)]
 Restitution = Annotated[float, Field(gt=0, le=1)]
 Count = Annotated[int, Field(strict=True)]
+
+
+def _cycles(v: Any) -> Any:
+    if v == "auto" or (isinstance(v, int) and not isinstance(v, bool) and v >= 1):
+        return v
+    raise ValueError(f"must be 'auto' or a whole number >= 1, got {v!r}")
+
+
+Cycles = Annotated[Any, BeforeValidator(_cycles)]
 
 _D = paper.PAPER_DAMPER
 #: Usual (f [Hz], X [m]) of a Level II run: the paper's benchmark point; of the two, the
@@ -153,7 +168,7 @@ def _range_text(spec: tuple[float, float, int], unit: str, scale: float) -> str:
 def _grid(unit: str):
     def check(v: str) -> str:
         try:
-            parse_range(v, unit, "value")
+            parse_axis(v, unit, "value")
         except InputError as exc:  # pydantic adds the location
             raise ValueError(exc.message) from None
         return v
@@ -161,11 +176,26 @@ def _grid(unit: str):
     return AfterValidator(check)
 
 
+#: Grid of the DEM map of ``pdamper paper`` (5 x 7 points with X_opt = 32 mm on it: a few
+#: minutes on two cores; the paper's 14 x 24 grid is ``pdamper map --model dem``).
+CASE_STUDY_DEM_FREQUENCY = "4Hz:20Hz:5"
+CASE_STUDY_DEM_AMPLITUDE = "log:2mm:128mm:7"
+#: Initial packing of the DEM runs of a map: random. The paper's ideal lattice bed moves in
+#: an exact mirror symmetry for 10 to more than 60 cycles, a state of the idealisation that
+#: a map cell must not show (docs/fields.md); a random bed is steady after ~14 cycles.
+MAP_DEM_PACKING = "random"
+
+
 class MapSpec(_Section):
-    """The Level II grid, ``"start:stop:count"`` (or one quantity) per axis."""
+    """Level II grids: ``"start:stop:count"``, ``"log:start:stop:count"`` (geometric
+    spacing) or one value."""
 
     frequency: Annotated[str, _grid("Hz")] = _range_text(paper.PAPER_MAP_FREQUENCY, "Hz", 1.0)
     amplitude: Annotated[str, _grid("m")] = _range_text(paper.PAPER_MAP_AMPLITUDE, "mm", 1e3)
+    particles: str | Count | None = None
+    dem_frequency: Annotated[str, _grid("Hz")] = CASE_STUDY_DEM_FREQUENCY
+    dem_amplitude: Annotated[str, _grid("m")] = CASE_STUDY_DEM_AMPLITUDE
+    dem_packing: str | None = MAP_DEM_PACKING
 
 
 class FieldsSpec(_Section):
@@ -196,8 +226,13 @@ class DEMSpec(_Section):
     """Options of the DEM damper model (:class:`pdamper.models.DEMDamper`)."""
 
     integrator: str = "gear"
-    cycles: Count = DEFAULT_CYCLES
+    cycles: Cycles = DEFAULT_CYCLES
     skip_cycles: Count = DEFAULT_SKIP_CYCLES
+    max_cycles: Count = DEFAULT_MAX_CYCLES
+    window_cycles: Count = 4
+    steady_windows: Count = 3
+    steady_rtol: float = 0.1
+    steady_atol: float = 0.03
     restitution_pp: Restitution = _D.restitution_pp.e
     restitution_pw: Restitution = _D.restitution_pw.e
     damping_model: str = "exact"
@@ -290,23 +325,47 @@ class Scenario(_Section):
         options = section.options() if hasattr(section, "options") else {}
         return cls(self.damper() if damper is None else damper, **options)
 
+    def for_map(self) -> Scenario:
+        """This scenario as a map computes it: ``[dem] packing`` replaced by ``[map]
+        dem_packing`` (unless that is None)."""
+        if self.map.dem_packing is None:
+            return self
+        return self.model_copy(update={"dem": self.dem.model_copy(
+            update={"packing": self.map.dem_packing})})
+
+    def map_model(self, name: str, damper=None):
+        """The damper model of a map: :meth:`model` of :meth:`for_map`."""
+        try:
+            return self.for_map().model(name, damper)
+        except InputError as exc:
+            if exc.field == "dem.packing" and self.map.dem_packing is not None:
+                raise InputError("map.dem_packing", exc.message) from None
+            raise
+
     def map_ranges(self) -> tuple[tuple[float, float, int], tuple[float, float, int]]:
         """``(start, stop, count)`` of the frequency [Hz] and amplitude [m] axes of
         ``[map]``, without building the grid."""
-        f = parse_range(self.map.frequency, "Hz", "map.frequency")
-        x = parse_range(self.map.amplitude, "m", "map.amplitude")
-        for name, (lo, _, _) in (("map.frequency", f), ("map.amplitude", x)):
-            if lo <= 0:
-                raise InputError(name, f"grid values must be > 0, got {lo:g}")
-        return f, x
+        return (parse_axis(self.map.frequency, "Hz", "map.frequency")[:3],
+                parse_axis(self.map.amplitude, "m", "map.amplitude")[:3])
 
     def map_grid(self):
         """The Level II grid ``(frequency [Hz], amplitude [m])`` of ``[map]`` (check its
         size first: :meth:`check_resources` with ``"map"``)."""
-        import numpy as np
+        return (grid(self.map.frequency, "Hz", "map.frequency"),
+                grid(self.map.amplitude, "m", "map.amplitude"))
 
-        (f0, f1, nf), (x0, x1, nx) = self.map_ranges()
-        return np.linspace(f0, f1, nf), np.linspace(x0, x1, nx)
+    def map_particles(self):
+        """The particle-count axis of ``[map] particles`` (None: the one count of
+        ``[particles]``)."""
+        if self.map.particles is None:
+            return None
+        return count_grid(self.map.particles, "map.particles")
+
+    def dem_map_grid(self):
+        """The grid of the case study's DEM map (``[map] dem_frequency, dem_amplitude``)."""
+        return (grid(self.map.dem_frequency, "Hz", "map.dem_frequency"),
+                grid(self.map.dem_amplitude, "m", "map.dem_amplitude"))
+
 
     # -- what the runs imply ------------------------------------------------------------
     def check_physics(self, damper=None) -> None:
@@ -396,10 +455,16 @@ class Scenario(_Section):
         imp = resources.check_motion(damper, frequency, amplitude, fields=fields,
                                      usual=_USUAL_EXCITATION, contact_law=True)
         dem = self.dem
+
+        def bound(spec):  # a run until steady lasts at most max_cycles
+            return (spec.max_cycles, "dem.max_cycles") if spec.cycles == "auto" \
+                else (spec.cycles, "dem.cycles")
+
+        cycles, field = bound(dem)
         return resources.dem_cost(
-            damper, dem.cycles / frequency, imp.speed, sample_rate=dem.sample_rate,
+            damper, cycles / frequency, imp.speed, sample_rate=dem.sample_rate,
             safety=dem.safety, snapshot_rate=dem.snapshot_rate, frequency=frequency,
-            drivers=[("dem.cycles", dem.cycles / default.dem.cycles),
+            drivers=[(field, cycles / bound(default.dem)[0]),
                      (fields[0], default.excitation.frequency / frequency, True),
                      *self._dem_drivers(damper, default)])
 
@@ -411,11 +476,13 @@ class Scenario(_Section):
         fidelity = get_damper_model(model, "model").fidelity
         (f0, f1, nf), (x0, x1, nx) = self.map_ranges()
         (_, _, nf0), (_, _, nx0) = default.map_ranges()
-        axes = (("map.frequency", nf / nf0), ("map.amplitude", nx / nx0))
-        points = float(nf) * float(nx)
+        counts = self.map_particles()
+        axes = (("map.frequency", nf / nf0), ("map.amplitude", nx / nx0),
+                ("map.particles", 1.0 if counts is None else float(counts.size)))
+        points = float(nf) * float(nx) * (1.0 if counts is None else float(counts.size))
         # the grid and the four result arrays, whichever the model
         resources.require(resources.Cost("the map", 0.0, points * 40.0,
-                                         f"{nf} x {nx} = {points:.3g} points", axes), force)
+                                         f"{points:.3g} points", axes), force)
         if fidelity != "dem":
             resources.require(resources.analytic_map_cost(points, axes), force)
             return
@@ -479,6 +546,72 @@ class Scenario(_Section):
             longest=one.seconds), force)
 
 
+def grid(text: str, unit: str, field: str):
+    """A grid from ``"start:stop:count"`` (linear), ``"log:start:stop:count"`` (geometric)
+    or one quantity; values must be > 0.
+
+    >>> grid("log:1mm:100mm:3", "m", "map.amplitude").round(4).tolist()
+    [0.001, 0.01, 0.1]
+    """
+    import numpy as np
+
+    a, b, n, log = parse_axis(text, unit, field)
+    return np.geomspace(a, b, n) if log else np.linspace(a, b, n)
+
+
+def parse_axis(text: str, unit: str, field: str) -> tuple[float, float, int, bool]:
+    """``(start, stop, count, log)`` of a grid axis (see :func:`grid`), checked, without
+    building it; values must be > 0."""
+    log = isinstance(text, str) and text.strip().lower().startswith("log:")
+    body = text.strip()[4:] if log else text
+    a, b, n = parse_range(body, unit, field)
+    if min(a, b) <= 0:
+        raise InputError(field, f"grid values must be > 0, got {min(a, b):g}")
+    return a, b, n, log
+
+
+def count_grid(value, field: str):
+    """Whole particle counts from ``N``, ``"start:stop:count"`` or ``"log:..."`` (rounded;
+    counts must be >= 1 and distinct).
+
+    >>> count_grid("16:96:6", "map.particles").tolist()
+    [16, 32, 48, 64, 80, 96]
+    """
+    import numpy as np
+
+    if isinstance(value, int) and not isinstance(value, bool):
+        counts = np.array([value])
+    else:
+        text = str(value).strip()
+        log = text.lower().startswith("log:")
+        body = text[4:] if log else text
+        parts = body.split(":")
+        try:
+            nums = [float(p) for p in parts]
+        except ValueError:
+            raise InputError(field, f"expected N, 'start:stop:count' or 'log:start:stop:count' "
+                             f"of particle counts, got {value!r}") from None
+        if len(parts) == 1:
+            raw = np.array(nums)
+        elif len(parts) == 3 and nums[2] == int(nums[2]) and 1 <= nums[2] <= 100_000:
+            if min(nums[:2]) <= 0 and log:
+                raise InputError(field, f"log spacing needs counts > 0, got {value!r}")
+            raw = (np.geomspace if log else np.linspace)(nums[0], nums[1], int(nums[2]))
+        else:
+            raise InputError(field, f"expected N, 'start:stop:count' or 'log:start:stop:count' "
+                             f"of particle counts, got {value!r}")
+        counts = np.rint(raw)
+        if not log and np.any(np.abs(raw - counts) > 1e-9):
+            raise InputError(field, f"{value!r} gives counts that are not whole: "
+                             f"{', '.join(f'{v:g}' for v in raw)}")
+    counts = counts.astype(int)
+    if np.any(counts < 1):
+        raise InputError(field, f"particle counts must be >= 1, got {counts.min()}")
+    if len(set(counts.tolist())) != counts.size:
+        raise InputError(field, f"{value!r} gives repeated counts {counts.tolist()}")
+    return counts
+
+
 def _material(spec, field: str):
     from pdamper.materials import Material, get_material
 
@@ -518,8 +651,14 @@ def _validate(sc: Scenario) -> None:
     damper = sc.damper()
     sc.structure_model()
     sc.map_ranges()
+    parse_axis(sc.map.dem_frequency, "Hz", "map.dem_frequency")
+    parse_axis(sc.map.dem_amplitude, "m", "map.dem_amplitude")
+    counts = sc.map_particles()
+    if counts is not None and counts.max() > damper.max_count:
+        raise InputError("map.particles", f"counts must be in [1, {damper.max_count}] (n_max of "
+                         f"this container), got {counts.max()}")
     sc.optimization.variables()
-    sc.model("dem", damper)
+    sc.map_model("dem", damper)
     sc.model(None, damper)
     sc.check_physics(damper)
 
@@ -657,14 +796,26 @@ interpolate = "{s.fields.interpolate}"   # or "dissipated_energy"
 nonstationary = "{s.fields.nonstationary}"      # non-stationary cells: "mask" (holes) or "use"
 strict = {str(s.fields.strict).lower()}               # a map of another geometry is an error
 
-[map]                       # Level II grid, "start:stop:count"
+[map]                       # Level II grids: "start:stop:count", "log:start:stop:count" or one value
 frequency = "{s.map.frequency}"
 amplitude = "{s.map.amplitude}"
+# particles = "16:96:6"     # a particle-count axis (default: the one count of [particles])
+dem_frequency = "{s.map.dem_frequency}"      # grid of the DEM map in "pdamper paper"
+dem_amplitude = "{s.map.dem_amplitude}"
+dem_packing = "{s.map.dem_packing}"         # initial packing of a map's DEM runs ("lattice",
+                            # "random"; the lattice's symmetric states are artefacts)
 
 [dem]                       # options of the DEM model ("pdamper dem", "--model dem")
 integrator = "{dem.integrator}"         # "gear" (variable step, the paper's) or "verlet"
-cycles = {dem.cycles}                  # excitation cycles of a Level II run
-skip_cycles = {dem.skip_cycles}             # cycles left out of the complex power (Eqs. 1-4)
+cycles = "{dem.cycles}"               # Level II: "auto" runs until the loss factor is steady;
+                            # a number runs that many cycles (the paper: {PAPER_CYCLES})
+skip_cycles = {dem.skip_cycles}             # cycles never averaged (complex power, Eqs. 1-4)
+max_cycles = {dem.max_cycles}             # upper bound of a run until steady
+window_cycles = {dem.window_cycles}           # steady: steady_windows windows of window_cycles cycles
+steady_windows = {dem.steady_windows}          # whose loss factors agree within max(steady_rtol |eta|,
+steady_rtol = {dem.steady_rtol}           # steady_atol), no trend, no symmetric lattice state
+                            # (docs/fields.md)
+steady_atol = {dem.steady_atol}
 # restitution_pp = {dem.restitution_pp}      # constant sphere-sphere COR (default; or [restitution])
 # restitution_pw = {dem.restitution_pw}     # constant sphere-wall COR (default; or [restitution])
 damping_model = "{dem.damping_model}"     # COR-damping relation: {_MODELS}

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from pdamper.analysis.analytical import bed_response
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.damper import ParticleDamper
@@ -28,6 +30,7 @@ class AnalyticalDamper(DamperModel):
     """
 
     fidelity = "analytic"
+    vectorised = True
 
     def __init__(self, damper: ParticleDamper, gravity: float = STANDARD_GRAVITY):
         super().__init__(damper)
@@ -43,4 +46,5 @@ class AnalyticalDamper(DamperModel):
                               loss_factor=r.loss_factor,
                               dissipated_energy_per_cycle=r.dissipated_energy_per_cycle,
                               effective_mass_ratio=r.effective_mass_ratio, bed_mass=d.bed_mass,
-                              details=r)
+                              details=r, stationary=np.ones(np.shape(r.mode), bool),
+                              subharmonic_order=r.subharmonic_order)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -34,6 +35,16 @@ class DamperResponse:
         What the model computed on the way: the analytical
         :class:`~pdamper.analysis.analytical.BedResponse`, or for the DEM an object array of
         :class:`~pdamper.dem.DEMResult`, one per point (``details.item()`` for one point).
+    stationary
+        Whether each value is a steady state [-] (None: not assessed). The analytical
+        formulas are steady by construction; a DEM run is steady when its averaged window
+        passes :class:`~pdamper.analysis.stationarity.SteadyStateCriterion`.
+    subharmonic_order
+        ``n_s`` of Eqs. (12)/(18) [-] (-1 where undefined; None: not given).
+    diagnostics
+        Further per-point arrays of the shape of the results, by name (the DEM: wall time,
+        steps, ledger error, largest overlap, cycles run, the averaged window, ...; object
+        arrays hold the stationarity and mode-classification records).
     """
 
     frequency: np.ndarray
@@ -44,6 +55,9 @@ class DamperResponse:
     effective_mass_ratio: np.ndarray
     bed_mass: float
     details: Any = field(default=None, repr=False, compare=False)
+    stationary: np.ndarray | None = None
+    subharmonic_order: np.ndarray | None = None
+    diagnostics: dict[str, np.ndarray] = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def effective_mass(self) -> np.ndarray:
@@ -68,6 +82,9 @@ class DamperModel(ABC):
     fidelity: ClassVar[str] = ""
     #: Name of the Level III coupling strategy.
     coupling: ClassVar[str] = "pseudo_force"
+    #: Whether one ``response`` call evaluates a whole grid cheaply (closed forms); maps of
+    #: other models run point by point on the sweep engine (:mod:`pdamper.sweep`).
+    vectorised: ClassVar[bool] = False
     #: Whether one Level III run costs seconds or more (design studies then evaluate
     #: designs on parallel workers by default).
     expensive: ClassVar[bool] = False
@@ -82,6 +99,15 @@ class DamperModel(ABC):
     def bed_mass(self) -> float:
         """m_bed [kg]."""
         return self.damper.bed_mass
+
+    def with_damper(self, damper: ParticleDamper) -> DamperModel:
+        """The same model (same options) for another physical damper, e.g.
+        ``model.with_damper(model.damper.with_count(64))`` for a particle-count sweep."""
+        if not isinstance(damper, ParticleDamper):
+            raise InputError("damper", f"must be a ParticleDamper, got {type(damper).__name__}")
+        new = copy.copy(self)
+        new.damper = damper
+        return new
 
     @abstractmethod
     def response(self, frequency, amplitude) -> DamperResponse:

@@ -1,18 +1,32 @@
 """The DEM damper model (the paper's model 1, Sects. 3 and 4.1).
 
-Level II: :meth:`DEMDamper.response` runs the DEM under harmonic container motion and
-applies the complex power method (Eqs. 1-4); the runs travel in the response's ``details``.
-Level III: the ``"co_simulation"`` strategy of :mod:`pdamper.coupling` integrates the
-structure together with the particles through :meth:`DEMDamper.engine`.
+Level II: :meth:`DEMDamper.response` runs the DEM under harmonic container motion until the
+loss factor is steady (or for the paper's fixed eight cycles), applies the complex power
+method (Eqs. 1-4) over the averaged window and classifies the motion mode; the runs travel
+in the response's ``details``, the steady-state evidence and the modes in its
+``diagnostics``. Level III: the ``"co_simulation"`` strategy of :mod:`pdamper.coupling`
+integrates the structure together with the particles through :meth:`DEMDamper.engine`.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import inspect
 import logging
+from dataclasses import dataclass
 
 import numpy as np
 
 from pdamper import resources
+from pdamper.analysis.dem_modes import BedSignals, ModeClassification, classify_motion
+from pdamper.analysis.modes import MotionMode
+from pdamper.analysis.stationarity import (
+    Stationarity,
+    SteadyStateCriterion,
+    cycle_loss_factors,
+    cycle_symmetry,
+    whole_cycles,
+)
 from pdamper.contact.law import ContactParameters
 from pdamper.damper import ParticleDamper
 from pdamper.dem.model import DEFAULT_SAFETY, INTEGRATORS
@@ -21,18 +35,27 @@ from pdamper.models.base import DamperModel, DamperResponse
 
 logger = logging.getLogger(__name__)
 
-#: Motion-mode code of DEM responses: the DEM does not classify modes (yet).
+#: Motion-mode code of a point without a mode (kept for callers of the first DEM model).
 UNCLASSIFIED = -1
 
-#: Cycles simulated and cycles left out of the complex power: the paper's procedure
-#: (Sect. 3.1.2: eight cycles, the first two cut off).
-DEFAULT_CYCLES = 8
+#: ``cycles`` value that runs until the loss factor is steady (the default).
+AUTO = "auto"
+DEFAULT_CYCLES = AUTO
+#: The paper's procedure (Sect. 3.1.2): eight cycles, the first two cut off.
+PAPER_CYCLES = 8
 DEFAULT_SKIP_CYCLES = 2
+#: Upper bound of a run until steady [cycles]. The symmetric state of the benchmark lattice
+#: bed lasts up to ~30 cycles, the averaged window takes 12 more (docs/fields.md).
+DEFAULT_MAX_CYCLES = 60
 #: Samples per second of the force and container series of a Level II run [Hz].
 DEFAULT_SAMPLE_RATE = 4000.0
 
 #: Initial packings: the paper's square-lattice layers, or random (seeded).
 PACKINGS = ("lattice", "random")
+
+_STEADY = SteadyStateCriterion()
+#: Fewest cycles in each half of an averaged window whose motion modes must agree.
+MIN_HALF_WINDOW = 3
 
 
 def _whole(field: str, value, low: int) -> int:
@@ -45,6 +68,89 @@ def _whole(field: str, value, low: int) -> int:
     return int(value)
 
 
+@dataclass(frozen=True)
+class SteadyRun:
+    """One Level II DEM run with what Eqs. (1)-(4) and the classifier made of it.
+
+    Attributes
+    ----------
+    result
+        The :class:`~pdamper.dem.DEMResult`, covering the cycles the run needed.
+    stationarity
+        The steady-state verdict on the averaged window.
+    motion
+        The motion mode over the same window.
+    power
+        :class:`~pdamper.analysis.complex_power.ComplexPowerResult` over the window.
+    """
+
+    result: object
+    stationarity: Stationarity
+    motion: ModeClassification
+    power: object
+
+    @property
+    def skip_cycles(self) -> int:
+        """Cycles before the averaged window [-]."""
+        return self.stationarity.first_cycle - 1
+
+    @property
+    def window_cycles(self) -> int:
+        """Cycles in the averaged window [-]."""
+        return self.stationarity.last_cycle - self.stationarity.first_cycle + 1
+
+
+def truncate_result(result, cycles: int):
+    """The first ``cycles`` whole cycles of a harmonic :class:`~pdamper.dem.DEMResult`
+    (counters such as ``steps`` and ``wall_seconds`` still describe the whole run)."""
+    t_end = cycles / result.frequency
+    n = int(np.searchsorted(result.time, t_end * (1.0 + 1e-12) + 1e-12, side="right"))
+    q = int(np.searchsorted(result.snapshot_time, t_end * (1.0 + 1e-12) + 1e-12, side="right"))
+    series = {f.name: getattr(result, f.name)[:n] for f in dataclasses.fields(result)
+              if isinstance(getattr(result, f.name), np.ndarray)
+              and not f.name.startswith("snapshot") and f.name not in ("radius", "masses")}
+    snaps = {f.name: getattr(result, f.name)[:q] for f in dataclasses.fields(result)
+             if f.name.startswith("snapshot")}
+    return dataclasses.replace(result, **series, **snaps)
+
+
+def run_until(engine, duration: float, stop, sample_rate: float, snapshot_rate=None,
+              frequency: float | None = None, first: float | None = None):
+    """Run ``engine`` for at most ``duration`` [s], ending early once ``stop(partial)``.
+
+    The chunked engine (issue #7: ``DEMEngine.run(..., stop=...)`` calls ``stop`` after
+    each chunk of whole cycles) is used when it is there. Until then this ADAPTER runs
+    ``first`` seconds (default: all), finds the first whole cycle at which ``stop`` holds
+    and returns the run cut there; if there is none, it runs again from the start for twice
+    as long (at most ``duration``). The engine is deterministic, so a longer run repeats a
+    shorter one sample for sample (except the force of a run's very last sample, a half
+    window): the result is what the chunked engine returns with one-cycle chunks.
+    """
+    run = engine.run
+    if "stop" in inspect.signature(run).parameters:
+        return run(duration, sample_rate=sample_rate, snapshot_rate=snapshot_rate, stop=stop)
+    f = frequency or engine.motion.frequency
+    total = max(1, int(round(duration * f)))
+    cycles = total if first is None else min(total, max(1, int(round(first * f))))
+    while True:
+        full = run(cycles / f, sample_rate=sample_rate, snapshot_rate=snapshot_rate)
+        part, stopped = _emulate_stop(full, stop, f)
+        if stopped or cycles >= total:
+            return part
+        cycles = min(total, 2 * cycles)
+
+
+def _emulate_stop(result, stop, frequency: float):
+    """ADAPTER (until the chunked engine of issue #7): ``(result cut at the first whole
+    cycle at which stop holds, True)``, else ``(result, False)``."""
+    n = whole_cycles(result.time, frequency)
+    for k in range(1, n + 1):
+        part = result if k == n else truncate_result(result, k)
+        if stop(part):
+            return part, True
+    return result, False
+
+
 class DEMDamper(DamperModel):
     """Particle damper simulated by the discrete element method.
 
@@ -55,8 +161,18 @@ class DEMDamper(DamperModel):
         (``restitution_pp``, ``restitution_pw``) set the contact law.
     integrator
         ``"gear"`` (variable step, the paper's) or ``"verlet"``.
-    cycles, skip_cycles
-        Level II: cycles simulated, and cycles left out of the complex power.
+    cycles
+        Level II: ``"auto"`` (default) runs until the loss factor is steady
+        (:class:`~pdamper.analysis.stationarity.SteadyStateCriterion`), at most
+        ``max_cycles``; a whole number runs that many cycles (the paper: 8) and still
+        records whether the averaged window was steady.
+    skip_cycles
+        Cycles never averaged (the paper: the first 2).
+    max_cycles
+        Upper bound of a run until steady [cycles].
+    window_cycles, steady_windows, steady_rtol, steady_atol
+        The steady-state criterion: ``steady_windows`` windows of ``window_cycles`` cycles
+        whose loss factors agree within ``max(steady_rtol |eta|, steady_atol)``.
     packing, seed
         ``"lattice"`` (the paper's 4 x 4 layers) or ``"random"`` (uses ``seed``).
     sample_rate
@@ -82,10 +198,14 @@ class DEMDamper(DamperModel):
     expensive = True
 
     def __init__(self, damper: ParticleDamper, integrator: str = "gear",
-                 cycles: int = DEFAULT_CYCLES, skip_cycles: int = DEFAULT_SKIP_CYCLES,
+                 cycles: int | str = DEFAULT_CYCLES, skip_cycles: int = DEFAULT_SKIP_CYCLES,
                  packing: str = "lattice", seed: int = 0,
                  sample_rate: float = DEFAULT_SAMPLE_RATE, snapshot_rate: float | None = None,
-                 damping_model: str = "exact", safety: float = DEFAULT_SAFETY, **options):
+                 damping_model: str = "exact", safety: float = DEFAULT_SAFETY,
+                 max_cycles: int = DEFAULT_MAX_CYCLES,
+                 window_cycles: int = _STEADY.window_cycles,
+                 steady_windows: int = _STEADY.windows, steady_rtol: float = _STEADY.rtol,
+                 steady_atol: float = _STEADY.atol, **options):
         super().__init__(damper)
         if integrator not in INTEGRATORS:
             raise InputError("dem.integrator", f"must be one of {', '.join(INTEGRATORS)}, "
@@ -93,9 +213,26 @@ class DEMDamper(DamperModel):
         if packing not in PACKINGS:
             raise InputError("dem.packing", f"must be one of {', '.join(PACKINGS)}, "
                              f"got {packing!r}")
-        self.cycles = _whole("dem.cycles", cycles, 1)
+        if isinstance(cycles, str):
+            if cycles != AUTO:
+                raise InputError("dem.cycles", f"must be {AUTO!r} or a whole number >= 1, "
+                                 f"got {cycles!r}")
+            self.cycles: int | str = AUTO
+        else:
+            self.cycles = _whole("dem.cycles", cycles, 1)
         self.skip_cycles = _whole("dem.skip_cycles", skip_cycles, 0)
-        if self.skip_cycles >= self.cycles:
+        self.steady = SteadyStateCriterion(
+            window_cycles=_whole("dem.window_cycles", window_cycles, 1),
+            windows=_whole("dem.steady_windows", steady_windows, 2),
+            rtol=check_range("dem.steady_rtol", steady_rtol, low=0.0),
+            atol=check_range("dem.steady_atol", steady_atol, low=0.0),
+            skip_cycles=self.skip_cycles)
+        self.max_cycles = _whole("dem.max_cycles", max_cycles, 1)
+        if self.cycles == AUTO:
+            if self.max_cycles < self.steady.min_cycles:
+                raise InputError("dem.max_cycles", f"must be >= skip_cycles + steady_windows x "
+                                 f"window_cycles = {self.steady.min_cycles}, got {self.max_cycles}")
+        elif self.skip_cycles >= self.cycles:
             raise InputError("dem.skip_cycles", f"must be in [0, {self.cycles - 1}] for "
                              f"{self.cycles} cycles, got {self.skip_cycles}")
         self.seed = _whole("dem.seed", seed, 0)
@@ -123,6 +260,11 @@ class DEMDamper(DamperModel):
         self.options = options
 
     @property
+    def run_until_steady(self) -> bool:
+        """Whether Level II runs go on until the loss factor is steady."""
+        return self.cycles == AUTO
+
+    @property
     def damping_model(self) -> str:
         """The COR-damping relation of the contact law."""
         return self.contact.damping_model
@@ -147,8 +289,13 @@ class DEMDamper(DamperModel):
 
     # ------------------------------------------------------------------ Level II
     def run(self, frequency: float, amplitude: float):
-        """One DEM run of ``cycles`` cycles at f [Hz], X [m]: the
-        :class:`~pdamper.dem.DEMResult`."""
+        """One DEM run at f [Hz], X [m]: ``cycles`` cycles, or until steady (``"auto"``);
+        the :class:`~pdamper.dem.DEMResult`."""
+        return self.steady_run(frequency, amplitude).result
+
+    def steady_run(self, frequency: float, amplitude: float) -> SteadyRun:
+        """One Level II run at f [Hz], X [m] with its stationarity, motion mode and complex
+        power over the averaged window (:class:`SteadyRun`)."""
         from pdamper.dem import HarmonicMotion
 
         f = check_range("frequency", frequency, low=0.0, low_inclusive=False, unit="Hz")
@@ -156,38 +303,141 @@ class DEMDamper(DamperModel):
         # what no run can do (more memory than the machine has, months of computing); the
         # edges (scenario, command line) hold runs to the lower limits unless forced
         d = self.damper
+        cycles = self.max_cycles if self.run_until_steady else self.cycles
         resources.require(resources.dem_cost(
-            d, self.cycles / f, resources.impact_speed(x, f, d.length), frequency=f,
+            d, cycles / f, resources.impact_speed(x, f, d.length), frequency=f,
             sample_rate=self.sample_rate, safety=self.safety, snapshot_rate=self.snapshot_rate,
-            drivers=(("dem.cycles", self.cycles), ("frequency", 1.0 / f, True),
-                     ("dem.sample_rate", self.sample_rate / f))), force=True)
-        return self.engine(HarmonicMotion(amplitude=x, frequency=f)).run(
-            self.cycles / f, sample_rate=self.sample_rate, snapshot_rate=self.snapshot_rate)
+            drivers=(("dem.max_cycles" if self.run_until_steady else "dem.cycles", cycles),
+                     ("frequency", 1.0 / f, True), ("dem.sample_rate", self.sample_rate / f))),
+            force=True)
+        engine = self.engine(HarmonicMotion(amplitude=x, frequency=f))
+        if self.run_until_steady:
+            need = self.steady.min_cycles
+
+            def steady(part) -> bool:
+                return (whole_cycles(part.time, f) >= need
+                        and self.assess(part)[0].stationary)
+
+            # the adapter's first attempt: the shortest steady run and one more window
+            res = run_until(engine, self.max_cycles / f, steady, self.sample_rate,
+                            self.snapshot_rate, f,
+                            first=(need + self.steady.window_cycles) / f)
+        else:
+            res = engine.run(self.cycles / f, sample_rate=self.sample_rate,
+                             snapshot_rate=self.snapshot_rate)
+        st, motion = self.assess(res)
+        power = res.complex_power(st.first_cycle - 1, st.last_cycle - st.first_cycle + 1)
+        return SteadyRun(res, st, motion, power)
+
+    def assess(self, result) -> tuple[Stationarity, ModeClassification]:
+        """Stationarity and motion mode of the run ``result`` so far.
+
+        Running until steady, the averaged window is the last ``steady_windows x
+        window_cycles`` cycles; with a fixed number of cycles it is every cycle after
+        ``skip_cycles`` (the paper's procedure), split into ``steady_windows`` windows.
+        Besides the loss-factor criterion, a window of at least ``2 x MIN_HALF_WINDOW``
+        cycles is steady only if its two halves show the same motion mode.
+        """
+        f = float(result.frequency)
+        eta = cycle_loss_factors(result.time, -result.force[:, 2], result.container_velocity,
+                                 f, result.bed_mass)
+        n = eta.size
+        if n < 1:
+            raise InputError("cycles", "the run holds no whole excitation cycle")
+        if self.run_until_steady:
+            crit = self.steady
+            length = min(crit.span, max(n - self.skip_cycles, 1))
+        else:  # the paper's averaged window, split into the criterion's windows
+            length = max(n - self.skip_cycles, 1)
+            m = max(1, length // self.steady.windows)
+            crit = dataclasses.replace(self.steady, window_cycles=m, windows=max(2, length // m))
+        signals = BedSignals.from_dem(result)
+        motion = classify_motion(signals, n - length + 1, n)
+        st = crit.evaluate(eta, cycle_symmetry(result.time, result.force, f),
+                           resting=motion.mode is MotionMode.SOLID)
+        if st.stationary and length >= 2 * MIN_HALF_WINDOW:
+            # the motion must have settled too: both halves of the window in one mode
+            half = length // 2
+            a = classify_motion(signals, n - length + 1, n - length + half).mode
+            b = classify_motion(signals, n - half + 1, n).mode
+            if a is not b:
+                st = dataclasses.replace(st, stationary=False,
+                                         reason=f"motion mode changes ({a.label} -> {b.label})")
+        if st.first_cycle != n - length + 1:  # report the whole averaged window
+            st = dataclasses.replace(st, first_cycle=n - length + 1,
+                                     loss_factor=float(np.mean(eta[n - length:])))
+        return st, motion
 
     def response(self, frequency, amplitude) -> DamperResponse:
-        """Run the DEM at every (f, X) point and apply Eqs. (1)-(4) over the cycles after
-        ``skip_cycles``.
+        """Run the DEM at every (f, X) point (:meth:`steady_run`) and apply Eqs. (1)-(4)
+        over each run's averaged window.
 
-        Motion modes are not classified (code ``UNCLASSIFIED``); ``details`` holds the
-        :class:`~pdamper.dem.DEMResult` of every point.
+        ``details`` holds the :class:`~pdamper.dem.DEMResult` of every point,
+        ``stationary`` the steady-state verdicts, ``mode`` the classified motion modes
+        (:mod:`pdamper.analysis.dem_modes`) and ``diagnostics`` the run diagnostics.
         """
         f, x = np.broadcast_arrays(np.asarray(frequency, float), np.asarray(amplitude, float))
-        eta = np.empty(f.shape)
-        e_tilde = np.empty(f.shape)
-        ratio = np.empty(f.shape)
-        runs = np.empty(f.shape, dtype=object)
-        for idx in np.ndindex(f.shape):
-            res = self.run(f[idx], x[idx])
-            cp = res.complex_power(self.skip_cycles)
+        shape = f.shape
+        eta, e_tilde, ratio = np.empty(shape), np.empty(shape), np.empty(shape)
+        mode, order = np.empty(shape, int), np.empty(shape, int)
+        steady = np.empty(shape, bool)
+        runs = np.empty(shape, dtype=object)
+        diag: dict[str, np.ndarray] = {}
+        for idx in np.ndindex(shape):
+            sr = self.steady_run(f[idx], x[idx])
+            res, st, mo, cp = sr.result, sr.stationarity, sr.motion, sr.power
             eta[idx], e_tilde[idx], ratio[idx] = (cp.loss_factor, cp.dissipated_energy_per_cycle,
                                                   cp.effective_mass_ratio)
+            mode[idx], order[idx], steady[idx] = int(mo.mode), mo.subharmonic_order, st.stationary
             runs[idx] = res
-            logger.info("DEM f=%.3g Hz X=%.3g m: eta=%.3f (%d steps, %.2f s)", f[idx], x[idx],
-                        cp.loss_factor, res.steps, res.wall_seconds)
-        return DamperResponse(frequency=f, amplitude=x, mode=np.full(f.shape, UNCLASSIFIED),
-                              loss_factor=eta, dissipated_energy_per_cycle=e_tilde,
-                              effective_mass_ratio=ratio, bed_mass=self.bed_mass, details=runs)
+            for name, value in point_diagnostics(sr).items():
+                if name not in diag:
+                    diag[name] = np.empty(shape, dtype=object if not isinstance(
+                        value, int | float | bool | np.number) else type(value))
+                diag[name][idx] = value
+            logger.info("DEM f=%.3g Hz X=%.3g m: eta=%.3f over cycles %d-%d (%s), %s "
+                        "(%d steps, %.2f s)", f[idx], x[idx], cp.loss_factor, st.first_cycle,
+                        st.last_cycle, "steady" if st.stationary else f"not steady: {st.reason}",
+                        mo.mode.label, res.steps, res.wall_seconds)
+        return DamperResponse(frequency=f, amplitude=x, mode=mode, loss_factor=eta,
+                              dissipated_energy_per_cycle=e_tilde, effective_mass_ratio=ratio,
+                              bed_mass=self.bed_mass, details=runs, stationary=steady,
+                              subharmonic_order=order, diagnostics=diag)
 
     def __repr__(self) -> str:
         return (f"DEMDamper(count={self.damper.count}, integrator={self.integrator!r}, "
                 f"packing={self.packing!r})")
+
+
+def point_diagnostics(run: SteadyRun) -> dict:
+    """The per-point diagnostics of a Level II run, as plain values (SI units).
+
+    ``wall_seconds`` [s], ``steps``, ``energy_balance_error`` [-], ``max_overlap_ratio`` [-]
+    (largest overlap / radius), ``cycles`` (simulated), ``first_cycle``/``last_cycle`` (the
+    averaged window), ``loss_factor_stderr``, ``loss_factor_spread``, ``loss_factor_drift``
+    [-] (:class:`~pdamper.analysis.stationarity.Stationarity`), ``symmetric_state`` (0/1),
+    ``period`` [cycles], ``periodicity_residual``, ``lift`` [m], ``contact_fraction``,
+    ``lid_contacts_per_cycle`` [-] (:class:`~pdamper.analysis.dem_modes.ModeClassification`),
+    ``stationarity`` and ``motion`` (the records themselves, not numbers).
+    """
+    res, st, mo = run.result, run.stationarity, run.motion
+    return {
+        "wall_seconds": float(res.wall_seconds + res.settle_seconds),
+        "steps": int(res.steps + res.settle_steps),
+        "energy_balance_error": float(res.energy_balance_error()),
+        "max_overlap_ratio": float(res.max_overlap_ratio),
+        "cycles": int(st.cycles),
+        "first_cycle": int(st.first_cycle),
+        "last_cycle": int(st.last_cycle),
+        "loss_factor_stderr": float(st.stderr),
+        "loss_factor_spread": float(st.spread),
+        "loss_factor_drift": float(st.drift),
+        "symmetric_state": int(st.symmetric),
+        "period": int(mo.period),
+        "periodicity_residual": float(mo.periodicity_residual),
+        "lift": float(mo.lift),
+        "contact_fraction": float(mo.contact_fraction),
+        "lid_contacts_per_cycle": float(mo.lid_contacts_per_cycle),
+        "stationarity": st,
+        "motion": mo,
+    }

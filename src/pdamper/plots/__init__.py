@@ -7,10 +7,13 @@ never shows or saves. matplotlib is imported here only.
 from pdamper.plots.figures import (
     plot_bed_trajectory,
     plot_damping_ratio,
+    plot_effective_mass_map,
+    plot_field_difference,
     plot_free_vibration,
     plot_loss_factor_map,
     plot_mode_map,
     plot_optimization,
+    plot_particle_snapshots,
 )
 from pdamper.plots.level3 import (
     plot_design_landscape,
@@ -33,6 +36,8 @@ __all__ = [
     "plot_material_table",
     "plot_restitution_curves",
     "plot_damping_ratio",
+    "plot_effective_mass_map",
+    "plot_field_difference",
     "plot_design_landscape",
     "plot_free_vibration",
     "plot_loss_factor_map",
@@ -41,5 +46,6 @@ __all__ = [
     "plot_model_damping_ratios",
     "plot_model_trajectories",
     "plot_optimization",
+    "plot_particle_snapshots",
     "plot_phase_drift",
 ]

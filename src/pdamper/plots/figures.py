@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from pdamper.analysis.analytical import ETA_MAX
 from pdamper.analysis.modes import MotionMode
 from pdamper.constants import STANDARD_GRAVITY
 
@@ -16,7 +17,10 @@ _MODE_COLORS = {
     MotionMode.DOUBLE_CAC_HARMONIC: "#d7301f",
     MotionMode.DOUBLE_CAC_SUBHARMONIC: "#fdae61",
     MotionMode.SCATTERING: "#999999",
+    MotionMode.RATTLING: "#7b3294",
 }
+#: Colour of a point without a mode (not classified, or its run failed).
+_NO_MODE_COLOR = "#ffffff"
 
 
 def _axes(ax):
@@ -54,50 +58,204 @@ def _grid_lines(ax, ds, gravity=STANDARD_GRAVITY):
     if "clearance" in ds.attrs:
         ax.axhline(ds.attrs["clearance"] / math.pi * 1e3, color="k", ls=":", lw=1,
                    label="X_opt = h / pi")
-    ax.set_ylim(ds["amplitude"].values.min() * 1e3, ds["amplitude"].values.max() * 1e3)
+    lo, hi = ds["amplitude"].values.min() * 1e3, ds["amplitude"].values.max() * 1e3
+    if hi > lo:  # (a one-stroke grid keeps the limits of its cell)
+        ax.set_ylim(lo, hi)
+
+
+def _mark_cells(ax, ds) -> None:
+    """Mark the cells that are no steady value: transients (x) and failed runs (grey x)."""
+    f = ds["frequency"].values
+    x = ds["amplitude"].values * 1e3
+    ff, xx = np.meshgrid(f, x, indexing="ij")
+    failed = ds["status"].values != 0 if "status" in ds else np.zeros(ff.shape, bool)
+    if "stationary" in ds:
+        transient = (ds["stationary"].values == 0) & ~failed
+        if transient.any():
+            ax.plot(ff[transient], xx[transient], "kx", ms=4, mew=0.8, ls="none",
+                    label="transient (not steady)")
+    if failed.any():
+        ax.plot(ff[failed], xx[failed], "x", color="0.45", ms=6, mew=1.5, ls="none",
+                label="run failed")
+
+
+def _field_axes(ax, ds) -> None:
+    _grid_lines(ax, ds)
+    _mark_cells(ax, ds)
+    x = ds["amplitude"].values
+    if x.size > 2 and np.all(x > 0) and np.allclose(np.diff(np.log(x)), np.log(x[1] / x[0])) \
+            and not np.allclose(np.diff(x), x[1] - x[0]):
+        ax.set_yscale("log")  # a geometric grid ("log:..."): equal cells
+    ax.set_xlabel("excitation frequency f [Hz]")
+    ax.set_ylabel("container stroke X [mm]")
 
 
 def plot_mode_map(ds, ax=None):
-    """Motion modes over frequency and stroke (Fig. 5a).
+    """Motion modes over frequency and stroke (Fig. 5a; from the DEM as well).
 
     Parameters
     ----------
     ds : xarray.Dataset
-        An effective field with ``motion_mode`` (see :func:`pdamper.analysis.fields.effective_field`).
+        An effective field with ``motion_mode`` (see :mod:`pdamper.analysis.fields`); for a
+        particle-count axis select one count first (``ds.sel(particles=32)``). Transient
+        cells (``stationary == 0``) and failed runs (``status == 1``) are marked.
     """
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
     ax = _axes(ax)
-    modes = list(MotionMode)
-    cmap = ListedColormap([_MODE_COLORS[m] for m in modes])
-    norm = BoundaryNorm(np.arange(len(modes) + 1) - 0.5, cmap.N)
+    codes = [-1] + [int(m) for m in MotionMode]
+    colors = [_NO_MODE_COLOR] + [_MODE_COLORS[m] for m in MotionMode]
+    cmap = ListedColormap(colors)
+    norm = BoundaryNorm(np.arange(codes[0], codes[-1] + 2) - 0.5, cmap.N)
     f = ds["frequency"].values
     x = ds["amplitude"].values * 1e3
-    ax.pcolormesh(f, x, ds["motion_mode"].values.T, cmap=cmap, norm=norm, shading="nearest")
-    _grid_lines(ax, ds)
-    handles = [Patch(color=_MODE_COLORS[m], label=m.title) for m in modes]
+    data = ds["motion_mode"].values
+    ax.pcolormesh(f, x, data.T, cmap=cmap, norm=norm, shading="nearest")
+    _field_axes(ax, ds)
+    present = set(np.unique(data).tolist())
+    shown = [m for m in MotionMode if m is not MotionMode.RATTLING or int(m) in present]
+    handles = [Patch(color=_MODE_COLORS[m], label=m.title) for m in shown]
+    if -1 in present:
+        handles.append(Patch(facecolor=_NO_MODE_COLOR, edgecolor="0.5", label="no mode"))
     ax.legend(handles=handles + ax.get_lines(), fontsize="x-small", loc="upper right")
-    ax.set_xlabel("excitation frequency f [Hz]")
-    ax.set_ylabel("container stroke X [mm]")
     return ax
 
 
-def plot_loss_factor_map(ds, ax=None, variable: str = "loss_factor"):
-    """Effective loss factor over frequency and stroke (Fig. 5b/5c), colour on a log scale
-    from 0.1 (dark) to 1 (yellow) as in the paper."""
+def plot_loss_factor_map(ds, ax=None, variable: str = "loss_factor", vmin: float = 0.1,
+                         vmax: float | None = None):
+    """Effective loss factor over frequency and stroke (Fig. 5b/5c) on a log colour scale
+    from ``vmin`` (dark; the paper: 0.1 or less) to ``vmax`` (default: 4/pi = 1.27, the
+    collect-and-collide optimum of Eq. 21, or the field's maximum if larger), so that the
+    band between 1 and 1.27 stays visible; transient and failed cells are marked."""
     from matplotlib.colors import LogNorm
 
     ax = _axes(ax)
     f = ds["frequency"].values
     x = ds["amplitude"].values * 1e3
-    data = np.clip(ds[variable].values.T, 0.1, 1.0)
-    m = ax.pcolormesh(f, x, data, cmap="viridis", norm=LogNorm(0.1, 1.0), shading="nearest")
-    ax.figure.colorbar(m, ax=ax, label=ds[variable].attrs.get("long_name", variable))
-    _grid_lines(ax, ds)
+    values = np.asarray(ds[variable].values, float)
+    top = ETA_MAX if vmax is None else vmax
+    if vmax is None and np.isfinite(values).any():
+        top = max(top, float(np.nanmax(values)))
+    data = np.clip(values.T, vmin, top)
+    m = ax.pcolormesh(f, x, data, cmap="viridis", norm=LogNorm(vmin, top), shading="nearest")
+    cb = ax.figure.colorbar(m, ax=ax, label=ds[variable].attrs.get("long_name", variable))
+    ticks = [t for t in (0.1, 0.2, 0.5, 1.0, ETA_MAX, 2.0, 5.0) if vmin <= t <= top]
+    cb.set_ticks(ticks, labels=[("4/pi" if t == ETA_MAX else f"{t:g}") for t in ticks])
+    _field_axes(ax, ds)
     ax.legend(fontsize="x-small", loc="upper right")
-    ax.set_xlabel("excitation frequency f [Hz]")
-    ax.set_ylabel("container stroke X [mm]")
+    return ax
+
+
+def plot_effective_mass_map(ds, ax=None, vmax: float | None = None):
+    """Effective particle mass over bed mass (Fig. 5d), linear colour scale from 0 to
+    ``vmax`` (default: 1, or the field's maximum if larger)."""
+    ax = _axes(ax)
+    f = ds["frequency"].values
+    x = ds["amplitude"].values * 1e3
+    values = np.asarray(ds["effective_mass_ratio"].values, float)
+    top = 1.0 if vmax is None else vmax
+    if vmax is None and np.isfinite(values).any():
+        top = max(top, float(np.nanmax(values)))
+    m = ax.pcolormesh(f, x, values.T, cmap="cividis", vmin=0.0, vmax=top, shading="nearest")
+    ax.figure.colorbar(m, ax=ax, label="effective particle mass / bed mass")
+    _field_axes(ax, ds)
+    ax.legend(fontsize="x-small", loc="upper right")
+    return ax
+
+
+def plot_field_difference(ds, reference, ax=None, variable: str = "loss_factor",
+                          limit: float | None = None):
+    """``ds - reference`` of ``variable`` (e.g. DEM minus analytical loss factor) on the
+    grid of ``ds`` (``reference`` interpolated onto it where the grids differ), diverging
+    colours symmetric about 0 (``limit``: the colour range, default the largest
+    difference)."""
+    ax = _axes(ax)
+    ref = reference[variable]
+    same = (np.array_equal(reference["frequency"].values, ds["frequency"].values)
+            and np.array_equal(reference["amplitude"].values, ds["amplitude"].values))
+    if not same:
+        ref = ref.interp(frequency=ds["frequency"], amplitude=ds["amplitude"])
+    diff = np.asarray(ds[variable].values, float) - np.asarray(ref.values, float)
+    lim = limit if limit is not None else (float(np.nanmax(np.abs(diff)))
+                                           if np.isfinite(diff).any() else 1.0)
+    lim = lim or 1.0
+    f = ds["frequency"].values
+    x = ds["amplitude"].values * 1e3
+    m = ax.pcolormesh(f, x, diff.T, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="nearest")
+    name = ds[variable].attrs.get("long_name", variable)
+    ax.figure.colorbar(m, ax=ax, label=f"difference of {name}")
+    _field_axes(ax, ds)
+    ax.legend(fontsize="x-small", loc="upper right")
+    return ax
+
+
+def plot_particle_snapshots(result, ax=None, count: int = 8, cycle: int | None = None,
+                            vmax: float | None = None):
+    """Fig. 3: the particles at ``count`` instants of one excitation cycle, side view
+    (x-z), coloured by the particle speed over the container velocity amplitude V.
+
+    Parameters
+    ----------
+    result : pdamper.dem.DEMResult
+        A harmonic run recorded with snapshots (``snapshot_rate`` of at least ``count``
+        per cycle).
+    count
+        Instants shown, evenly spread over the cycle [-].
+    cycle
+        Which cycle (1-based; default the last whole one).
+    vmax
+        Top of the colour scale [-] (default: 1, or the largest speed if larger).
+    """
+    from matplotlib.collections import PatchCollection
+    from matplotlib.patches import Circle, Rectangle
+
+    from pdamper.errors import InputError
+
+    ax = _axes(ax)
+    f = result.frequency
+    if f is None:
+        raise InputError("result", "Fig. 3 snapshots need a harmonic excitation")
+    ts = np.asarray(result.snapshot_time)
+    n_cycles = int(np.floor(result.simulated_time * f + 1e-9))
+    c = n_cycles if cycle is None else int(cycle)
+    if not 1 <= c <= n_cycles:
+        raise InputError("cycle", f"must be in [1, {n_cycles}], got {cycle}")
+    t_lo, t_hi = (c - 1) / f, c / f
+    wanted = t_lo + (np.arange(count) + 0.5) / count / f
+    idx = np.unique([int(np.argmin(np.abs(ts - t))) for t in wanted])
+    idx = idx[(ts[idx] >= t_lo - 0.5 / f / count) & (ts[idx] <= t_hi + 0.5 / f / count)]
+    if idx.size < 2:
+        raise InputError("snapshot_rate", f"the run holds {ts.size} snapshots; record at least "
+                         f"{count} per cycle (snapshot_rate >= {count * f:g} Hz)")
+    box = result.attrs.get("box_m", [0.04, 0.04, 0.12])
+    lx, lz = float(box[0]), float(box[2])
+    amp = float(result.attrs.get("amplitude_m", np.ptp(result.container_position) / 2))
+    v_amp = 2 * np.pi * f * amp
+    gap = 0.35 * lx
+    patches, speeds = [], []
+    for k, i in enumerate(idx):
+        x0 = k * (lx + gap)
+        zc = float(np.interp(ts[i], result.time, result.container_position))
+        ax.add_patch(Rectangle((x0 * 1e3, zc * 1e3), lx * 1e3, lz * 1e3, fill=False, lw=1.2))
+        pos = result.snapshot_positions[i]
+        vel = result.snapshot_velocities[i]
+        for p, r, v in zip(pos, result.radius, vel, strict=True):
+            patches.append(Circle(((x0 + p[0]) * 1e3, p[2] * 1e3), r * 1e3))
+            speeds.append(float(np.linalg.norm(v)) / v_amp)
+        phase = (ts[i] - t_lo) * f
+        ax.text((x0 + lx / 2) * 1e3, (zc + lz) * 1e3 + 4, f"{phase:.2f} T", ha="center",
+                fontsize="x-small")
+    coll = PatchCollection(patches, cmap="jet", edgecolor="k", linewidth=0.2)
+    coll.set_array(np.asarray(speeds))
+    coll.set_clim(0.0, max(1.0, float(np.max(speeds))) if vmax is None else vmax)
+    ax.add_collection(coll)
+    ax.figure.colorbar(coll, ax=ax, label="particle speed / V")
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    ax.set_xticks([])
+    ax.set_ylabel("height z [mm]")
+    ax.set_xlabel(f"one cycle (cycle {c}), time in periods T = {1e3 / f:.4g} ms")
     return ax
 
 

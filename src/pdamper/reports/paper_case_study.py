@@ -1,13 +1,16 @@
 """The reference paper's case study, end to end, with each reported number next to ours.
 
 :func:`run_case_study` computes (Level I) the Fig. 2 material table and COR curves with
-single DEM impacts, (Level II) the Fig. 4 trajectories and the Fig. 5a/5c
-maps with the analytical model, and (Level III) the Fig. 7/8 free vibration and the
-Sect. 4.2.2 / Fig. 9 optimisation, all from one :class:`~pdamper.io.scenario.Scenario`
-(the paper's case by default); :func:`write_case_study` writes the figures (PNG), the map
-(NetCDF), the comparison table (Markdown and JSON) and ``report.html``, one self-contained
-page with all of it (:mod:`pdamper.reports.html`). The paper's numbers and the tolerance of
-each comparison come from :mod:`pdamper.parameters.vertical_dampers_paper`.
+single DEM impacts, (Level II) the Fig. 4 trajectories and the Fig. 5a/5c maps with the
+analytical model, the Fig. 5b/5d map with the DEM (on the scenario's ``[map]
+dem_frequency x dem_amplitude`` grid, on dask.distributed, cached under the output
+directory) with its agreement with the analytical map and Fig. 3 snapshots, and (Level III)
+the Fig. 7/8 free vibration and the Sect. 4.2.2 / Fig. 9 optimisation, all from one
+:class:`~pdamper.io.scenario.Scenario` (the paper's case by default);
+:func:`write_case_study` writes the figures (PNG), the maps (NetCDF), the comparison table
+(Markdown and JSON) and ``report.html``, one self-contained page with all of it
+(:mod:`pdamper.reports.html`). The paper's numbers and the tolerance of each comparison come
+from :mod:`pdamper.parameters.vertical_dampers_paper`.
 
 Figs. 7 and 8 show the three damper models of Sect. 4.1: the analytical formulas (model
 3), the effective fields (model 2) and the DEM (model 1). Model 2 reads, in this order of
@@ -31,12 +34,12 @@ from pathlib import Path
 import numpy as np
 
 from pdamper.analysis.analytical import bed_response, bed_trajectory
-from pdamper.analysis.fields import effective_field
-from pdamper.analysis.modes import MotionMode
+from pdamper.analysis.fields import effective_field, field_agreement
+from pdamper.analysis.modes import PAPER_MODES, MotionMode
 from pdamper.contact.restitution import ConstantRestitution
 from pdamper.coupling import FreeVibrationResult, Simulation
 from pdamper.design.optimize import OptimizationResult, optimize_particle_count
-from pdamper.errors import InputError
+from pdamper.errors import InputError, SimulationError
 from pdamper.files import atomic_write, atomic_write_text
 from pdamper.models import AnalyticalDamper, EffectiveFieldDamper
 from pdamper.parameters import vertical_dampers_paper as paper
@@ -46,6 +49,14 @@ logger = logging.getLogger(__name__)
 
 #: Frequency at which "A >> g" is evaluated for Eq. (21) [Hz].
 _HIGH_FREQUENCY = 200.0
+#: The DEM map's file in the output directory (also its cache).
+DEM_MAP_FILE = "fig5_dem_map.nc"
+#: Fig. 3: the modes it shows, at Fig. 4 points (label, f [Hz], X [m]); the double CaC
+#: at the benchmark point X_opt (10 Hz, 32 mm).
+FIG3_POINTS = (("a) solid-like", 4.0, 0.015), ("b) single CaC", 6.0, 0.015),
+               ("c) double CaC", 10.0, 0.032))
+#: Lowest frequency of the paper's "DEM maximum 1.25 near X_opt" (f < 5 Hz falls off) [Hz].
+_XOPT_MIN_FREQUENCY = 8.0
 
 
 @dataclass
@@ -83,6 +94,11 @@ class CaseStudy:
     run_empty: FreeVibrationResult | None = None
     run_best: FreeVibrationResult | None = None
     run_dem: FreeVibrationResult | None = None
+    dem_map: object = None  # xarray.Dataset of the DEM on its grid
+    analytic_on_dem_grid: object = None
+    dem_map_run: object = None  # pdamper.reports.maps.MapRun
+    agreement: dict = field(default_factory=dict)
+    snapshots: list = field(default_factory=list)  # (label, DEMResult)
     run_dem_curves: FreeVibrationResult | None = None
     cor_checks: list = field(default_factory=list)
     damper: object = None
@@ -121,10 +137,18 @@ def _fields_model(sc, cs: CaseStudy, damper):
     if sc.fields.file is not None:
         return sc.model("fields", damper), f"map {sc.fields.file}"
     dem_map = getattr(cs, "dem_map", None)
-    ds, what = (dem_map, "DEM map") if dem_map is not None else (cs.field_map,
-                                                                 "analytical Fig. 5 map")
     opts = {**sc.fields.options(), "file": None, "extrapolation": "clamp"}
-    return EffectiveFieldDamper(damper, field=ds, **opts), f"{what}, clamped at its edges"
+    what = "analytical Fig. 5 map"
+    if dem_map is not None:
+        try:
+            return (EffectiveFieldDamper(damper, field=dem_map, **opts),
+                    "DEM map, clamped at its edges")
+        except InputError as exc:  # e.g. a DEM grid too small to interpolate
+            logger.warning("model 2 cannot use the DEM map (%s); using the analytical map",
+                           exc.message)
+            what = "analytical Fig. 5 map (the DEM map cannot serve it)"
+    return EffectiveFieldDamper(damper, field=cs.field_map, **opts), \
+        f"{what}, clamped at its edges"
 
 
 def _timed(cs: CaseStudy, key: str, fn):
@@ -151,13 +175,18 @@ def _amplitude_row(key: str, res: FreeVibrationResult, t: float, extra: str = ""
 
 
 def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
-                   dem: bool = True) -> CaseStudy:
+                   dem: bool = True, out: Path | None = None,
+                   map_progress: Callable | None = None, **sweep_options) -> CaseStudy:
     """Compute the paper's case study for ``scenario`` (default: the paper's case).
 
     The scenario sets the damper, the structure, the release, the duration of Figs. 7/8,
-    the Fig. 5 grid, the optimisation (time, step) and the DEM options; every row compares
-    with the paper's number. ``dem`` adds the Fig. 2 check (the paper's COR curves in single DEM
-    impacts) and DEM model 1, run with the scenario's COR and with the paper's Fig. 2 curves.
+    the Fig. 5 grids, the optimisation (time, step) and the DEM options; every row compares
+    with the paper's number. ``dem`` adds the DEM: the Fig. 5b/5d map (its points on the
+    sweep engine, ``sweep_options`` such as ``workers``; cached as ``out/fig5_dem_map.nc``
+    when ``out`` is given, so that a rerun does not recompute it; ``map_progress`` gets
+    its points), the Fig. 3 snapshots, the Fig. 2 check (the paper's COR curves in single
+    DEM impacts) and DEM model 1, run with the scenario's COR and with the paper's Fig. 2
+    curves.
     """
     from pdamper.io.scenario import Scenario
 
@@ -203,6 +232,8 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     i, j = np.unravel_index(np.argmax(eta), eta.shape)
     rows.append(_row("eta_max_grid", f"{eta[i, j]:.3f} at X = {xs[j] * 1e3:.1f} mm, "
                      f"f = {f[i]:.1f} Hz", float(eta[i, j]), grid=grid))
+    if dem:
+        _dem_map(cs, sc, damper, say, out, map_progress, sweep_options)
 
     say("Fig. 7/8: free vibration, no particles and the scenario's damper")
     cs.run_32 = _timed(cs, "model 3", lambda: Simulation(structure, AnalyticalDamper(damper),
@@ -269,6 +300,55 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     rows.append(_amplitude_row("amplitude_64_0p75s", cs.run_best, t_cmp))
     rows.append(_row("bed_mass_64", f"{best.bed_mass * 1e3:.0f} g", best.bed_mass))
     return cs
+
+
+def _dem_map(cs: CaseStudy, sc, damper, say, out, map_progress, sweep_options) -> None:
+    """Fig. 5b/5d from the DEM, its agreement rows, and the Fig. 3 snapshots."""
+    from pdamper.reports.maps import run_map
+
+    fd, xd = sc.dem_map_grid()
+    grid = f"{len(fd)} x {len(xd)}"
+    say(f"Fig. 5b/5d: DEM map {grid} (cached in the output directory)")
+    cache = None if out is None else Path(out) / DEM_MAP_FILE
+    run = run_map(sc, "dem", frequency=fd, amplitude=xd, out=cache, cache=True,
+                  progress=map_progress, **sweep_options)
+    cs.dem_map_run = run
+    cs.dem_map = ds = run.dataset
+    cs.analytic_on_dem_grid = ana = effective_field(AnalyticalDamper(damper), fd, xd)
+    cs.agreement = agr = field_agreement(ds, ana)
+    rows = cs.rows
+    rows.append(_row("dem_map_steady", f"{agr['steady']} of {agr['cells'] + agr['failed']} "
+                     f"steady, {agr['failed']} failed", None, grid=grid))
+    rows.append(_row("dem_mode_agreement", f"{100 * agr['mode_agreement']:.0f} % of "
+                     f"{agr['cells']} cells", None))
+    for mode in PAPER_MODES:
+        by = agr["by_mode"].get(mode.label)
+        key = f"dem_delta_eta_{mode.label}"
+        if by is None:
+            rows.append(_row(key, "mode not on this grid", None))
+        else:
+            rows.append(_row(key, f"{by['median_abs_delta_eta']:.3f} ({by['cells']} cells, "
+                             f"{100 * by['mode_agreement']:.0f} % same mode)",
+                             by["median_abs_delta_eta"]))
+    j = int(np.argmin(np.abs(xd - damper.optimal_stroke)))
+    hi = fd >= _XOPT_MIN_FREQUENCY
+    ok = hi & (ds["status"].values[:, j] == 0)
+    if ok.any():
+        vals = ds["loss_factor"].values[ok, j]
+        rows.append(_row("dem_eta_xopt", f"{vals.max():.3f} (X = {xd[j] * 1e3:.1f} mm; "
+                         f"{vals.min():.2f}-{vals.max():.2f} over {ok.sum()} frequencies)",
+                         float(vals.max())))
+    else:
+        rows.append(_row("dem_eta_xopt", "no DEM result at f >= 8 Hz near X_opt", None))
+    say("Fig. 3: DEM snapshots over one cycle")
+    model = sc.map_model("dem", damper)  # as the DEM map: a steady cycle, the map's packing
+    for label, f, x in FIG3_POINTS:
+        snap = model.with_damper(damper)  # a copy, recording 24 snapshots per cycle
+        snap.snapshot_rate = 24.0 * f
+        try:
+            cs.snapshots.append((label, snap.run(f, x)))
+        except SimulationError as exc:
+            logger.warning("Fig. 3 %s: %s", label, exc)
 
 
 def _cor_text(damper) -> str:
@@ -388,6 +468,8 @@ def _figures(cs: CaseStudy):
     ax = plots.plot_loss_factor_map(cs.field_map, ax=fig.subplots())
     ax.set_title(f"Fig. 5c: effective loss factor (analytical), {n} spheres")
     yield "fig5c_loss_factor.png", fig
+    if cs.dem_map is not None:
+        yield from _dem_figures(cs, n)
     fig = Figure(figsize=(9, 4), layout="constrained")
     ax = fig.subplots()
     plots.plot_free_vibration(cs.run_32, ax=ax, label=f"analytical (model 3), {n} spheres",
@@ -418,6 +500,63 @@ def _figures(cs: CaseStudy):
     yield "fig9_optimization.png", fig
 
 
+def _dem_figures(cs: CaseStudy, n):
+    """Fig. 5 a-d, DEM next to analytical on the DEM's grid; their difference; Fig. 3."""
+    from matplotlib.figure import Figure
+
+    from pdamper import plots
+
+    dem, ana = cs.dem_map, cs.analytic_on_dem_grid
+    top = max(4 / math.pi, float(np.nanmax(dem["loss_factor"].values))
+              if np.isfinite(dem["loss_factor"].values).any() else 0.0)
+    mtop = max(1.0, float(np.nanmax(dem["effective_mass_ratio"].values))
+               if np.isfinite(dem["effective_mass_ratio"].values).any() else 0.0)
+    fig = Figure(figsize=(13, 14), layout="constrained")
+    axes = fig.subplots(3, 2)
+    for col, (ds, who) in enumerate(((ana, "analytical"), (dem, "DEM"))):
+        plots.plot_mode_map(ds, ax=axes[0, col]).set_title(f"motion modes ({who})")
+        plots.plot_loss_factor_map(ds, ax=axes[1, col], vmax=top).set_title(
+            f"effective loss factor ({who})")
+        plots.plot_effective_mass_map(ds, ax=axes[2, col], vmax=mtop).set_title(
+            "effective mass ratio (" + ("Eq. 22" if who == "analytical" else "DEM, Eq. 4")
+            + ")")
+    fig.suptitle(f"Fig. 5 a-d: analytical (left) and DEM (right), {n} spheres; x: transient,"
+                 " grey x: run failed")
+    yield "fig5_dem_vs_analytic.png", fig
+    fig = Figure(figsize=(7, 5), layout="constrained")
+    ax = plots.plot_field_difference(dem, ana, ax=fig.subplots())
+    ax.set_title("effective loss factor: DEM minus analytical")
+    yield "fig5_dem_minus_analytic.png", fig
+    if cs.snapshots:
+        fig = Figure(figsize=(13, 3.6 * len(cs.snapshots)), layout="constrained")
+        axes = np.atleast_1d(fig.subplots(len(cs.snapshots), 1))
+        for ax, (label, res) in zip(axes, cs.snapshots, strict=True):
+            plots.plot_particle_snapshots(res, ax=ax, vmax=2.0)
+            ax.set_title(f"Fig. 3 {label}: X = {res.attrs['amplitude_m'] * 1e3:g} mm, "
+                         f"f = {res.frequency:g} Hz", fontsize="medium")
+        yield "fig3_snapshots.png", fig
+
+
+def _agreement_markdown(cs: CaseStudy) -> str:
+    a = cs.agreement
+    run = cs.dem_map_run
+    ds = cs.dem_map
+    lines = [f"\n## DEM map against the analytical one ({ds['loss_factor'].shape[0]} x "
+             f"{ds['loss_factor'].shape[1]} points)\n",
+             f"{a['cells']} cells with a result ({a['steady']} steady), {a['failed']} failed; "
+             f"motion modes agree in {100 * a['mode_agreement']:.0f} % of the cells, median "
+             f"|delta eta| {a['median_abs_delta_eta']:.3f}. "
+             + ("Taken from the cached map." if run.cached else
+                f"Computed in {run.seconds:.0f} s on {run.workers} worker(s) "
+                f"({run.computed} points computed, {run.reused} reused)."),
+             "", "| analytical mode | cells | same mode in the DEM | median abs(delta eta) |",
+             "|---|---|---|---|"]
+    for label, by in a["by_mode"].items():
+        lines.append(f"| {MotionMode.from_label(label).title} | {by['cells']} | "
+                     f"{100 * by['mode_agreement']:.0f} % | {by['median_abs_delta_eta']:.3f} |")
+    return "\n".join(lines) + "\n"
+
+
 def write_case_study(cs: CaseStudy, out: Path,
                      progress: Callable[[str], None] | None = None) -> list[Path]:
     """Write figures, the map and the table of ``cs`` into the existing directory ``out``.
@@ -443,12 +582,26 @@ def write_case_study(cs: CaseStudy, out: Path,
     cs.field_map.attrs["pdamper_version"] = __version__
     written.append(atomic_write(out / "fig5_analytic_map.nc",
                                 lambda p: cs.field_map.to_netcdf(p, engine="h5netcdf")))
+    if cs.dem_map is not None:
+        dem_path = out / DEM_MAP_FILE
+        run = cs.dem_map_run
+        # the map stored (or found) in its cache under the output directory is not written
+        # again: a rerun leaves it untouched
+        stored = (run is not None and run.path is not None and Path(run.path).is_file()
+                  and Path(run.path).name == DEM_MAP_FILE)
+        if not stored:
+            atomic_write(dem_path, lambda p: cs.dem_map.to_netcdf(p, engine="h5netcdf"))
+        written.append(dem_path)
     agree = sum(r.agrees is True for r in cs.rows)
     written.append(atomic_write_text(
         out / "results.md",
         "# pdamper: the reference paper's case study\n\n"
-        f"pdamper {__version__}, analytical damper model. {agree} of {len(cs.rows)} reported "
-        "numbers agree within the tolerance each row's test states.\n\n" + _markdown(cs.rows)
+        f"pdamper {__version__}, analytical damper model"
+        + (" and DEM" if cs.dem_map is not None else "")
+        + f". {agree} of {len(cs.rows)} reported numbers agree within the tolerance each row's "
+        "test states (rows without a verdict report a number the paper does not give).\n\n"
+        + _markdown(cs.rows)
+        + (_agreement_markdown(cs) if cs.dem_map is not None else "")
         + f"\n## Objective landscape (amplitude at {cs.optimization.at:g} s)\n\n"
         + "| particles | mass [g] | amplitude [mm] |\n|---|---|---|\n"
         + "".join(f"| {c.particles} | {c.mass * 1e3:.1f} | {c.objective * 1e3:.2f} |\n"
@@ -480,6 +633,10 @@ def write_case_study(cs: CaseStudy, out: Path,
         "fields_source": cs.fields_source,
         "timings": cs.timings,
         "map_shape": [int(n) for n in cs.field_map["loss_factor"].shape],
+        "dem_map": None if cs.dem_map is None else {
+            "file": DEM_MAP_FILE, "shape": [int(n) for n in cs.dem_map["loss_factor"].shape],
+            "agreement": cs.agreement, "cached": bool(cs.dem_map_run.cached),
+            "seconds": cs.dem_map_run.seconds, "workers": cs.dem_map_run.workers},
     }, indent=2)))
     say("writing report.html")
     written.append(atomic_write_text(out / "report.html", render_report(

@@ -1,0 +1,181 @@
+"""Benchmark of the DEM effective-field map (paper Fig. 5) on dask.distributed.
+
+Run ``python benchmarks/bench_map.py`` (the paper's 14 x 24 grid, 32 spheres, every core;
+``--frequency``/``--amplitude`` for another grid, ``--workers N``, ``--packing random``,
+``--out FILE`` to keep the map). Prints
+
+* the total wall time of the map, the per-point wall time (median, mean, worst and where),
+  points per frequency, the cycles the points needed, steady / transient / failed counts;
+* the LIGGGHTS 3.8 estimate for the same simulated time: its measured 4.69 wall s per
+  simulated second of this damper at a step of 0.2 Rayleigh times (docs/dem.md), on the
+  same number of cores;
+* while the DEM engine cannot stop a run early (issue 7: ``DEMEngine.run(..., stop=...)``),
+  the adapter of :func:`pdamper.models.dem.run_until` runs 18 cycles, and again 36 and 60
+  from the start where that was too short; the benchmark then also prints the projected
+  time with the early stop (each point's time scaled by the cycles it needed over the
+  cycles the adapter simulated);
+* the agreement with the analytical map on the same grid (share of cells whose motion
+  modes agree, median |delta eta| per analytical mode) and the DEM loss factor at the
+  stroke nearest X_opt for f >= 8 Hz, the numbers docs/fields.md and the case-study table
+  report.
+
+``--json FILE`` writes all of it. The machine's load matters (shared 2-core VM): the
+benchmark prints ``os.getloadavg()`` before and after.
+"""
+
+from __future__ import annotations
+
+import argparse
+import inspect
+import json
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+#: LIGGGHTS 3.8, benchmark damper, step 0.2 Rayleigh times, one core (docs/dem.md).
+LIGGGHTS_WALL_PER_SIMULATED_SECOND = 4.69
+
+
+def main(argv=None) -> dict:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--frequency", default="2Hz:20Hz:14")
+    ap.add_argument("--amplitude", default="1mm:200mm:24")
+    ap.add_argument("--particles", type=int, default=32)
+    ap.add_argument("--workers", type=int, default=None)
+    ap.add_argument("--packing", default=None,
+                    help="initial packing of the runs, random (a map's default) or lattice")
+    ap.add_argument("--cycles", default=None, help="'auto' (default) or a number (paper: 8)")
+    ap.add_argument("--out", type=Path, default=None)
+    ap.add_argument("--json", type=Path, default=None)
+    args = ap.parse_args(argv)
+
+    from pdamper.analysis.fields import effective_field, field_agreement
+    from pdamper.analysis.modes import MotionMode
+    from pdamper.dem import DEMEngine, HarmonicMotion
+    from pdamper.io.scenario import load_scenario
+    from pdamper.models import AnalyticalDamper
+    from pdamper.reports.maps import run_map
+    from pdamper.sweep.cluster import default_workers
+
+    overrides = {"map.frequency": args.frequency, "map.amplitude": args.amplitude,
+                 "particles.count": args.particles, "map.dem_packing": args.packing,
+                 "dem.cycles": None if args.cycles in (None, "auto") else int(args.cycles)}
+    if args.cycles == "auto":
+        overrides["dem.cycles"] = "auto"
+    sc = load_scenario(None, overrides)
+    workers = args.workers or default_workers()
+    chunked = "stop" in inspect.signature(DEMEngine.run).parameters
+    load0 = os.getloadavg()
+    with tempfile.TemporaryDirectory() as tmp:
+        out = args.out or Path(tmp) / "fields.nc"
+        t0 = time.perf_counter()
+        run = run_map(sc, "dem", out=out, workers=workers)
+        total = time.perf_counter() - t0
+    load1 = os.getloadavg()
+    ds = run.dataset
+    f = ds["frequency"].values
+    x = ds["amplitude"].values
+    ok = ds["status"].values == 0
+    wall = ds["point_seconds"].values
+    cycles = ds["cycles"].values.astype(float)
+    model = sc.map_model("dem")
+    settle = model.engine(HarmonicMotion(0.01, 10.0)).settle_time  # same for every point
+    needed = np.where(ok, cycles, np.nan)
+    simulated = np.nansum(needed / f[:, None] + settle)  # what a run until steady needs
+    liggghts = simulated * LIGGGHTS_WALL_PER_SIMULATED_SECOND / workers
+    i, j = np.unravel_index(np.nanargmax(wall), wall.shape)
+    projected = None
+    if not chunked and model.run_until_steady:
+        ran = np.vectorize(lambda n: _adapter_cycles(n, model))(np.nan_to_num(needed, nan=1))
+        projected = float(np.nansum(wall * np.where(ok, needed / ran, 1.0)) / workers)
+    ana = effective_field(AnalyticalDamper(sc.damper()), f, x)
+    agr = field_agreement(ds, ana)
+    jx = int(np.argmin(np.abs(x - sc.damper().optimal_stroke)))
+    near = ok[:, jx] & (f >= 8.0)
+    eta_xopt = ds["loss_factor"].values[near, jx]
+    result = {
+        "grid": [int(f.size), int(x.size)], "points": int(ok.size), "workers": workers,
+        "packing": sc.for_map().dem.packing, "cycles_option": sc.dem.cycles,
+        "engine_stops_early": chunked, "total_seconds": total,
+        "per_point_seconds": {"median": float(np.nanmedian(wall)),
+                              "mean": float(np.nanmean(wall)), "max": float(np.nanmax(wall)),
+                              "max_at": {"frequency": float(f[i]), "amplitude": float(x[j])}},
+        "per_point_by_frequency": {f"{fi:.3g}": float(np.nanmedian(wall[k]))
+                                   for k, fi in enumerate(f)},
+        "cycles_needed": {"median": float(np.nanmedian(np.where(ok, cycles, np.nan))),
+                          "max": float(np.nanmax(np.where(ok, cycles, np.nan)))},
+        "steady": agr["steady"], "failed": agr["failed"],
+        "transient": int(((ds["stationary"].values == 0) & ok).sum()),
+        "simulated_seconds": float(simulated),
+        "liggghts_estimate_seconds": float(liggghts),
+        "projected_seconds_with_early_stop": projected,
+        "agreement": agr,
+        "eta_near_x_opt_f_ge_8hz": {"x_mm": float(x[jx] * 1e3),
+                                    "values": eta_xopt.tolist(),
+                                    "max": float(eta_xopt.max()) if eta_xopt.size else None},
+        "load_average_before_after": [load0[0], load1[0]],
+        "errors": sorted({e.split(" (")[0] for e in ds["error"].values.ravel() if e}),
+    }
+    _print(result, MotionMode)
+    if args.json:
+        args.json.write_text(json.dumps(result, indent=2))
+    return result
+
+
+def _adapter_cycles(needed: float, model) -> float:
+    """Cycles the run-until adapter simulates (all attempts) for a point steady at
+    ``needed`` cycles (:func:`pdamper.models.dem.run_until`)."""
+    total, n = model.max_cycles, model.steady.min_cycles + model.steady.window_cycles
+    ran = 0
+    while True:
+        ran += n
+        if needed <= n or n >= total:
+            return float(ran)
+        n = min(total, 2 * n)
+
+
+def _print(r: dict, MotionMode) -> None:  # noqa: N803
+    p = r["per_point_seconds"]
+    print(f"DEM map {r['grid'][0]} x {r['grid'][1]} ({r['points']} points), 32 spheres, "
+          f"packing {r['packing']}, cycles {r['cycles_option']}, {r['workers']} workers")
+    print(f"  total wall time        {r['total_seconds']:.1f} s "
+          f"({r['total_seconds'] / r['points']:.2f} s per point on {r['workers']} workers)")
+    print(f"  per point (one core)   median {p['median']:.2f} s, mean {p['mean']:.2f} s, worst "
+          f"{p['max']:.1f} s at f = {p['max_at']['frequency']:.3g} Hz, "
+          f"X = {p['max_at']['amplitude'] * 1e3:.3g} mm")
+    print("  median per point by f  " + ", ".join(
+        f"{k} Hz: {v:.2f} s" for k, v in r["per_point_by_frequency"].items()))
+    print(f"  cycles needed          median {r['cycles_needed']['median']:.0f}, "
+          f"max {r['cycles_needed']['max']:.0f}")
+    print(f"  steady / transient / failed   {r['steady']} / {r['transient']} / {r['failed']}")
+    if r["errors"]:
+        print("  errors: " + "; ".join(r["errors"][:3]))
+    print(f"  simulated time needed  {r['simulated_seconds']:.0f} s (cycles until steady and "
+          "settling, every point)")
+    print(f"  LIGGGHTS estimate      {r['liggghts_estimate_seconds']:.0f} s on the same cores "
+          f"({LIGGGHTS_WALL_PER_SIMULATED_SECOND} wall s per simulated s, the same cycles)")
+    if r["projected_seconds_with_early_stop"] is not None:
+        print(f"  with the early stop    ~{r['projected_seconds_with_early_stop']:.0f} s "
+              "(projected: the engine cannot stop runs yet, issue 7)")
+    a = r["agreement"]
+    print(f"  modes agree with the analytical map in {100 * a['mode_agreement']:.0f} % of "
+          f"{a['cells']} cells; median |delta eta| {a['median_abs_delta_eta']:.3f}")
+    for label, by in a["by_mode"].items():
+        print(f"    {MotionMode.from_label(label).title:26s} {by['cells']:4d} cells, "
+              f"{100 * by['mode_agreement']:3.0f} % same mode, median |delta eta| "
+              f"{by['median_abs_delta_eta']:.3f}")
+    e = r["eta_near_x_opt_f_ge_8hz"]
+    if e["max"] is not None:
+        print(f"  DEM eta at X = {e['x_mm']:.1f} mm (nearest X_opt), f >= 8 Hz: "
+              f"{', '.join(f'{v:.2f}' for v in e['values'])}; max {e['max']:.3f} "
+              "(paper: 1.25)")
+    la = r["load_average_before_after"]
+    print(f"  load average before/after: {la[0]:.2f} / {la[1]:.2f}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

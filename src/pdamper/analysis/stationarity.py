@@ -1,0 +1,270 @@
+"""Stationarity of a Level II run: is the loss factor over the averaged window steady?
+
+The paper averages its DEM runs over cycles 3-8 (Sect. 3.1.2). For the benchmark damper that
+is often a transient: at 10 Hz / 15 mm the bed dissipates eta = 2.04 over cycles 3-8 and 0.3
+from cycle ~12 on. A loss factor reported as a steady value must therefore come with evidence
+that its window is stationary. This module supplies that evidence from the effective loss
+factor of every single cycle (Eq. 3 over one cycle; their mean over a window equals Eq. 3 over
+the window, because the complex amplitudes are linear in the signal and the container
+velocity is the same in every cycle).
+
+The criterion (:class:`SteadyStateCriterion`), evaluated on the last ``L = windows x
+window_cycles`` cycles after at least ``skip_cycles`` cycles:
+
+1. **window agreement** - the mean loss factor of each of the ``windows`` consecutive windows
+   of ``window_cycles`` cycles is within ``tau + z s / sqrt(window_cycles)`` of the mean over
+   all ``L`` cycles, with the tolerance ``tau = max(rtol |eta|, atol)`` and ``s`` the
+   cycle-to-cycle standard deviation (a granular bed is chaotic: cycle values scatter about a
+   steady mean, and a window mean scatters by ``s / sqrt(m)``);
+2. **no trend** - the least-squares drift of the cycle values across the ``L`` cycles is
+   below ``tau``, or not significant (below ``z`` standard errors of the slope);
+3. **no symmetric lattice state** - a bed that takes off while its horizontal contact forces
+   on the container stay at round-off level (below ``symmetry_tolerance`` x the vertical ones
+   in every cycle of the window) moves in the exact mirror symmetry of an ideal lattice in an
+   ideal box. The per-cycle loss factor of that state is perfectly constant, so tests 1 and 2
+   accept it, but it is a transient of the idealised initial packing: in every flying run
+   of the benchmark lattice the symmetry broke after 10-30 cycles, and the loss factor then
+   went to the value a random packing shows from its second cycle on (docs/fields.md).
+   A resting (solid-like) bed may stay symmetric: it is steady.
+
+A window of fewer than ``MIN_JUDGED_CYCLES`` (4) cycles is never steady. The tolerances
+default to ``rtol = 0.1``, ``atol = 0.03`` (the resolution of the paper's
+Fig. 5 colour scale, log 0.1-1), ``windows = 3`` of ``window_cycles = 4`` cycles and
+``z = 2``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from pdamper.analysis.complex_power import complex_amplitude
+from pdamper.errors import InputError
+
+#: Fewest cycles a window must hold to be judged steady at all (with fewer, the scatter
+#: allowance of test 1 covers any difference).
+MIN_JUDGED_CYCLES = 4
+#: Horizontal / vertical force ratio below which a cycle counts as mirror-symmetric [-].
+#: The symmetric lattice state shows <= 3e-7 (round-off); a broken symmetry >= 2e-4.
+SYMMETRY_TOLERANCE = 1.0e-5
+
+
+def cycle_index(time: np.ndarray, frequency: float) -> np.ndarray:
+    """Number of the excitation cycle (0-based) each sample lies in; samples on a cycle
+    boundary belong to the cycle they end, except the first sample."""
+    c = np.ceil(np.asarray(time, float) * frequency - 1e-9).astype(int) - 1
+    return np.maximum(c, 0)
+
+
+def whole_cycles(time: np.ndarray, frequency: float) -> int:
+    """Number of whole excitation cycles the samples ``time`` [s] span (from t = 0)."""
+    t = np.asarray(time, float)
+    return int(math.floor((t[-1] - t[0]) * frequency + 1e-9)) if t.size > 1 else 0
+
+
+def cycle_loss_factors(time, force, velocity, frequency: float, bed_mass: float) -> np.ndarray:
+    """Effective loss factor (Eq. 3) of every whole cycle ``k = 0, 1, ...`` [-].
+
+    Parameters
+    ----------
+    time
+        Sample times [s] from the start of the excitation, a whole number of samples per
+        cycle (as :class:`pdamper.dem.DEMResult` records them).
+    force
+        Driving force [N] (the particle part: the container mass drops out of Eq. 3).
+    velocity
+        Container velocity [m/s].
+    frequency
+        f [Hz].
+    bed_mass
+        m_bed [kg].
+    """
+    t = np.asarray(time, float)
+    n = whole_cycles(t, frequency)
+    out = np.empty(n)
+    period = 1.0 / frequency
+    eps = 1e-9 * period
+    for k in range(n):
+        m = (t >= k * period - eps) & (t <= (k + 1) * period + eps)
+        f_star = complex_amplitude(t[m], np.asarray(force)[m], frequency)
+        v_star = complex_amplitude(t[m], np.asarray(velocity)[m], frequency)
+        e_diss = 0.5 * (f_star * np.conj(v_star)).real / (2.0 * math.pi * frequency)
+        out[k] = e_diss / (0.5 * bed_mass * abs(v_star) ** 2)
+    return out
+
+
+def cycle_symmetry(time, force, frequency: float) -> np.ndarray:
+    """Largest horizontal over largest vertical force of every whole cycle [-].
+
+    ``force`` has shape (n, 3); a bed in the mirror symmetry of an ideal lattice gives
+    round-off (~1e-8), any asymmetry ~0.1-1.
+    """
+    t = np.asarray(time, float)
+    f = np.asarray(force, float)
+    n = whole_cycles(t, frequency)
+    c = cycle_index(t, frequency)
+    out = np.empty(n)
+    for k in range(n):
+        m = c == k
+        vert = float(np.max(np.abs(f[m, 2]))) if m.any() else 0.0
+        horiz = float(np.max(np.abs(f[m, :2]))) if m.any() else 0.0
+        out[k] = horiz / vert if vert > 0 else (math.inf if horiz > 0 else 0.0)
+    return out
+
+
+@dataclass(frozen=True)
+class Stationarity:
+    """Verdict of :class:`SteadyStateCriterion` on a series of cycle loss factors.
+
+    Attributes
+    ----------
+    stationary
+        All three tests pass.
+    reason
+        Empty when stationary, else what failed (``"too few cycles"``, ``"windows
+        disagree"``, ``"trend"``, ``"symmetric lattice state"``).
+    cycles
+        Whole cycles evaluated [-].
+    first_cycle, last_cycle
+        The averaged window, 1-based and inclusive (the paper's "cycles 3-8") [-].
+    loss_factor
+        Mean loss factor over the window [-].
+    stderr
+        Its standard error ``s / sqrt(L)`` [-].
+    spread
+        Largest deviation of a window mean from the mean [-].
+    drift
+        Least-squares change of the cycle loss factor across the window [-].
+    tolerance
+        ``tau = max(rtol |eta|, atol)`` [-].
+    symmetric
+        The bed kept the mirror symmetry of an ideal lattice in every cycle of the window.
+    """
+
+    stationary: bool
+    reason: str
+    cycles: int
+    first_cycle: int
+    last_cycle: int
+    loss_factor: float
+    stderr: float
+    spread: float
+    drift: float
+    tolerance: float
+    symmetric: bool
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class SteadyStateCriterion:
+    """When a Level II run has reached its steady state (module docstring).
+
+    Parameters
+    ----------
+    window_cycles
+        Cycles per window m [-].
+    windows
+        Number of consecutive windows k compared [-]; the averaged window has k m cycles.
+    rtol, atol
+        Relative and absolute tolerance on the loss factor [-].
+    z
+        Allowance for the cycle-to-cycle scatter, in standard errors [-].
+    skip_cycles
+        Cycles never averaged (the start-up from rest) [-].
+    symmetry_tolerance
+        See :data:`SYMMETRY_TOLERANCE` [-].
+
+    Examples
+    --------
+    A bed that settles from 2.0 to 0.3 is steady once the last 12 cycles are at 0.3:
+
+    >>> eta = [2.0] * 6 + [0.3] * 12
+    >>> c = SteadyStateCriterion()
+    >>> c.evaluate(eta[:17]).stationary, c.evaluate(eta).stationary
+    (False, True)
+    """
+
+    window_cycles: int = 4
+    windows: int = 3
+    rtol: float = 0.1
+    atol: float = 0.03
+    z: float = 2.0
+    skip_cycles: int = 2
+    symmetry_tolerance: float = SYMMETRY_TOLERANCE
+
+    def __post_init__(self) -> None:
+        for name, low in (("window_cycles", 1), ("windows", 2), ("skip_cycles", 0)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < low:
+                raise InputError(f"dem.{name}", f"must be a whole number >= {low}, got {v!r}")
+        for name in ("rtol", "atol", "z", "symmetry_tolerance"):
+            v = getattr(self, name)
+            if not (isinstance(v, int | float) and math.isfinite(v) and v >= 0):
+                raise InputError(f"dem.steady_{name}" if name in ("rtol", "atol") else
+                                 f"dem.{name}", f"must be a finite number >= 0, got {v!r}")
+
+    @property
+    def span(self) -> int:
+        """Cycles in the averaged window, ``windows x window_cycles``."""
+        return self.windows * self.window_cycles
+
+    @property
+    def min_cycles(self) -> int:
+        """Fewest cycles a run needs before it can be steady."""
+        return self.skip_cycles + self.span
+
+    def evaluate(self, loss_factors, symmetry=None, resting: bool = False) -> Stationarity:
+        """Judge the last :attr:`span` cycles of ``loss_factors`` (one value per cycle).
+
+        Parameters
+        ----------
+        loss_factors
+            Effective loss factor of each whole cycle, in order [-].
+        symmetry
+            :func:`cycle_symmetry` of each cycle (None: not tested).
+        resting
+            The bed does not take off (solid-like): a symmetric state is then steady.
+        """
+        eta = np.asarray(loss_factors, float)
+        n = eta.size
+        L = min(self.span, max(n - self.skip_cycles, 0))
+        first = n - L + 1
+        if L < 2:
+            mean = float(eta[-1]) if n else math.nan
+            return Stationarity(False, "too few cycles", n, max(first, 1), n, mean, math.nan,
+                                math.nan, math.nan, math.nan, False)
+        win = eta[n - L:]
+        mean = float(win.mean())
+        s = float(win.std(ddof=1))
+        # the scatter allowance from the median absolute deviation: one transient cycle in
+        # the window must not widen the allowance that is meant to detect it
+        robust = 1.4826 * float(np.median(np.abs(win - np.median(win))))
+        tau = max(self.rtol * abs(mean), self.atol)
+        m = self.window_cycles
+        blocks = [win[i:i + m] for i in range(L % m, L, m)] if L >= m else [win]
+        spread = max(abs(float(b.mean()) - mean) for b in blocks)
+        c = np.arange(L, dtype=float)
+        c -= c.mean()
+        sxx = float(c @ c)
+        slope = float(c @ (win - mean)) / sxx
+        resid = win - mean - slope * c
+        se_slope = math.sqrt(float(resid @ resid) / max(L - 2, 1) / sxx) if L > 2 else math.inf
+        drift = abs(slope) * (L - 1)
+        symmetric = bool(symmetry is not None and len(symmetry) >= n
+                         and np.any(np.asarray(symmetry, float)[n - L:n]
+                                    < self.symmetry_tolerance))
+        reason = ""
+        if L < self.span or L < MIN_JUDGED_CYCLES:
+            reason = "too few cycles"
+        elif spread > tau + self.z * robust / math.sqrt(m):
+            reason = "windows disagree"
+        elif drift > tau and abs(slope) > self.z * se_slope:
+            reason = "trend"
+        elif symmetric and not resting:
+            reason = "symmetric lattice state"
+        return Stationarity(not reason, reason, n, first, n, mean, s / math.sqrt(L), spread,
+                            drift, tau, symmetric)
