@@ -110,17 +110,18 @@ def test_failed_evaluations_are_recorded():
     assert res.best.particles == 16
 
 
-def _square(x):
+def _square(design):
+    x = design["x"]
     if x == 3:
         raise ValueError("three is bad")
     return x * x
 
 
 def test_evaluate_parallel_on_dask_keeps_order_and_captures_errors():
-    """Two dask worker processes: the outcomes come back in order, the failing point as an
-    error, the others as values; the same as in-process."""
+    """Two dask worker processes (the sweep engine of the maps): the outcomes come back in
+    order, the failing point as an error, the others as values; the same as in-process."""
     pytest.importorskip("dask.distributed")
-    items = list(range(6))
+    items = [{"x": k} for k in range(6)]
     par = evaluate_parallel(_square, items, workers=2)
     ser = evaluate_parallel(_square, items)
     assert [o.value for o in par] == [o.value for o in ser] == [0, 1, 4, None, 16, 25]

@@ -1,23 +1,20 @@
-"""Parallel evaluation of design points on dask.distributed, with per-point error capture.
+"""Parallel evaluation of design points on the sweep engine (:mod:`pdamper.sweep`).
 
-:func:`evaluate_parallel` is the one place where the design study meets a parallel engine:
-it maps a function over items in-process or on a dask.distributed cluster (a LocalCluster
-of worker processes, or an existing scheduler) and returns one :class:`Outcome` per item,
-in order, each either a value or the error that item raised. A failing point never ends the
-study. A generic sweep engine can replace this function without touching its callers.
+:func:`evaluate_parallel` maps a function over design points in-process or on a
+dask.distributed cluster (a LocalCluster of worker processes, or an existing scheduler)
+through :func:`pdamper.sweep.run_sweep`, the engine of the effective-field maps, and returns
+one :class:`Outcome` per item, in order, each either a value or the error that item raised.
+A failing point never ends the study.
 """
 
 from __future__ import annotations
 
-import logging
-import traceback
+import functools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from pdamper.errors import InputError
-
-logger = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -32,21 +29,12 @@ class Outcome:
         return self.error is None
 
 
-class _Captured:
-    """``fn`` wrapped so that an exception becomes an :class:`Outcome` (runs on workers)."""
-
-    def __init__(self, fn: Callable[[Any], Any]):
-        self.fn = fn
-
-    def __call__(self, item) -> Outcome:
-        try:
-            return Outcome(value=self.fn(item))
-        except Exception as exc:  # a failed point is recorded, never fatal
-            logger.debug("evaluation failed: %s", traceback.format_exc())
-            return Outcome(error=f"{type(exc).__name__}: {exc}".splitlines()[0])
+def _evaluate(fn: Callable[[Any], Any], params: dict) -> dict:
+    """Point function of the sweep: the design's value under one key."""
+    return {"value": fn(params)}
 
 
-def evaluate_parallel(fn: Callable[[Any], Any], items: Sequence[Any], *,
+def evaluate_parallel(fn: Callable[[Any], Any], items: Sequence[dict], *,
                       workers: int | None = None, scheduler: str | None = None,
                       progress: Callable[[int, int], None] | None = None) -> list[Outcome]:
     """``[fn(item) for item in items]`` as :class:`Outcome` objects, possibly in parallel.
@@ -57,7 +45,7 @@ def evaluate_parallel(fn: Callable[[Any], Any], items: Sequence[Any], *,
         Function of one item; must be picklable by cloudpickle for a cluster (closures and
         lambdas are).
     items
-        The points to evaluate.
+        The designs to evaluate (JSON-able mappings).
     workers
         None or 0: evaluate in this process, one after another. N >= 1: a dask.distributed
         LocalCluster of N single-threaded worker processes (bound to localhost), closed
@@ -72,49 +60,16 @@ def evaluate_parallel(fn: Callable[[Any], Any], items: Sequence[Any], *,
     list of Outcome
         In the order of ``items``. A worker that dies records its points as failed.
     """
-    items = list(items)
-    wrapped = _Captured(fn)
-    total = len(items)
     if workers is not None and (isinstance(workers, bool) or int(workers) != workers
                                 or workers < 0):
         raise InputError("optimization.workers", f"must be a whole number >= 0, got {workers!r}")
-    if scheduler is None and not workers:
-        out = []
-        for k, item in enumerate(items):
-            out.append(wrapped(item))
-            if progress:
-                progress(k + 1, total)
-        return out
-    try:
-        from dask.distributed import Client, LocalCluster, as_completed
-    except ImportError:
-        raise InputError("optimization.workers", "parallel evaluation needs dask.distributed: "
-                         "pip install 'pdamper[distributed]' (or use --workers 0)") from None
-    if scheduler is not None:
-        cluster = None
-        client = Client(scheduler)
-    else:
-        # localhost only; the scheduler's HTTP server on a free port, no dashboard
-        cluster = LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address="127.0.0.1:0",
-                               scheduler_kwargs={"dashboard": False})
-        client = Client(cluster)
-    try:
-        futures = client.map(wrapped, items, pure=False)
-        index = {f.key: k for k, f in enumerate(futures)}
-        out: list[Outcome | None] = [None] * total
-        done = 0
-        for fut in as_completed(futures):
-            k = index[fut.key]
-            try:
-                out[k] = fut.result()
-            except Exception as exc:  # the worker died, or the task could not run
-                out[k] = Outcome(error=f"{type(exc).__name__}: {exc}".splitlines()[0])
-            done += 1
-            if progress:
-                progress(done, total)
-        return [o for o in out if o is not None]
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+    from pdamper.sweep import run_sweep
+
+    serial = scheduler is None and not workers
+    result = run_sweep(functools.partial(_evaluate, fn), list(items), retries=0,
+                       serial=serial, workers=None if serial else workers,
+                       scheduler=scheduler,
+                       progress=None if progress is None else
+                       (lambda done, total, _point: progress(done, total)))
+    return [Outcome(value=p.values.get("value")) if p.ok else Outcome(error=p.error)
+            for p in result.points]
