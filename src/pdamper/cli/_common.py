@@ -18,7 +18,7 @@ import typer
 ScenarioOpt = Annotated[Path | None, typer.Option("--scenario", "-s", help="Scenario TOML file.")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON for scripts.")]
 ModelOpt = Annotated[str | None, typer.Option(
-    "--model", "--damper", help="Damper model (fidelity): analytic or dem.")]
+    "--model", "--damper", help="Damper model (fidelity): analytic, fields or dem.")]
 ForceOpt = Annotated[bool, typer.Option(
     "--force", help="Run although the implied memory or time is above the limits "
     "(see pdamper.resources); never beyond what this machine can hold.")]
