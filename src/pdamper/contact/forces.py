@@ -62,6 +62,8 @@ def cor_at(v, v_nodes, e_nodes):
 #: Integer codes of the damping models for the kernels.
 DAMPING_EXACT = 0
 DAMPING_GONTHIER = 1
+#: Code of each damping model name of :data:`pdamper.contact.law.DAMPING_MODELS`.
+DAMPING_CODES = {"exact": DAMPING_EXACT, "gonthier": DAMPING_GONTHIER}
 
 
 @njit(cache=True)
