@@ -231,12 +231,27 @@ def test_prescribed_callable_motion_matches_harmonic():
     np.testing.assert_allclose(a.center_of_mass[:, 2], b.center_of_mass[:, 2], atol=2e-4)
 
 
-def test_instability_is_reported_with_cause():
-    """A step far beyond the contact time stops the run with an error naming the cause."""
+def test_instability_is_reported_with_a_true_advice():
+    """A step as long as the contact time blows up: the run stops with a message naming
+    the cause and the knob; turning the knob as advised makes the run go through."""
+    def sim(safety):
+        ps = particles(np.array([[0.02, 0.02, 0.006]]), velocities=np.array([[0, 0, -3.0]]))
+        return engine(ps, safety=safety, gravity=0.0, settle_time=0.0, reference_velocity=0.01,
+                      integrator="verlet")
+
+    with pytest.raises(SimulationError, match="lower the safety factor"):
+        sim(1.0).run(0.01, sample_rate=100.0)
+    res = sim(0.02).run(0.01, sample_rate=100.0)
+    assert res.energy_balance_error() < 0.01
+    assert res.snapshot_velocities[-1, 0, 2] == pytest.approx(0.85 * 3.0, rel=0.02)
+
+
+def test_user_overlap_stop():
+    """``max_overlap`` given: the run stops there and says so (large overlaps are no error
+    by default)."""
     ps = particles(np.array([[0.02, 0.02, 0.006]]), velocities=np.array([[0, 0, -3.0]]))
-    sim = engine(ps, safety=1.0, gravity=0.0, settle_time=0.0, reference_velocity=0.01,
-                        max_overlap=0.02)
-    with pytest.raises(SimulationError, match="safety"):
+    sim = engine(ps, gravity=0.0, settle_time=0.0, max_overlap=0.01)
+    with pytest.raises(SimulationError, match="max_overlap"):
         sim.run(0.01, sample_rate=100.0)
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -36,8 +37,10 @@ from pdamper.dem.model import (
     DEFAULT_GEAR_VELOCITY_SCALE,
     DEFAULT_SAFETY,
     INTEGRATORS,
+    OVERLAP_WARNING_LIMIT,
     Container,
     HarmonicMotion,
+    LargeOverlapWarning,
     ParticleSet,
     PrescribedMotion,
     StructureMotion,
@@ -79,6 +82,10 @@ class DEMResult:
     snapshot_time : (nq,) [s]; snapshot_positions, snapshot_velocities,
     snapshot_angular_velocities : (nq, n, 3)
         Particle snapshots (positions in the inertial frame).
+    max_overlap_ratio : float [-]
+        Largest overlap / radius (of the smaller sphere) of the run.
+    max_impact_velocity : float [m/s]
+        Fastest impact: the largest normal approach speed at a contact onset (or re-impact).
     requested_duration : float [s]
         The duration asked of :meth:`DEMEngine.run`.
     stopped_early : bool
@@ -118,6 +125,7 @@ class DEMResult:
     max_step: float
     contact_time: float
     max_overlap_ratio: float
+    max_impact_velocity: float
     frequency: float | None = None
     container_mass: float = 0.0
     requested_duration: float | None = None
@@ -245,7 +253,10 @@ class DEMResult:
                  for k, val in self.attrs.items()}
         attrs.update(integrator=self.integrator, steps=self.steps, wall_seconds=self.wall_seconds,
                      bed_mass_kg=self.bed_mass, particles=len(self.radius),
-                     energy_balance_error=self.energy_balance_error())
+                     energy_balance_error=self.energy_balance_error(),
+                     max_overlap_ratio=self.max_overlap_ratio,
+                     max_impact_velocity_m_s=self.max_impact_velocity,
+                     stopped_early=int(self.stopped_early))
         ds.attrs.update(attrs)
         return ds
 
@@ -362,7 +373,9 @@ class DEMEngine:
         Settling under gravity in the resting container before the excitation [s]
         (default sqrt(2 Lz / g) + 0.05 s; 0 to skip).
     max_overlap
-        Largest allowed overlap / radius before the run stops [-] (default 0.05).
+        Overlap / radius at which the run stops [-] (default None: never; large overlaps
+        are a regime of fast impacts, reported as ``max_overlap_ratio`` and warned about
+        above ``OVERLAP_WARNING_LIMIT``).
     reference_velocity
         Impact speed at which the contact duration is evaluated [m/s] (default from the
         excitation and the free fall over the container height).
@@ -383,7 +396,7 @@ class DEMEngine:
                  gear_velocity_scale: float = DEFAULT_GEAR_VELOCITY_SCALE,
                  gear_adaptive: bool = True, max_step: float = 1e-4,
                  skin: float | None = None, settle_time: float | None = None,
-                 max_overlap: float = 0.05, reference_velocity: float | None = None,
+                 max_overlap: float | None = None, reference_velocity: float | None = None,
                  gear_contact_bound: bool = False, seed: int | None = None):
         for name, value, cls in (("particles", particles, ParticleSet),
                                  ("container", container, Container),
@@ -405,8 +418,9 @@ class DEMEngine:
                                                low=0.0, low_inclusive=False, unit="m/s")
         self.gear_adaptive = bool(gear_adaptive)
         self.max_step = check_range("max_step", max_step, low=0.0, low_inclusive=False, unit="s")
-        self.max_overlap = check_range("max_overlap", max_overlap, low=0.0, high=1.0,
-                                       low_inclusive=False)
+        self.max_overlap = (math.inf if max_overlap is None else
+                            check_range("max_overlap", max_overlap, low=0.0, high=1.0,
+                                        low_inclusive=False))
         self.gear_contact_bound = bool(gear_contact_bound)
         self.seed = seed
         r = particles.radius
@@ -417,7 +431,7 @@ class DEMEngine:
             settle_time = (math.sqrt(2.0 * lz / self.gravity) + 0.05) if self.gravity > 0 else 0.0
         self.settle_time = check_range("settle_time", settle_time, low=0.0, unit="s")
         pos = particles.positions
-        tol = self.max_overlap * r  # initial overlaps with the walls up to max_overlap
+        tol = min(self.max_overlap, OVERLAP_WARNING_LIMIT) * r  # initial wall overlaps up to it
         lo = pos - r[:, None] + tol[:, None]
         hi = pos + r[:, None] - tol[:, None]
         if np.any(lo < 0.0) or np.any(hi > np.array(self.container.box)):
@@ -631,8 +645,10 @@ class DEMEngine:
             # default: in a dense bed some pair is always about to touch and the bound
             # doubled the steps at unchanged accuracy (docs/dem.md).
             contact_bound=1 if adaptive_gear and self.gear_contact_bound else 0,
+            v_design=float(self.reference_velocity), dt_design=float(dt0),
+            follow_impacts=1 if (self.integrator == "verlet" or adaptive_gear) else 0,
             v_limit=20.0 * self.reference_velocity + 10.0,
-            max_overlap=float(self.max_overlap))
+            max_overlap=float(self.max_overlap))  # inf unless the user asks for a stop
 
     def _settle(self, run: _Run, chunk_seconds: float) -> None:
         """Settling under gravity, the container at rest at its start position."""
@@ -675,7 +691,14 @@ class DEMEngine:
                           2 * grid.per_cycle if stop is not None else 0, "excitation")
         wall = time.perf_counter() - t1
         log.info("%s: %d steps in %.3f s", self.integrator, phase.stats[0]["steps"], wall)
-        return self._result(run, phase, grid, j // 2, wall)
+        res = self._result(run, phase, grid, j // 2, wall)
+        if res.max_overlap_ratio > OVERLAP_WARNING_LIMIT:
+            # one message text: Python shows it once per place, not once per map point
+            warnings.warn(f"DEM overlaps beyond {100 * OVERLAP_WARNING_LIMIT:g} % of the radius "
+                          "(fast impacts; Hertz's contact outside its small-strain range, "
+                          "real materials would yield): see DEMResult.max_overlap_ratio",
+                          LargeOverlapWarning, stacklevel=3)
+        return res
 
     def _start(self, run: _Run, phase: _Phase, name: str) -> None:
         a = run.kernel_args(phase)
@@ -765,9 +788,11 @@ class DEMEngine:
             steps=int(st["steps"]), settle_steps=run.settle_steps,
             rebuilds=int(st["rebuilds"]), contact_onsets=int(st["onsets"]),
             rejected_steps=int(st["rejects"]), wall_seconds=wall,
-            settle_seconds=run.settle_seconds, time_step=phase.stepping.dt,
+            settle_seconds=run.settle_seconds,
+            time_step=float(phase.state[0]["dt"]) if self.integrator == "verlet" else phase.stepping.dt,
             min_step=float(st["dt_lo"]), max_step=float(st["dt_hi"]),
             contact_time=self.contact_time, max_overlap_ratio=float(st["max_overlap"]),
+            max_impact_velocity=float(st["max_impact"]),
             frequency=grid.frequency, container_mass=self.container.mass,
             requested_duration=grid.duration, stopped_early=not last, attrs=self.describe())
 
@@ -782,9 +807,9 @@ class DEMEngine:
         if err == K.ERR_NAN:
             return f"unstable DEM run: non-finite state ({where}); {hint}"
         if err == K.ERR_OVERLAP:
-            return (f"unstable DEM run: overlap {100 * val:.3g} % of the radius exceeds "
-                    f"{100 * self.max_overlap:g} % ({where}); {hint}, or impacts are faster "
-                    f"than the reference speed {self.reference_velocity:.3g} m/s")
+            return (f"DEM run stopped: overlap {100 * val:.3g} % of the radius exceeds the "
+                    f"requested max_overlap {100 * self.max_overlap:g} % ({where}); large "
+                    "overlaps are a regime of fast impacts (max_overlap=None runs on)")
         if err == K.ERR_ESCAPE:
             return f"unstable DEM run: a particle left the container ({where}); {hint}"
         if err == K.ERR_SPEED:

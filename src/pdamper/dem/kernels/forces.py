@@ -64,15 +64,16 @@ class ContactForce(NamedTuple):
 
 
 @njit(cache=True)
-def impact_damping(fresh, ddot, p, pt, law):
+def impact_damping(fresh, ddot, p, pt, law, k, m_eff):
     """New contact history ``(d, v0)`` at an onset (``fresh``) or a re-impact: the damping
-    parameter from the COR curve of pair type ``p`` at the approach speed ``ddot`` [m/s].
+    parameter from the COR curve of pair type ``p`` at the approach speed ``ddot`` [m/s]
+    (Tsuji's law also needs the stiffness ``k`` and the effective mass ``m_eff``).
 
     Called only when the history changes: a function that takes the curve arrays costs
     reference counting at each call, so the test stays in the caller.
     """
     d = onset_damping_cached(ddot, pt.cor_v[p, :pt.cor_n[p]], pt.cor_e[p, :pt.cor_n[p]],
-                             law.model, law.v_min, pt.memo, p)
+                             law.model, law.v_min, pt.memo, p, k, m_eff)
     return d, (max(ddot, law.v_min) if fresh else ddot)
 
 
@@ -105,7 +106,7 @@ def contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, m_a, m_b, 
     -------
     ContactForce
     """
-    fn, fel = normal_force(delta, ddot, k, d)
+    fn, fel = normal_force(delta, ddot, k, d, law.model)
     p_damp = (fn - fel) * ddot
     e_el = 0.4 * fel * delta
     fx = -fn * nx
@@ -200,6 +201,7 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
     ovl = 0.0
     ttc = 1e300
     vmax2 = 0.0
+    vimp = 0.0
     onsets = 0
     for i in range(n):
         frc[i, 0] = 0.0
@@ -256,7 +258,10 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
                 onsets += 1
             ddot = ux * nx + uy * ny + uz * nz
             if fresh or ddot > law.reimpact * h_v[b]:
-                h_d[b], h_v[b] = impact_damping(fresh, ddot, p, pt, law)
+                h_d[b], h_v[b] = impact_damping(fresh, ddot, p, pt, law, h_k[b],
+                                                mass[i] * mass[j] / (mass[i] + mass[j]))
+                if ddot > vimp:
+                    vimp = ddot
             c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b], law, mu[p],
                               mass[i], mass[j], mass[i] + mass[j], cap_h)
             dn += c.p_damp
@@ -392,7 +397,9 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
                 onsets += 1
             ddot = ux * nx + uy * ny + uz * nz
             if fresh or ddot > law.reimpact * w_v[i, w]:
-                w_d[i, w], w_v[i, w] = impact_damping(fresh, ddot, p, pt, law)
+                w_d[i, w], w_v[i, w] = impact_damping(fresh, ddot, p, pt, law, kwall[i], mass[i])
+                if ddot > vimp:
+                    vimp = ddot
             c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i], w_d[i, w], law,
                               mu[p], mass[i], 1.0, 1.0, cap_h)
             dn += c.p_damp
@@ -411,4 +418,4 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
             fcy -= c.fy
             fcz -= c.fz
             wc += c.fz * vc
-    return Rates(fcx, fcy, fcz, dn, df, wc, eel, ovl, ttc, math.sqrt(vmax2)), onsets
+    return Rates(fcx, fcy, fcz, dn, df, wc, eel, ovl, ttc, math.sqrt(vmax2), vimp), onsets

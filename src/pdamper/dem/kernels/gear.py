@@ -121,6 +121,9 @@ def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wor
     s.h = h
     s.h_des = h
     s.le_prev = 0.0
+    s.v_design = stp.v_design
+    s.h_cap = stp.h_cap
+    s.dt_min = stp.dt_min
     s.ttc = r.ttc
     s.vmax = r.vmax
     s.landing = 0
@@ -182,10 +185,10 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     skin = world.skin
     tol = stp.tol
     vscale = stp.v_scale
-    dtmin = stp.dt_min
+    dtmin = rs[0].dt_min
     dtmax = stp.dt_max
     dtc = stp.dt_contact
-    hcap = stp.h_cap
+    hcap = rs[0].h_cap
     structure = drive.kind == MOTION_STRUCTURE
     s = rs[0]
     sta = st[0]
@@ -201,6 +204,7 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     ttc = s.ttc
     vmax = s.vmax
     j_land = s.landing
+    v_design = s.v_design
     dtlo = sta.dt_lo
     dthi = sta.dt_hi
     steps = 0
@@ -436,6 +440,13 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
                                      r.eel, led, samples, snaps, stp, sta)
             if stop:
                 break
+            if (stp.follow_impacts != 0 and j_land % 2 == 0 and hcap > 0.0
+                    and sta.max_impact > v_design):
+                # the friction cap and the smallest step follow the fastest impact, as the
+                # Verlet step does
+                v_design = 1.25 * sta.max_impact
+                hcap = stp.h_cap * (stp.v_design / v_design) ** 0.2
+                dtmin = stp.dt_min * (stp.v_design / v_design) ** 0.2
     sta.steps += steps
     sta.onsets += onsets
     sta.rebuilds += rebuilds
@@ -453,3 +464,6 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     s.ttc = ttc
     s.vmax = vmax
     s.landing = j_land
+    s.v_design = v_design
+    s.h_cap = hcap
+    s.dt_min = dtmin

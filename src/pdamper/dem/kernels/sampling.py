@@ -156,9 +156,12 @@ def ledger_step(lg, r, hw):
 
 @njit(cache=True, inline="always")
 def step_failed(r, st, t, maxovl, vlim):
-    """Record the largest overlap; flag overlap, speed or NaN blow-ups (True: stop)."""
+    """Record the largest overlap and the fastest impact; flag NaN and speed blow-ups, and
+    overlaps beyond ``maxovl`` if that is finite (True: stop)."""
     if r.ovl > st.max_overlap:
         st.max_overlap = r.ovl
+    if r.vimp > st.max_impact:
+        st.max_impact = r.vimp
     if r.ovl > maxovl or r.vmax > vlim or not math.isfinite(r.fz):
         st.error = ERR_OVERLAP if r.ovl > maxovl else (ERR_SPEED if r.vmax > vlim else ERR_NAN)
         st.t_error = t

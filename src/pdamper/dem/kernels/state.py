@@ -146,8 +146,11 @@ class Stepping(NamedTuple):
     v_scale: float       # Gear velocity scale of the error norm [m/s]
     adaptive: int        # Gear: 1 variable step, 0 fixed
     contact_bound: int   # Gear: 1 bounds the step by the time to the next contact
+    v_design: float      # impact speed for which dt_design resolves the contact [m/s]
+    dt_design: float     # safety x Hertz contact time at v_design [s]
+    follow_impacts: int  # 1: a faster impact shrinks the step (at the next sample)
     v_limit: float       # particle speeds beyond this are a blow-up [m/s]
-    max_overlap: float   # overlap / radius beyond this is a failure [-]
+    max_overlap: float   # overlap / radius beyond this stops the run [-] (inf: never)
 
 
 class Work(NamedTuple):
@@ -208,6 +211,7 @@ class Rates(NamedTuple):
     ovl: float    # largest overlap / radius [-]
     ttc: float    # shortest time to a new contact [s] (if asked for)
     vmax: float   # largest particle speed [m/s]
+    vimp: float   # fastest impact (approach speed at an onset or re-impact) [m/s]
 
 
 # ---- mutable records ---------------------------------------------------------------
@@ -218,7 +222,11 @@ RUN_STATE = np.dtype([
     ("h", np.float64), ("h_des", np.float64), ("le_prev", np.float64),  # Gear control
     ("disp", np.float64),                               # Verlet rebuild bound [m]
     ("ttc", np.float64), ("vmax", np.float64),          # of the last force evaluation
-    ("step", np.int64), ("countdown", np.int64),        # Verlet step, steps to landing
+    ("dt", np.float64), ("v_design", np.float64),       # step and the impact speed it
+    ("h_cap", np.float64), ("dt_min", np.float64),      # is designed for; Gear bounds
+    ("t_base", np.float64),                             # time of the last step change
+    ("step", np.int64), ("countdown", np.int64),        # Verlet steps since t_base, to landing
+    ("j_base", np.int64),                               # landing of the last step change
     ("landing", np.int64),                              # landings done
 ])
 
@@ -235,7 +243,7 @@ STATS = np.dtype([
     ("steps", np.int64), ("rebuilds", np.int64), ("onsets", np.int64),
     ("rejects", np.int64), ("error", np.int64),
     ("t_error", np.float64), ("error_value", np.float64), ("max_overlap", np.float64),
-    ("dt_lo", np.float64), ("dt_hi", np.float64),
+    ("max_impact", np.float64), ("dt_lo", np.float64), ("dt_hi", np.float64),
 ])
 
 
