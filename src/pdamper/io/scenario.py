@@ -19,7 +19,7 @@ from typing import Annotated, Any
 
 from pydantic import AliasChoices, BaseModel, BeforeValidator, ConfigDict, Field, ValidationError
 
-from pdamper.contact.law import DAMPING_MODELS
+from pdamper.contact.law import DAMPING_MODELS, DEFAULT_MIN_IMPACT_VELOCITY
 from pdamper.dem.model import DEFAULT_SAFETY
 from pdamper.errors import InputError
 from pdamper.models.dem import DEFAULT_CYCLES, DEFAULT_SAMPLE_RATE, DEFAULT_SKIP_CYCLES
@@ -123,6 +123,7 @@ class DEMSpec(_Section):
     restitution_pp: Restitution = _D.restitution_pp.e
     restitution_pw: Restitution = _D.restitution_pw.e
     damping_model: str = "exact"
+    min_impact_velocity: Annotated[float, _q("m/s")] = DEFAULT_MIN_IMPACT_VELOCITY
     packing: str = "lattice"
     seed: Count = 0
     safety: float = DEFAULT_SAFETY
@@ -328,7 +329,8 @@ cycles = {dem.cycles}                  # excitation cycles of a Level II run
 skip_cycles = {dem.skip_cycles}             # cycles left out of the complex power (Eqs. 1-4)
 restitution_pp = {dem.restitution_pp}        # constant sphere-sphere COR
 restitution_pw = {dem.restitution_pw}       # constant sphere-wall COR
-damping_model = "{dem.damping_model}"     # COR-damping relation: {_MODELS}
+damping_model = "{dem.damping_model}"     # damping law of the normal force: {_MODELS}
+# min_impact_velocity = "0.01 m/s"  # onset-speed floor of the exact/gonthier damping
 packing = "{dem.packing}"         # "lattice" (the paper's 4 x 4 layers) or "random"
 seed = {dem.seed}                    # seed of the random packing (recorded always)
 safety = {dem.safety}               # time step / Hertz contact time

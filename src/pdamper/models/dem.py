@@ -12,7 +12,7 @@ import logging
 
 import numpy as np
 
-from pdamper.contact.law import ContactParameters
+from pdamper.contact.law import DEFAULT_MIN_IMPACT_VELOCITY, ContactParameters
 from pdamper.damper import ParticleDamper
 from pdamper.dem.model import DEFAULT_SAFETY, INTEGRATORS
 from pdamper.errors import InputError, check_range
@@ -63,7 +63,10 @@ class DEMDamper(DamperModel):
     snapshot_rate
         Particle snapshots per second [Hz] (None: first and last only).
     damping_model
-        ``"exact"`` or ``"gonthier"``: the COR-damping relation of the contact law.
+        ``"exact"``, ``"gonthier"`` or ``"tsuji"``: the damping law of the normal force.
+    min_impact_velocity
+        Floor of the onset speed that sets the damping of the exact and Gonthier laws
+        [m/s] (default 0.01; see docs/dem.md on rattling columns).
     safety
         Time step / Hertz contact time (see :class:`pdamper.dem.DEMEngine`) [-].
     options
@@ -83,7 +86,8 @@ class DEMDamper(DamperModel):
                  cycles: int = DEFAULT_CYCLES, skip_cycles: int = DEFAULT_SKIP_CYCLES,
                  packing: str = "lattice", seed: int = 0,
                  sample_rate: float = DEFAULT_SAMPLE_RATE, snapshot_rate: float | None = None,
-                 damping_model: str = "exact", safety: float = DEFAULT_SAFETY, **options):
+                 damping_model: str = "exact", safety: float = DEFAULT_SAFETY,
+                 min_impact_velocity: float = DEFAULT_MIN_IMPACT_VELOCITY, **options):
         super().__init__(damper)
         if integrator not in INTEGRATORS:
             raise InputError("dem.integrator", f"must be one of {', '.join(INTEGRATORS)}, "
@@ -114,7 +118,8 @@ class DEMDamper(DamperModel):
                                              restitution_pw=damper.restitution_pw,
                                              friction_pp=damper.friction,
                                              friction_pw=damper.friction,
-                                             damping_model=damping_model)
+                                             damping_model=damping_model,
+                                             min_impact_velocity=min_impact_velocity)
         except InputError as exc:  # name the field as the [dem] section does
             raise InputError(f"dem.{exc.field}", exc.message) from None
         self.safety = check_range("dem.safety", safety, low=0.0, high=1.0, low_inclusive=False)
