@@ -4,9 +4,9 @@ by side in one run: ``python benchmarks/liggghts/compare.py`` (``--quick``: thre
 For each kind of point of the paper's map (slow and fast corners, small stroke, the tuned
 point, a rattling point, the full container) it runs
 
-* ``pdamper map --model dem`` on a 2 x 2 map around the point (f, 1.05 f) x (X, 1.05 X),
-  the whole process (python start, import, numba cache load, settling, 8 cycles per
-  point), one core;
+* ``pdamper map --model dem`` on a 3 x 3 map around the point (f, 1.05 f, 1.1 f) x
+  (X, 1.05 X, 1.1 X), the whole process (python start, import, numba cache load, settling,
+  8 cycles per point), one core;
 * LIGGGHTS (``stdbuf -o0 -e0 liggghts -in damper.in``, the deck beside this file) on the
   point itself: settling and ``--liggghts-cycles`` cycles (its cost per step is constant,
   so the throughput does not depend on the length), at the step that pdamper's velocity
@@ -15,9 +15,12 @@ point, a rattling point, the full container) it runs
   the verification table of docs/dem.md), and, for reference, at 0.2 Rayleigh times
   (LIGGGHTS' usual advice, coarser than the contacts need at the fast points);
 
-and prints the throughput (simulated seconds of excitation per second) of both and their
-ratio, in CPU seconds of the process (``getrusage``: robust on a loaded machine) and in
-wall seconds. Also the import + numba cache-load time of a single ``pdamper dem``.
+and prints the cost of one point (settling + 8 cycles) of each, their ratio, and the
+throughput (simulated seconds of excitation per second) of the whole map process, in CPU
+seconds (``getrusage``: robust on a loaded machine; wall seconds in brackets). pdamper's
+per-point cost is the map's less its start-up (the import + numba cache load, measured
+apart and printed first), which a map pays once; LIGGGHTS' is its cost per step times the
+steps of one point.
 """
 
 from __future__ import annotations
@@ -67,11 +70,11 @@ def startup() -> tuple[float, float]:
 
 def pdamper_map(f, x_mm, n) -> dict:
     cmd = [sys.executable, "-m", "pdamper", "map", "--model", "dem", "--particles", str(n),
-           "--frequency", f"{f:g}Hz:{1.05 * f:g}Hz:2",
-           "--amplitude", f"{x_mm:g}mm:{1.05 * x_mm:g}mm:2", "--json"]
+           "--frequency", f"{f:g}Hz:{1.1 * f:g}Hz:3",
+           "--amplitude", f"{x_mm:g}mm:{1.1 * x_mm:g}mm:3", "--json"]
     wall, cpu, _ = _child(cmd)
-    sim = CYCLES * (2 / f + 2 / (1.05 * f))
-    return {"wall": wall, "cpu": cpu, "simulated": sim}
+    sim = 3 * CYCLES * sum(1.0 / g for g in (f, 1.05 * f, 1.1 * f))
+    return {"wall": wall, "cpu": cpu, "simulated": sim, "points": 9}
 
 
 def verlet_step(f, x_mm, n) -> float:
@@ -93,32 +96,31 @@ def main(argv=None) -> None:
     imp, load = startup()
     print(f"pdamper start-up (CPU s): import of the CLI and models {imp:.2f}, "
           f"import + numba cache load of the DEM kernels {load:.2f}")
-    print(f"\n{'kind':<15} {'f':>4} {'X/mm':>5} {'n':>4} | {'pdamper sim-s/CPU-s':>19} "
-          f"{'(wall)':>7} | {'LIGGGHTS dt':>11} {'us/step':>7} {'sim-s/CPU-s':>11} | "
-          f"{'ratio CPU':>9} {'(wall)':>7} | {'ratio @0.2 t_R':>14}")
+    print(f"\n{'kind':<15} {'f':>4} {'X/mm':>5} {'n':>4} | {'pdamper':>8} | {'LIGGGHTS dt':>11} "
+          f"{'CPU us/step':>11} {'per point':>9} | {'ratio':>6} | {'map sim-s/CPU-s':>15} "
+          f"{'ratio':>6} | {'ratio @0.2 t_R':>14}")
+    print(f"{'':<15} {'':>4} {'':>5} {'':>4} | {'s/point':>8} | {'[s]':>11} {'':>11} "
+          f"{'[s]':>9} | {'':>6} | {'(whole process)':>15} {'':>6} |")
     for name, f, x, n in KINDS:
         if args.quick and name not in QUICK:
             continue
         p = pdamper_map(f, x, n)
+        per_point = max(p["cpu"] - load, 1e-9) / p["points"]
         dt, t_r = verlet_step(f, x, n)
-        lg = run_liggghts(f, x * 1e-3, count=n, dt=dt, cycles=args.liggghts_cycles,
-                          skip_cycles=0)
-        lr = run_liggghts(f, x * 1e-3, count=n, dt=0.2 * t_r, cycles=args.liggghts_cycles,
-                          skip_cycles=0)
-        # LIGGGHTS' throughput: excitation seconds per CPU second, settling included
-        # as in pdamper (the same settle time)
-        settle = lg["steps"] * lg["dt"] - lg["simulated"]
-        per = lg["cpu"] / (lg["simulated"] + settle)
-        per_r = lr["cpu"] / (lr["simulated"] + settle)
-        lig_cpu = (CYCLES / f + settle) * per          # one point of 8 cycles
-        lig_wall = lig_cpu * lg["wall"] / lg["cpu"]
-        lig_tp = (CYCLES / f) / lig_cpu
-        p_tp = p["simulated"] / p["cpu"]
-        print(f"{name:<15} {f:>4g} {x:>5g} {n:>4d} | {p_tp:>19.3f} "
-              f"{p['simulated'] / p['wall']:>7.3f} | {lg['dt']:>11.3g} {lg['us_per_step']:>7.1f} "
-              f"{lig_tp:>11.4f} | {p_tp / lig_tp:>8.1f}x "
-              f"{(p['simulated'] / p['wall']) / ((CYCLES / f) / lig_wall):>6.1f}x | "
-              f"{p_tp / ((CYCLES / f) / ((CYCLES / f + settle) * per_r)):>13.1f}x", flush=True)
+        runs = []
+        for step in (dt, 0.2 * t_r):
+            lg = run_liggghts(f, x * 1e-3, count=n, dt=step, cycles=args.liggghts_cycles,
+                              skip_cycles=0)
+            settle = lg["steps"] * lg["dt"] - lg["simulated"]
+            # one point: settling + 8 cycles at LIGGGHTS' (constant) cost per step
+            runs.append((lg, lg["cpu"] / lg["steps"] * (settle + CYCLES / f) / lg["dt"]))
+        (lg, lig_point), (_, lig_point_r) = runs
+        map_tp = p["simulated"] / p["cpu"]
+        lig_tp = (CYCLES / f) / lig_point
+        print(f"{name:<15} {f:>4g} {x:>5g} {n:>4d} | {per_point:>8.3f} | {lg['dt']:>11.3g} "
+              f"{1e6 * lg['cpu'] / lg['steps']:>11.1f} {lig_point:>9.1f} | "
+              f"{lig_point / per_point:>5.0f}x | {map_tp:>6.3f} ({p['simulated'] / p['wall']:.3f}) "
+              f"{map_tp / lig_tp:>5.0f}x | {lig_point_r / per_point:>13.0f}x", flush=True)
 
 
 if __name__ == "__main__":
