@@ -19,6 +19,7 @@ def _loss_and_mass(f, x, **options):
 
 
 @pytest.mark.slow
+@pytest.mark.filterwarnings("ignore::pdamper.dem.model.LargeOverlapWarning")
 @pytest.mark.parametrize("f, x", [(20.0, 0.032), (18.0, 0.050)])
 def test_default_gear_matches_converged_verlet_at_high_speed(f, x):
     """Fast points of the paper's grid (impacts at 17-19 m/s, overlaps up to 6 % of the
