@@ -9,11 +9,8 @@ Run ``python benchmarks/bench_map.py`` (the paper's 14 x 24 grid, 32 spheres, ev
 * the LIGGGHTS 3.8 estimate for the same simulated time: its measured 4.69 wall s per
   simulated second of this damper at a step of 0.2 Rayleigh times (docs/dem.md), on the
   same number of cores;
-* while the DEM engine cannot stop a run early (issue 7: ``DEMEngine.run(..., stop=...)``),
-  the adapter of :func:`pdamper.models.dem.run_until` runs 18 cycles, and again 36 and 60
-  from the start where that was too short; the benchmark then also prints the projected
-  time with the early stop (each point's time scaled by the cycles it needed over the
-  cycles the adapter simulated);
+* the largest overlap / radius and the fastest impact over the map (the large-overlap
+  regime of the fast corners, docs/dem.md);
 * the agreement with the analytical map on the same grid (share of cells whose motion
   modes agree, median |delta eta| per analytical mode) and the DEM loss factor at the
   stroke nearest X_opt for f >= 8 Hz, the numbers docs/fields.md and the case-study table
@@ -26,7 +23,6 @@ benchmark prints ``os.getloadavg()`` before and after.
 from __future__ import annotations
 
 import argparse
-import inspect
 import json
 import os
 import sys
@@ -55,7 +51,7 @@ def main(argv=None) -> dict:
 
     from pdamper.analysis.fields import effective_field, field_agreement
     from pdamper.analysis.modes import MotionMode
-    from pdamper.dem import DEMEngine, HarmonicMotion
+    from pdamper.dem import HarmonicMotion
     from pdamper.io.scenario import load_scenario
     from pdamper.models import AnalyticalDamper
     from pdamper.reports.maps import run_map
@@ -68,7 +64,6 @@ def main(argv=None) -> dict:
         overrides["dem.cycles"] = "auto"
     sc = load_scenario(None, overrides)
     workers = args.workers or default_workers()
-    chunked = "stop" in inspect.signature(DEMEngine.run).parameters
     load0 = os.getloadavg()
     with tempfile.TemporaryDirectory() as tmp:
         out = args.out or Path(tmp) / "fields.nc"
@@ -88,10 +83,8 @@ def main(argv=None) -> dict:
     simulated = np.nansum(needed / f[:, None] + settle)  # what a run until steady needs
     liggghts = simulated * LIGGGHTS_WALL_PER_SIMULATED_SECOND / workers
     i, j = np.unravel_index(np.nanargmax(wall), wall.shape)
-    projected = None
-    if not chunked and model.run_until_steady:
-        ran = np.vectorize(lambda n: _adapter_cycles(n, model))(np.nan_to_num(needed, nan=1))
-        projected = float(np.nansum(wall * np.where(ok, needed / ran, 1.0)) / workers)
+    overlap = ds["max_overlap_ratio"].values
+    impact = ds["max_impact_velocity"].values
     ana = effective_field(AnalyticalDamper(sc.damper()), f, x)
     agr = field_agreement(ds, ana)
     jx = int(np.argmin(np.abs(x - sc.damper().optimal_stroke)))
@@ -100,7 +93,7 @@ def main(argv=None) -> dict:
     result = {
         "grid": [int(f.size), int(x.size)], "points": int(ok.size), "workers": workers,
         "packing": sc.for_map().dem.packing, "cycles_option": sc.dem.cycles,
-        "engine_stops_early": chunked, "total_seconds": total,
+        "total_seconds": total,
         "per_point_seconds": {"median": float(np.nanmedian(wall)),
                               "mean": float(np.nanmean(wall)), "max": float(np.nanmax(wall)),
                               "max_at": {"frequency": float(f[i]), "amplitude": float(x[j])}},
@@ -112,7 +105,8 @@ def main(argv=None) -> dict:
         "transient": int(((ds["stationary"].values == 0) & ok).sum()),
         "simulated_seconds": float(simulated),
         "liggghts_estimate_seconds": float(liggghts),
-        "projected_seconds_with_early_stop": projected,
+        "max_overlap_ratio": float(np.nanmax(np.where(ok, overlap, np.nan))),
+        "max_impact_velocity": float(np.nanmax(np.where(ok, impact, np.nan))),
         "agreement": agr,
         "eta_near_x_opt_f_ge_8hz": {"x_mm": float(x[jx] * 1e3),
                                     "values": eta_xopt.tolist(),
@@ -124,18 +118,6 @@ def main(argv=None) -> dict:
     if args.json:
         args.json.write_text(json.dumps(result, indent=2))
     return result
-
-
-def _adapter_cycles(needed: float, model) -> float:
-    """Cycles the run-until adapter simulates (all attempts) for a point steady at
-    ``needed`` cycles (:func:`pdamper.models.dem.run_until`)."""
-    total, n = model.max_cycles, model.steady.min_cycles + model.steady.window_cycles
-    ran = 0
-    while True:
-        ran += n
-        if needed <= n or n >= total:
-            return float(ran)
-        n = min(total, 2 * n)
 
 
 def _print(r: dict, MotionMode) -> None:  # noqa: N803
@@ -158,9 +140,8 @@ def _print(r: dict, MotionMode) -> None:  # noqa: N803
           "settling, every point)")
     print(f"  LIGGGHTS estimate      {r['liggghts_estimate_seconds']:.0f} s on the same cores "
           f"({LIGGGHTS_WALL_PER_SIMULATED_SECOND} wall s per simulated s, the same cycles)")
-    if r["projected_seconds_with_early_stop"] is not None:
-        print(f"  with the early stop    ~{r['projected_seconds_with_early_stop']:.0f} s "
-              "(projected: the engine cannot stop runs yet, issue 7)")
+    print(f"  largest overlap        {100 * r['max_overlap_ratio']:.1f} % of the radius, "
+          f"fastest impact {r['max_impact_velocity']:.1f} m/s")
     a = r["agreement"]
     print(f"  modes agree with the analytical map in {100 * a['mode_agreement']:.0f} % of "
           f"{a['cells']} cells; median |delta eta| {a['median_abs_delta_eta']:.3f}")

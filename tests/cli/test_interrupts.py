@@ -170,7 +170,6 @@ def test_signal_during_the_write_leaves_no_temporary(tmp_path, sig):
     assert out.read_text() == "earlier"
 
 
-@pytest.mark.xfail(reason="needs the chunked DEM kernels of issue #7", strict=False)
 def test_dem(tmp_path):
     """The DEM kernel returns to Python often enough for the signal to be noticed (a
     192-sphere, 60-cycle run used to go on for 294 s)."""

@@ -60,9 +60,12 @@ def test_dem_map_on_a_local_cluster(tmp_path, cli, fast_dem):
     with xr.open_dataset(out, engine="h5netcdf") as ds:
         for v in ("loss_factor", "effective_mass_ratio", "dissipated_energy_per_cycle",
                   "motion_mode", "stationary", "status", "error", "wall_seconds", "steps",
-                  "energy_balance_error", "max_overlap_ratio", "cycles"):
+                  "energy_balance_error", "max_overlap_ratio", "max_impact_velocity",
+                  "cycles"):
             assert v in ds, v
         assert ds["wall_seconds"].attrs["units"] == "s" and (ds["cycles"] == 3).all()
+        assert ds["max_impact_velocity"].attrs["units"] == "m s-1"
+        assert (ds["max_impact_velocity"] > 0).all()
         assert (ds["motion_mode"] >= 0).all() and (ds["status"] == 0).all()
         assert ds.attrs["seed"] == 1 and ds.attrs["pdamper_version"]
         assert json.loads(ds.attrs["inputs"])["dem"]["cycles"] == 3

@@ -18,7 +18,8 @@ def test_dem_command_writes_netcdf_and_json(tmp_path, capsys):
     assert rc == 0
     data = json.loads(capsys.readouterr().out)
     for key in ("steps", "wall_seconds", "loss_factor", "effective_mass_ratio",
-                "energy_balance_error", "seed", "version", "inputs"):
+                "energy_balance_error", "seed", "version", "inputs", "max_overlap_ratio",
+                "max_impact_velocity"):
         assert key in data
     assert data["steps"] > 1000
     assert data["energy_balance_error"] < 0.02
@@ -56,3 +57,17 @@ def test_dem_command_input_errors(capsys):
     assert "integrator" in capsys.readouterr().err
     assert main(["dem", "--cycles", "3", "--skip-cycles", "3"]) == 2
     assert "dem.skip_cycles" in capsys.readouterr().err
+
+
+def test_dem_command_damping_models(capsys):
+    """--damping-model tsuji (LIGGGHTS/EDEM 'Hertz with COR') runs and is recorded; the
+    fastest impact is reported (m/s)."""
+    rc = main(["dem", "--particles", "16", "--cycles", "2", "--skip-cycles", "1",
+               "--damping-model", "tsuji", "--json"])
+    assert rc == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["inputs"]["dem"]["damping_model"] == "tsuji"
+    assert data["units"]["max_impact_velocity"] == "m/s"
+    assert 0.1 < data["max_impact_velocity"] < 5.0
+    assert main(["dem", "--damping-model", "hooke"]) == 2
+    assert "damping_model" in capsys.readouterr().err

@@ -1,11 +1,12 @@
-"""Linked-cell Verlet list of :mod:`pdamper.dem.kernels`."""
+"""Contact search of the DEM kernels (:mod:`pdamper.dem.kernels.search`)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from pdamper.dem import kernels as K
+from pdamper.dem.kernels.search import build_verlet_list, carry_history
+from pdamper.dem.kernels.state import PairContacts, World
 from pdamper.dem.packing import random_packing
 
 
@@ -25,17 +26,13 @@ def test_verlet_list_equals_brute_force(n, seed, box):
     pos = random_packing(n, rad, box, seed=seed)
     skin = 0.001
     cell = 2 * rad.max() + skin
-    fp = np.zeros(K.NFP)
-    fp[K.FP_CELL] = cell
-    fp[K.FP_SKIN] = skin
-    ip = np.zeros(K.NIP, np.int64)
     ncx, ncy, ncz = (int(b // cell) for b in box)
-    ip[K.IP_NCX], ip[K.IP_NCY], ip[K.IP_NCZ] = ncx, ncy, ncz
+    world = World(*box, 9.81, skin, cell, ncx, ncy, ncz)
     head = np.zeros(ncx * ncy * ncz, np.int64)
     nxt = np.zeros(n, np.int64)
     start = np.zeros(n + 1, np.int64)
     nb = np.zeros(40 * n, np.int64)
-    cnt = K.build_verlet_list(pos, rad, 0.0, fp, ip, head, nxt, start, nb)
+    cnt = build_verlet_list(pos, rad, 0.0, world, head, nxt, start, nb)
     found = {(i, int(nb[b])) for i in range(n) for b in range(start[i], start[i + 1])}
     assert cnt == len(found) > n / 4
     assert found == brute_pairs(pos, rad, skin)
@@ -43,8 +40,8 @@ def test_verlet_list_equals_brute_force(n, seed, box):
         seg = nb[start[i]:start[i + 1]]
         assert np.all(np.diff(seg) > 0)
     # a too small list is reported, not overrun
-    assert K.build_verlet_list(pos, rad, 0.0, fp, ip, head, nxt, start,
-                               np.zeros(max(cnt - 1, 0), np.int64)) == -1
+    assert build_verlet_list(pos, rad, 0.0, world, head, nxt, start,
+                             np.zeros(max(cnt - 1, 0), np.int64)) == -1
 
 
 def test_history_carried_over_by_merge():
@@ -61,6 +58,7 @@ def test_history_carried_over_by_merge():
     s_k = np.zeros(2)
     s_d = np.zeros(2)
     s_v = np.zeros(2)
-    K.carry_history(3, o_start, o_j, o_act, o_k, o_d, o_v, s_start, s_j, s_act, s_k, s_d, s_v)
+    carry_history(3, PairContacts(o_start, o_j, o_act, o_k, o_d, o_v),
+                  PairContacts(s_start, s_j, s_act, s_k, s_d, s_v))
     assert s_act.tolist() == [0, 1] and s_k.tolist() == [0.0, 7.0] and s_d.tolist() == [0.0, 0.7]
     assert s_v.tolist() == [0.0, 2.0]

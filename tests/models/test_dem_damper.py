@@ -1,5 +1,6 @@
 """The DEM damper model at Level II: the complex power method on DEM runs (Eqs. 1-4)."""
 
+import numpy as np
 import pytest
 
 from pdamper.analysis.modes import MotionMode
@@ -57,46 +58,27 @@ def test_truncate_result_keeps_whole_cycles(six_cycles):
         six_cycles.complex_power(1, 3).loss_factor)
 
 
-class _Engine:
-    """Stands in for DEMEngine.run: the old signature, or the chunked one (issue 7)."""
+def test_early_stop_ends_at_the_first_whole_cycle_that_satisfies_it(six_cycles):
+    """The chunked engine asks ``stop`` after every whole cycle: a run stopped at cycle 3 is
+    the first three cycles of the six-cycle run, sample for sample (what cycles="auto"
+    relies on to average the first steady window)."""
+    from pdamper.dem import HarmonicMotion
+    from pdamper.models.dem import DEFAULT_SAMPLE_RATE, truncate_result
 
-    def __init__(self, result, chunked: bool):
-        self.result, self.calls = result, []
-        if chunked:
-            self.run = self._run_chunked
-
-    def run(self, duration, sample_rate=2000.0, snapshot_rate=None, settle=True):
-        from pdamper.models.dem import truncate_result
-
-        self.calls.append(("whole", duration))
-        n = round(duration * 10.0)
-        return self.result if n >= 6 else truncate_result(self.result, n)
-
-    def _run_chunked(self, duration, sample_rate=2000.0, snapshot_rate=None, settle=True, *,
-                     stop=None):
-        self.calls.append(("chunked", duration))
-        return self.result
-
-
-def test_run_until_uses_the_chunked_engine_when_it_is_there(six_cycles):
-    from pdamper.models.dem import run_until
+    asked = []
 
     def stop(part):
+        asked.append(round(part.time[-1] * 10.0, 6))
         return part.time[-1] >= 0.3 - 1e-9
 
-    eng = _Engine(six_cycles, chunked=False)
-    part = run_until(eng, 0.6, stop, 4000.0, frequency=10.0)
-    assert eng.calls == [("whole", 0.6)] and part.time[-1] == pytest.approx(0.3)
-    eng = _Engine(six_cycles, chunked=True)
-    assert run_until(eng, 0.6, stop, 4000.0) is six_cycles and eng.calls == [("chunked", 0.6)]
-    never = run_until(_Engine(six_cycles, chunked=False), 0.6, lambda p: False, 4000.0,
-                      frequency=10.0)
-    assert never is six_cycles
-    # staged: a first attempt of 2 cycles is too short, the second (4 cycles) stops at 3
-    eng = _Engine(six_cycles, chunked=False)
-    part = run_until(eng, 0.6, stop, 4000.0, frequency=10.0, first=0.2)
-    assert [d for _, d in eng.calls] == pytest.approx([0.2, 0.4])
+    eng = DEMDamper(PAPER_DAMPER, cycles=6, skip_cycles=1).engine(HarmonicMotion(0.032, 10.0))
+    part = eng.run(0.6, sample_rate=DEFAULT_SAMPLE_RATE, stop=stop)
+    assert asked == [1.0, 2.0, 3.0] and part.stopped_early
+    ref = truncate_result(six_cycles, 3)
     assert part.time[-1] == pytest.approx(0.3)
+    np.testing.assert_array_equal(part.time, ref.time)
+    # all but the last sample's force (a half window, closed as at the end of a run)
+    np.testing.assert_array_equal(part.force[:-1], ref.force[:-1])
 
 
 def test_run_until_steady_averages_the_last_windows():

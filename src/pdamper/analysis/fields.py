@@ -46,6 +46,7 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "steps": ("time steps of the run (settling included)", "1"),
     "energy_balance_error": ("relative closure error of the energy ledger", "1"),
     "max_overlap_ratio": ("largest contact overlap / particle radius", "1"),
+    "max_impact_velocity": ("fastest normal impact velocity of the run", "m s-1"),
     "cycles": ("excitation cycles simulated", "1"),
     "first_cycle": ("first cycle of the averaged window (1-based)", "1"),
     "last_cycle": ("last cycle of the averaged window (1-based)", "1"),

@@ -54,7 +54,8 @@ def dem(
     restitution_pw: Annotated[float | None, typer.Option("--restitution-pw",
                               help="Constant sphere-wall COR.")] = None,
     damping_model: Annotated[str | None, typer.Option("--damping-model",
-                             help="exact (default) or gonthier (the paper's).")] = None,
+                             help="exact (default), gonthier (the paper's) or tsuji "
+                                  "(LIGGGHTS/EDEM 'Hertz with COR').")] = None,
     seed: Annotated[int | None, typer.Option("--seed",
                     help="Seed of the random packing (recorded always).")] = None,
     packing: Annotated[str | None, typer.Option("--packing",
@@ -132,8 +133,9 @@ def dem(
         "time_step": res.time_step,
         "contact_time": res.contact_time,
         "max_overlap_ratio": res.max_overlap_ratio,
+        "max_impact_velocity": res.max_impact_velocity,
         "units": {"wall_seconds": "s", "dissipated_energy_per_cycle": "J", "time_step": "s",
-                  "contact_time": "s", "ledger_per_cycle": "J"},
+                  "contact_time": "s", "ledger_per_cycle": "J", "max_impact_velocity": "m/s"},
         **meta,
     }
     attrs = {"inputs": json.dumps(meta["inputs"]), "pdamper_version": meta["version"]}
@@ -154,6 +156,7 @@ def dem(
         f"  dissipated energy per cycle  {float(r.dissipated_energy_per_cycle) * 1e3:.4g} mJ\n"
         f"  energy ledger closes to      {res.energy_balance_error():.2e}\n"
         f"  largest overlap / radius     {res.max_overlap_ratio:.3g}\n"
+        f"  fastest impact               {res.max_impact_velocity:.3g} m/s\n"
         f"  {res.steps} steps in {res.wall_seconds:.3g} s wall"
         + (f"\n  time series written to {payload['out']}" if out is not None else "")
         + (f"\n  snapshots written to {payload['vtk']}" if vtk is not None else ""))

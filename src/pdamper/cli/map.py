@@ -17,7 +17,8 @@ from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, check_output, em
 
 
 def map_(
-    model: Annotated[str, typer.Option(help="Damper model (fidelity): analytic, fields or dem.")] = "analytic",
+    model: Annotated[str, typer.Option(
+        help="Damper model (fidelity): analytic, fields or dem.")] = "analytic",
     frequency: Annotated[str | None, typer.Option(
         help="Grid 'start:stop:count' (or 'log:start:stop:count'), e.g. '2Hz:20Hz:14'.")] = None,
     amplitude: Annotated[str | None, typer.Option(

@@ -15,6 +15,10 @@ coefficient of restitution ``e(v0)`` of the material pair; ``x`` is either the r
 exact relation ``ln(1 - e x) - ln(1 + x) + (1 + e) x = 0`` (default, see
 :mod:`pdamper.contact.damping`) or Gonthier's ``(1 - e^2)/e`` (the paper's choice).
 
+Tsuji's law (``DAMPING_TSUJI``, LIGGGHTS' and EDEM's "Hertz with COR"):
+``F_n = K delta^(3/2) + c delta^(1/4) delta_dot`` with ``c = x(e) sqrt(3/2 K m*)``,
+``x = 2 sqrt(5/6) |ln e| / sqrt(ln^2 e + pi^2)``, not clipped (as LIGGGHTS' default).
+
 Tangential force (regularised Coulomb friction)
 -----------------------------------------------
 ``F_t = -mu |F_n| tanh(|v_t| / v_reg) t_hat`` with the slip velocity ``v_t`` at the contact
@@ -36,7 +40,11 @@ import math
 
 from numba import njit
 
-from pdamper.contact.damping import exact_damping_factor_scalar, gonthier_damping_factor_scalar
+from pdamper.contact.damping import (
+    exact_damping_factor_scalar,
+    gonthier_damping_factor_scalar,
+    tsuji_damping_ratio_scalar,
+)
 
 
 @njit(cache=True)
@@ -62,21 +70,36 @@ def cor_at(v, v_nodes, e_nodes):
 #: Integer codes of the damping models for the kernels.
 DAMPING_EXACT = 0
 DAMPING_GONTHIER = 1
+DAMPING_TSUJI = 2
+#: Code of each damping model name of :data:`pdamper.contact.law.DAMPING_MODELS`.
+DAMPING_CODES = {"exact": DAMPING_EXACT, "gonthier": DAMPING_GONTHIER, "tsuji": DAMPING_TSUJI}
 
 
 @njit(cache=True)
 def damping_factor_for(e, model):
-    """x = d v0 for the COR ``e`` [-]; ``model`` 0 = exact (default), 1 = Gonthier."""
+    """Damping factor for the COR ``e`` [-]: x = d v0 (0 = exact, default; 1 = Gonthier)
+    or Tsuji's ``2 sqrt(5/6) |beta|`` (2)."""
     if e >= 1.0:
         return 0.0
     if model == DAMPING_GONTHIER:
         return gonthier_damping_factor_scalar(e)
+    if model == DAMPING_TSUJI:
+        return tsuji_damping_ratio_scalar(e)
     return exact_damping_factor_scalar(e)
 
 
 @njit(cache=True)
-def onset_damping(v0, v_nodes, e_nodes, model, v_min):
-    """Damping parameter d [s/m] of a contact that starts with normal speed ``v0`` [m/s].
+def _damping_parameter(x, v, model, k, m_eff):
+    if model == DAMPING_TSUJI:
+        return x * math.sqrt(1.5 * k * m_eff)
+    return x / v
+
+
+@njit(cache=True)
+def onset_damping(v0, v_nodes, e_nodes, model, v_min, k=0.0, m_eff=0.0):
+    """Damping parameter of a contact that starts with normal speed ``v0`` [m/s]: ``d``
+    [s/m] of the velocity-based laws (exact, Gonthier), or Tsuji's ``c`` [kg/(s m^0.25)]
+    for the stiffness ``k`` [N/m^1.5] and effective mass ``m_eff`` [kg] of the contact.
 
     The COR is read from the pair's curve ``(v_nodes, e_nodes)`` at ``max(|v0|, v_min)``.
     """
@@ -84,11 +107,11 @@ def onset_damping(v0, v_nodes, e_nodes, model, v_min):
     if v < v_min:
         v = v_min
     e = cor_at(v, v_nodes, e_nodes)
-    return damping_factor_for(e, model) / v
+    return _damping_parameter(damping_factor_for(e, model), v, model, k, m_eff)
 
 
 @njit(cache=True)
-def onset_damping_cached(v0, v_nodes, e_nodes, model, v_min, cache, p):
+def onset_damping_cached(v0, v_nodes, e_nodes, model, v_min, cache, p, k=0.0, m_eff=0.0):
     """:func:`onset_damping` with a one-entry memo per pair type ``p``: bit-identical.
 
     ``cache[p] = (e, x)`` holds the last COR of pair type ``p`` and its damping factor
@@ -104,12 +127,12 @@ def onset_damping_cached(v0, v_nodes, e_nodes, model, v_min, cache, p):
     if e != cache[p, 0]:
         cache[p, 0] = e
         cache[p, 1] = damping_factor_for(e, model)
-    return cache[p, 1] / v
+    return _damping_parameter(cache[p, 1], v, model, k, m_eff)
 
 
 @njit(cache=True)
-def normal_force(delta, delta_dot, k, d):
-    """Hertz-Gonthier normal force.
+def normal_force(delta, delta_dot, k, d, model=DAMPING_EXACT):
+    """Hertz normal force with nonlinear damping.
 
     Parameters
     ----------
@@ -120,14 +143,19 @@ def normal_force(delta, delta_dot, k, d):
     k : float
         Hertz stiffness [N/m^1.5].
     d : float
-        Damping parameter [s/m].
+        Damping parameter ([s/m]; Tsuji's ``c`` [kg/(s m^0.25)]).
+    model : int
+        ``DAMPING_TSUJI``: ``K delta^1.5 + c delta^0.25 delta_dot``, not clipped; else
+        ``K delta^1.5 (1 + d delta_dot)``, clipped at zero.
 
     Returns
     -------
     (f_n, f_el) : (float, float)
-        Total normal force (>= 0) and its elastic part ``K delta^1.5`` [N].
+        Total normal force (>= 0 unless Tsuji's) and its elastic part ``K delta^1.5`` [N].
     """
     f_el = k * delta * math.sqrt(delta)
+    if model == DAMPING_TSUJI:
+        return f_el + d * math.sqrt(math.sqrt(delta)) * delta_dot, f_el
     f_n = f_el * (1.0 + d * delta_dot)
     if f_n < 0.0:
         f_n = 0.0

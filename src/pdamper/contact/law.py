@@ -13,9 +13,11 @@ from dataclasses import dataclass, field
 from pdamper.contact.restitution import RestitutionCurve
 from pdamper.errors import InputError, check_range
 
-#: Relations between the COR and the damping parameter of the normal force: ``"exact"``
-#: (pdamper's closed form, default), ``"gonthier"`` (the paper's approximation).
-DAMPING_MODELS = ("exact", "gonthier")
+#: Damping laws of the normal force: ``"exact"`` (pdamper's closed form of the COR of
+#: ``K delta^1.5 (1 + d delta_dot)``, default), ``"gonthier"`` (the paper's approximation of
+#: it), ``"tsuji"`` (``K delta^1.5 + c delta^0.25 delta_dot``, LIGGGHTS' and EDEM's "Hertz
+#: with COR"); see :mod:`pdamper.contact.damping`.
+DAMPING_MODELS = ("exact", "gonthier", "tsuji")
 
 #: Default regularisation velocity of the tanh friction law [m/s]: below it friction acts
 #: as a viscous damper of coefficient mu |F_n| / v_reg, above ~2 v_reg it is Coulomb
@@ -45,7 +47,8 @@ class ContactParameters:
         defaults above.
     damping_model
         ``"exact"`` (default): damping from the exact closed-form COR relation;
-        ``"gonthier"``: Gonthier's approximation ``(1 - e^2)/e`` (the paper's choice).
+        ``"gonthier"``: Gonthier's approximation ``(1 - e^2)/e`` (the paper's choice);
+        ``"tsuji"``: the viscoelastic law of LIGGGHTS and EDEM ("Hertz with COR").
     regularisation_velocity
         v_reg of the tanh friction law [m/s] (default 0.01 m/s).
     min_impact_velocity

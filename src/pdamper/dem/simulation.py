@@ -1,9 +1,11 @@
 """Python orchestration of the DEM engine (paper Sect. 3, "Discrete element method").
 
-:class:`DEMEngine` turns the inputs of :mod:`pdamper.dem.model` into flat arrays, picks
-the time step from the contact time scale, settles the particles under gravity in the
-resting container, then runs the excitation with one call of a numba kernel of
-:mod:`pdamper.dem.kernels` and returns a :class:`DEMResult`.
+:class:`DEMEngine` turns the inputs of :mod:`pdamper.dem.model` into the named bundles of
+:mod:`pdamper.dem.kernels.state`, picks the time step from the contact time scale, settles
+the particles under gravity in the resting container, then runs the excitation and returns
+a :class:`DEMResult`. Both phases call the numba kernels of :mod:`pdamper.dem.kernels` in
+chunks of a fraction of a second of wall time (signals and early stops are handled between
+chunks; the chunking does not change a single bit of the result).
 """
 
 from __future__ import annotations
@@ -11,13 +13,15 @@ from __future__ import annotations
 import logging
 import math
 import time
+import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from pdamper.constants import STANDARD_GRAVITY
-from pdamper.contact.forces import DAMPING_EXACT, DAMPING_GONTHIER
+from pdamper.contact.forces import DAMPING_CODES
 from pdamper.contact.hertz import (
     contact_duration,
     effective_modulus,
@@ -25,14 +29,18 @@ from pdamper.contact.hertz import (
     rayleigh_time,
 )
 from pdamper.contact.law import ContactParameters
-from pdamper.dem import kernels as K
+from pdamper.dem.kernels import gear as _gear
+from pdamper.dem.kernels import state as K
+from pdamper.dem.kernels import verlet as _verlet
 from pdamper.dem.model import (
     DEFAULT_GEAR_TOLERANCE,
     DEFAULT_GEAR_VELOCITY_SCALE,
     DEFAULT_SAFETY,
     INTEGRATORS,
+    OVERLAP_WARNING_LIMIT,
     Container,
     HarmonicMotion,
+    LargeOverlapWarning,
     ParticleSet,
     PrescribedMotion,
     StructureMotion,
@@ -45,6 +53,8 @@ log = logging.getLogger(__name__)
 #: ``gear_contact_bound`` is on; the error control (with rejection) takes over inside the
 #: contact.
 GEAR_ONSET_FACTOR = 6.0
+#: Target wall time of one kernel call [s]: Ctrl-C and ``stop`` take effect within it.
+DEFAULT_CHUNK_SECONDS = 0.25
 
 
 @dataclass
@@ -72,6 +82,15 @@ class DEMResult:
     snapshot_time : (nq,) [s]; snapshot_positions, snapshot_velocities,
     snapshot_angular_velocities : (nq, n, 3)
         Particle snapshots (positions in the inertial frame).
+    max_overlap_ratio : float [-]
+        Largest overlap / radius (of the smaller sphere) of the run.
+    max_impact_velocity : float [m/s]
+        Fastest impact: the largest normal approach speed at a contact onset (or re-impact).
+    requested_duration : float [s]
+        The duration asked of :meth:`DEMEngine.run`.
+    stopped_early : bool
+        True when the run was ended by its ``stop`` callable before ``requested_duration``:
+        the series then cover only :attr:`simulated_time`.
     """
 
     time: np.ndarray
@@ -106,8 +125,11 @@ class DEMResult:
     max_step: float
     contact_time: float
     max_overlap_ratio: float
+    max_impact_velocity: float
     frequency: float | None = None
     container_mass: float = 0.0
+    requested_duration: float | None = None
+    stopped_early: bool = False
     attrs: dict = field(default_factory=dict)
 
     # ------------------------------------------------------------------ derived values
@@ -233,7 +255,10 @@ class DEMResult:
                  for k, val in self.attrs.items()}
         attrs.update(integrator=self.integrator, steps=self.steps, wall_seconds=self.wall_seconds,
                      bed_mass_kg=self.bed_mass, particles=len(self.radius),
-                     energy_balance_error=self.energy_balance_error())
+                     energy_balance_error=self.energy_balance_error(),
+                     max_overlap_ratio=self.max_overlap_ratio,
+                     max_impact_velocity_m_s=self.max_impact_velocity,
+                     stopped_early=int(self.stopped_early))
         ds.attrs.update(attrs)
         return ds
 
@@ -253,6 +278,67 @@ class DEMResult:
         return write_vtk_series(directory, self.snapshot_time, self.snapshot_positions,
                                 self.snapshot_velocities, self.radius,
                                 self.snapshot_angular_velocities)
+
+
+@dataclass(frozen=True)
+class _SampleGrid:
+    """Sampling of the excitation phase."""
+
+    duration: float
+    interval: float           # sample interval [s]
+    nsamp: int
+    snap_every: int
+    per_cycle: int            # samples per excitation cycle (harmonic motion), else 0
+    frequency: float | None
+    snapshots_requested: bool
+
+
+@dataclass
+class _Run:
+    """The arrays of one run, shared by its phases."""
+
+    pos: np.ndarray
+    vel: np.ndarray
+    omg: np.ndarray
+    world: K.World
+    law: K.Law
+    part: K.Particles
+    nbrs: K.Neighbours
+    walls: K.WallContacts
+    work: K.Work
+    nord: K.Nordsieck
+    z_start: float
+    settle_steps: int = 0
+    settle_seconds: float = 0.0
+    pair_types: K.PairTypes | None = None
+
+    def kernel_args(self, phase: _Phase) -> tuple:
+        """The arguments shared by every kernel entry point, in their order."""
+        return (self.pos, self.vel, self.omg, self.world, self.law, self.part, self.pair_types,
+                self.nbrs, self.walls, phase.drive, phase.stepping, self.work)
+
+
+@dataclass
+class _Phase:
+    """Settling or excitation: time grid, motion, records and output arrays."""
+
+    stepping: K.Stepping
+    drive: K.Drive
+    samples: K.Samples
+    snaps: K.Snapshots
+    state: np.ndarray = field(default_factory=lambda: K.record(K.RUN_STATE))
+    ledger: np.ndarray = field(default_factory=lambda: K.record(K.LEDGER))
+    stats: np.ndarray = field(default_factory=lambda: K.record(K.STATS))
+
+
+_EMPTY = np.zeros(2)
+
+
+def _drive(kind: int, z0: float = 0.0, amplitude: float = 0.0, omega: float = 0.0,
+           table_dt: float = 1.0, table=(_EMPTY, _EMPTY, _EMPTY), mass: float = 1.0,
+           damping: float = 0.0, stiffness: float = 0.0) -> K.Drive:
+    return K.Drive(int(kind), float(z0), float(amplitude), float(omega), float(table_dt),
+                   *table, float(mass), float(damping), float(stiffness))
 
 
 class DEMEngine:
@@ -289,7 +375,9 @@ class DEMEngine:
         Settling under gravity in the resting container before the excitation [s]
         (default sqrt(2 Lz / g) + 0.05 s; 0 to skip).
     max_overlap
-        Largest allowed overlap / radius before the run stops [-] (default 0.05).
+        Overlap / radius at which the run stops [-] (default None: never; large overlaps
+        are a regime of fast impacts, reported as ``max_overlap_ratio`` and warned about
+        above ``OVERLAP_WARNING_LIMIT``).
     reference_velocity
         Impact speed at which the contact duration is evaluated [m/s] (default from the
         excitation and the free fall over the container height).
@@ -310,7 +398,7 @@ class DEMEngine:
                  gear_velocity_scale: float = DEFAULT_GEAR_VELOCITY_SCALE,
                  gear_adaptive: bool = True, max_step: float = 1e-4,
                  skin: float | None = None, settle_time: float | None = None,
-                 max_overlap: float = 0.05, reference_velocity: float | None = None,
+                 max_overlap: float | None = None, reference_velocity: float | None = None,
                  gear_contact_bound: bool = False, seed: int | None = None):
         for name, value, cls in (("particles", particles, ParticleSet),
                                  ("container", container, Container),
@@ -332,8 +420,9 @@ class DEMEngine:
                                                low=0.0, low_inclusive=False, unit="m/s")
         self.gear_adaptive = bool(gear_adaptive)
         self.max_step = check_range("max_step", max_step, low=0.0, low_inclusive=False, unit="s")
-        self.max_overlap = check_range("max_overlap", max_overlap, low=0.0, high=1.0,
-                                       low_inclusive=False)
+        self.max_overlap = (math.inf if max_overlap is None else
+                            check_range("max_overlap", max_overlap, low=0.0, high=1.0,
+                                        low_inclusive=False))
         self.gear_contact_bound = bool(gear_contact_bound)
         self.seed = seed
         r = particles.radius
@@ -344,7 +433,7 @@ class DEMEngine:
             settle_time = (math.sqrt(2.0 * lz / self.gravity) + 0.05) if self.gravity > 0 else 0.0
         self.settle_time = check_range("settle_time", settle_time, low=0.0, unit="s")
         pos = particles.positions
-        tol = self.max_overlap * r  # initial overlaps with the walls up to max_overlap
+        tol = min(self.max_overlap, OVERLAP_WARNING_LIMIT) * r  # initial wall overlaps up to it
         lo = pos - r[:, None] + tol[:, None]
         hi = pos + r[:, None] - tol[:, None]
         if np.any(lo < 0.0) or np.any(hi > np.array(self.container.box)):
@@ -401,7 +490,7 @@ class DEMEngine:
         self._mats_list = mats
         # last entry: memo (COR, damping factor) per pair type for the kernels, emptied (-1)
         # at the start of every run (run()), so that no state carries over between runs
-        self._mats = (estar, mu, cor_v, cor_e, cor_n, np.full((npair, 2), -1.0))
+        self._pair_types = K.PairTypes(estar, mu, cor_v, cor_e, cor_n, np.full((npair, 2), -1.0))
         self._kwall = np.array([hertz_stiffness(estar[nm * nm + a], float(ri))
                                 for a, ri in zip(self._pmat, p.radius, strict=True)])
 
@@ -422,7 +511,7 @@ class DEMEngine:
     def _contact_time(self, v: float) -> float:
         """Shortest elastic Hertz contact duration of the pair types at speed v [s]."""
         p = self.particles
-        estar = self._mats[0]
+        estar = self._pair_types.estar
         nm = len(self._mats_list)
         masses = p.masses
         tc = math.inf
@@ -438,8 +527,14 @@ class DEMEngine:
 
     # ------------------------------------------------------------------ run
     def run(self, duration: float, sample_rate: float = 2000.0,
-            snapshot_rate: float | None = None, settle: bool = True) -> DEMResult:
+            snapshot_rate: float | None = None, settle: bool = True, *,
+            stop: Callable[[DEMResult], bool] | None = None,
+            chunk_seconds: float = DEFAULT_CHUNK_SECONDS) -> DEMResult:
         """Settle, then run the excitation for ``duration`` [s].
+
+        The kernels run in chunks of about ``chunk_seconds`` of wall time; between chunks
+        Python handles signals (Ctrl-C ends a run within about that time) and asks
+        ``stop``. The chunking does not change the result (bit-identical to one call).
 
         Parameters
         ----------
@@ -452,11 +547,28 @@ class DEMEngine:
             Particle snapshots per second [Hz] (default: none except the first and last).
         settle
             Run the settling phase first (``settle_time``).
+        stop
+            Called after each chunk of the excitation with the partial result (the samples
+            recorded so far); True ends the run there. With a harmonic motion it is asked
+            only at the end of whole excitation cycles. A stopped run returns the recorded
+            part (``stopped_early``; its ``duration`` is shorter than asked), exactly what a
+            run of that length gives.
+        chunk_seconds
+            Target wall time of one kernel call [s] (``math.inf``: one call per phase).
         """
+        grid = self._sample_grid(duration, sample_rate, snapshot_rate)
+        run = self._allocate(grid)
+        if settle and self.settle_time > 0:
+            self._settle(run, chunk_seconds)
+        return self._excite(run, grid, stop, chunk_seconds)
+
+    def _sample_grid(self, duration: float, sample_rate: float,
+                     snapshot_rate: float | None) -> _SampleGrid:
         check_range("duration", duration, low=0.0, low_inclusive=False, unit="s")
         check_range("sample_rate", sample_rate, low=0.0, low_inclusive=False, unit="Hz")
         m = self.motion
         freq = m.frequency if isinstance(m, HarmonicMotion) and m.frequency > 0 else None
+        per_cycle = 0
         if freq is not None:
             per_cycle = max(4, int(round(sample_rate / freq)))
             interval = 1.0 / (freq * per_cycle)
@@ -470,11 +582,15 @@ class DEMEngine:
         else:
             check_range("snapshot_rate", snapshot_rate, low=0.0, low_inclusive=False, unit="Hz")
             snap_every = max(1, int(round(1.0 / (snapshot_rate * interval))))
-        nsnap = (nsamp - 1) // snap_every + 1
+        return _SampleGrid(duration=duration, interval=interval, nsamp=nsamp,
+                           snap_every=snap_every, per_cycle=per_cycle, frequency=freq,
+                           snapshots_requested=snapshot_rate is not None)
 
+    def _allocate(self, grid: _SampleGrid) -> _Run:
+        """Every array of a run, once: particles, contact lists, histories, work."""
         p = self.particles
         n = p.count
-        self._mats[5][:] = -1.0  # the onset-damping memo starts empty in every run
+        self._pair_types.memo[:] = -1.0  # the onset-damping memo starts empty in every run
         lx, ly, lz = self.container.box
         rmax = float(p.radius.max())
         rmin = float(p.radius.min())
@@ -482,160 +598,208 @@ class DEMEngine:
         ncx, ncy, ncz = (max(1, int(lx // cell)), max(1, int(ly // cell)), max(1, int(lz // cell)))
         bound = ((2 * rmax + self.skin + rmin) / rmin) ** 3
         cap = int(n * math.ceil(min(bound, n)) + 16)
-        lists = (np.zeros(n + 1, np.int64), np.zeros(cap, np.int64), np.zeros(cap, np.int64),
-                 np.zeros(cap), np.zeros(cap), np.zeros(cap),
-                 np.zeros(n + 1, np.int64), np.zeros(cap, np.int64), np.zeros(cap, np.int64),
-                 np.zeros(cap), np.zeros(cap), np.zeros(cap),
-                 np.zeros(ncx * ncy * ncz, np.int64), np.zeros(n, np.int64), np.zeros((n, 3)))
-        wall_hist = (np.zeros((n, 6), np.int64), np.zeros((n, 6)), np.zeros(4 * n + 64, np.int64),
-                     np.zeros((n, 6)))
-        part = (p.radius.copy(), p.masses, p.inertia, self._kwall, self._pmat, 1.0 / p.masses,
-                1.0 / p.inertia)
-        work = (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)),
-                np.zeros(K.NOUT), np.zeros(3), np.zeros(3))
-        gwork = (np.zeros((6, n, 3)), np.zeros((5, n, 3)), np.zeros(6),
-                 np.zeros((6, n, 3)), np.zeros((5, n, 3)), np.zeros(6))
-
-        fp = np.zeros(K.NFP)
-        fp[K.FP_G] = self.gravity
-        fp[K.FP_VREG] = self.contact.regularisation_velocity
-        fp[K.FP_VMIN] = self.contact.min_impact_velocity
-        fp[K.FP_REIMPACT] = self.contact.reimpact_factor
-        fp[K.FP_LX], fp[K.FP_LY], fp[K.FP_LZ] = lx, ly, lz
-        fp[K.FP_SKIN] = self.skin
-        fp[K.FP_CELL] = cell
-        fp[K.FP_MAXOVL] = self.max_overlap
-        fp[K.FP_VLIMIT] = 20.0 * self.reference_velocity + 10.0
-        fp[K.FP_TOL] = self.gear_tolerance
-        fp[K.FP_VSCALE] = self.gear_velocity_scale
-        ip = np.zeros(K.NIP, np.int64)
-        ip[K.IP_MODEL] = DAMPING_EXACT if self.contact.damping_model == "exact" else DAMPING_GONTHIER
-        ip[K.IP_NMAT] = len(self._mats_list)
-        ip[K.IP_NCX], ip[K.IP_NCY], ip[K.IP_NCZ] = ncx, ncy, ncz
-
-        tab_dummy = (np.zeros(2), np.zeros(2), np.zeros(2))
-        cstate = np.zeros(3)
+        world = K.World(float(lx), float(ly), float(lz), float(self.gravity), float(self.skin),
+                        float(cell), ncx, ncy, ncz)
+        c = self.contact
+        law = K.Law(DAMPING_CODES[c.damping_model], len(self._mats_list),
+                    float(c.regularisation_velocity), float(c.min_impact_velocity),
+                    float(c.reimpact_factor))
+        part = K.Particles(p.radius.copy(), p.masses, p.inertia, self._kwall, self._pmat,
+                           1.0 / p.masses, 1.0 / p.inertia)
+        nbrs = K.Neighbours(K.empty_pair_contacts(n, cap), K.empty_pair_contacts(n, cap),
+                            np.zeros(ncx * ncy * ncz, np.int64), np.zeros(n, np.int64),
+                            np.zeros((n, 3)))
+        walls = K.WallContacts(np.zeros((n, 6), np.int64), np.zeros((n, 6)), np.zeros((n, 6)),
+                               np.zeros(4 * n + 64, np.int64))
+        work = K.Work(np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
+        nord = K.Nordsieck(np.zeros((6, n, 3)), np.zeros((5, n, 3)), np.zeros(6), np.zeros(6))
+        m = self.motion
         if isinstance(m, StructureMotion):
             z_start = m.x0
         elif isinstance(m, PrescribedMotion):
-            tt, tz, tv, ta = m.table(duration + 2 * interval)
-            z_start = float(tz[0])
+            z_start = float(m.table(grid.duration + 2 * grid.interval)[1][0])
         else:
             z_start = 0.0
-
         pos = p.positions.copy()
         pos[:, 2] += z_start
-        vel = p.velocities.copy()
-        omg = p.angular_velocities.copy()
-        stats = np.zeros(K.NSTATS, np.int64)
-        fstats = np.zeros(K.NFSTATS)
+        return _Run(pos=pos, vel=p.velocities.copy(), omg=p.angular_velocities.copy(),
+                    world=world, law=law, part=part, nbrs=nbrs, walls=walls, work=work,
+                    nord=nord, z_start=z_start, pair_types=self._pair_types)
 
-        # ---------------- settling (container at rest at its start position)
-        settle_steps = 0
-        settle_seconds = 0.0
-        if settle and self.settle_time > 0:
-            half_s = self.settle_time / 20.0
-            fp_s = fp.copy()
-            ip_s = ip.copy()
-            ip_s[K.IP_MOTION] = K.MOTION_HARMONIC
-            fp_s[K.FP_Z0] = z_start
-            ip_s[K.IP_NSAMP] = 11
-            self._set_steps(fp_s, half_s)
-            samples_s, snaps_s = K.empty_samples(11, 0, n)
-            t1 = time.perf_counter()
-            self._call(pos, vel, omg, cstate, part, lists, wall_hist, fp_s, ip_s, tab_dummy,
-                       work, gwork, samples_s, snaps_s, stats, fstats, phase="settling")
-            settle_seconds = time.perf_counter() - t1
-            settle_steps = int(stats[K.S_STEPS])
-            log.info("settled %d particles in %d steps (%.3f s)", n, settle_steps,
-                     settle_seconds)
-            stats[:] = 0
-            fstats[:] = 0.0
-
-        # ---------------- excitation
-        fp[K.FP_T0] = 0.0
-        self._set_steps(fp, 0.5 * interval)
-        ip[K.IP_NSAMP] = nsamp
-        ip[K.IP_SNAPEVERY] = snap_every
-        tab = tab_dummy
-        if isinstance(m, HarmonicMotion):
-            ip[K.IP_MOTION] = K.MOTION_HARMONIC
-            fp[K.FP_Z0] = 0.0
-            fp[K.FP_X] = m.amplitude
-            fp[K.FP_W] = m.angular_frequency
-        elif isinstance(m, PrescribedMotion):
-            ip[K.IP_MOTION] = K.MOTION_TABLE
-            fp[K.FP_TABDT] = m.sample_interval
-            tab = (tz, tv, ta)
-        else:
-            ip[K.IP_MOTION] = K.MOTION_STRUCTURE
-            fp[K.FP_SM], fp[K.FP_SD], fp[K.FP_SK] = m.mass, m.damping, m.stiffness
-            cstate[0], cstate[1] = m.x0, m.v0
-        samples, snaps = K.empty_samples(nsamp, nsnap, n)
-        t1 = time.perf_counter()
-        self._call(pos, vel, omg, cstate, part, lists, wall_hist, fp, ip, tab, work, gwork,
-                   samples, snaps, stats, fstats, phase="excitation")
-        wall = time.perf_counter() - t1
-        ts, cont, fpc, com, en = samples
-        log.info("%s: %d steps in %.3f s", self.integrator, stats[K.S_STEPS], wall)
-        dt_lo = float(fstats[K.F_DTLO])
-        dt_hi = float(fstats[K.F_DTHI])
-        return DEMResult(
-            time=ts, container_position=cont[:, 0].copy(), container_velocity=cont[:, 1].copy(),
-            container_acceleration=cont[:, 2].copy(), force=fpc, center_of_mass=com,
-            kinetic_energy=en[:, 0].copy(), rotational_energy=en[:, 1].copy(),
-            potential_energy=en[:, 2].copy(), elastic_energy=en[:, 3].copy(),
-            dissipated_normal=en[:, 4].copy(), dissipated_friction=en[:, 5].copy(),
-            container_work=en[:, 6].copy(),
-            snapshot_time=ts[::snap_every][:nsnap].copy(), snapshot_positions=snaps[0],
-            snapshot_velocities=snaps[1], snapshot_angular_velocities=snaps[2],
-            radius=p.radius.copy(), masses=p.masses, integrator=self.integrator,
-            steps=int(stats[K.S_STEPS]), settle_steps=settle_steps,
-            rebuilds=int(stats[K.S_REBUILDS]), contact_onsets=int(stats[K.S_ONSETS]),
-            rejected_steps=int(stats[K.S_REJECTS]),
-            wall_seconds=wall, settle_seconds=settle_seconds, time_step=float(fp[K.FP_DT]),
-            min_step=dt_lo, max_step=dt_hi, contact_time=self.contact_time,
-            max_overlap_ratio=float(fstats[K.F_OVL]), frequency=freq,
-            container_mass=self.container.mass, attrs=self.describe())
-
-    def _set_steps(self, fp: np.ndarray, half: float) -> None:
-        """Fix the step so that it divides the half sample interval (Verlet), Gear bounds."""
+    def _stepping(self, t0: float, half: float, nsamp: int, snap_every: int) -> K.Stepping:
+        """Step of the phase: Verlet's divides the half sample interval; Gear's bounds."""
         dt0 = self.time_step
-        fp[K.FP_HALF] = half
-        if self.integrator == "verlet" or not self.gear_adaptive:
-            m = max(1, int(math.ceil(half / dt0 - 1e-9)))
-            fp[K.FP_DT] = half / m
+        verlet_like = self.integrator == "verlet" or not self.gear_adaptive
+        if verlet_like:
+            dt = half / max(1, int(math.ceil(half / dt0 - 1e-9)))
         else:
-            fp[K.FP_DT] = min(dt0, half)
-        fp[K.FP_DTC] = dt0 * (GEAR_ONSET_FACTOR if self.integrator == "gear" else 1.0)
-        fp[K.FP_DTMIN] = 1e-3 * dt0
-        fp[K.FP_DTMAX] = max(self.max_step, dt0)
-        # variable-step Gear: the friction cap never stiffer than at the Verlet step dt0
+            dt = min(dt0, half)
         adaptive_gear = self.integrator == "gear" and self.gear_adaptive
-        fp[K.FP_HCAP] = dt0 if adaptive_gear else 0.0
+        return K.Stepping(
+            t0=float(t0), half=float(half), nsamp=int(nsamp), snap_every=int(snap_every),
+            dt=float(dt), dt_min=1e-3 * dt0, dt_max=float(max(self.max_step, dt0)),
+            dt_contact=dt0 * (GEAR_ONSET_FACTOR if self.integrator == "gear" else 1.0),
+            # variable-step Gear: the friction cap never stiffer than at the Verlet step dt0
+            h_cap=float(dt0 if adaptive_gear else 0.0),
+            tol=float(self.gear_tolerance), v_scale=float(self.gear_velocity_scale),
+            adaptive=1 if self.gear_adaptive else 0,
+            # The kernels can bound the Gear step by the time to the next contact; off by
+            # default: in a dense bed some pair is always about to touch and the bound
+            # doubled the steps at unchanged accuracy (docs/dem.md).
+            contact_bound=1 if adaptive_gear and self.gear_contact_bound else 0,
+            v_design=float(self.reference_velocity), dt_design=float(dt0),
+            follow_impacts=1 if (self.integrator == "verlet" or adaptive_gear) else 0,
+            v_limit=20.0 * self.reference_velocity + 10.0,
+            max_overlap=float(self.max_overlap))  # inf unless the user asks for a stop
 
-    def _call(self, pos, vel, omg, cstate, part, lists, wall_hist, fp, ip, tab, work, gwork,
-              samples, snaps, stats, fstats, phase: str) -> None:
-        ip[K.IP_ADAPTIVE] = 1 if self.gear_adaptive else 0
-        # The kernels can bound the Gear step by the time to the next contact (IP_TTC);
-        # off: in a dense bed some pair is always about to touch and the bound doubled the
-        # steps at unchanged accuracy; the error control with rejection handles onsets
-        # and the skin bound (skin / (4 v_max)) caps the entry depth (docs/dem.md).
-        ip[K.IP_TTC] = 1 if (self.integrator == "gear" and self.gear_adaptive
-                             and self.gear_contact_bound) else 0
-        if self.integrator == "verlet":
-            K.run_verlet(pos, vel, omg, cstate, part, self._mats, lists, wall_hist, fp, ip, tab,
-                         work, samples, snaps, stats, fstats)
+    def _settle(self, run: _Run, chunk_seconds: float) -> None:
+        """Settling under gravity, the container at rest at its start position."""
+        nsamp = 11
+        stp = self._stepping(0.0, self.settle_time / 20.0, nsamp, 0)
+        drive = _drive(K.MOTION_HARMONIC, z0=run.z_start)
+        phase = _Phase(stp, drive, K.empty_samples(nsamp), K.empty_snapshots(0, run.pos.shape[0]))
+        t1 = time.perf_counter()
+        self._start(run, phase, "settling")
+        self._advance(run, phase, 2 * (nsamp - 1), chunk_seconds, None, 0, "settling")
+        run.settle_seconds = time.perf_counter() - t1
+        run.settle_steps = int(phase.stats[0]["steps"])
+        log.info("settled %d particles in %d steps (%.3f s)", run.pos.shape[0],
+                 run.settle_steps, run.settle_seconds)
+
+    def _excite(self, run: _Run, grid: _SampleGrid, stop, chunk_seconds: float) -> DEMResult:
+        """The excitation phase, chunk by chunk; the result of the recorded samples."""
+        m = self.motion
+        stp = self._stepping(0.0, 0.5 * grid.interval, grid.nsamp, grid.snap_every)
+        rs = K.record(K.RUN_STATE)
+        if isinstance(m, HarmonicMotion):
+            drive = _drive(K.MOTION_HARMONIC, amplitude=m.amplitude, omega=m.angular_frequency)
+        elif isinstance(m, PrescribedMotion):
+            _, tz, tv, ta = m.table(grid.duration + 2 * grid.interval)
+            drive = _drive(K.MOTION_TABLE, table_dt=m.sample_interval, table=(tz, tv, ta))
         else:
-            K.run_gear(pos, vel, omg, cstate, part, self._mats, lists, wall_hist, fp, ip, tab,
-                       work, gwork, samples, snaps, stats, fstats)
-        err = int(stats[K.S_ERR])
-        if err != K.ERR_NONE:
-            raise SimulationError(self._explain(err, float(fstats[K.F_TERR]),
-                                                float(fstats[K.F_ERRVAL]), fp, phase))
+            drive = _drive(K.MOTION_STRUCTURE, mass=m.mass, damping=m.damping,
+                           stiffness=m.stiffness)
+            rs[0]["zc"], rs[0]["vc"] = m.x0, m.v0
+        nsnap = (grid.nsamp - 1) // grid.snap_every + 1
+        phase = _Phase(stp, drive, K.empty_samples(grid.nsamp),
+                       K.empty_snapshots(nsnap, run.pos.shape[0]), rs)
+        t1 = time.perf_counter()
+        self._start(run, phase, "excitation")
+        check = None
+        if stop is not None:
+            def check(j: int) -> bool:
+                return bool(stop(self._result(run, phase, grid, j // 2, time.perf_counter() - t1)))
+        j = self._advance(run, phase, 2 * (grid.nsamp - 1), chunk_seconds, check,
+                          2 * grid.per_cycle if stop is not None else 0, "excitation")
+        wall = time.perf_counter() - t1
+        log.info("%s: %d steps in %.3f s", self.integrator, phase.stats[0]["steps"], wall)
+        res = self._result(run, phase, grid, j // 2, wall)
+        if res.max_overlap_ratio > OVERLAP_WARNING_LIMIT:
+            # one message text: Python shows it once per place, not once per map point
+            warnings.warn(f"DEM overlaps beyond {100 * OVERLAP_WARNING_LIMIT:g} % of the radius "
+                          "(fast impacts; Hertz's contact outside its small-strain range, "
+                          "real materials would yield): see DEMResult.max_overlap_ratio",
+                          LargeOverlapWarning, stacklevel=3)
+        return res
 
-    def _explain(self, err: int, t: float, val: float, fp: np.ndarray, phase: str) -> str:
-        dt = fp[K.FP_DT]
+    def _start(self, run: _Run, phase: _Phase, name: str) -> None:
+        a = run.kernel_args(phase)
+        if self.integrator == "verlet":
+            _verlet.verlet_start(*a[:12], phase.ledger, phase.state, phase.stats, phase.samples,
+                           phase.snaps)
+        else:
+            _gear.gear_start(*a[:12], run.nord, phase.ledger, phase.state, phase.stats,
+                         phase.samples, phase.snaps)
+        self._check(phase, name)
+
+    def _advance(self, run: _Run, phase: _Phase, j_end: int, chunk_seconds: float, check,
+                 cycle: int, name: str) -> int:
+        """Advance to landing ``j_end`` in chunks of about ``chunk_seconds`` of wall time,
+        ending on samples (even landings); ``check(j)`` after each chunk (only at the ends
+        of whole cycles of ``cycle`` landings when ``cycle > 0``). Returns the last
+        landing reached."""
+        a = run.kernel_args(phase)
+        tail = (phase.ledger, phase.state, phase.stats, phase.samples, phase.snaps)
+        j = 0
+        size = 2  # landings of the first chunk; then sized from the measured rate
+        while j < j_end:
+            target = j_end if math.isinf(chunk_seconds) else min(j_end, j + size)
+            if cycle > 0 and target < j_end:
+                nxt = (j // cycle + 1) * cycle
+                target = min(target, nxt) if nxt > j else target
+            target += target % 2
+            target = min(target, j_end)
+            t1 = time.perf_counter()
+            if self.integrator == "verlet":
+                _verlet.verlet_advance(*a[:12], *tail, target)
+            else:
+                _gear.gear_advance(*a[:12], run.nord, *tail, target)
+            spent = time.perf_counter() - t1
+            self._check(phase, name)
+            done = target - j
+            j = target
+            if not math.isinf(chunk_seconds):
+                rate = spent / done
+                size = max(2, min(4 * done, int(chunk_seconds / rate) if rate > 0 else 4 * done))
+            if check is not None and j < j_end and (cycle <= 0 or j % cycle == 0) and check(j):
+                break
+        return j
+
+    def _check(self, phase: _Phase, name: str) -> None:
+        st = phase.stats[0]
+        err = int(st["error"])
+        if err != K.ERR_NONE:
+            raise SimulationError(self._explain(err, float(st["t_error"]),
+                                                float(st["error_value"]), phase.stepping, name))
+
+    def _result(self, run: _Run, phase: _Phase, grid: _SampleGrid, k: int,
+                wall: float) -> DEMResult:
+        """The result of samples ``0 .. k`` (k < nsamp - 1: a run stopped early, whose last
+        force window is closed as at the end of a run)."""
+        s = phase.samples
+        st = phase.stats[0]
+        ns = k + 1
+        last = ns == grid.nsamp
+        force = s.force[:ns].copy()
+        if not last:
+            lg = phase.ledger[0]
+            span = s.time[k] - phase.state[0]["t_win"]
+            if span > 0.0:
+                force[k] = (lg["imp_x"] / span, lg["imp_y"] / span, lg["imp_z"] / span)
+        every = grid.snap_every
+        nq = k // every + 1
+        snap_t = s.time[:ns:every][:nq].copy()
+        snaps = [a[:nq].copy() for a in phase.snaps]
+        if not last and not grid.snapshots_requested:  # first and last, as a whole run
+            snap_t = np.append(snap_t, s.time[k])
+            snaps = [np.concatenate([a, b[None]]) for a, b in
+                     zip(snaps, (run.pos, run.vel, run.omg), strict=True)]
+        p = self.particles
+        return DEMResult(
+            time=s.time[:ns].copy(), container_position=s.zc[:ns].copy(),
+            container_velocity=s.vc[:ns].copy(), container_acceleration=s.ac[:ns].copy(),
+            force=force, center_of_mass=s.com[:ns].copy(),
+            kinetic_energy=s.kinetic[:ns].copy(), rotational_energy=s.rotational[:ns].copy(),
+            potential_energy=s.potential[:ns].copy(), elastic_energy=s.elastic[:ns].copy(),
+            dissipated_normal=s.dissipated_normal[:ns].copy(),
+            dissipated_friction=s.dissipated_friction[:ns].copy(),
+            container_work=s.container_work[:ns].copy(),
+            snapshot_time=snap_t, snapshot_positions=snaps[0], snapshot_velocities=snaps[1],
+            snapshot_angular_velocities=snaps[2],
+            radius=p.radius.copy(), masses=p.masses, integrator=self.integrator,
+            steps=int(st["steps"]), settle_steps=run.settle_steps,
+            rebuilds=int(st["rebuilds"]), contact_onsets=int(st["onsets"]),
+            rejected_steps=int(st["rejects"]), wall_seconds=wall,
+            settle_seconds=run.settle_seconds,
+            time_step=float(phase.state[0]["dt"]) if self.integrator == "verlet" else phase.stepping.dt,
+            min_step=float(st["dt_lo"]), max_step=float(st["dt_hi"]),
+            contact_time=self.contact_time, max_overlap_ratio=float(st["max_overlap"]),
+            max_impact_velocity=float(st["max_impact"]),
+            frequency=grid.frequency, container_mass=self.container.mass,
+            requested_duration=grid.duration, stopped_early=not last, attrs=self.describe())
+
+    def _explain(self, err: int, t: float, val: float, stp: K.Stepping, phase: str) -> str:
+        dt = stp.dt
         tc = self.contact_time
         hint = (f"time step {dt:.3g} s too large for the contact time {tc:.3g} s; lower the "
                 f"safety factor (now {self.safety:g})" if self.integrator == "verlet" else
@@ -645,9 +809,9 @@ class DEMEngine:
         if err == K.ERR_NAN:
             return f"unstable DEM run: non-finite state ({where}); {hint}"
         if err == K.ERR_OVERLAP:
-            return (f"unstable DEM run: overlap {100 * val:.3g} % of the radius exceeds "
-                    f"{100 * self.max_overlap:g} % ({where}); {hint}, or impacts are faster "
-                    f"than the reference speed {self.reference_velocity:.3g} m/s")
+            return (f"DEM run stopped: overlap {100 * val:.3g} % of the radius exceeds the "
+                    f"requested max_overlap {100 * self.max_overlap:g} % ({where}); large "
+                    "overlaps are a regime of fast impacts (max_overlap=None runs on)")
         if err == K.ERR_ESCAPE:
             return f"unstable DEM run: a particle left the container ({where}); {hint}"
         if err == K.ERR_SPEED:

@@ -33,7 +33,7 @@ from pydantic import (
 )
 
 from pdamper import resources
-from pdamper.contact.law import DAMPING_MODELS
+from pdamper.contact.law import DAMPING_MODELS, DEFAULT_MIN_IMPACT_VELOCITY
 from pdamper.dem.model import DEFAULT_SAFETY
 from pdamper.design.study import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
 from pdamper.errors import InputError
@@ -236,6 +236,7 @@ class DEMSpec(_Section):
     restitution_pp: Restitution = _D.restitution_pp.e
     restitution_pw: Restitution = _D.restitution_pw.e
     damping_model: str = "exact"
+    min_impact_velocity: Annotated[float, _q("m/s")] = DEFAULT_MIN_IMPACT_VELOCITY
     packing: str = "lattice"
     seed: Count = 0
     safety: float = DEFAULT_SAFETY
@@ -818,7 +819,8 @@ steady_rtol = {dem.steady_rtol}           # steady_atol), no trend, no symmetric
 steady_atol = {dem.steady_atol}
 # restitution_pp = {dem.restitution_pp}      # constant sphere-sphere COR (default; or [restitution])
 # restitution_pw = {dem.restitution_pw}     # constant sphere-wall COR (default; or [restitution])
-damping_model = "{dem.damping_model}"     # COR-damping relation: {_MODELS}
+damping_model = "{dem.damping_model}"     # damping law of the normal force: {_MODELS}
+# min_impact_velocity = "0.01 m/s"  # onset-speed floor of the exact/gonthier damping
 packing = "{dem.packing}"         # "lattice" (the paper's 4 x 4 layers) or "random"
 seed = {dem.seed}                    # seed of the random packing (recorded always)
 safety = {dem.safety}               # time step / Hertz contact time

@@ -11,7 +11,6 @@ integrates the structure together with the particles through :meth:`DEMDamper.en
 from __future__ import annotations
 
 import dataclasses
-import inspect
 import logging
 from dataclasses import dataclass
 
@@ -27,7 +26,7 @@ from pdamper.analysis.stationarity import (
     cycle_symmetry,
     whole_cycles,
 )
-from pdamper.contact.law import ContactParameters
+from pdamper.contact.law import DEFAULT_MIN_IMPACT_VELOCITY, ContactParameters
 from pdamper.damper import ParticleDamper
 from pdamper.dem.model import DEFAULT_SAFETY, INTEGRATORS
 from pdamper.errors import InputError, check_range
@@ -114,43 +113,6 @@ def truncate_result(result, cycles: int):
     return dataclasses.replace(result, **series, **snaps)
 
 
-def run_until(engine, duration: float, stop, sample_rate: float, snapshot_rate=None,
-              frequency: float | None = None, first: float | None = None):
-    """Run ``engine`` for at most ``duration`` [s], ending early once ``stop(partial)``.
-
-    The chunked engine (issue #7: ``DEMEngine.run(..., stop=...)`` calls ``stop`` after
-    each chunk of whole cycles) is used when it is there. Until then this ADAPTER runs
-    ``first`` seconds (default: all), finds the first whole cycle at which ``stop`` holds
-    and returns the run cut there; if there is none, it runs again from the start for twice
-    as long (at most ``duration``). The engine is deterministic, so a longer run repeats a
-    shorter one sample for sample (except the force of a run's very last sample, a half
-    window): the result is what the chunked engine returns with one-cycle chunks.
-    """
-    run = engine.run
-    if "stop" in inspect.signature(run).parameters:
-        return run(duration, sample_rate=sample_rate, snapshot_rate=snapshot_rate, stop=stop)
-    f = frequency or engine.motion.frequency
-    total = max(1, int(round(duration * f)))
-    cycles = total if first is None else min(total, max(1, int(round(first * f))))
-    while True:
-        full = run(cycles / f, sample_rate=sample_rate, snapshot_rate=snapshot_rate)
-        part, stopped = _emulate_stop(full, stop, f)
-        if stopped or cycles >= total:
-            return part
-        cycles = min(total, 2 * cycles)
-
-
-def _emulate_stop(result, stop, frequency: float):
-    """ADAPTER (until the chunked engine of issue #7): ``(result cut at the first whole
-    cycle at which stop holds, True)``, else ``(result, False)``."""
-    n = whole_cycles(result.time, frequency)
-    for k in range(1, n + 1):
-        part = result if k == n else truncate_result(result, k)
-        if stop(part):
-            return part, True
-    return result, False
-
-
 class DEMDamper(DamperModel):
     """Particle damper simulated by the discrete element method.
 
@@ -180,7 +142,10 @@ class DEMDamper(DamperModel):
     snapshot_rate
         Particle snapshots per second [Hz] (None: first and last only).
     damping_model
-        ``"exact"`` or ``"gonthier"``: the COR-damping relation of the contact law.
+        ``"exact"``, ``"gonthier"`` or ``"tsuji"``: the damping law of the normal force.
+    min_impact_velocity
+        Floor of the onset speed that sets the damping of the exact and Gonthier laws
+        [m/s] (default 0.01; see docs/dem.md on rattling columns).
     safety
         Time step / Hertz contact time (see :class:`pdamper.dem.DEMEngine`) [-].
     options
@@ -205,7 +170,8 @@ class DEMDamper(DamperModel):
                  max_cycles: int = DEFAULT_MAX_CYCLES,
                  window_cycles: int = _STEADY.window_cycles,
                  steady_windows: int = _STEADY.windows, steady_rtol: float = _STEADY.rtol,
-                 steady_atol: float = _STEADY.atol, **options):
+                 steady_atol: float = _STEADY.atol,
+                 min_impact_velocity: float = DEFAULT_MIN_IMPACT_VELOCITY, **options):
         super().__init__(damper)
         if integrator not in INTEGRATORS:
             raise InputError("dem.integrator", f"must be one of {', '.join(INTEGRATORS)}, "
@@ -253,7 +219,8 @@ class DEMDamper(DamperModel):
                                              restitution_pw=damper.restitution_pw,
                                              friction_pp=damper.friction,
                                              friction_pw=damper.friction,
-                                             damping_model=damping_model)
+                                             damping_model=damping_model,
+                                             min_impact_velocity=min_impact_velocity)
         except InputError as exc:  # name the field as the [dem] section does
             raise InputError(f"dem.{exc.field}", exc.message) from None
         self.safety = check_range("dem.safety", safety, low=0.0, high=1.0, low_inclusive=False)
@@ -318,10 +285,9 @@ class DEMDamper(DamperModel):
                 return (whole_cycles(part.time, f) >= need
                         and self.assess(part)[0].stationary)
 
-            # the adapter's first attempt: the shortest steady run and one more window
-            res = run_until(engine, self.max_cycles / f, steady, self.sample_rate,
-                            self.snapshot_rate, f,
-                            first=(need + self.steady.window_cycles) / f)
+            # the engine asks after every whole cycle: the run ends at the first steady one
+            res = engine.run(self.max_cycles / f, sample_rate=self.sample_rate,
+                             snapshot_rate=self.snapshot_rate, stop=steady)
         else:
             res = engine.run(self.cycles / f, sample_rate=self.sample_rate,
                              snapshot_rate=self.snapshot_rate)
@@ -413,8 +379,8 @@ def point_diagnostics(run: SteadyRun) -> dict:
     """The per-point diagnostics of a Level II run, as plain values (SI units).
 
     ``wall_seconds`` [s], ``steps``, ``energy_balance_error`` [-], ``max_overlap_ratio`` [-]
-    (largest overlap / radius), ``cycles`` (simulated), ``first_cycle``/``last_cycle`` (the
-    averaged window), ``loss_factor_stderr``, ``loss_factor_spread``, ``loss_factor_drift``
+    (largest overlap / radius), ``max_impact_velocity`` [m/s] (fastest impact), ``cycles``
+    (simulated), ``first_cycle``/``last_cycle`` (the averaged window), ``loss_factor_stderr``, ``loss_factor_spread``, ``loss_factor_drift``
     [-] (:class:`~pdamper.analysis.stationarity.Stationarity`), ``symmetric_state`` (0/1),
     ``period`` [cycles], ``periodicity_residual``, ``lift`` [m], ``contact_fraction``,
     ``lid_contacts_per_cycle`` [-] (:class:`~pdamper.analysis.dem_modes.ModeClassification`),
@@ -426,6 +392,7 @@ def point_diagnostics(run: SteadyRun) -> dict:
         "steps": int(res.steps + res.settle_steps),
         "energy_balance_error": float(res.energy_balance_error()),
         "max_overlap_ratio": float(res.max_overlap_ratio),
+        "max_impact_velocity": float(res.max_impact_velocity),
         "cycles": int(st.cycles),
         "first_cycle": int(st.first_cycle),
         "last_cycle": int(st.last_cycle),

@@ -1,0 +1,127 @@
+"""Throughput of ``pdamper map --model dem`` against LIGGGHTS 3.8 on the same damper, side
+by side in one run: ``python benchmarks/liggghts/compare.py`` (``--quick``: three kinds).
+
+For each kind of point of the paper's map (slow and fast corners, small stroke, the tuned
+point, a rattling point, the full container) it runs
+
+* ``pdamper map --model dem`` on a 3 x 3 map around the point (f, 1.05 f, 1.1 f) x
+  (X, 1.05 X, 1.1 X), the whole process (python start, import, numba cache load, settling,
+  8 cycles per point), one core;
+* LIGGGHTS (``stdbuf -o0 -e0 liggghts -in damper.in``, the deck beside this file) on the
+  point itself: settling and ``--liggghts-cycles`` cycles (its cost per step is constant,
+  so the throughput does not depend on the length), at the step that pdamper's velocity
+  Verlet takes by default there (0.02 of the Hertz contact time at the fastest impact it
+  expects: the step at which a velocity-Verlet code resolves the contacts to the accuracy of
+  the verification table of docs/dem.md), and, for reference, at 0.2 Rayleigh times
+  (LIGGGHTS' usual advice, coarser than the contacts need at the fast points);
+
+and prints the cost of one point (settling + 8 cycles) of each, their ratio, and the
+throughput (simulated seconds of excitation per second) of the whole map process, in CPU
+seconds (``getrusage``: robust on a loaded machine; wall seconds in brackets). pdamper's
+per-point cost is the map's less its start-up (the import + numba cache load, measured
+apart and printed first), which a map pays once; LIGGGHTS' is its cost per step times the
+steps of one point.
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).parent))
+
+from liggghts_damper import available, run_liggghts  # noqa: E402
+
+KINDS = [  # name, f [Hz], X [mm], spheres
+    ("slow corner", 2.0, 200.0, 32),
+    ("fast corner", 20.0, 200.0, 32),
+    ("small stroke", 20.0, 1.0, 32),
+    ("tuned point", 10.0, 32.0, 32),
+    ("rattling", 10.0, 15.0, 32),
+    ("full container", 20.0, 32.0, 192),
+]
+QUICK = ["fast corner", "small stroke", "tuned point"]
+CYCLES = 8
+
+
+def _child(cmd) -> tuple[float, float, subprocess.CompletedProcess]:
+    c0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if proc.returncode != 0:
+        raise RuntimeError(proc.stderr[-2000:])
+    return wall, (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime), proc
+
+
+def startup() -> tuple[float, float]:
+    """Import of the CLI and the numba cache load of a ``pdamper dem`` (CPU seconds)."""
+    _, imp, _ = _child([sys.executable, "-c", "import pdamper.cli, pdamper.models"])
+    _, load, _ = _child([sys.executable, "-c",
+                         "import pdamper.dem.simulation as s; from pdamper.dem import warmup; "
+                         "warmup()"])
+    return imp, load
+
+
+def pdamper_map(f, x_mm, n) -> dict:
+    cmd = [sys.executable, "-m", "pdamper", "map", "--model", "dem", "--particles", str(n),
+           "--frequency", f"{f:g}Hz:{1.1 * f:g}Hz:3",
+           "--amplitude", f"{x_mm:g}mm:{1.1 * x_mm:g}mm:3", "--json"]
+    wall, cpu, _ = _child(cmd)
+    sim = 3 * CYCLES * sum(1.0 / g for g in (f, 1.05 * f, 1.1 * f))
+    return {"wall": wall, "cpu": cpu, "simulated": sim, "points": 9}
+
+
+def verlet_step(f, x_mm, n) -> float:
+    from pdamper.dem import HarmonicMotion
+    from pdamper.models import DEMDamper
+    from pdamper.parameters import PAPER_DAMPER
+
+    eng = DEMDamper(PAPER_DAMPER.with_count(n)).engine(HarmonicMotion(x_mm * 1e-3, f))
+    return eng.time_step, eng.rayleigh_time
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--liggghts-cycles", type=int, default=1)
+    args = ap.parse_args(argv)
+    if not available():
+        sys.exit("liggghts not found (Debian: apt-get install liggghts)")
+    imp, load = startup()
+    print(f"pdamper start-up (CPU s): import of the CLI and models {imp:.2f}, "
+          f"import + numba cache load of the DEM kernels {load:.2f}")
+    print(f"\n{'kind':<15} {'f':>4} {'X/mm':>5} {'n':>4} | {'pdamper':>8} | {'LIGGGHTS dt':>11} "
+          f"{'CPU us/step':>11} {'per point':>9} | {'ratio':>6} | {'map sim-s/CPU-s':>15} "
+          f"{'ratio':>6} | {'ratio @0.2 t_R':>14}")
+    print(f"{'':<15} {'':>4} {'':>5} {'':>4} | {'s/point':>8} | {'[s]':>11} {'':>11} "
+          f"{'[s]':>9} | {'':>6} | {'(whole process)':>15} {'':>6} |")
+    for name, f, x, n in KINDS:
+        if args.quick and name not in QUICK:
+            continue
+        p = pdamper_map(f, x, n)
+        per_point = max(p["cpu"] - load, 1e-9) / p["points"]
+        dt, t_r = verlet_step(f, x, n)
+        runs = []
+        for step in (dt, 0.2 * t_r):
+            lg = run_liggghts(f, x * 1e-3, count=n, dt=step, cycles=args.liggghts_cycles,
+                              skip_cycles=0)
+            settle = lg["steps"] * lg["dt"] - lg["simulated"]
+            # one point: settling + 8 cycles at LIGGGHTS' (constant) cost per step
+            runs.append((lg, lg["cpu"] / lg["steps"] * (settle + CYCLES / f) / lg["dt"]))
+        (lg, lig_point), (_, lig_point_r) = runs
+        map_tp = p["simulated"] / p["cpu"]
+        lig_tp = (CYCLES / f) / lig_point
+        print(f"{name:<15} {f:>4g} {x:>5g} {n:>4d} | {per_point:>8.3f} | {lg['dt']:>11.3g} "
+              f"{1e6 * lg['cpu'] / lg['steps']:>11.1f} {lig_point:>9.1f} | "
+              f"{lig_point / per_point:>5.0f}x | {map_tp:>6.3f} ({p['simulated'] / p['wall']:.3f}) "
+              f"{map_tp / lig_tp:>5.0f}x | {lig_point_r / per_point:>13.0f}x", flush=True)
+
+
+if __name__ == "__main__":
+    main()

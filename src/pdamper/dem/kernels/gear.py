@@ -1,0 +1,469 @@
+"""Variable-step fifth-order Gear predictor-corrector (the paper's integrator), advanced
+in chunks of landings.
+
+Positions use the 6-value Nordsieck vector ``(x, h v, h^2 a/2, h^3 x'''/6, ...)`` of a
+second-order ODE; angular velocities the 5-value vector of a first-order ODE (Euler's
+equations of a sphere: ``I dw/dt = T``); the 1-DOF structure (if any) a 6-value vector.
+After each accepted step the step ``h`` is changed by the PI controller
+``0.9 (tol / err)^(0.7/6) (err_prev / tol)^(0.4/6)`` (bounded to [0.3, 2]), where
+``err = max_i |corr_i| / (h (v_scale + |v_i|))`` is the local error estimate from the
+corrector difference ``corr`` of the position (computed before the correction: a step with
+``err > REJECT tol`` is undone by inverting the prediction and repeated with
+``0.9 (tol / err)^(1/6)``, at least 0.1, times the step); the Nordsieck vectors are
+rescaled by ``ratio^k``. The friction cap uses ``max(h, stp.h_cap)``. Steps are also
+bounded by ``skin / (4 v_max)``, by ``dt_max``, optionally (``stp.contact_bound``) by the
+time to the next contact (never below ``stp.dt_contact``), and land exactly on the sample
+grid. ``stp.adaptive = 0`` keeps ``stp.dt`` fixed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from pdamper.dem.kernels.forces import FASTMATH, compute_forces
+from pdamper.dem.kernels.motion import prescribed_state, structure_acceleration
+from pdamper.dem.kernels.sampling import (
+    ledger_start,
+    ledger_step,
+    on_landing,
+    record_sample,
+    step_failed,
+)
+from pdamper.dem.kernels.search import needs_rebuild, rebuild
+from pdamper.dem.kernels.state import ERR_LIST, ERR_NONE, MOTION_STRUCTURE
+
+# Gear coefficients (Gear 1971; Allen & Tildesley, App. E): 6-value Nordsieck vector of a
+# second-order ODE, with 3/20 instead of 3/16 because the forces depend on the velocities.
+G0 = 3.0 / 20.0
+G1 = 251.0 / 360.0
+G3 = 11.0 / 18.0
+G4 = 1.0 / 6.0
+G5 = 1.0 / 60.0
+# 5-value Nordsieck vector of a first-order ODE (angular velocities)
+H0 = 251.0 / 720.0
+H2 = 11.0 / 12.0
+H3 = 1.0 / 3.0
+H4 = 1.0 / 24.0
+#: a Gear step whose error estimate exceeds REJECT x tolerance is repeated with a smaller step
+REJECT = 4.0
+#: PI step-size control exponents (Gustafsson 1991; Hairer & Wanner II, IV.2), order 5 + 1
+PI_KI = 0.7 / 6.0
+PI_KP = 0.4 / 6.0
+
+
+@njit(cache=True, fastmath=FASTMATH, error_model="numpy")
+def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord, lg,
+               rs, st, samples, snaps):
+    """Build the contact list, evaluate the forces at ``stp.t0``, fill the Nordsieck
+    vectors for the first step ``stp.dt``, start the ledger and record sample 0."""
+    t0 = stp.t0
+    h = stp.dt
+    n = pos.shape[0]
+    s = rs[0]
+    sta = st[0]
+    structure = drive.kind == MOTION_STRUCTURE
+    if structure:
+        zc = s.zc
+        vc = s.vc
+        ac = 0.0
+    else:
+        zc, vc, ac = prescribed_state(t0, drive)
+    if rebuild(pos, part.rad, zc, world, nbrs) < 0:
+        sta.error = ERR_LIST
+        return
+    sta.rebuilds += 1
+    want_ttc = stp.adaptive != 0 and stp.contact_bound != 0
+    r, ons = compute_forces(pos, vel, omg, zc, vc, 0.0, want_ttc, world, law, part, pt, nbrs,
+                            walls, work.frc, work.trq)
+    sta.onsets += ons
+    if structure:
+        ac = structure_acceleration(r.fz, zc, vc, drive)
+    nx = nord.x
+    nw = nord.w
+    nc = nord.c
+    frc = work.frc
+    trq = work.trq
+    mass = part.mass
+    inertia = part.inertia
+    for k in range(6):
+        nc[k] = 0.0
+        for i in range(n):
+            for a in range(3):
+                nx[k, i, a] = 0.0
+                if k < 5:
+                    nw[k, i, a] = 0.0
+    for i in range(n):
+        for a in range(3):
+            nx[0, i, a] = pos[i, a]
+            nx[1, i, a] = h * vel[i, a]
+            nx[2, i, a] = 0.5 * h * h * frc[i, a] / mass[i]
+            nw[0, i, a] = omg[i, a]
+            nw[1, i, a] = h * trq[i, a] / inertia[i]
+    nc[0] = zc
+    nc[1] = h * vc
+    nc[2] = 0.5 * h * h * ac
+    led = lg[0]
+    ledger_start(led, r)
+    e = record_sample(0, t0, pos, vel, omg, part, world, zc, vc, ac, r.eel, led, samples,
+                      snaps, stp.snap_every)
+    if e != ERR_NONE:
+        sta.error = e
+        sta.t_error = t0
+        return
+    s.t = t0
+    s.t_win = t0
+    s.zc = zc
+    s.vc = vc
+    s.ac = ac
+    s.h = h
+    s.h_des = h
+    s.le_prev = 0.0
+    s.v_design = stp.v_design
+    s.h_cap = stp.h_cap
+    s.dt_min = stp.dt_min
+    s.ttc = r.ttc
+    s.vmax = r.vmax
+    s.landing = 0
+    sta.dt_lo = 1e300
+    sta.dt_hi = 0.0
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def _undo_prediction(nx, nw, n):
+    """Inverse of the Pascal-triangle prediction: the (rescaled) Nordsieck vectors at the
+    start of the step."""
+    for i in range(n):
+        for a in range(3):
+            x5 = nx[5, i, a]
+            x4 = nx[4, i, a] - 5.0 * x5
+            x3 = nx[3, i, a] - 4.0 * x4 - 10.0 * x5
+            x2 = nx[2, i, a] - 3.0 * x3 - 6.0 * x4 - 10.0 * x5
+            x1 = nx[1, i, a] - 2.0 * x2 - 3.0 * x3 - 4.0 * x4 - 5.0 * x5
+            nx[0, i, a] -= x1 + x2 + x3 + x4 + x5
+            nx[1, i, a] = x1
+            nx[2, i, a] = x2
+            nx[3, i, a] = x3
+            nx[4, i, a] = x4
+            w4 = nw[4, i, a]
+            w3 = nw[3, i, a] - 4.0 * w4
+            w2 = nw[2, i, a] - 3.0 * w3 - 6.0 * w4
+            w1 = nw[1, i, a] - 2.0 * w2 - 3.0 * w3 - 4.0 * w4
+            nw[0, i, a] -= w1 + w2 + w3 + w4
+            nw[1, i, a] = w1
+            nw[2, i, a] = w2
+            nw[3, i, a] = w3
+
+
+@njit(cache=True, fastmath=FASTMATH, error_model="numpy")
+def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord,
+                 lg, rs, st, samples, snaps, j_stop):
+    """Integrate with the variable-step Gear predictor-corrector up to landing ``j_stop``
+    (see the module docstring)."""
+    # arrays out of their bundles once (an access inside the loops counts references)
+    frc = work.frc
+    trq = work.trq
+    vel_pred = work.vel_pred
+    omg_pred = work.omg_pred
+    inv_mass = part.inv_mass
+    rad = part.rad
+    pos_build = nbrs.pos_build
+    nx = nord.x
+    nw = nord.w
+    nc = nord.c
+    bc = nord.c_backup
+    h_act = nbrs.pairs.active
+    w_act = walls.active
+    olog = walls.onset_log
+    n = pos.shape[0]
+    t0 = stp.t0
+    half = stp.half
+    adaptive = stp.adaptive != 0
+    want_ttc = adaptive and stp.contact_bound != 0
+    skin = world.skin
+    tol = stp.tol
+    vscale = stp.v_scale
+    dtmin = rs[0].dt_min
+    dtmax = stp.dt_max
+    dtc = stp.dt_contact
+    hcap = rs[0].h_cap
+    structure = drive.kind == MOTION_STRUCTURE
+    s = rs[0]
+    sta = st[0]
+    led = lg[0]
+    zc = s.zc
+    vc = s.vc
+    ac = s.ac
+    t = s.t
+    t_win = s.t_win
+    h = s.h
+    h_des = s.h_des
+    le_prev = s.le_prev
+    ttc = s.ttc
+    vmax = s.vmax
+    j_land = s.landing
+    v_design = s.v_design
+    dtlo = sta.dt_lo
+    dthi = sta.dt_hi
+    steps = 0
+    onsets = 0
+    rebuilds = 0
+    rejects = 0
+    # flat views (3n components) of the Nordsieck vectors: the predictor vectorises
+    m3 = 3 * n
+    fx = nx.reshape((6, m3))
+    fw = nw.reshape((5, m3))
+    fpos = pos.reshape(m3)
+    fvev = vel_pred.reshape(m3)
+    fwev = omg_pred.reshape(m3)
+    fvel = vel.reshape(m3)
+    fomg = omg.reshape(m3)
+    ffrc = frc.reshape(m3)
+    ftrq = trq.reshape(m3)
+    # (fresh arrays: the compiler knows they alias nothing, the kicks vectorise)
+    im3 = np.empty(m3)
+    ii3 = np.empty(m3)
+    for i in range(n):
+        for a in range(3):
+            im3[3 * i + a] = part.inv_mass[i]
+            ii3[3 * i + a] = part.inv_inertia[i]
+    while j_land < j_stop:
+        t_land = t0 + (j_land + 1) * half
+        hn = h_des
+        if adaptive:
+            lim = ttc
+            if lim < dtc:
+                lim = dtc
+            if hn > lim:
+                hn = lim
+            if vmax > 0.0 and hn > 0.25 * skin / vmax:
+                hn = 0.25 * skin / vmax
+            if hn > dtmax:
+                hn = dtmax
+            if hn < dtmin:
+                hn = dtmin
+        landing = False
+        rem = t_land - t
+        if hn >= rem - 1e-9 * hn:
+            hn = rem
+            landing = True
+        elif 2.0 * hn > rem:
+            # split what is left evenly: no tiny step before the landing (a tiny step would
+            # amplify the noise of the higher Nordsieck derivatives on the next rescaling)
+            hn = 0.5 * rem
+        # ---- rescale (Nordsieck, ratio^k) and predict (Pascal triangle): one pass
+        q1 = hn / h
+        q2 = q1 * q1
+        q3 = q2 * q1
+        q4 = q3 * q1
+        q5 = q4 * q1
+        h = hn
+        # friction cap: never stiffer than at the step hcap (the Verlet step), so that the
+        # error control does not chase the viscous time scale of the stuck tanh law
+        cap_h = 0.5 / (h if h > hcap else hcap)
+        ih = 1.0 / h
+        for q in range(m3):
+            x0 = fx[0, q]
+            x1 = fx[1, q] * q1
+            x2 = fx[2, q] * q2
+            x3 = fx[3, q] * q3
+            x4 = fx[4, q] * q4
+            x5 = fx[5, q] * q5
+            w0 = fw[0, q]
+            w1 = fw[1, q] * q1
+            w2 = fw[2, q] * q2
+            w3 = fw[3, q] * q3
+            w4 = fw[4, q] * q4
+            p0 = x0 + x1 + x2 + x3 + x4 + x5
+            p1 = x1 + 2.0 * x2 + 3.0 * x3 + 4.0 * x4 + 5.0 * x5
+            fx[0, q] = p0
+            fx[1, q] = p1
+            fx[2, q] = x2 + 3.0 * x3 + 6.0 * x4 + 10.0 * x5
+            fx[3, q] = x3 + 4.0 * x4 + 10.0 * x5
+            fx[4, q] = x4 + 5.0 * x5
+            fx[5, q] = x5
+            fpos[q] = p0
+            fvev[q] = p1 * ih
+            p0 = w0 + w1 + w2 + w3 + w4
+            fw[0, q] = p0
+            fw[1, q] = w1 + 2.0 * w2 + 3.0 * w3 + 4.0 * w4
+            fw[2, q] = w2 + 3.0 * w3 + 6.0 * w4
+            fw[3, q] = w3 + 4.0 * w4
+            fw[4, q] = w4
+            fwev[q] = p0
+        c1 = nc[1] * q1
+        c2 = nc[2] * q2
+        c3 = nc[3] * q3
+        c4 = nc[4] * q4
+        c5 = nc[5] * q5
+        bc[0] = nc[0]
+        bc[1] = c1
+        bc[2] = c2
+        bc[3] = c3
+        bc[4] = c4
+        bc[5] = c5
+        nc[1] = c1
+        nc[2] = c2
+        nc[3] = c3
+        nc[4] = c4
+        nc[5] = c5
+        tn = t_land if landing else t + h
+        if structure:
+            c0, c1, c2, c3, c4, c5 = nc[0], nc[1], nc[2], nc[3], nc[4], nc[5]
+            nc[0] = c0 + c1 + c2 + c3 + c4 + c5
+            nc[1] = c1 + 2.0 * c2 + 3.0 * c3 + 4.0 * c4 + 5.0 * c5
+            nc[2] = c2 + 3.0 * c3 + 6.0 * c4 + 10.0 * c5
+            nc[3] = c3 + 4.0 * c4 + 10.0 * c5
+            nc[4] = c4 + 5.0 * c5
+            zc = nc[0]
+            vc = nc[1] / h
+        else:
+            zc, vc, ac = prescribed_state(tn, drive)
+        if needs_rebuild(pos, pos_build, skin):
+            if rebuild(pos, rad, zc, world, nbrs) < 0:
+                sta.error = ERR_LIST
+                sta.t_error = tn
+                break
+            rebuilds += 1
+        r, nons = compute_forces(pos, vel_pred, omg_pred, zc, vc, cap_h, want_ttc,
+                                 world, law, part, pt, nbrs, walls, frc, trq)
+        ttc = r.ttc
+        vmax = r.vmax
+        # ---- error estimate from the corrector difference (before the correction, so
+        # that a rejected step only has to undo the prediction)
+        # err = max_i |corr_i| / (h (v_scale + |v_i|)), compared squared: one square root
+        # per particle and no division
+        e2 = 0.0
+        hh = 0.5 * h * h
+        for i in range(n):
+            im = inv_mass[i]
+            c2 = 0.0
+            v2 = 0.0
+            for a in range(3):
+                corr = hh * frc[i, a] * im - nx[2, i, a]
+                c2 += corr * corr
+                va = (nx[1, i, a] + G1 * corr) * ih
+                v2 += va * va
+            den = vscale + math.sqrt(v2)
+            if c2 > e2 * den * den:
+                e2 = c2 / (den * den)
+        err = math.sqrt(e2) * ih
+        if structure:
+            ac = structure_acceleration(r.fz, zc, vc, drive)
+            corr = hh * ac - nc[2]
+            ec = abs(corr) / (h * (vscale + abs((nc[1] + G1 * corr) * ih)))
+            if ec > err:
+                err = ec
+        # ---- reject a step whose error is far beyond the tolerance: undo and retry
+        if (adaptive and err > REJECT * tol and h > 2.0 * dtmin and nons <= olog.shape[0]
+                and math.isfinite(err)):
+            for q in range(nons):
+                code = olog[q]
+                if code >= 0:
+                    h_act[code] = 0
+                else:
+                    code = -code - 1
+                    w_act[code // 6, code % 6] = 0
+            _undo_prediction(nx, nw, n)
+            for k in range(6):
+                nc[k] = bc[k]
+            fac = 0.9 * (tol / err) ** (1.0 / 6.0)
+            if fac < 0.1:
+                fac = 0.1
+            h_des = h * fac
+            if h_des < dtmin:
+                h_des = dtmin
+            rejects += 1
+            continue
+        # ---- correct (flat loop over the 3n components)
+        for q in range(m3):
+            corr = hh * ffrc[q] * im3[q] - fx[2, q]
+            fx[0, q] += G0 * corr
+            fx[1, q] += G1 * corr
+            fx[2, q] += corr
+            fx[3, q] += G3 * corr
+            fx[4, q] += G4 * corr
+            fx[5, q] += G5 * corr
+            fpos[q] = fx[0, q]
+            fvel[q] = fx[1, q] * ih
+            cw = h * ftrq[q] * ii3[q] - fw[1, q]
+            fw[0, q] += H0 * cw
+            fw[1, q] += cw
+            fw[2, q] += H2 * cw
+            fw[3, q] += H3 * cw
+            fw[4, q] += H4 * cw
+            fomg[q] = fw[0, q]
+        if structure:
+            corr = hh * ac - nc[2]
+            nc[0] += G0 * corr
+            nc[1] += G1 * corr
+            nc[2] += corr
+            nc[3] += G3 * corr
+            nc[4] += G4 * corr
+            nc[5] += G5 * corr
+            zc = nc[0]
+            vc = nc[1] * ih
+        onsets += nons
+        ledger_step(led, r, 0.5 * h)
+        t = tn
+        steps += 1
+        if h < dtlo:
+            dtlo = h
+        if h > dthi:
+            dthi = h
+        if step_failed(r, sta, t, stp.max_overlap, stp.v_limit):
+            break
+        # ---- step-size control
+        if adaptive:
+            # PI control (Gustafsson): exponents 0.7/6 and 0.4/6 on this and the last
+            # accepted error, log(err / tol) bounded to keep exp finite
+            le = math.log(err / tol) if err > 1e-30 * tol else -69.0
+            fac = 0.9 * math.exp(-PI_KI * le + PI_KP * le_prev)
+            le_prev = le
+            if fac > 2.0:
+                fac = 2.0
+            if fac < 0.3:
+                fac = 0.3
+            hnew = h * fac
+            if landing and hnew > h_des:
+                hnew = h_des
+            if hnew > dtmax:
+                hnew = dtmax
+            if hnew < dtmin:
+                hnew = dtmin
+            h_des = hnew
+        if landing:
+            j_land += 1
+            t_win, stop = on_landing(j_land, t, t_win, pos, vel, omg, part, world, zc, vc, ac,
+                                     r.eel, led, samples, snaps, stp, sta)
+            if stop:
+                break
+            if (stp.follow_impacts != 0 and j_land % 2 == 0 and hcap > 0.0
+                    and sta.max_impact > v_design):
+                # the friction cap and the smallest step follow the fastest impact, as the
+                # Verlet step does
+                v_design = 1.25 * sta.max_impact
+                hcap = stp.h_cap * (stp.v_design / v_design) ** 0.2
+                dtmin = stp.dt_min * (stp.v_design / v_design) ** 0.2
+    sta.steps += steps
+    sta.onsets += onsets
+    sta.rebuilds += rebuilds
+    sta.rejects += rejects
+    sta.dt_lo = dtlo
+    sta.dt_hi = dthi
+    s.t = t
+    s.t_win = t_win
+    s.zc = zc
+    s.vc = vc
+    s.ac = ac
+    s.h = h
+    s.h_des = h_des
+    s.le_prev = le_prev
+    s.ttc = ttc
+    s.vmax = vmax
+    s.landing = j_land
+    s.v_design = v_design
+    s.h_cap = hcap
+    s.dt_min = dtmin

@@ -1,0 +1,46 @@
+"""Container motion in the kernels: prescribed (harmonic, sampled table) or a 1-DOF
+structure driven by the particles (the paper's model 1)."""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from pdamper.dem.kernels.state import MOTION_TABLE
+
+
+@njit(cache=True, inline="always")
+def prescribed_state(t, drive):
+    """Prescribed container position, velocity, acceleration at time ``t`` [s].
+
+    Harmonic: ``z = z0 + X sin(W t)`` (rheonomic constraint, paper Sect. 3); table: linear
+    interpolation of the uniformly sampled ``(z, v, a)`` with step ``drive.table_dt``
+    from ``t = 0``, constant beyond its ends.
+    """
+    if drive.kind == MOTION_TABLE:
+        tz = drive.table_z
+        tv = drive.table_v
+        ta = drive.table_a
+        s = t / drive.table_dt
+        i = int(math.floor(s))
+        nt = tz.shape[0]
+        if i < 0:
+            return tz[0], tv[0], ta[0]
+        if i >= nt - 1:
+            return tz[nt - 1], tv[nt - 1], ta[nt - 1]
+        w = s - i
+        return (tz[i] + w * (tz[i + 1] - tz[i]), tv[i] + w * (tv[i + 1] - tv[i]),
+                ta[i] + w * (ta[i + 1] - ta[i]))
+    x = drive.amplitude
+    om = drive.omega
+    s = math.sin(om * t)
+    c = math.cos(om * t)
+    return drive.z0 + x * s, x * om * c, -x * om * om * s
+
+
+@njit(cache=True)
+def structure_acceleration(fz, zc, vc, drive):
+    """1-DOF structure (paper Eq. 23): ``M a = -K z - D v + F_z``, ``F_z`` the force of the
+    particles on the container [m/s^2]."""
+    return (fz - drive.stiffness * zc - drive.damping * vc) / drive.mass
