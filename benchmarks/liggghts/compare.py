@@ -90,6 +90,8 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--liggghts-cycles", type=int, default=1)
+    ap.add_argument("--kind", action="append", choices=[k[0] for k in KINDS],
+                    help="run only this kind of point (repeatable)")
     args = ap.parse_args(argv)
     if not available():
         sys.exit("liggghts not found (Debian: apt-get install liggghts)")
@@ -102,7 +104,7 @@ def main(argv=None) -> None:
     print(f"{'':<15} {'':>4} {'':>5} {'':>4} | {'s/point':>8} | {'[s]':>11} {'':>11} "
           f"{'[s]':>9} | {'':>6} | {'(whole process)':>15} {'':>6} |")
     for name, f, x, n in KINDS:
-        if args.quick and name not in QUICK:
+        if (args.quick and name not in QUICK) or (args.kind and name not in args.kind):
             continue
         p = pdamper_map(f, x, n)
         per_point = max(p["cpu"] - load, 1e-9) / p["points"]

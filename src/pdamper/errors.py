@@ -27,6 +27,10 @@ class InputError(PdamperError, ValueError):
         self.message = message
         super().__init__(f"{field}: {message}")
 
+    def __reduce__(self):
+        # pickled across processes (dask workers): rebuilt from its two arguments
+        return (type(self), (self.field, self.message))
+
 
 class SimulationError(PdamperError, RuntimeError):
     """A simulation could not be carried out (e.g. it became numerically unstable)."""
@@ -51,6 +55,10 @@ class OutputError(PdamperError):
         self.message = message
         super().__init__(f"{field}: {message}")
 
+    def __reduce__(self):
+        # pickled across processes (dask workers): rebuilt from its two arguments
+        return (type(self), (self.field, self.message))
+
 
 class Interrupted(BaseException):  # noqa: N818 - a signal, like KeyboardInterrupt
     """A signal (SIGINT, SIGTERM, SIGHUP) asked pdamper to stop.
@@ -68,6 +76,9 @@ class Interrupted(BaseException):  # noqa: N818 - a signal, like KeyboardInterru
     def __init__(self, signum: int):
         self.signum = int(signum)
         super().__init__(f"interrupted by signal {self.signum}")
+
+    def __reduce__(self):
+        return (type(self), (self.signum,))
 
 
 def check_range(

@@ -72,6 +72,25 @@ def test_dem_map_on_a_local_cluster(tmp_path, cli, fast_dem):
         assert ds.attrs["map_key"]
 
 
+def test_dem_map_spans_16_to_192_spheres(tmp_path, cli):
+    """Issue 7, item 1: a DEM map over the particle count of the benchmark damper runs at
+    every count with the map's default packing ("auto": random up to where random addition
+    jams, about 103 spheres here; the full container of 192 from the lattice)."""
+    out = tmp_path / "n.nc"
+    scenario = tmp_path / "s.toml"
+    scenario.write_text("[dem]\ncycles = 3\nskip_cycles = 1\nseed = 1\n")
+    code, _, err = cli("map", "--model", "dem", "--scenario", scenario, "--particles",
+                       "16:192:2", "--frequency", "20Hz", "--amplitude", "32mm", "--serial",
+                       "--out", out)
+    assert code == 0, err
+    with xr.open_dataset(out, engine="h5netcdf") as ds:
+        assert ds["particles"].values.tolist() == [16, 192]
+        assert (ds["status"] == 0).all(), ds["error"].values
+        assert ds["random_packing"].values.ravel().tolist() == [1, 0]
+        assert ds.attrs["packing"] == "auto"
+        assert (ds["energy_balance_error"] < 0.01).all()
+
+
 def test_dem_map_resumes_from_its_partial_points(tmp_path, cli, fast_dem):
     """Lose two of four finished points: the rerun computes those two only and ends with
     the same map (wall times aside, which are measurements)."""

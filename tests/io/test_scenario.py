@@ -141,7 +141,7 @@ def test_level2_keys_of_issue_9(tmp_path):
     grids, a particle-count axis, the case study's DEM grid and the maps' packing."""
     s = load_scenario(None)
     assert s.dem.cycles == "auto" and s.dem.max_cycles == 60
-    assert s.map_particles() is None and s.map_model("dem").packing == "random"
+    assert s.map_particles() is None and s.map_model("dem").packing == "auto"
     assert s.model("dem").packing == "lattice"  # single runs and Level III: the lattice
     p = tmp_path / "s.toml"
     p.write_text('[dem]\ncycles = 8\nwindow_cycles = 2\n[map]\nparticles = "log:16:192:4"\n'

@@ -58,6 +58,19 @@ def test_truncate_result_keeps_whole_cycles(six_cycles):
         six_cycles.complex_power(1, 3).loss_factor)
 
 
+def test_auto_packing_is_random_where_every_sphere_can_be_placed_at_random():
+    """Random sequential addition jams near 0.35 solid fraction (~103 spheres in the
+    benchmark box): "auto" starts denser beds from the lattice, "random" refuses them."""
+    assert DEMDamper(PAPER_DAMPER, packing="auto", seed=1).initial_packing() == "random"
+    full = PAPER_DAMPER.with_count(192)
+    assert DEMDamper(full, packing="auto", seed=1).initial_packing() == "lattice"
+    assert DEMDamper(full, packing="lattice").initial_packing() == "lattice"
+    with pytest.raises(InputError, match="particles.count"):
+        DEMDamper(full, packing="random", seed=1).initial_packing()
+    with pytest.raises(InputError, match="dem.packing"):
+        DEMDamper(PAPER_DAMPER, packing="hexagonal")
+
+
 def test_early_stop_ends_at_the_first_whole_cycle_that_satisfies_it(six_cycles):
     """The chunked engine asks ``stop`` after every whole cycle: a run stopped at cycle 3 is
     the first three cycles of the six-cycle run, sample for sample (what cycles="auto"

@@ -47,6 +47,7 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "energy_balance_error": ("relative closure error of the energy ledger", "1"),
     "max_overlap_ratio": ("largest contact overlap / particle radius", "1"),
     "max_impact_velocity": ("fastest normal impact velocity of the run", "m s-1"),
+    "random_packing": ("the run started from a random packing (1) or the lattice (0)", "1"),
     "cycles": ("excitation cycles simulated", "1"),
     "first_cycle": ("first cycle of the averaged window (1-based)", "1"),
     "last_cycle": ("last cycle of the averaged window (1-based)", "1"),

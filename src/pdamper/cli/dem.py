@@ -59,7 +59,8 @@ def dem(
     seed: Annotated[int | None, typer.Option("--seed",
                     help="Seed of the random packing (recorded always).")] = None,
     packing: Annotated[str | None, typer.Option("--packing",
-                       help="lattice (the paper's 4x4 layers) or random.")] = None,
+                       help="lattice (the paper's 4x4 layers), random, or auto (random where "
+                       "every sphere fits at random, else lattice).")] = None,
     sample_rate: Annotated[str | None, typer.Option("--sample-rate",
                            help="Sampling rate of the time series, e.g. '4 kHz'.")] = None,
     safety: Annotated[float | None, typer.Option("--safety",

@@ -180,10 +180,12 @@ def _grid(unit: str):
 #: minutes on two cores; the paper's 14 x 24 grid is ``pdamper map --model dem``).
 CASE_STUDY_DEM_FREQUENCY = "4Hz:20Hz:5"
 CASE_STUDY_DEM_AMPLITUDE = "log:2mm:128mm:7"
-#: Initial packing of the DEM runs of a map: random. The paper's ideal lattice bed moves in
-#: an exact mirror symmetry for 10 to more than 60 cycles, a state of the idealisation that
-#: a map cell must not show (docs/fields.md); a random bed is steady after ~14 cycles.
-MAP_DEM_PACKING = "random"
+#: Initial packing of the DEM runs of a map: random where every sphere can be placed at
+#: random ("auto"; denser beds start from the lattice, where random addition jams). The
+#: paper's ideal lattice bed moves in an exact mirror symmetry for 10 to more than 60 cycles,
+#: a state of the idealisation that a map cell must not show (docs/fields.md); a random bed
+#: is steady after ~14 cycles.
+MAP_DEM_PACKING = "auto"
 
 
 class MapSpec(_Section):
@@ -803,8 +805,9 @@ amplitude = "{s.map.amplitude}"
 # particles = "16:96:6"     # a particle-count axis (default: the one count of [particles])
 dem_frequency = "{s.map.dem_frequency}"      # grid of the DEM map in "pdamper paper"
 dem_amplitude = "{s.map.dem_amplitude}"
-dem_packing = "{s.map.dem_packing}"         # initial packing of a map's DEM runs ("lattice",
-                            # "random"; the lattice's symmetric states are artefacts)
+dem_packing = "{s.map.dem_packing}"           # initial packing of a map's DEM runs ("lattice",
+                            # "random", "auto": random where it fits, else the lattice;
+                            # the lattice's symmetric states are artefacts)
 
 [dem]                       # options of the DEM model ("pdamper dem", "--model dem")
 integrator = "{dem.integrator}"         # "gear" (variable step, the paper's) or "verlet"
@@ -821,7 +824,7 @@ steady_atol = {dem.steady_atol}
 # restitution_pw = {dem.restitution_pw}     # constant sphere-wall COR (default; or [restitution])
 damping_model = "{dem.damping_model}"     # damping law of the normal force: {_MODELS}
 # min_impact_velocity = "0.01 m/s"  # onset-speed floor of the exact/gonthier damping
-packing = "{dem.packing}"         # "lattice" (the paper's 4 x 4 layers) or "random"
+packing = "{dem.packing}"         # "lattice" (the paper's 4 x 4 layers), "random" or "auto"
 seed = {dem.seed}                    # seed of the random packing (recorded always)
 safety = {dem.safety}               # time step / Hertz contact time
 sample_rate = "{q(dem.sample_rate, 'Hz')}"     # of the force and container series

@@ -49,8 +49,12 @@ DEFAULT_MAX_CYCLES = 60
 #: Samples per second of the force and container series of a Level II run [Hz].
 DEFAULT_SAMPLE_RATE = 4000.0
 
-#: Initial packings: the paper's square-lattice layers, or random (seeded).
-PACKINGS = ("lattice", "random")
+#: Initial packings: the paper's square-lattice layers, random (seeded), or "auto": random
+#: where random sequential addition can place every sphere, else the lattice. Random
+#: addition jams near a solid fraction of 0.35 (about 103 spheres in the benchmark box, whose
+#: lattice holds 192), so a denser bed can only start from the lattice: "auto" lets a map
+#: or a particle-count sweep span 16-192 spheres; each run records the packing it used.
+PACKINGS = ("lattice", "random", "auto")
 
 _STEADY = SteadyStateCriterion()
 #: Fewest cycles in each half of an averaged window whose motion modes must agree.
@@ -81,12 +85,15 @@ class SteadyRun:
         The motion mode over the same window.
     power
         :class:`~pdamper.analysis.complex_power.ComplexPowerResult` over the window.
+    packing
+        The initial packing the run started from (``"lattice"`` or ``"random"``).
     """
 
     result: object
     stationarity: Stationarity
     motion: ModeClassification
     power: object
+    packing: str = "lattice"
 
     @property
     def skip_cycles(self) -> int:
@@ -136,7 +143,9 @@ class DEMDamper(DamperModel):
         The steady-state criterion: ``steady_windows`` windows of ``window_cycles`` cycles
         whose loss factors agree within ``max(steady_rtol |eta|, steady_atol)``.
     packing, seed
-        ``"lattice"`` (the paper's 4 x 4 layers) or ``"random"`` (uses ``seed``).
+        ``"lattice"`` (the paper's 4 x 4 layers), ``"random"`` (uses ``seed``) or ``"auto"``
+        (random where every sphere can be placed at random, else the lattice:
+        :meth:`initial_packing`).
     sample_rate
         Samples per second of the force and container time series [Hz].
     snapshot_rate
@@ -239,20 +248,39 @@ class DEMDamper(DamperModel):
     # ------------------------------------------------------------------ set-up
     def engine(self, motion):
         """The :class:`pdamper.dem.DEMEngine` of this damper under ``motion``."""
-        from pdamper.dem import Container, DEMEngine, ParticleSet
+        from pdamper.dem import Container, DEMEngine
+
+        return self._engine(self._particles()[1], motion)
+
+    def _engine(self, particles, motion):
+        from pdamper.dem import Container, DEMEngine
+
+        d = self.damper
+        return DEMEngine(particles, Container(d.box, d.wall_material, d.container_mass),
+                         self.contact, motion, integrator=self.integrator, seed=self.seed,
+                         safety=self.safety, **self.options)
+
+    def initial_packing(self) -> str:
+        """The packing the runs start from: ``"lattice"`` or ``"random"`` (``"auto"``
+        resolved for this damper and seed)."""
+        return self._particles()[0]
+
+    def _particles(self):
+        from pdamper.dem import ParticleSet
 
         d = self.damper
         if d.count < 1:
             raise InputError("particles.count", "the DEM model needs at least 1 particle")
-        if self.packing == "lattice":
-            particles = ParticleSet.lattice(d.count, d.box, d.particle_radius,
-                                            d.particle_material)
-        else:
-            particles = ParticleSet.random(d.count, d.box, d.particle_radius,
-                                           d.particle_material, seed=self.seed)
-        return DEMEngine(particles, Container(d.box, d.wall_material, d.container_mass),
-                         self.contact, motion, integrator=self.integrator, seed=self.seed,
-                         safety=self.safety, **self.options)
+        if self.packing in ("random", "auto"):
+            try:
+                return "random", ParticleSet.random(d.count, d.box, d.particle_radius,
+                                                    d.particle_material, seed=self.seed)
+            except InputError as exc:
+                if self.packing == "random" or exc.field != "particles.count":
+                    raise
+                logger.info("packing auto: %s; starting from the lattice", exc.message)
+        return "lattice", ParticleSet.lattice(d.count, d.box, d.particle_radius,
+                                              d.particle_material)
 
     # ------------------------------------------------------------------ Level II
     def run(self, frequency: float, amplitude: float):
@@ -277,7 +305,8 @@ class DEMDamper(DamperModel):
             drivers=(("dem.max_cycles" if self.run_until_steady else "dem.cycles", cycles),
                      ("frequency", 1.0 / f, True), ("dem.sample_rate", self.sample_rate / f))),
             force=True)
-        engine = self.engine(HarmonicMotion(amplitude=x, frequency=f))
+        packing, particles = self._particles()
+        engine = self._engine(particles, HarmonicMotion(amplitude=x, frequency=f))
         if self.run_until_steady:
             need = self.steady.min_cycles
 
@@ -293,7 +322,7 @@ class DEMDamper(DamperModel):
                              snapshot_rate=self.snapshot_rate)
         st, motion = self.assess(res)
         power = res.complex_power(st.first_cycle - 1, st.last_cycle - st.first_cycle + 1)
-        return SteadyRun(res, st, motion, power)
+        return SteadyRun(res, st, motion, power, packing)
 
     def assess(self, result) -> tuple[Stationarity, ModeClassification]:
         """Stationarity and motion mode of the run ``result`` so far.
@@ -379,7 +408,8 @@ def point_diagnostics(run: SteadyRun) -> dict:
     """The per-point diagnostics of a Level II run, as plain values (SI units).
 
     ``wall_seconds`` [s], ``steps``, ``energy_balance_error`` [-], ``max_overlap_ratio`` [-]
-    (largest overlap / radius), ``max_impact_velocity`` [m/s] (fastest impact), ``cycles``
+    (largest overlap / radius), ``max_impact_velocity`` [m/s] (fastest impact), ``random_packing`` (1: the run
+    started from a random packing, 0: from the lattice), ``cycles``
     (simulated), ``first_cycle``/``last_cycle`` (the averaged window), ``loss_factor_stderr``, ``loss_factor_spread``, ``loss_factor_drift``
     [-] (:class:`~pdamper.analysis.stationarity.Stationarity`), ``symmetric_state`` (0/1),
     ``period`` [cycles], ``periodicity_residual``, ``lift`` [m], ``contact_fraction``,
@@ -393,6 +423,7 @@ def point_diagnostics(run: SteadyRun) -> dict:
         "energy_balance_error": float(res.energy_balance_error()),
         "max_overlap_ratio": float(res.max_overlap_ratio),
         "max_impact_velocity": float(res.max_impact_velocity),
+        "random_packing": int(run.packing == "random"),
         "cycles": int(st.cycles),
         "first_cycle": int(st.first_cycle),
         "last_cycle": int(st.last_cycle),
