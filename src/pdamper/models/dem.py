@@ -248,7 +248,6 @@ class DEMDamper(DamperModel):
     # ------------------------------------------------------------------ set-up
     def engine(self, motion):
         """The :class:`pdamper.dem.DEMEngine` of this damper under ``motion``."""
-        from pdamper.dem import Container, DEMEngine
 
         return self._engine(self._particles()[1], motion)
 
@@ -408,9 +407,10 @@ def point_diagnostics(run: SteadyRun) -> dict:
     """The per-point diagnostics of a Level II run, as plain values (SI units).
 
     ``wall_seconds`` [s], ``steps``, ``energy_balance_error`` [-], ``max_overlap_ratio`` [-]
-    (largest overlap / radius), ``max_impact_velocity`` [m/s] (fastest impact), ``random_packing`` (1: the run
-    started from a random packing, 0: from the lattice), ``cycles``
-    (simulated), ``first_cycle``/``last_cycle`` (the averaged window), ``loss_factor_stderr``, ``loss_factor_spread``, ``loss_factor_drift``
+    (largest overlap / radius), ``max_impact_velocity`` [m/s] (fastest impact),
+    ``random_packing`` (1: the run started from a random packing, 0: from the lattice),
+    ``cycles`` (simulated), ``first_cycle``/``last_cycle`` (the averaged window),
+    ``loss_factor_stderr``, ``loss_factor_spread``, ``loss_factor_drift``
     [-] (:class:`~pdamper.analysis.stationarity.Stationarity`), ``symmetric_state`` (0/1),
     ``period`` [cycles], ``periodicity_residual``, ``lift`` [m], ``contact_fraction``,
     ``lid_contacts_per_cycle`` [-] (:class:`~pdamper.analysis.dem_modes.ModeClassification`),
