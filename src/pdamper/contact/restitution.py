@@ -78,6 +78,19 @@ def _check_cor(field_name: str, e) -> None:
         check_range(field_name, x, low=0.0, high=1.0, low_inclusive=False)
 
 
+def _check_table(velocity, restitution) -> tuple[np.ndarray, np.ndarray]:
+    """A COR table as arrays: strictly increasing velocities >= 0 [m/s], one COR in (0, 1]
+    each."""
+    v = np.asarray(velocity, float)
+    e = np.asarray(restitution, float)
+    if v.ndim != 1 or v.shape != e.shape or v.size < 1:
+        raise InputError("restitution.velocity", "needs as many velocities as COR values (>= 1)")
+    if np.any(~np.isfinite(v)) or np.any(v < 0) or np.any(np.diff(v) <= 0):
+        raise InputError("restitution.velocity", "must be finite, >= 0 m/s and strictly increasing")
+    _check_cor("restitution.restitution", e)
+    return v, e
+
+
 @dataclass(frozen=True)
 class ConstantRestitution(RestitutionCurve):
     """The same COR ``e`` [-] at every impact velocity."""
@@ -106,13 +119,7 @@ class TabulatedRestitution(RestitutionCurve):
     restitution: tuple[float, ...]
 
     def __post_init__(self) -> None:
-        v = np.asarray(self.velocity, float)
-        e = np.asarray(self.restitution, float)
-        if v.ndim != 1 or v.shape != e.shape or v.size < 1:
-            raise InputError("restitution.velocity", "needs as many velocities as COR values (>= 1)")
-        if np.any(~np.isfinite(v)) or np.any(v < 0) or np.any(np.diff(v) <= 0):
-            raise InputError("restitution.velocity", "must be finite, >= 0 m/s and strictly increasing")
-        _check_cor("restitution.restitution", e)
+        _check_table(self.velocity, self.restitution)
 
     def tabulate(self) -> tuple[np.ndarray, np.ndarray]:
         return np.asarray(self.velocity, float), np.asarray(self.restitution, float)
@@ -348,13 +355,7 @@ class MeasuredRestitution(SmoothRestitution):
     source: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
-        v = np.asarray(self.velocity, float)
-        e = np.asarray(self.restitution, float)
-        if v.ndim != 1 or v.shape != e.shape or v.size < 1:
-            raise InputError("restitution.velocity", "needs as many velocities as COR values (>= 1)")
-        if np.any(~np.isfinite(v)) or np.any(v < 0) or np.any(np.diff(v) <= 0):
-            raise InputError("restitution.velocity", "must be finite, >= 0 m/s and strictly increasing")
-        _check_cor("restitution.restitution", e)
+        v, _ = _check_table(self.velocity, self.restitution)
         if self.std is not None:
             s = np.asarray(self.std, float)
             if s.shape != v.shape or np.any(~np.isfinite(s)) or np.any(s < 0):

@@ -120,6 +120,17 @@ def close_window(k, t, t_win, lg, force):
 
 
 @njit(cache=True, inline="always")
+def _remember(lg, r):
+    """Keep the rates ``r`` of this evaluation for the next trapezoid."""
+    lg.p_dn = r.dn
+    lg.p_df = r.df
+    lg.p_wc = r.wc
+    lg.p_fx = r.fx
+    lg.p_fy = r.fy
+    lg.p_fz = r.fz
+
+
+@njit(cache=True, inline="always")
 def ledger_start(lg, r):
     """Zero the running integrals and remember the rates ``r`` of the first evaluation."""
     lg.dn = 0.0
@@ -128,12 +139,7 @@ def ledger_start(lg, r):
     lg.imp_x = 0.0
     lg.imp_y = 0.0
     lg.imp_z = 0.0
-    lg.p_dn = r.dn
-    lg.p_df = r.df
-    lg.p_wc = r.wc
-    lg.p_fx = r.fx
-    lg.p_fy = r.fy
-    lg.p_fz = r.fz
+    _remember(lg, r)
 
 
 @njit(cache=True, inline="always")
@@ -146,12 +152,7 @@ def ledger_step(lg, r, hw):
     lg.imp_x += hw * (lg.p_fx + r.fx)
     lg.imp_y += hw * (lg.p_fy + r.fy)
     lg.imp_z += hw * (lg.p_fz + r.fz)
-    lg.p_dn = r.dn
-    lg.p_df = r.df
-    lg.p_wc = r.wc
-    lg.p_fx = r.fx
-    lg.p_fy = r.fy
-    lg.p_fz = r.fz
+    _remember(lg, r)
 
 
 @njit(cache=True, inline="always")
