@@ -77,7 +77,7 @@ def main() -> None:
         m2 = EffectiveFieldDamper(PAPER_DAMPER, args.dem_map, extrapolation="clamp")
         t, r = best_of(lambda: run(s, m2), args.repeat)
         rows.append(("model 2, fields (DEM map)", 32, t, r.amplitude_at(0.75)))
-    for integrator, counts in (("gear", (32, 176)), ("verlet", (32,))):
+    for integrator, counts in (("gear", (32, 176)), ("auto", (32, 176)), ("verlet", (32,))):
         for n in counts:
             m1 = DEMDamper(PAPER_DAMPER.with_count(n), integrator=integrator)
             t0 = time.perf_counter()  # a short run: compile or load the numba cache

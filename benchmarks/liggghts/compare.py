@@ -23,6 +23,8 @@ per-point cost is the map's less its start-up (measured apart and printed first:
 map process of one cheap point), which a map pays once; LIGGGHTS' is its cost per step times
 the steps of one point.
 
+``--integrator`` sets pdamper's integrator (default the model's, Gear; ``auto`` hands a
+run over to velocity Verlet where Gear's steps are held by its stability limit).
 ``--packing`` sets pdamper's initial packing (default the deck's lattice; a map's default is
 ``auto``, random where it fits). Every pdamper run here does the paper's 8 cycles, as the
 deck; a map's default runs until steady (docs/fields.md), which changes the cycles, not the
@@ -86,9 +88,10 @@ def startup(packing: str) -> tuple[float, float, float]:
     return imp, load, mapped
 
 
-def pdamper_map(f, x_mm, n, packing: str, scenario: Path) -> dict:
+def pdamper_map(f, x_mm, n, packing: str, scenario: Path, integrator: str = "gear") -> dict:
     # like for like with the deck: the paper's 8 cycles (a map's default runs until steady)
-    scenario.write_text(f'[dem]\ncycles = {CYCLES}\n\n[map]\ndem_packing = "{packing}"\n')
+    scenario.write_text(f'[dem]\ncycles = {CYCLES}\nintegrator = "{integrator}"\n\n'
+                        f'[map]\ndem_packing = "{packing}"\n')
     cmd = [sys.executable, "-m", "pdamper", "map", "--model", "dem", "--particles", str(n),
            "--frequency", f"{0.9 * f:g}Hz:{f:g}Hz:3", "--scenario", str(scenario),
            "--amplitude", f"{0.9 * x_mm:g}mm:{x_mm:g}mm:3", "--serial", "--json"]
@@ -113,13 +116,16 @@ def main(argv=None) -> None:
     ap.add_argument("--packing", default="lattice", choices=["lattice", "random", "auto"],
                     help="pdamper's initial packing (the deck starts from the lattice; "
                     "LIGGGHTS' cost per step hardly depends on it)")
+    ap.add_argument("--integrator", default="gear", choices=["gear", "verlet", "auto"],
+                    help="pdamper's integrator (default gear, the model's default)")
     ap.add_argument("--kind", action="append", choices=[k[0] for k in KINDS],
                     help="run only this kind of point (repeatable)")
     args = ap.parse_args(argv)
     if not available():
         sys.exit("liggghts not found (Debian: apt-get install liggghts)")
     imp, load, mapped = startup(args.packing)
-    print(f"pdamper packing: {args.packing}, {CYCLES} cycles per point")
+    print(f"pdamper packing: {args.packing}, integrator: {args.integrator}, {CYCLES} cycles "
+          "per point")
     print(f"pdamper start-up (CPU s): import of the CLI and models {imp:.2f}, "
           f"import + numba cache load of the DEM kernels {load:.2f} (a `pdamper dem`), "
           f"a whole one-point map process {mapped:.2f} (a map's start-up)")
@@ -132,7 +138,7 @@ def main(argv=None) -> None:
         if (args.quick and name not in QUICK) or (args.kind and name not in args.kind):
             continue
         with tempfile.TemporaryDirectory() as tmp:
-            p = pdamper_map(f, x, n, args.packing, Path(tmp) / "s.toml")
+            p = pdamper_map(f, x, n, args.packing, Path(tmp) / "s.toml", args.integrator)
         per_point = max(p["cpu"] - mapped, 1e-9) / p["points"]
         dt, t_r = verlet_step(f, x, n)
         runs = []

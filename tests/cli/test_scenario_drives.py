@@ -119,6 +119,7 @@ def test_example_scenario_shows_the_dem_section(cli):
     code, out, _ = cli("example-scenario")
     assert code == 0 and "[dem]" in out
     for key in ("integrator", "cycles", "skip_cycles", "restitution_pp", "restitution_pw",
+                "error_estimate", "accuracy", "max_refinements",
                 "damping_model", "packing", "seed", "safety", "sample_rate", "snapshot_rate"):
         assert f"{key} = " in out, key
 

@@ -44,7 +44,9 @@ def dem(
     out: Annotated[str | None, typer.Option("--out",
                    help="NetCDF file for the time series.")] = None,
     integrator: Annotated[str | None, typer.Option("--integrator",
-                          help="gear (variable step, default) or verlet.")] = None,
+                          help="gear (variable step, default), verlet, or auto (gear, handing "
+                               "over to verlet where gear's steps are held by its stability "
+                               "limit: jammed beds).")] = None,
     skip_cycles: Annotated[int | None, typer.Option("--skip-cycles",
                            help="Cycles left out of the complex power.")] = None,
     friction: Annotated[float | None, typer.Option("--friction",
@@ -65,6 +67,13 @@ def dem(
                            help="Sampling rate of the time series, e.g. '4 kHz'.")] = None,
     safety: Annotated[float | None, typer.Option("--safety",
                       help="Time step / Hertz contact time.")] = None,
+    error_estimate: Annotated[bool | None, typer.Option(
+        "--error-estimate/--no-error-estimate",
+        help="Estimate the integration error of the loss factor and effective mass from a "
+             "refined companion run (about twice the cost); redo refined if it misses "
+             "--accuracy.")] = None,
+    accuracy: Annotated[float | None, typer.Option(
+        "--accuracy", help="Target of the error estimate, relative (default 0.01).")] = None,
     vtk: Annotated[str | None, typer.Option("--vtk",
                    help="Directory for ParaView snapshots (.vtp + .pvd); its parent must "
                    "exist.")] = None,
@@ -96,7 +105,8 @@ def dem(
               dem__integrator=integrator, dem__skip_cycles=skip_cycles,
               dem__restitution_pp=restitution_pp, dem__restitution_pw=restitution_pw,
               dem__damping_model=damping_model, dem__seed=seed, dem__packing=packing,
-              dem__sample_rate=sample_rate, dem__safety=safety, dem__snapshot_rate=snapshot_rate)
+              dem__sample_rate=sample_rate, dem__safety=safety, dem__snapshot_rate=snapshot_rate,
+              dem__error_estimate=error_estimate, dem__accuracy=accuracy)
     target = check_output(out)
     vtk_dir = check_output_directory(vtk, "vtk")
     if vtk is not None and sc.dem.snapshot_rate is None:  # option > scenario > VTK default
@@ -139,6 +149,18 @@ def dem(
                   "contact_time": "s", "ledger_per_cycle": "J", "max_impact_velocity": "m/s"},
         **meta,
     }
+    accuracy_line = ""
+    if model.error_estimate:
+        d = r.diagnostics
+        payload.update(loss_factor_error=float(d["loss_factor_error"].item()),
+                       effective_mass_ratio_error=float(d["effective_mass_ratio_error"].item()),
+                       accuracy_met=bool(d["accuracy_met"].item()),
+                       accuracy_refinements=int(d["accuracy_refinements"].item()))
+        accuracy_line = (
+            f"  integration error (estimate) eta +- {payload['loss_factor_error']:.2g}, "
+            f"m_eff/m_bed +- {payload['effective_mass_ratio_error']:.2g}: "
+            + ("within" if payload["accuracy_met"] else "NOT within")
+            + f" {100 * model.accuracy:g} % ({payload['accuracy_refinements']} refinements)\n")
     attrs = {"inputs": json.dumps(meta["inputs"]), "pdamper_version": meta["version"]}
     if target is not None:
         res.write_netcdf(target, attrs=attrs)
@@ -155,7 +177,8 @@ def dem(
         f"  motion mode                  {motion.mode.title} ({motion.reason})\n"
         f"  effective mass ratio         {float(r.effective_mass_ratio):.4g}\n"
         f"  dissipated energy per cycle  {float(r.dissipated_energy_per_cycle) * 1e3:.4g} mJ\n"
-        f"  energy ledger closes to      {res.energy_balance_error():.2e}\n"
+        + accuracy_line
+        + f"  energy ledger closes to      {res.energy_balance_error():.2e}\n"
         f"  largest overlap / radius     {res.max_overlap_ratio:.3g}\n"
         f"  fastest impact               {res.max_impact_velocity:.3g} m/s\n"
         f"  {res.steps} steps in {res.wall_seconds:.3g} s wall"

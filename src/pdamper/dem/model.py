@@ -18,8 +18,9 @@ from pdamper.errors import InputError, check_range
 from pdamper.materials import Material
 
 #: Integrators of :class:`pdamper.dem.DEMEngine`: variable-step fifth-order Gear (the
-#: paper's) and fixed-step velocity Verlet.
-INTEGRATORS = ("gear", "verlet")
+#: paper's), fixed-step velocity Verlet, and "auto": Gear that hands the run over to Verlet
+#: where Verlet is cheaper (``pdamper.dem.simulation.AUTO_COST_RATIO``).
+INTEGRATORS = ("gear", "verlet", "auto")
 #: Default safety factor: time step = safety x Hertz contact duration at the reference speed.
 DEFAULT_SAFETY = 0.02
 #: Default tolerance of the Gear integrator's local error estimate [-].

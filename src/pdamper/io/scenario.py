@@ -40,8 +40,10 @@ from pdamper.errors import InputError
 from pdamper.io.restitution import MODELS as COR_MODELS
 from pdamper.io.restitution import RestitutionSpec, resolve_files
 from pdamper.models.dem import (
+    DEFAULT_ACCURACY,
     DEFAULT_CYCLES,
     DEFAULT_MAX_CYCLES,
+    DEFAULT_MAX_REFINEMENTS,
     DEFAULT_SAMPLE_RATE,
     DEFAULT_SKIP_CYCLES,
     PAPER_CYCLES,
@@ -244,6 +246,9 @@ class DEMSpec(_Section):
     safety: float = DEFAULT_SAFETY
     sample_rate: Frequency = DEFAULT_SAMPLE_RATE
     snapshot_rate: Frequency | None = None
+    error_estimate: bool = False
+    accuracy: Annotated[float, Field(gt=0.0, le=1.0)] = DEFAULT_ACCURACY
+    max_refinements: Count = DEFAULT_MAX_REFINEMENTS
 
     def options(self) -> dict:
         """Keyword arguments of :class:`pdamper.models.DEMDamper`."""
@@ -810,7 +815,8 @@ dem_packing = "{s.map.dem_packing}"           # initial packing of a map's DEM r
                             # the lattice's symmetric states are artefacts)
 
 [dem]                       # options of the DEM model ("pdamper dem", "--model dem")
-integrator = "{dem.integrator}"         # "gear" (variable step, the paper's) or "verlet"
+integrator = "{dem.integrator}"         # "gear" (variable step, the paper's), "verlet", or "auto"
+                            # (gear, handing over to verlet in jammed beds; docs/dem.md)
 cycles = "{dem.cycles}"               # Level II: "auto" runs until the loss factor is steady;
                             # a number runs that many cycles (the paper: {PAPER_CYCLES})
 skip_cycles = {dem.skip_cycles}             # cycles never averaged (complex power, Eqs. 1-4)
@@ -829,6 +835,10 @@ seed = {dem.seed}                    # seed of the random packing (recorded alwa
 safety = {dem.safety}               # time step / Hertz contact time
 sample_rate = "{q(dem.sample_rate, 'Hz')}"     # of the force and container series
 # snapshot_rate = "200 Hz"  # particle snapshots per second (default: first and last)
+error_estimate = {str(dem.error_estimate).lower()}     # estimate the integration error of eta and m_eff
+                            # from a refined companion run (~2x the cost; docs/dem.md)
+accuracy = {dem.accuracy}             # its target (relative); a run missing it is redone
+max_refinements = {dem.max_refinements}         # refined, at most this many times
 
 [restitution]               # COR model of each pair (Level I, docs/restitution.md), instead of the
                             # [dem] constants above (a pair given in both places is an error)

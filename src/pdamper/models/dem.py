@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,7 +29,7 @@ from pdamper.analysis.stationarity import (
 )
 from pdamper.contact.law import DEFAULT_MIN_IMPACT_VELOCITY, ContactParameters
 from pdamper.damper import ParticleDamper
-from pdamper.dem.model import DEFAULT_SAFETY, INTEGRATORS
+from pdamper.dem.model import DEFAULT_GEAR_TOLERANCE, DEFAULT_SAFETY, INTEGRATORS
 from pdamper.errors import InputError, check_range
 from pdamper.models.base import DamperModel, DamperResponse
 
@@ -55,6 +56,24 @@ DEFAULT_SAMPLE_RATE = 4000.0
 #: lattice holds 192), so a denser bed can only start from the lattice: "auto" lets a map
 #: or a particle-count sweep span 16-192 spheres; each run records the packing it used.
 PACKINGS = ("lattice", "random", "auto")
+
+#: Accuracy the error estimate is held to by default: 1 % of the loss factor (relative to
+#: ``max(|eta|, LOSS_FACTOR_FLOOR)``) and of the effective mass ratio (issue 7, item 2).
+DEFAULT_ACCURACY = 0.01
+#: Loss factor below which the accuracy is absolute: solid-like points have eta ~ 0 [-].
+LOSS_FACTOR_FLOOR = 0.05
+#: The refined companion run of the error estimate: Gear's tolerance divided by 10 (its
+#: error-per-unit-step control makes the global error proportional to the tolerance), or
+#: Verlet's safety factor halved (second order: a quarter of the error); "auto" refines the
+#: integrator that ran most of the excitation (Verlet once Gear handed over).
+REFINEMENT = {"gear": ("gear_tolerance", 10.0), "verlet": ("safety", 2.0)}
+#: Error estimate = |default - refined| / (1 - ERROR_REDUCTION). The asymptotic reductions
+#: are 0.1 (Gear) and 0.25 (Verlet); 0.5 assumes only that the refined run's error is at
+#: most half the default's, which holds outside the asymptotic range too (the verification
+#: table of docs/dem.md checks the bound against converged runs).
+ERROR_REDUCTION = 0.5
+#: Default number of times a run whose estimate misses the target is redone refined.
+DEFAULT_MAX_REFINEMENTS = 2
 
 _STEADY = SteadyStateCriterion()
 #: Fewest cycles in each half of an averaged window whose motion modes must agree.
@@ -87,6 +106,8 @@ class SteadyRun:
         :class:`~pdamper.analysis.complex_power.ComplexPowerResult` over the window.
     packing
         The initial packing the run started from (``"lattice"`` or ``"random"``).
+    accuracy
+        The :class:`AccuracyEstimate` (None unless the model estimates it).
     """
 
     result: object
@@ -94,6 +115,7 @@ class SteadyRun:
     motion: ModeClassification
     power: object
     packing: str = "lattice"
+    accuracy: AccuracyEstimate | None = None
 
     @property
     def skip_cycles(self) -> int:
@@ -104,6 +126,60 @@ class SteadyRun:
     def window_cycles(self) -> int:
         """Cycles in the averaged window [-]."""
         return self.stationarity.last_cycle - self.stationarity.first_cycle + 1
+
+
+def error_bound(value: float, refined: float, reduction: float = ERROR_REDUCTION) -> float:
+    """Bound of the integration error of ``value`` from a refined run's ``refined``:
+    ``|value - refined| / (1 - reduction)``, valid where the refined run's error is at most
+    ``reduction`` times the default's (:data:`ERROR_REDUCTION`).
+
+    >>> error_bound(1.02, 1.01)
+    0.02...
+    """
+    if not 0.0 <= reduction < 1.0:
+        raise InputError("reduction", f"must be in [0, 1), got {reduction!r}")
+    return abs(value - refined) / (1.0 - reduction)
+
+
+@dataclass(frozen=True)
+class AccuracyEstimate:
+    """Estimated integration error of a Level II DEM run, from a refined companion run over
+    the same cycles and averaged window (Richardson's idea: the difference of two runs whose
+    errors differ by a known factor bounds the larger error, :func:`error_bound`).
+
+    Attributes
+    ----------
+    loss_factor_error, effective_mass_ratio_error
+        Bounds of the absolute errors of eta and m_eff / m_bed [-].
+    relative_error
+        The larger of ``loss_factor_error / max(|eta|, LOSS_FACTOR_FLOOR)`` and
+        ``effective_mass_ratio_error / |m_eff / m_bed|`` [-].
+    target
+        The accuracy asked for [-]; ``met``: ``relative_error <= target``.
+    setting, value, reference
+        The refined setting (``"gear_tolerance"`` or ``"safety"``), its value in the
+        reported run and in the companion run [-].
+    refinements
+        How many times the run was redone refined because the estimate missed the target.
+    reference_loss_factor, reference_effective_mass_ratio
+        The companion run's values [-].
+
+    Where a 1e-9 m move of the spheres changes the result by more than the target (a chaotic
+    bed, docs/dem.md), the two runs differ by that sensitivity and the estimate says so: such
+    a point has no answer to the target from one run, whatever the step.
+    """
+
+    loss_factor_error: float
+    effective_mass_ratio_error: float
+    relative_error: float
+    target: float
+    met: bool
+    setting: str
+    value: float
+    reference: float
+    refinements: int
+    reference_loss_factor: float
+    reference_effective_mass_ratio: float
 
 
 def truncate_result(result, cycles: int):
@@ -157,6 +233,15 @@ class DEMDamper(DamperModel):
         [m/s] (default 0.01; see docs/dem.md on rattling columns).
     safety
         Time step / Hertz contact time (see :class:`pdamper.dem.DEMEngine`) [-].
+    error_estimate
+        Estimate the integration error of eta and m_eff / m_bed of every Level II run from a
+        refined companion run over the same cycles (:class:`AccuracyEstimate`; about twice
+        the cost). A run whose estimate misses ``accuracy`` is redone refined, at most
+        ``max_refinements`` times; the reported values are those of the last run.
+    accuracy
+        Target of the estimate, relative [-] (default 0.01).
+    max_refinements
+        Upper bound of the refinements [-].
     options
         Further keyword arguments of :class:`pdamper.dem.DEMEngine` (``safety``, ...).
 
@@ -180,7 +265,9 @@ class DEMDamper(DamperModel):
                  window_cycles: int = _STEADY.window_cycles,
                  steady_windows: int = _STEADY.windows, steady_rtol: float = _STEADY.rtol,
                  steady_atol: float = _STEADY.atol,
-                 min_impact_velocity: float = DEFAULT_MIN_IMPACT_VELOCITY, **options):
+                 min_impact_velocity: float = DEFAULT_MIN_IMPACT_VELOCITY,
+                 error_estimate: bool = False, accuracy: float = DEFAULT_ACCURACY,
+                 max_refinements: int = DEFAULT_MAX_REFINEMENTS, **options):
         super().__init__(damper)
         if integrator not in INTEGRATORS:
             raise InputError("dem.integrator", f"must be one of {', '.join(INTEGRATORS)}, "
@@ -233,6 +320,12 @@ class DEMDamper(DamperModel):
         except InputError as exc:  # name the field as the [dem] section does
             raise InputError(f"dem.{exc.field}", exc.message) from None
         self.safety = check_range("dem.safety", safety, low=0.0, high=1.0, low_inclusive=False)
+        if not isinstance(error_estimate, bool | np.bool_):
+            raise InputError("dem.error_estimate", f"must be true or false, got {error_estimate!r}")
+        self.error_estimate = bool(error_estimate)
+        self.accuracy = check_range("dem.accuracy", accuracy, low=0.0, high=1.0,
+                                    low_inclusive=False)
+        self.max_refinements = _whole("dem.max_refinements", max_refinements, 0)
         self.options = options
 
     @property
@@ -251,13 +344,16 @@ class DEMDamper(DamperModel):
 
         return self._engine(self._particles()[1], motion)
 
-    def _engine(self, particles, motion):
+    def _engine(self, particles, motion, **override):
+        """The engine; ``override``: engine options that replace the model's (the refined
+        companion runs of the error estimate)."""
         from pdamper.dem import Container, DEMEngine
 
         d = self.damper
+        options = {"safety": self.safety, **self.options, **override}
         return DEMEngine(particles, Container(d.box, d.wall_material, d.container_mass),
                          self.contact, motion, integrator=self.integrator, seed=self.seed,
-                         safety=self.safety, **self.options)
+                         **options)
 
     def initial_packing(self) -> str:
         """The packing the runs start from: ``"lattice"`` or ``"random"`` (``"auto"``
@@ -321,7 +417,47 @@ class DEMDamper(DamperModel):
                              snapshot_rate=self.snapshot_rate)
         st, motion = self.assess(res)
         power = res.complex_power(st.first_cycle - 1, st.last_cycle - st.first_cycle + 1)
-        return SteadyRun(res, st, motion, power, packing)
+        run = SteadyRun(res, st, motion, power, packing)
+        return self._estimate(run, particles, f, x) if self.error_estimate else run
+
+    def _estimate(self, run: SteadyRun, particles, f: float, x: float) -> SteadyRun:
+        """:class:`AccuracyEstimate` of ``run`` from refined companion runs over the same
+        cycles; a run missing the target is replaced by its companion, at most
+        ``max_refinements`` times."""
+        from pdamper.dem import HarmonicMotion
+
+        kernel = self.integrator
+        if kernel == "auto":
+            res = run.result
+            kernel = "verlet" if res.verlet_time > 0.5 * res.simulated_time else "gear"
+        setting, factor = REFINEMENT[kernel]
+        value = (self.safety if setting == "safety"
+                 else float(self.options.get("gear_tolerance", DEFAULT_GEAR_TOLERANCE)))
+        for k in range(self.max_refinements + 1):
+            st = run.stationarity
+            skip, span = st.first_cycle - 1, st.last_cycle - st.first_cycle + 1
+            reference = value / factor
+            comp = self._engine(particles, HarmonicMotion(amplitude=x, frequency=f),
+                                **{setting: reference}).run(
+                st.cycles / f, sample_rate=self.sample_rate, snapshot_rate=self.snapshot_rate)
+            cp = comp.complex_power(skip, span)
+            eta, ratio = run.power.loss_factor, run.power.effective_mass_ratio
+            e_eta = error_bound(eta, cp.loss_factor)
+            e_mass = error_bound(ratio, cp.effective_mass_ratio)
+            rel = max(e_eta / max(abs(eta), LOSS_FACTOR_FLOOR),
+                      e_mass / abs(ratio) if ratio != 0 else math.inf)
+            est = AccuracyEstimate(e_eta, e_mass, rel, self.accuracy, bool(rel <= self.accuracy),
+                                   setting, value, reference, k, cp.loss_factor,
+                                   cp.effective_mass_ratio)
+            if est.met or k == self.max_refinements:
+                return dataclasses.replace(run, accuracy=est)
+            logger.info("DEM f=%.3g Hz X=%.3g m: estimated error %.2g > %.2g; redone with "
+                        "%s = %.3g", f, x, rel, self.accuracy, setting, reference)
+            st2, motion2 = self.assess(comp)
+            power2 = comp.complex_power(st2.first_cycle - 1, st2.last_cycle - st2.first_cycle + 1)
+            run = SteadyRun(comp, st2, motion2, power2, run.packing)
+            value = reference
+        raise AssertionError("unreachable")  # pragma: no cover
 
     def assess(self, result) -> tuple[Stationarity, ModeClassification]:
         """Stationarity and motion mode of the run ``result`` so far.
@@ -414,6 +550,8 @@ def point_diagnostics(run: SteadyRun) -> dict:
     [-] (:class:`~pdamper.analysis.stationarity.Stationarity`), ``symmetric_state`` (0/1),
     ``period`` [cycles], ``periodicity_residual``, ``lift`` [m], ``contact_fraction``,
     ``lid_contacts_per_cycle`` [-] (:class:`~pdamper.analysis.dem_modes.ModeClassification`),
+    with an error estimate also ``loss_factor_error``, ``effective_mass_ratio_error`` [-],
+    ``accuracy_met`` (0/1) and ``accuracy_refinements`` (:class:`AccuracyEstimate`),
     ``stationarity`` and ``motion`` (the records themselves, not numbers).
     """
     res, st, mo = run.result, run.stationarity, run.motion
@@ -436,6 +574,11 @@ def point_diagnostics(run: SteadyRun) -> dict:
         "lift": float(mo.lift),
         "contact_fraction": float(mo.contact_fraction),
         "lid_contacts_per_cycle": float(mo.lid_contacts_per_cycle),
+        **({} if run.accuracy is None else {
+            "loss_factor_error": float(run.accuracy.loss_factor_error),
+            "effective_mass_ratio_error": float(run.accuracy.effective_mass_ratio_error),
+            "accuracy_met": int(run.accuracy.met),
+            "accuracy_refinements": int(run.accuracy.refinements)}),
         "stationarity": st,
         "motion": mo,
     }

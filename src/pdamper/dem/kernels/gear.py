@@ -24,7 +24,11 @@ import numpy as np
 from numba import njit
 
 from pdamper.dem.kernels.forces import FASTMATH, compute_forces
-from pdamper.dem.kernels.motion import prescribed_state, structure_acceleration
+from pdamper.dem.kernels.motion import (
+    container_state,
+    prescribed_state,
+    structure_acceleration,
+)
 from pdamper.dem.kernels.sampling import (
     ledger_start,
     ledger_step,
@@ -33,7 +37,7 @@ from pdamper.dem.kernels.sampling import (
     step_failed,
 )
 from pdamper.dem.kernels.search import needs_rebuild, rebuild
-from pdamper.dem.kernels.state import ERR_LIST, ERR_NONE, MOTION_STRUCTURE
+from pdamper.dem.kernels.state import ERR_LIST, ERR_NONE, MOTION_STRUCTURE, Rates
 
 # Gear coefficients (Gear 1971; Allen & Tildesley, App. E): 6-value Nordsieck vector of a
 # second-order ODE, with 3/20 instead of 3/16 because the forces depend on the velocities.
@@ -54,26 +58,19 @@ PI_KI = 0.7 / 6.0
 PI_KP = 0.4 / 6.0
 
 
-@njit(cache=True, fastmath=FASTMATH, error_model="numpy")
-def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord, lg,
-               rs, st, samples, snaps):
-    """Build the contact list, evaluate the forces at ``stp.t0``, fill the Nordsieck
-    vectors for the first step ``stp.dt``, start the ledger and record sample 0."""
-    t0 = stp.t0
-    h = stp.dt
+@njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
+def _begin(t, h, pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord, s,
+           sta):
+    """Build the contact list, evaluate the forces at time ``t`` and fill the Nordsieck
+    vectors for a first step ``h`` (the derivatives above the acceleration zero). Returns
+    ``(rates, zc, vc, ac, ok)``."""
     n = pos.shape[0]
-    s = rs[0]
-    sta = st[0]
     structure = drive.kind == MOTION_STRUCTURE
-    if structure:
-        zc = s.zc
-        vc = s.vc
-        ac = 0.0
-    else:
-        zc, vc, ac = prescribed_state(t0, drive)
+    zc, vc, ac = container_state(t, drive, s)
     if rebuild(pos, part.rad, zc, world, nbrs) < 0:
         sta.error = ERR_LIST
-        return
+        sta.t_error = t
+        return Rates(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), zc, vc, ac, False
     sta.rebuilds += 1
     want_ttc = stp.adaptive != 0 and stp.contact_bound != 0
     r, ons = compute_forces(pos, vel, omg, zc, vc, 0.0, want_ttc, world, law, part, pt, nbrs,
@@ -105,6 +102,22 @@ def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wor
     nc[0] = zc
     nc[1] = h * vc
     nc[2] = 0.5 * h * h * ac
+    return r, zc, vc, ac, True
+
+
+@njit(cache=True, fastmath=FASTMATH, error_model="numpy")
+def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord, lg,
+               rs, st, samples, snaps):
+    """Build the contact list, evaluate the forces at ``stp.t0``, fill the Nordsieck
+    vectors for the first step ``stp.dt``, start the ledger and record sample 0."""
+    t0 = stp.t0
+    h = stp.dt
+    s = rs[0]
+    sta = st[0]
+    r, zc, vc, ac, ok = _begin(t0, h, pos, vel, omg, world, law, part, pt, nbrs, walls, drive,
+                               stp, work, nord, s, sta)
+    if not ok:
+        return
     led = lg[0]
     ledger_start(led, r)
     e = record_sample(0, t0, pos, vel, omg, part, world, zc, vc, ac, r.eel, led, samples,
@@ -129,6 +142,37 @@ def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wor
     s.landing = 0
     sta.dt_lo = 1e300
     sta.dt_hi = 0.0
+
+
+@njit(cache=True, fastmath=FASTMATH, error_model="numpy")
+def gear_resume(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord, lg,
+                rs, st, h):
+    """Take over a run that velocity Verlet left at landing ``rs.landing``, time ``rs.t``,
+    with a first step ``h`` [s]: a fresh contact list, the forces and Nordsieck vectors at
+    that state (the ledger's trapezoid restarts from their rates; its integrals, the samples
+    and the contact histories go on), the friction cap and smallest step following the
+    fastest impact so far as :func:`gear_advance` would have set them."""
+    s = rs[0]
+    sta = st[0]
+    r, zc, vc, ac, ok = _begin(s.t, h, pos, vel, omg, world, law, part, pt, nbrs, walls,
+                               drive, stp, work, nord, s, sta)
+    if not ok:
+        return
+    ledger_step(lg[0], r, 0.0)  # adds nothing, remembers the rates
+    v_design = stp.v_design
+    if s.v_design > v_design:
+        v_design = s.v_design
+    s.zc = zc
+    s.vc = vc
+    s.ac = ac
+    s.h = h
+    s.h_des = h
+    s.le_prev = 0.0
+    s.v_design = v_design
+    s.h_cap = stp.h_cap * (stp.v_design / v_design) ** 0.2
+    s.dt_min = stp.dt_min * (stp.v_design / v_design) ** 0.2
+    s.ttc = r.ttc
+    s.vmax = r.vmax
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")

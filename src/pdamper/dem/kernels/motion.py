@@ -7,7 +7,7 @@ import math
 
 from numba import njit
 
-from pdamper.dem.kernels.state import MOTION_TABLE
+from pdamper.dem.kernels.state import MOTION_STRUCTURE, MOTION_TABLE
 
 
 @njit(cache=True, inline="always")
@@ -44,3 +44,13 @@ def structure_acceleration(fz, zc, vc, drive):
     """1-DOF structure (paper Eq. 23): ``M a = -K z - D v + F_z``, ``F_z`` the force of the
     particles on the container [m/s^2]."""
     return (fz - drive.stiffness * zc - drive.damping * vc) / drive.mass
+
+
+@njit(cache=True, inline="always")
+def container_state(t, drive, s):
+    """Container ``(z, v, a)`` at time ``t`` [s] where a run starts or resumes: a
+    structure's position and velocity from its state record ``s`` (its acceleration needs
+    the forces, 0 until then), a prescribed motion's from :func:`prescribed_state`."""
+    if drive.kind == MOTION_STRUCTURE:
+        return s.zc, s.vc, 0.0
+    return prescribed_state(t, drive)

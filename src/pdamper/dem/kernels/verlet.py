@@ -1,6 +1,7 @@
 """Velocity Verlet at a fixed step, advanced in chunks of landings.
 
 :func:`verlet_start` evaluates the first forces and records sample 0;
+:func:`verlet_resume` takes over a run that another integrator left at a landing;
 :func:`verlet_advance` integrates until a given landing on the half-sample grid (or a
 failure) and can be called again to continue: the state between calls is in the arrays and
 records, so a run cut into chunks is bit-identical to one call.
@@ -14,7 +15,11 @@ import numpy as np
 from numba import njit
 
 from pdamper.dem.kernels.forces import FASTMATH, compute_forces
-from pdamper.dem.kernels.motion import prescribed_state, structure_acceleration
+from pdamper.dem.kernels.motion import (
+    container_state,
+    prescribed_state,
+    structure_acceleration,
+)
 from pdamper.dem.kernels.sampling import (
     ledger_start,
     ledger_step,
@@ -33,12 +38,7 @@ def verlet_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     record sample 0. A structure's initial ``(z, v)`` is read from ``rs``."""
     t0 = stp.t0
     s = rs[0]
-    if drive.kind == MOTION_STRUCTURE:
-        zc = s.zc
-        vc = s.vc
-        ac = 0.0
-    else:
-        zc, vc, ac = prescribed_state(t0, drive)
+    zc, vc, ac = container_state(t0, drive, s)
     sta = st[0]
     if rebuild(pos, part.rad, zc, world, nbrs) < 0:
         sta.error = ERR_LIST
@@ -72,6 +72,52 @@ def verlet_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     s.j_base = 0
     sta.dt_lo = stp.dt
     sta.dt_hi = stp.dt
+
+
+@njit(cache=True, fastmath=FASTMATH, error_model="numpy")
+def verlet_resume(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, lg, rs,
+                  st):
+    """Take over a run that another integrator (Gear) left at landing ``rs.landing``,
+    time ``rs.t``: a fresh contact list, the forces at that state (the ledger's trapezoid
+    restarts from their rates; its integrals, the samples and the contact histories go on)
+    and the step that follows the fastest impact so far, as :func:`verlet_advance` would
+    have chosen it."""
+    s = rs[0]
+    sta = st[0]
+    t = s.t
+    structure = drive.kind == MOTION_STRUCTURE
+    zc, vc, ac = container_state(t, drive, s)
+    if rebuild(pos, part.rad, zc, world, nbrs) < 0:
+        sta.error = ERR_LIST
+        sta.t_error = t
+        return
+    sta.rebuilds += 1
+    v_design = stp.v_design
+    if stp.follow_impacts != 0 and sta.max_impact > v_design:
+        v_design = 1.25 * sta.max_impact
+    dtn = stp.dt_design * (stp.v_design / v_design) ** 0.2
+    m_half = max(1, int(math.ceil(stp.half / dtn - 1e-9)))
+    dt = stp.half / m_half
+    r, ons = compute_forces(pos, vel, omg, zc, vc, 0.5 / dt, False, world, law, part, pt, nbrs,
+                            walls, work.frc, work.trq)
+    sta.onsets += ons
+    if structure:
+        ac = structure_acceleration(r.fz, zc, vc, drive)
+    ledger_step(lg[0], r, 0.0)  # adds nothing, remembers the rates
+    s.zc = zc
+    s.vc = vc
+    s.ac = ac
+    s.step = 0
+    s.disp = 0.0
+    s.countdown = m_half
+    s.dt = dt
+    s.v_design = v_design
+    s.t_base = t
+    s.j_base = s.landing
+    if dt < sta.dt_lo:
+        sta.dt_lo = dt
+    if dt > sta.dt_hi:
+        sta.dt_hi = dt
 
 
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
