@@ -105,6 +105,23 @@ def _begin(t, h, pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     return r, zc, vc, ac, True
 
 
+@njit(cache=True, inline="always")
+def _set_state(s, r, zc, vc, ac, h, v_design, h_cap, dt_min):
+    """The run-state record after a (re)start: container, first step ``h`` with no error
+    history, the impact speed the bounds are designed for and the bounds themselves."""
+    s.zc = zc
+    s.vc = vc
+    s.ac = ac
+    s.h = h
+    s.h_des = h
+    s.le_prev = 0.0
+    s.v_design = v_design
+    s.h_cap = h_cap
+    s.dt_min = dt_min
+    s.ttc = r.ttc
+    s.vmax = r.vmax
+
+
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord, lg,
                rs, st, samples, snaps):
@@ -128,18 +145,8 @@ def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wor
         return
     s.t = t0
     s.t_win = t0
-    s.zc = zc
-    s.vc = vc
-    s.ac = ac
-    s.h = h
-    s.h_des = h
-    s.le_prev = 0.0
-    s.v_design = stp.v_design
-    s.h_cap = stp.h_cap
-    s.dt_min = stp.dt_min
-    s.ttc = r.ttc
-    s.vmax = r.vmax
     s.landing = 0
+    _set_state(s, r, zc, vc, ac, h, stp.v_design, stp.h_cap, stp.dt_min)
     sta.dt_lo = 1e300
     sta.dt_hi = 0.0
 
@@ -159,20 +166,9 @@ def gear_resume(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
     if not ok:
         return
     ledger_step(lg[0], r, 0.0)  # adds nothing, remembers the rates
-    v_design = stp.v_design
-    if s.v_design > v_design:
-        v_design = s.v_design
-    s.zc = zc
-    s.vc = vc
-    s.ac = ac
-    s.h = h
-    s.h_des = h
-    s.le_prev = 0.0
-    s.v_design = v_design
-    s.h_cap = stp.h_cap * (stp.v_design / v_design) ** 0.2
-    s.dt_min = stp.dt_min * (stp.v_design / v_design) ** 0.2
-    s.ttc = r.ttc
-    s.vmax = r.vmax
+    v_design = max(stp.v_design, s.v_design)
+    scale = (stp.v_design / v_design) ** 0.2
+    _set_state(s, r, zc, vc, ac, h, v_design, stp.h_cap * scale, stp.dt_min * scale)
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
