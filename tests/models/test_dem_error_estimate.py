@@ -133,3 +133,19 @@ def test_auto_refines_the_integrator_that_ran_the_excitation():
     stayed = DEMDamper(SMALL, integrator="auto", cycles=3, skip_cycles=1,
                        error_estimate=True).steady_run(20.0, 0.032)
     assert stayed.accuracy.setting == "gear_tolerance"
+
+
+def test_dem_map_stores_the_estimate_per_point(cli, tmp_path):
+    import xarray as xr
+
+    scenario = tmp_path / "s.toml"
+    scenario.write_text("[dem]\ncycles = 2\nskip_cycles = 1\nerror_estimate = true\n")
+    out = tmp_path / "m.nc"
+    code, _, err = cli("map", "--model", "dem", "--frequency", "18Hz:20Hz:2", "--amplitude",
+                       "10mm", "--particles", 8, "--scenario", scenario, "--serial", "--out", out)
+    assert code == 0, err
+    with xr.open_dataset(out) as ds:
+        assert ds.loss_factor_error.attrs["units"] == "1"
+        assert (ds.loss_factor_error >= 0).all() and (ds.effective_mass_ratio_error >= 0).all()
+        assert set(ds.accuracy_met.values.ravel()) <= {0, 1}
+        assert ds.accuracy_refinements.dtype.kind == "i"

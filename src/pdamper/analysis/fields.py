@@ -62,6 +62,12 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "lift": ("range of the bed's height in the container", "m"),
     "contact_fraction": ("share of the time the bed presses on a wall", "1"),
     "lid_contacts_per_cycle": ("lid impacts of the bed per cycle", "1"),
+    "loss_factor_error": ("bound of the integration error of the loss factor (refined "
+                          "companion run)", "1"),
+    "effective_mass_ratio_error": ("bound of the integration error of the effective mass "
+                                   "ratio (refined companion run)", "1"),
+    "accuracy_met": ("error estimate within the accuracy target (1) or not (0)", "1"),
+    "accuracy_refinements": ("times the run was redone refined for the accuracy target", "1"),
 }
 
 def _grid(field: str, values, unit: str) -> np.ndarray:
@@ -81,7 +87,7 @@ def _grid(field: str, values, unit: str) -> np.ndarray:
 
 #: Integer variables (stored as such; -1 where a point has no value).
 _INTEGER = {"subharmonic_order", "steps", "cycles", "first_cycle", "last_cycle",
-            "symmetric_state", "period"}
+            "symmetric_state", "period", "accuracy_met", "accuracy_refinements"}
 
 STATIONARY_ATTRS = {"long_name": "averaged window is a steady state", "units": "1",
                     "flag_values": [-1, 0, 1], "flag_meanings": "no_result transient steady"}
