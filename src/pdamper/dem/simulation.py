@@ -833,7 +833,8 @@ class DEMEngine:
         """The step velocity Verlet would take now in ``phase``: the design step, made
         shorter for the fastest impact so far as :func:`verlet_advance` does it."""
         half = phase.stepping.half
-        v = max(self.reference_velocity, 1.25 * float(phase.stats[0]["max_impact"]))
+        vi = float(phase.stats[0]["max_impact"])
+        v = 1.25 * vi if vi > self.reference_velocity else self.reference_velocity
         dt = self.time_step * (self.reference_velocity / v) ** 0.2
         return half / max(1, int(math.ceil(half / dt - 1e-9)))
 
