@@ -66,14 +66,21 @@ def test_dem_runs_at_the_fig4_points(case):
     """The DEM of the benchmark damper (32 spheres, constant COR 0.6 / 0.85, random
     packing) run until steady at the six Fig. 4 points, and classified.
 
-    Where the DEM bed moves as the paper's block (1, 2i, 3i, 3ii, 3iii) the classifier names
-    the paper's mode (3i runs since the large-overlap regime of issue 7; at 3ii the bed
-    repeats every 3 cycles with one lid impact per cycle, a double CaC subharmonic motion).
-    At 2ii the constant-COR bed does not repeat its motion (the cycle loss factors scatter,
+    Where the DEM bed moves as the paper's block (1, 2i, 3i, 3iii) the classifier names
+    the paper's mode (3i runs since the large-overlap regime of issue 7). At 2ii the
+    constant-COR bed does not repeat its motion (the cycle loss factors scatter,
     independent of the classifier): it is scattering, where the paper's DEM
     (velocity-dependent COR) shows subharmonic impacts. The independent evidence: the loss
     factor of single cycles scatters by more than 12 % about its mean there, by less than
     8 % in the repetitive motion of 2i.
+
+    3ii and 3iii sit on the repetition threshold: their mode depends on the last bits of
+    a run. Of six runs at each (Gear tolerance 1e-5, 3e-6, 1e-6, free flights on and off),
+    3ii scattered in five (one repeated every 3 cycles, residual 0.067 against the
+    threshold 0.08) and 3iii in five (one repeated every 3 cycles); all eight runs at
+    tolerances 3e-6 and 1e-6 scattered. So these two points run at 3e-6 and assert what
+    the converged runs agree on: scattering, with about one lid impact per cycle at 3ii
+    (the paper's double CaC subharmonic has one every cycle but does not repeat here).
     """
     from pdamper.analysis.stationarity import cycle_loss_factors
     from pdamper.models import DEMDamper
@@ -81,7 +88,9 @@ def test_dem_runs_at_the_fig4_points(case):
     from pdamper.parameters.vertical_dampers_paper import FIG4_EXAMPLES
 
     x, f, paper_mode, _ = next(e for e in FIG4_EXAMPLES if e[3] == case)
-    model = DEMDamper(PAPER_DAMPER, packing="random", seed=1, max_cycles=30)
+    tol = {"3ii": 3e-6, "3iii": 3e-6}.get(case, 1e-5)
+    model = DEMDamper(PAPER_DAMPER, packing="random", seed=1, max_cycles=30,
+                      gear_tolerance=tol)
     run = model.steady_run(f, x)
     mode = run.motion.mode
     assert run.stationarity.stationary, run.stationarity.reason
@@ -91,9 +100,10 @@ def test_dem_runs_at_the_fig4_points(case):
     scatter = float(np.std(eta) / np.mean(eta)) if case != "1" else 0.0
     if case == "2ii":
         assert mode is M.SCATTERING and scatter > 0.12, (mode, scatter)
+    elif case == "3ii":
+        assert mode is M.SCATTERING, run.motion.reason
+        assert run.motion.lid_contacts_per_cycle > 0.5
     else:
         assert mode is paper_mode, run.motion.reason
-        if case == "3ii":
-            assert run.motion.period >= 2 and run.motion.lid_contacts_per_cycle > 0.5
         if case == "2i":
             assert scatter < 0.08  # a repetitive motion: the same loss factor every cycle

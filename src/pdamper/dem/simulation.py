@@ -120,6 +120,12 @@ class DEMResult:
         Gear has become the cheaper).
     verlet_time : float [s]
         Simulated time of the excitation run by velocity Verlet.
+    stepped_fraction : float [-]
+        Mean share of the spheres that a Gear step of the excitation integrated (the others
+        in free flight, :mod:`pdamper.dem.kernels.flights`); 1 without free flights.
+    regroups : int
+        Times the free flights were regrouped (each sample, after list rebuilds and speed
+        limit violations).
     """
 
     time: np.ndarray
@@ -162,6 +168,8 @@ class DEMResult:
     integrator_switch_time: float = math.nan
     integrator_switches: int = 0
     verlet_time: float = 0.0
+    stepped_fraction: float = 1.0
+    regroups: int = 0
     attrs: dict = field(default_factory=dict)
 
     # ------------------------------------------------------------------ derived values
@@ -342,6 +350,7 @@ class _Run:
     walls: K.WallContacts
     work: K.Work
     nord: K.Nordsieck
+    flights: K.Flights
     z_start: float
     settle_steps: int = 0
     settle_seconds: float = 0.0
@@ -433,6 +442,11 @@ class DEMEngine:
         ``integrator="auto"`` hands over to Verlet when Gear's mean step falls below this
         times Verlet's [-] (default :data:`AUTO_COST_RATIO`; ``inf``: at the first
         judgement, 0: never).
+    gear_free_flight
+        Take the spheres that cannot touch anything before a horizon out of the Gear step
+        (multiple time stepping; their free flight is an exact parabola): the same physics
+        at a lower cost per step where few spheres are in contact (default True;
+        :mod:`pdamper.dem.kernels.flights`, docs/dem.md).
     """
 
     def __init__(self, particles: ParticleSet, container: Container,
@@ -445,7 +459,7 @@ class DEMEngine:
                  skin: float | None = None, settle_time: float | None = None,
                  max_overlap: float | None = None, reference_velocity: float | None = None,
                  gear_contact_bound: bool = False, seed: int | None = None,
-                 auto_cost_ratio: float = AUTO_COST_RATIO):
+                 auto_cost_ratio: float = AUTO_COST_RATIO, gear_free_flight: bool = True):
         for name, value, cls in (("particles", particles, ParticleSet),
                                  ("container", container, Container),
                                  ("contact", contact, ContactParameters)):
@@ -471,6 +485,7 @@ class DEMEngine:
                             check_range("max_overlap", max_overlap, low=0.0, high=1.0,
                                         low_inclusive=False))
         self.gear_contact_bound = bool(gear_contact_bound)
+        self.gear_free_flight = bool(gear_free_flight)
         self.auto_cost_ratio = (math.inf if auto_cost_ratio == math.inf else
                                 check_range("auto_cost_ratio", auto_cost_ratio, low=0.0))
         self.seed = seed
@@ -662,6 +677,7 @@ class DEMEngine:
                                np.zeros(4 * n + 64, np.int64))
         work = K.Work(np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
         nord = K.Nordsieck(np.zeros((6, n, 3)), np.zeros((5, n, 3)), np.zeros(6), np.zeros(6))
+        flights = K.empty_flights(n)
         m = self.motion
         if isinstance(m, StructureMotion):
             z_start = m.x0
@@ -673,7 +689,8 @@ class DEMEngine:
         pos[:, 2] += z_start
         return _Run(pos=pos, vel=p.velocities.copy(), omg=p.angular_velocities.copy(),
                     world=world, law=law, part=part, nbrs=nbrs, walls=walls, work=work,
-                    nord=nord, z_start=z_start, pair_types=self._pair_types)
+                    nord=nord, flights=flights, z_start=z_start,
+                    pair_types=self._pair_types)
 
     @property
     def _first_kernel(self) -> str:
@@ -705,7 +722,8 @@ class DEMEngine:
             v_design=float(self.reference_velocity), dt_design=float(dt0),
             follow_impacts=1 if (kernel == "verlet" or adaptive_gear) else 0,
             v_limit=20.0 * self.reference_velocity + 10.0,
-            max_overlap=float(self.max_overlap))  # inf unless the user asks for a stop
+            max_overlap=float(self.max_overlap),  # inf unless the user asks for a stop
+            free_flight=1 if adaptive_gear and self.gear_free_flight else 0)
 
     def _settle(self, run: _Run, chunk_seconds: float) -> None:
         """Settling under gravity, the container at rest at its start position."""
@@ -767,7 +785,7 @@ class DEMEngine:
             _verlet.verlet_start(*a[:12], phase.ledger, phase.state, phase.stats, phase.samples,
                            phase.snaps)
         else:
-            _gear.gear_start(*a[:12], run.nord, phase.ledger, phase.state, phase.stats,
+            _gear.gear_start(*a[:12], run.nord, run.flights, phase.ledger, phase.state, phase.stats,
                          phase.samples, phase.snaps)
         self._check(phase, name)
 
@@ -801,7 +819,7 @@ class DEMEngine:
             if phase.kernel == "verlet":
                 _verlet.verlet_advance(*a[:12], *tail, target)
             else:
-                _gear.gear_advance(*a[:12], run.nord, *tail, target)
+                _gear.gear_advance(*a[:12], run.nord, run.flights, *tail, target)
             spent = time.perf_counter() - t1
             self._check(phase, name)
             done = target - j
@@ -851,7 +869,7 @@ class DEMEngine:
                                   phase.stats)
         else:
             # Gear's first step: Verlet's, from which its error control grows it
-            _gear.gear_resume(*run.kernel_args(phase), run.nord, phase.ledger, phase.state,
+            _gear.gear_resume(*run.kernel_args(phase), run.nord, run.flights, phase.ledger, phase.state,
                               phase.stats, float(phase.state[0]["dt"]))
         phase.switches += 1
         phase.kernel_landings[kernel] = phase.kernel_landings.get(kernel, 0) - j
@@ -912,6 +930,9 @@ class DEMEngine:
             integrator_switches=phase.switches,
             verlet_time=phase.stepping.half * (phase.kernel_landings.get("verlet", 0)
                                                + (2 * k if phase.kernel == "verlet" else 0)),
+            stepped_fraction=(float(st["stepped"]) / (p.count * float(st["gear_steps"]))
+                              if st["gear_steps"] > 0 else 1.0),
+            regroups=int(st["regroups"]),
             min_step=float(st["dt_lo"]), max_step=float(st["dt_hi"]),
             contact_time=self.contact_time, max_overlap_ratio=float(st["max_overlap"]),
             max_impact_velocity=float(st["max_impact"]),
@@ -977,7 +998,8 @@ class DEMEngine:
             "motion": type(m).__name__,
         }
         if self.integrator in ("gear", "auto"):
-            d.update(gear_tolerance=self.gear_tolerance,
+            d.update(gear_free_flight=int(self.gear_free_flight),
+                     gear_tolerance=self.gear_tolerance,
                      gear_velocity_scale_m_s=self.gear_velocity_scale,
                      gear_adaptive=int(self.gear_adaptive), max_step_s=self.max_step)
         if isinstance(m, HarmonicMotion):

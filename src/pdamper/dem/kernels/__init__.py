@@ -12,6 +12,8 @@ module               what
 ``sampling``         samples, snapshots, force windows, energy ledger, failure checks
 ``verlet``           velocity Verlet (fixed step)
 ``gear``             variable-step fifth-order Gear predictor-corrector (the paper's)
+``flights``          free flights: spheres that cannot touch anything before a horizon
+                     leave the Gear step and move on their exact parabola
 ===================  ==================================================================
 
 Everything is compiled with ``numba.njit(cache=True)``. The Python driver

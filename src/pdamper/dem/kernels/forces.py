@@ -139,8 +139,8 @@ def contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, m_a, m_b, 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
 def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt, nbrs,
-                   walls, frc, trq):
-    """Forces and torques on all particles, force on the container, energy rates.
+                   walls, frc, trq, act, na, free):
+    """Forces and torques on the stepped particles, force on the container, energy rates.
 
     Parameters
     ----------
@@ -157,6 +157,11 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
         and ``walls`` are updated, ``walls.onset_log`` lists the contacts that start.
     frc, trq : (n, 3) arrays
         Output: total force (gravity included) [N] and torque [N m].
+    act, na, free
+        The stepped particles ``act[:na]``; ``free[j] != 0`` marks a particle in free flight
+        (:mod:`pdamper.dem.kernels.flights`), which no stepped particle can touch: its
+        pairs are skipped and its force, torque and contact history are left as they are.
+        All particles: ``arange(n), n, zeros(n)``.
 
     Returns
     -------
@@ -183,7 +188,6 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
     w_v = walls.v0
     olog = walls.onset_log
     nlog = olog.shape[0]
-    n = pos.shape[0]
     g = world.gravity
     nmat = law.nmat
     lx = world.lx
@@ -203,7 +207,8 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
     vmax2 = 0.0
     vimp = 0.0
     onsets = 0
-    for i in range(n):
+    for k in range(na):
+        i = act[k]
         frc[i, 0] = 0.0
         frc[i, 1] = 0.0
         frc[i, 2] = -mass[i] * g
@@ -211,10 +216,13 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
         trq[i, 1] = 0.0
         trq[i, 2] = 0.0
     # ---------------- sphere-sphere ----------------
-    for i in range(n):
+    for k in range(na):
+        i = act[k]
         ri = rad[i]
         for b in range(nb_start[i], nb_start[i + 1]):
             j = nb_j[b]
+            if free[j] != 0:
+                continue
             rj = rad[j]
             dx = pos[j, 0] - pos[i, 0]
             dy = pos[j, 1] - pos[i, 1]
@@ -287,12 +295,14 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
     # ---------------- sphere-wall ----------------
     # largest particle speed: a separate short loop (in the wall loop the running maximum
     # is spilled to the stack)
-    for i in range(n):
+    for k in range(na):
+        i = act[k]
         v2 = vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2
         if v2 > vmax2:
             vmax2 = v2
     nw = nmat * nmat
-    for i in range(n):
+    for k in range(na):
+        i = act[k]
         ri = rad[i]
         p = nw + pmat[i]
         # quick exit: no wall within reach (and no history to reset)

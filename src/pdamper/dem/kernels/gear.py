@@ -23,6 +23,7 @@ import math
 import numpy as np
 from numba import njit
 
+from pdamper.dem.kernels.flights import REGROUP_EVERY, join_due, place_all, regroup
 from pdamper.dem.kernels.forces import FASTMATH, compute_forces
 from pdamper.dem.kernels.motion import (
     container_state,
@@ -36,7 +37,7 @@ from pdamper.dem.kernels.sampling import (
     record_sample,
     step_failed,
 )
-from pdamper.dem.kernels.search import needs_rebuild, rebuild
+from pdamper.dem.kernels.search import needs_rebuild, needs_rebuild_of, rebuild
 from pdamper.dem.kernels.state import ERR_LIST, ERR_NONE, MOTION_STRUCTURE, Rates
 
 # Gear coefficients (Gear 1971; Allen & Tildesley, App. E): 6-value Nordsieck vector of a
@@ -59,12 +60,18 @@ PI_KP = 0.4 / 6.0
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
-def _begin(t, h, pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord, s,
-           sta):
-    """Build the contact list, evaluate the forces at time ``t`` and fill the Nordsieck
-    vectors for a first step ``h`` (the derivatives above the acceleration zero). Returns
+def _begin(t, h, pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord, fl,
+           s, sta):
+    """Build the contact list, evaluate the forces of all particles at time ``t`` (every
+    particle stepped: ``pos``, ``vel`` hold the state of all) and fill the Nordsieck vectors
+    for a first step ``h`` (the derivatives above the acceleration zero). Returns
     ``(rates, zc, vc, ac, ok)``."""
     n = pos.shape[0]
+    free = fl.free
+    for i in range(n):
+        free[i] = 0
+        fl.act[i] = i
+    fl.count[0] = n
     structure = drive.kind == MOTION_STRUCTURE
     zc, vc, ac = container_state(t, drive, s)
     if rebuild(pos, part.rad, zc, world, nbrs) < 0:
@@ -74,7 +81,7 @@ def _begin(t, h, pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     sta.rebuilds += 1
     want_ttc = stp.adaptive != 0 and stp.contact_bound != 0
     r, ons = compute_forces(pos, vel, omg, zc, vc, 0.0, want_ttc, world, law, part, pt, nbrs,
-                            walls, work.frc, work.trq)
+                            walls, work.frc, work.trq, fl.act, n, free)
     sta.onsets += ons
     if structure:
         ac = structure_acceleration(r.fz, zc, vc, drive)
@@ -122,9 +129,26 @@ def _set_state(s, r, zc, vc, ac, h, v_design, h_cap, dt_min):
     s.vmax = r.vmax
 
 
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def _regroup(t, h, vc, ac, pos, vel, omg, zc, world, part, nbrs, walls, stp, work, nord, fl,
+             sta):
+    """:func:`~pdamper.dem.kernels.flights.regroup` with the kernel's arrays; returns
+    the number of stepped spheres and their largest speed."""
+    na = regroup(t, h, vc, ac, stp.free_flight != 0, pos, vel, omg, nord.x, nord.w, work.frc,
+                 work.trq, work.vel_pred, work.omg_pred, zc, world, part, nbrs, walls, fl,
+                 2.0 * stp.half)
+    sta.regroups += 1
+    act = fl.act
+    v2 = 0.0
+    for k in range(na):
+        i = act[k]
+        v2 = max(v2, vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
+    return na, math.sqrt(v2)
+
+
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
-def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord, lg,
-               rs, st, samples, snaps):
+def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord, fl,
+               lg, rs, st, samples, snaps):
     """Build the contact list, evaluate the forces at ``stp.t0``, fill the Nordsieck
     vectors for the first step ``stp.dt``, start the ledger and record sample 0."""
     t0 = stp.t0
@@ -132,7 +156,7 @@ def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wor
     s = rs[0]
     sta = st[0]
     r, zc, vc, ac, ok = _begin(t0, h, pos, vel, omg, world, law, part, pt, nbrs, walls, drive,
-                               stp, work, nord, s, sta)
+                               stp, work, nord, fl, s, sta)
     if not ok:
         return
     led = lg[0]
@@ -149,11 +173,14 @@ def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wor
     _set_state(s, r, zc, vc, ac, h, stp.v_design, stp.h_cap, stp.dt_min)
     sta.dt_lo = 1e300
     sta.dt_hi = 0.0
+    if stp.free_flight != 0:
+        _, s.vmax = _regroup(t0, h, vc, ac, pos, vel, omg, zc, world, part, nbrs, walls, stp,
+                             work, nord, fl, sta)
 
 
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
-def gear_resume(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord, lg,
-                rs, st, h):
+def gear_resume(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord, fl,
+                lg, rs, st, h):
     """Take over a run that velocity Verlet left at landing ``rs.landing``, time ``rs.t``,
     with a first step ``h`` [s]: a fresh contact list, the forces and Nordsieck vectors at
     that state (the ledger's trapezoid restarts from their rates; its integrals, the samples
@@ -162,20 +189,24 @@ def gear_resume(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
     s = rs[0]
     sta = st[0]
     r, zc, vc, ac, ok = _begin(s.t, h, pos, vel, omg, world, law, part, pt, nbrs, walls,
-                               drive, stp, work, nord, s, sta)
+                               drive, stp, work, nord, fl, s, sta)
     if not ok:
         return
     ledger_step(lg[0], r, 0.0)  # adds nothing, remembers the rates
     v_design = max(stp.v_design, s.v_design)
     scale = (stp.v_design / v_design) ** 0.2
     _set_state(s, r, zc, vc, ac, h, v_design, stp.h_cap * scale, stp.dt_min * scale)
+    if stp.free_flight != 0:
+        _, s.vmax = _regroup(s.t, h, vc, ac, pos, vel, omg, zc, world, part, nbrs, walls, stp,
+                             work, nord, fl, sta)
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
-def _undo_prediction(nx, nw, n):
-    """Inverse of the Pascal-triangle prediction: the (rescaled) Nordsieck vectors at the
-    start of the step."""
-    for i in range(n):
+def _undo_prediction(nx, nw, act, na):
+    """Inverse of the Pascal-triangle prediction of the stepped particles ``act[:na]``:
+    the (rescaled) Nordsieck vectors at the start of the step."""
+    for k in range(na):
+        i = act[k]
         for a in range(3):
             x5 = nx[5, i, a]
             x4 = nx[4, i, a] - 5.0 * x5
@@ -197,11 +228,66 @@ def _undo_prediction(nx, nw, n):
             nw[3, i, a] = w3
 
 
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def _predict(q, fx, fw, fpos, fvev, fwev, q1, q2, q3, q4, q5, ih):
+    """Rescale (ratio^k) and predict (Pascal triangle) component ``q`` in one pass."""
+    x0 = fx[0, q]
+    x1 = fx[1, q] * q1
+    x2 = fx[2, q] * q2
+    x3 = fx[3, q] * q3
+    x4 = fx[4, q] * q4
+    x5 = fx[5, q] * q5
+    w0 = fw[0, q]
+    w1 = fw[1, q] * q1
+    w2 = fw[2, q] * q2
+    w3 = fw[3, q] * q3
+    w4 = fw[4, q] * q4
+    p0 = x0 + x1 + x2 + x3 + x4 + x5
+    p1 = x1 + 2.0 * x2 + 3.0 * x3 + 4.0 * x4 + 5.0 * x5
+    fx[0, q] = p0
+    fx[1, q] = p1
+    fx[2, q] = x2 + 3.0 * x3 + 6.0 * x4 + 10.0 * x5
+    fx[3, q] = x3 + 4.0 * x4 + 10.0 * x5
+    fx[4, q] = x4 + 5.0 * x5
+    fx[5, q] = x5
+    fpos[q] = p0
+    fvev[q] = p1 * ih
+    p0 = w0 + w1 + w2 + w3 + w4
+    fw[0, q] = p0
+    fw[1, q] = w1 + 2.0 * w2 + 3.0 * w3 + 4.0 * w4
+    fw[2, q] = w2 + 3.0 * w3 + 6.0 * w4
+    fw[3, q] = w3 + 4.0 * w4
+    fw[4, q] = w4
+    fwev[q] = p0
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def _correct(q, fx, fw, fpos, fvel, fomg, ffrc, ftrq, im3, ii3, hh, h, ih):
+    """Correct component ``q`` from the new force and torque."""
+    corr = hh * ffrc[q] * im3[q] - fx[2, q]
+    fx[0, q] += G0 * corr
+    fx[1, q] += G1 * corr
+    fx[2, q] += corr
+    fx[3, q] += G3 * corr
+    fx[4, q] += G4 * corr
+    fx[5, q] += G5 * corr
+    fpos[q] = fx[0, q]
+    fvel[q] = fx[1, q] * ih
+    cw = h * ftrq[q] * ii3[q] - fw[1, q]
+    fw[0, q] += H0 * cw
+    fw[1, q] += cw
+    fw[2, q] += H2 * cw
+    fw[3, q] += H3 * cw
+    fw[4, q] += H4 * cw
+    fomg[q] = fw[0, q]
+
+
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord,
-                 lg, rs, st, samples, snaps, j_stop):
+                 fl, lg, rs, st, samples, snaps, j_stop):
     """Integrate with the variable-step Gear predictor-corrector up to landing ``j_stop``
-    (see the module docstring)."""
+    (see the module docstring); spheres in free flight (``fl``,
+    :mod:`pdamper.dem.kernels.flights`) are left out of the steps."""
     # arrays out of their bundles once (an access inside the loops counts references)
     frc = work.frc
     trq = work.trq
@@ -251,6 +337,18 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     onsets = 0
     rebuilds = 0
     rejects = 0
+    stepped = 0
+    g = world.gravity
+    mass = part.mass
+    free = fl.free
+    act = fl.act
+    vlim = fl.vlim
+    na = fl.count[0]
+    t_next = fl.scal[0]
+    vcl = fl.scal[1]
+    ff = stp.free_flight != 0
+    due = False
+    since = 0
     # flat views (3n components) of the Nordsieck vectors: the predictor vectorises
     m3 = 3 * n
     fx = nx.reshape((6, m3))
@@ -272,6 +370,13 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     while j_land < j_stop:
         t_land = t0 + (j_land + 1) * half
         hn = h_des
+        if t_next < t + max(h_des, dtmin):
+            # free flights whose horizon ends within this step rejoin at its start
+            na, vj = join_due(t + max(h_des, dtmin), t, h, g, mass, fl, pos, vel, omg, nx, nw,
+                              frc, trq, vel_pred, omg_pred)
+            t_next = fl.scal[0]
+            if vj > vmax:
+                vmax = vj
         if adaptive:
             lim = ttc
             if lim < dtc:
@@ -304,35 +409,13 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
         # error control does not chase the viscous time scale of the stuck tanh law
         cap_h = 0.5 / (h if h > hcap else hcap)
         ih = 1.0 / h
-        for q in range(m3):
-            x0 = fx[0, q]
-            x1 = fx[1, q] * q1
-            x2 = fx[2, q] * q2
-            x3 = fx[3, q] * q3
-            x4 = fx[4, q] * q4
-            x5 = fx[5, q] * q5
-            w0 = fw[0, q]
-            w1 = fw[1, q] * q1
-            w2 = fw[2, q] * q2
-            w3 = fw[3, q] * q3
-            w4 = fw[4, q] * q4
-            p0 = x0 + x1 + x2 + x3 + x4 + x5
-            p1 = x1 + 2.0 * x2 + 3.0 * x3 + 4.0 * x4 + 5.0 * x5
-            fx[0, q] = p0
-            fx[1, q] = p1
-            fx[2, q] = x2 + 3.0 * x3 + 6.0 * x4 + 10.0 * x5
-            fx[3, q] = x3 + 4.0 * x4 + 10.0 * x5
-            fx[4, q] = x4 + 5.0 * x5
-            fx[5, q] = x5
-            fpos[q] = p0
-            fvev[q] = p1 * ih
-            p0 = w0 + w1 + w2 + w3 + w4
-            fw[0, q] = p0
-            fw[1, q] = w1 + 2.0 * w2 + 3.0 * w3 + 4.0 * w4
-            fw[2, q] = w2 + 3.0 * w3 + 6.0 * w4
-            fw[3, q] = w3 + 4.0 * w4
-            fw[4, q] = w4
-            fwev[q] = p0
+        if na == n:
+            for q in range(m3):
+                _predict(q, fx, fw, fpos, fvev, fwev, q1, q2, q3, q4, q5, ih)
+        else:
+            for k in range(na):
+                for q in range(3 * act[k], 3 * act[k] + 3):
+                    _predict(q, fx, fw, fpos, fvev, fwev, q1, q2, q3, q4, q5, ih)
         c1 = nc[1] * q1
         c2 = nc[2] * q2
         c3 = nc[3] * q3
@@ -361,14 +444,19 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
             vc = nc[1] / h
         else:
             zc, vc, ac = prescribed_state(tn, drive)
-        if needs_rebuild(pos, pos_build, skin):
+        if (needs_rebuild(pos, pos_build, skin) if na == n
+                else needs_rebuild_of(pos, pos_build, skin, act, na)):
+            if na < n:
+                # the list needs every position (the free spheres regroup after the step)
+                place_all(tn, g, fl, pos, vel)
+                due = True
             if rebuild(pos, rad, zc, world, nbrs) < 0:
                 sta.error = ERR_LIST
                 sta.t_error = tn
                 break
             rebuilds += 1
         r, nons = compute_forces(pos, vel_pred, omg_pred, zc, vc, cap_h, want_ttc,
-                                 world, law, part, pt, nbrs, walls, frc, trq)
+                                 world, law, part, pt, nbrs, walls, frc, trq, act, na, free)
         ttc = r.ttc
         vmax = r.vmax
         # ---- error estimate from the corrector difference (before the correction, so
@@ -377,7 +465,8 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
         # per particle and no division
         e2 = 0.0
         hh = 0.5 * h * h
-        for i in range(n):
+        for k in range(na):
+            i = act[k]
             im = inv_mass[i]
             c2 = 0.0
             v2 = 0.0
@@ -406,7 +495,7 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
                 else:
                     code = -code - 1
                     w_act[code // 6, code % 6] = 0
-            _undo_prediction(nx, nw, n)
+            _undo_prediction(nx, nw, act, na)
             for k in range(6):
                 nc[k] = bc[k]
             fac = 0.9 * (tol / err) ** (1.0 / 6.0)
@@ -417,24 +506,18 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
                 h_des = dtmin
             rejects += 1
             continue
-        # ---- correct (flat loop over the 3n components)
-        for q in range(m3):
-            corr = hh * ffrc[q] * im3[q] - fx[2, q]
-            fx[0, q] += G0 * corr
-            fx[1, q] += G1 * corr
-            fx[2, q] += corr
-            fx[3, q] += G3 * corr
-            fx[4, q] += G4 * corr
-            fx[5, q] += G5 * corr
-            fpos[q] = fx[0, q]
-            fvel[q] = fx[1, q] * ih
-            cw = h * ftrq[q] * ii3[q] - fw[1, q]
-            fw[0, q] += H0 * cw
-            fw[1, q] += cw
-            fw[2, q] += H2 * cw
-            fw[3, q] += H3 * cw
-            fw[4, q] += H4 * cw
-            fomg[q] = fw[0, q]
+        # ---- correct (flat loop over the 3n components when all are stepped)
+        if na == n:
+            for q in range(m3):
+                _correct(q, fx, fw, fpos, fvel, fomg, ffrc, ftrq, im3, ii3, hh, h, ih)
+        else:
+            for k in range(na):
+                i = act[k]
+                for q in range(3 * i, 3 * i + 3):
+                    _correct(q, fx, fw, fpos, fvel, fomg, ffrc, ftrq, im3, ii3, hh, h, ih)
+                # a stepped sphere faster than the horizons assumed: regroup after the step
+                if (vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2) > vlim[i] * vlim[i]:
+                    due = True
         if structure:
             corr = hh * ac - nc[2]
             nc[0] += G0 * corr
@@ -449,6 +532,9 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
         ledger_step(led, r, 0.5 * h)
         t = tn
         steps += 1
+        stepped += na
+        if na < n and abs(vc) > vcl:
+            due = True
         if h < dtlo:
             dtlo = h
         if h > dthi:
@@ -474,6 +560,18 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
             if hnew < dtmin:
                 hnew = dtmin
             h_des = hnew
+        since += 1
+        if ff and (due or since >= REGROUP_EVERY or (landing and j_land % 2 == 1)):
+            since = 0
+            # after a rebuild, a speed beyond its limit, and at each sample: every sphere
+            # on the step's time, new horizons
+            na, vj = _regroup(t, h, vc, ac, pos, vel, omg, zc, world, part, nbrs, walls, stp,
+                              work, nord, fl, sta)
+            t_next = fl.scal[0]
+            vcl = fl.scal[1]
+            if vj > vmax:
+                vmax = vj
+            due = False
         if landing:
             j_land += 1
             t_win, stop = on_landing(j_land, t, t_win, pos, vel, omg, part, world, zc, vc, ac,
@@ -491,6 +589,8 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     sta.onsets += onsets
     sta.rebuilds += rebuilds
     sta.rejects += rejects
+    sta.stepped += stepped
+    sta.gear_steps += steps
     sta.dt_lo = dtlo
     sta.dt_hi = dthi
     s.t = t

@@ -150,6 +150,21 @@ def needs_rebuild(pos, pos_build, skin):
 
 
 @njit(cache=True, inline="always")
+def needs_rebuild_of(pos, pos_build, skin, act, na):
+    """:func:`needs_rebuild` for the particles ``act[:na]`` only (the others are known
+    not to have moved skin/2)."""
+    lim = 0.25 * skin * skin
+    for k in range(na):
+        i = act[k]
+        dx = pos[i, 0] - pos_build[i, 0]
+        dy = pos[i, 1] - pos_build[i, 1]
+        dz = pos[i, 2] - pos_build[i, 2]
+        if dx * dx + dy * dy + dz * dz > lim:
+            return True
+    return False
+
+
+@njit(cache=True, inline="always")
 def max_displacement2(pos, pos_build):
     """Largest squared displacement of a particle since the last build [m^2]."""
     d2max = 0.0

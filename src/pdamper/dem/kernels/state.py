@@ -151,6 +151,7 @@ class Stepping(NamedTuple):
     follow_impacts: int  # 1: a faster impact shrinks the step (at the next sample)
     v_limit: float       # particle speeds beyond this are a blow-up [m/s]
     max_overlap: float   # overlap / radius beyond this stops the run [-] (inf: never)
+    free_flight: int     # Gear: 1 takes spheres that cannot touch anything out of the step
 
 
 class Work(NamedTuple):
@@ -160,6 +161,23 @@ class Work(NamedTuple):
     trq: np.ndarray      # (n, 3) torque [N m]
     vel_pred: np.ndarray  # (n, 3) velocities used in the velocity-dependent forces
     omg_pred: np.ndarray  # (n, 3)
+
+
+class Flights(NamedTuple):
+    """Free flights of the Gear kernel (:mod:`pdamper.dem.kernels.flights`): a sphere
+    that cannot touch anything before ``until`` leaves the step and moves on its parabola
+    from ``(x0, v0)`` at ``t0``; the others are stepped."""
+
+    free: np.ndarray    # (n,) int: 1 while in free flight
+    x0: np.ndarray      # (n, 3) position at the start of the flight [m]
+    v0: np.ndarray      # (n, 3) velocity at the start of the flight [m/s]
+    t0: np.ndarray      # (n,) start of the flight [s]
+    until: np.ndarray   # (n,) no contact of the sphere is possible before this time [s]
+    vlim: np.ndarray    # (n,) speed the horizons assume the sphere keeps below [m/s]
+    vown: np.ndarray    # (n,) its speed bound while in free flight [m/s]
+    act: np.ndarray     # (n,) int: the stepped spheres, the first ``count[0]`` entries
+    count: np.ndarray   # (1,) int
+    scal: np.ndarray    # (2,) float: earliest ``until`` [s], container speed limit [m/s]
 
 
 class Nordsieck(NamedTuple):
@@ -244,6 +262,8 @@ STATS = np.dtype([
     ("rejects", np.int64), ("error", np.int64),
     ("t_error", np.float64), ("error_value", np.float64), ("max_overlap", np.float64),
     ("max_impact", np.float64), ("dt_lo", np.float64), ("dt_hi", np.float64),
+    ("stepped", np.int64), ("regroups", np.int64),      # Gear: sphere-steps, regroups
+    ("gear_steps", np.int64),
 ])
 
 
@@ -255,6 +275,13 @@ def record(dtype: np.dtype) -> np.ndarray:
 def empty_pair_contacts(n: int, cap: int) -> PairContacts:
     return PairContacts(np.zeros(n + 1, np.int64), np.zeros(cap, np.int64),
                         np.zeros(cap, np.int64), np.zeros(cap), np.zeros(cap), np.zeros(cap))
+
+
+def empty_flights(n: int) -> Flights:
+    """Flights of ``n`` spheres, all stepped."""
+    return Flights(np.zeros(n, np.int64), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n),
+                   np.zeros(n), np.zeros(n), np.zeros(n), np.arange(n, dtype=np.int64),
+                   np.array([n], np.int64), np.array([np.inf, 0.0]))
 
 
 def empty_samples(nsamp: int) -> Samples:

@@ -44,8 +44,9 @@ def verlet_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
         sta.error = ERR_LIST
         return
     sta.rebuilds += 1
+    n = pos.shape[0]
     r, ons = compute_forces(pos, vel, omg, zc, vc, 0.0, False, world, law, part, pt, nbrs,
-                            walls, work.frc, work.trq)
+                            walls, work.frc, work.trq, np.arange(n), n, np.zeros(n, np.int64))
     sta.onsets += ons
     if drive.kind == MOTION_STRUCTURE:
         ac = structure_acceleration(r.fz, zc, vc, drive)
@@ -98,8 +99,9 @@ def verlet_resume(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, 
     dtn = stp.dt_design * (stp.v_design / v_design) ** 0.2
     m_half = max(1, int(math.ceil(stp.half / dtn - 1e-9)))
     dt = stp.half / m_half
+    n = pos.shape[0]
     r, ons = compute_forces(pos, vel, omg, zc, vc, 0.5 / dt, False, world, law, part, pt, nbrs,
-                            walls, work.frc, work.trq)
+                            walls, work.frc, work.trq, np.arange(n), n, np.zeros(n, np.int64))
     sta.onsets += ons
     if structure:
         ac = structure_acceleration(r.fz, zc, vc, drive)
@@ -177,6 +179,9 @@ def verlet_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp,
     # (fresh arrays: the compiler knows they alias nothing, the kicks vectorise)
     im3 = np.empty(m3)
     ii3 = np.empty(m3)
+    # every particle is stepped (free flights are Gear's)
+    every = np.arange(n)
+    none = np.zeros(n, np.int64)
     for i in range(n):
         for a in range(3):
             im3[3 * i + a] = part.inv_mass[i]
@@ -233,7 +238,7 @@ def verlet_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp,
             else:
                 disp = math.sqrt(d2)
         r, ons = compute_forces(pos, vel_pred, omg_pred, zc, vce, cap_h, False,
-                                world, law, part, pt, nbrs, walls, frc, trq)
+                                world, law, part, pt, nbrs, walls, frc, trq, every, n, none)
         onsets += ons
         for q in range(m3):
             fvel[q] += hdt * ffrc[q] * im3[q]
