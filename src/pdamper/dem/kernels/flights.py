@@ -54,6 +54,10 @@ MIN_STEPS = 8.0
 #: steps between regroups (besides samples, list rebuilds and violations): a sphere whose
 #: horizon ended leaves the step again at the next regroup
 REGROUP_EVERY = 16
+#: while a regroup frees fewer than a quarter of the spheres, the periodic ones back off
+#: (doubling) up to every REGROUP_MAX steps: beds where few spheres fly freely (a pressed
+#: bed at the fast corner, a collected bed) then pay almost nothing for free flights
+REGROUP_MAX = 1024
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")

@@ -23,7 +23,13 @@ import math
 import numpy as np
 from numba import njit
 
-from pdamper.dem.kernels.flights import REGROUP_EVERY, join_due, place_all, regroup
+from pdamper.dem.kernels.flights import (
+    REGROUP_EVERY,
+    REGROUP_MAX,
+    join_due,
+    place_all,
+    regroup,
+)
 from pdamper.dem.kernels.forces import FASTMATH, compute_forces
 from pdamper.dem.kernels.motion import (
     container_state,
@@ -72,6 +78,7 @@ def _begin(t, h, pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
         free[i] = 0
         fl.act[i] = i
     fl.count[0] = n
+    fl.scal[2] = REGROUP_EVERY
     structure = drive.kind == MOTION_STRUCTURE
     zc, vc, ac = container_state(t, drive, s)
     if rebuild(pos, part.rad, zc, world, nbrs) < 0:
@@ -349,6 +356,7 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     ff = stp.free_flight != 0
     due = False
     since = 0
+    every = int(fl.scal[2])
     # flat views (3n components) of the Nordsieck vectors: the predictor vectorises
     m3 = 3 * n
     fx = nx.reshape((6, m3))
@@ -409,7 +417,9 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
         # error control does not chase the viscous time scale of the stuck tanh law
         cap_h = 0.5 / (h if h > hcap else hcap)
         ih = 1.0 / h
-        if na == n:
+        if 2 * na > n:
+            # most spheres stepped: the flat loop vectorises (a free sphere's Nordsieck
+            # vectors follow its parabola too; join() overwrites them)
             for q in range(m3):
                 _predict(q, fx, fw, fpos, fvev, fwev, q1, q2, q3, q4, q5, ih)
         else:
@@ -507,15 +517,17 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
             rejects += 1
             continue
         # ---- correct (flat loop over the 3n components when all are stepped)
-        if na == n:
+        if 2 * na > n:
             for q in range(m3):
                 _correct(q, fx, fw, fpos, fvel, fomg, ffrc, ftrq, im3, ii3, hh, h, ih)
         else:
             for k in range(na):
-                i = act[k]
-                for q in range(3 * i, 3 * i + 3):
+                for q in range(3 * act[k], 3 * act[k] + 3):
                     _correct(q, fx, fw, fpos, fvel, fomg, ffrc, ftrq, im3, ii3, hh, h, ih)
-                # a stepped sphere faster than the horizons assumed: regroup after the step
+        if na < n:
+            # a stepped sphere faster than the horizons assumed: regroup after the step
+            for k in range(na):
+                i = act[k]
                 if (vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2) > vlim[i] * vlim[i]:
                     due = True
         if structure:
@@ -561,7 +573,7 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
                 hnew = dtmin
             h_des = hnew
         since += 1
-        if ff and (due or since >= REGROUP_EVERY or (landing and j_land % 2 == 1)):
+        if ff and (due or since >= every or (landing and j_land % 2 == 1)):
             since = 0
             # after a rebuild, a speed beyond its limit, and at each sample: every sphere
             # on the step's time, new horizons
@@ -569,6 +581,9 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
                               work, nord, fl, sta)
             t_next = fl.scal[0]
             vcl = fl.scal[1]
+            # periodic regroups back off while they free few spheres (their cost is that of
+            # a step of all spheres)
+            every = REGROUP_EVERY if 4 * (n - na) >= n else min(2 * every, REGROUP_MAX)
             if vj > vmax:
                 vmax = vj
             due = False
@@ -607,3 +622,4 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     s.v_design = v_design
     s.h_cap = hcap
     s.dt_min = dtmin
+    fl.scal[2] = every

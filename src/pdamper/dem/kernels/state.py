@@ -177,7 +177,8 @@ class Flights(NamedTuple):
     vown: np.ndarray    # (n,) its speed bound while in free flight [m/s]
     act: np.ndarray     # (n,) int: the stepped spheres, the first ``count[0]`` entries
     count: np.ndarray   # (1,) int
-    scal: np.ndarray    # (2,) float: earliest ``until`` [s], container speed limit [m/s]
+    scal: np.ndarray    # (3,) float: earliest ``until`` [s], container speed limit [m/s],
+    #                     steps between periodic regroups
 
 
 class Nordsieck(NamedTuple):
@@ -281,7 +282,7 @@ def empty_flights(n: int) -> Flights:
     """Flights of ``n`` spheres, all stepped."""
     return Flights(np.zeros(n, np.int64), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n),
                    np.zeros(n), np.zeros(n), np.zeros(n), np.arange(n, dtype=np.int64),
-                   np.array([n], np.int64), np.array([np.inf, 0.0]))
+                   np.array([n], np.int64), np.array([np.inf, 0.0, 0.0]))
 
 
 def empty_samples(nsamp: int) -> Samples:
