@@ -30,6 +30,61 @@ def test_cache_left_alone_when_the_package_is_writable(tmp_path):
     assert "NUMBA_CACHE_DIR" not in env
 
 
+def _kernel_package(root: Path) -> Path:
+    """A package with a numba kernel, a helper it inlines from another file, and a cache
+    beside them."""
+    pkg = root / "pkg"
+    (pkg / "sub" / "__pycache__").mkdir(parents=True)
+    (pkg / "__pycache__").mkdir()
+    (pkg / "sub" / "kernel.py").write_text("from numba import njit\n@njit(cache=True)\n"
+                                           "def f(x):\n    return helper(x)\n")
+    (pkg / "sub" / "helper.py").write_text("from numba import njit\n@njit(inline='always')\n"
+                                           "def helper(x):\n    return x + 1\n")
+    (pkg / "plain.py").write_text("X = 1\n")
+    return pkg
+
+
+def _cached(pkg: Path) -> list[Path]:
+    for name in ("kernel.f-3.py311.nbi", "kernel.f-3.py311.1.nbc"):
+        (pkg / "sub" / "__pycache__" / name).write_bytes(b"compiled")
+    return sorted(pkg.rglob("*.nb[ic]"))
+
+
+def test_cached_kernels_dropped_when_an_inlined_helper_changes(tmp_path):
+    """numba checks a cached kernel against its own file only: a change of the helper it
+    inlines from another file must drop the cache (pdamper._numba_cache.refresh), a change
+    of a module without kernels, or none, must not."""
+    pkg = _kernel_package(tmp_path)
+    env = {"HOME": str(tmp_path)}
+    _cached(pkg)
+    assert _numba_cache.refresh(env, package=pkg) == 2  # no fingerprint yet: dropped
+    files = _cached(pkg)
+    assert _numba_cache.refresh(env, package=pkg) == 0  # same sources: kept
+    (pkg / "plain.py").write_text("X = 2\n")
+    assert _numba_cache.refresh(env, package=pkg) == 0
+    assert sorted(pkg.rglob("*.nb[ic]")) == files
+    (pkg / "sub" / "helper.py").write_text("from numba import njit\n@njit(inline='always')\n"
+                                           "def helper(x):\n    return x + 2\n")
+    assert _numba_cache.refresh(env, package=pkg) == 2
+    assert not list(pkg.rglob("*.nb[ic]"))
+
+
+def test_cache_refresh_under_a_user_cache_directory(tmp_path):
+    """With NUMBA_CACHE_DIR numba mirrors the package path inside it; the fingerprint and
+    the files dropped are there, the package itself is not touched."""
+    pkg = _kernel_package(tmp_path)
+    cache = tmp_path / "cache"
+    mirror = cache / pkg.resolve().as_posix().lstrip("/") / "sub" / "__pycache__"
+    mirror.mkdir(parents=True)
+    (mirror / "kernel.f-3.py311.nbi").write_bytes(b"compiled")
+    env = {"NUMBA_CACHE_DIR": str(cache)}
+    assert _numba_cache.refresh(env, package=pkg) == 1
+    assert (cache / pkg.resolve().as_posix().lstrip("/") / _numba_cache.STAMP).is_file()
+    assert not (pkg / "__pycache__" / _numba_cache.STAMP).exists()
+    (mirror / "kernel.f-3.py311.nbi").write_bytes(b"compiled")
+    assert _numba_cache.refresh(env, package=pkg) == 0
+
+
 def test_read_only_package_caches_in_the_users_cache(tmp_path, monkeypatch):
     monkeypatch.setattr(_numba_cache, "_in_tree_writable", lambda package: False)
     env = {"HOME": str(tmp_path / "home")}

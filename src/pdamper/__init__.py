@@ -11,14 +11,17 @@ The package follows the three levels of the design toolchain of the reference pa
 
 Heavy modules (numba kernels, xarray, matplotlib) are imported where used, so that
 ``import pdamper`` stays fast. Installed read-only, pdamper points numba's cache at a
-writable per-user directory (:mod:`pdamper._numba_cache`).
+writable per-user directory, and drops cached kernels whose sources (or the helpers they
+inline from other files) changed (:mod:`pdamper._numba_cache`).
 """
 
 from pdamper import _numba_cache
 from pdamper._version import __version__
 from pdamper.errors import InputError, PdamperError, SimulationError
 
-# before any module of pdamper imports numba: a read-only installation caches elsewhere
+# before any module of pdamper imports numba: a read-only installation caches elsewhere,
+# and kernels cached from older sources are dropped
 _numba_cache.configure()
+_numba_cache.refresh()
 
 __all__ = ["__version__", "InputError", "PdamperError", "SimulationError"]

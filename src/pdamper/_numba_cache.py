@@ -100,3 +100,67 @@ def configure(environ: MutableMapping[str, str] = os.environ,
     logger.warning("no writable directory for numba's cache (package, %s); set %s",
                    ", ".join(map(str, candidates(environ))), VARIABLE)
     return None
+
+
+#: The fingerprint of the kernel sources that the cached kernels were compiled from, kept
+#: beside them (:func:`refresh`).
+STAMP = "pdamper-kernel-sources.sha1"
+
+
+def _cache_root(package: Path, environ: MutableMapping[str, str]) -> Path:
+    """Where numba keeps the cache of ``package``: beside the sources, or, under a
+    user-provided ``NUMBA_CACHE_DIR``, in the mirror of the package path that numba
+    creates there."""
+    user = environ.get(VARIABLE)
+    if user:
+        return Path(user) / package.resolve().as_posix().lstrip("/")
+    return package
+
+
+def fingerprint(package: Path) -> str:
+    """SHA-1 of every module of ``package`` that compiles numba kernels (path and text)."""
+    import hashlib
+
+    h = hashlib.sha1()
+    for path in sorted(package.rglob("*.py")):
+        text = path.read_bytes()
+        if b"njit" in text:
+            h.update(path.relative_to(package).as_posix().encode())
+            h.update(text)
+    return h.hexdigest()
+
+
+def refresh(environ: MutableMapping[str, str] = os.environ,
+            package: Path | None = None) -> int:
+    """Delete pdamper's cached kernels when a kernel source changed since they were cached;
+    returns the number of files deleted.
+
+    numba checks a cached kernel only against the timestamp of its own source file, not
+    against the helpers it inlines from other files (``gear_advance`` inlines the contact
+    law of :mod:`pdamper.dem.kernels.forces`, the free flights of
+    :mod:`pdamper.dem.kernels.flights`, ...): after such a helper changes (a ``git pull``
+    into an editable installation), numba would load the stale kernel. A fingerprint of all
+    kernel sources, kept beside the cache, catches it; the next call compiles afresh. Cheap
+    (reads about twenty files); failures to read or write are logged and ignored.
+    """
+    package = Path(__file__).resolve().parent if package is None else package
+    root = _cache_root(package, environ)
+    try:
+        digest = fingerprint(package)
+        stamp = (root / "__pycache__" / STAMP) if root == package else (root / STAMP)
+        if stamp.is_file() and stamp.read_text().strip() == digest:
+            return 0
+        deleted = 0
+        if root.is_dir():
+            for pattern in ("*.nbi", "*.nbc"):
+                for f in root.rglob(pattern):
+                    f.unlink()
+                    deleted += 1
+        stamp.parent.mkdir(parents=True, exist_ok=True)
+        stamp.write_text(digest + "\n")
+    except OSError as exc:
+        logger.debug("numba cache of pdamper not refreshed: %s", exc)
+        return 0
+    if deleted:
+        logger.info("kernel sources changed: %d cached numba files of pdamper deleted", deleted)
+    return deleted
