@@ -71,3 +71,22 @@ def test_dem_command_damping_models(capsys):
     assert 0.1 < data["max_impact_velocity"] < 5.0
     assert main(["dem", "--damping-model", "hooke"]) == 2
     assert "damping_model" in capsys.readouterr().err
+
+
+def test_dem_command_free_flights_on_and_off(tmp_path, capsys):
+    """``--no-free-flight`` steps every sphere (stepped_fraction 1, recorded in the inputs);
+    the default takes free spheres out of Gear's steps; the scenario key does the same."""
+    common = ["dem", "--particles", "16", "--cycles", "2", "--skip-cycles", "1", "--packing",
+              "random", "--json"]
+    assert main(common + ["--no-free-flight"]) == 0
+    off = json.loads(capsys.readouterr().out)
+    assert off["stepped_fraction"] == 1.0
+    assert off["inputs"]["dem"]["gear_free_flight"] is False
+    assert main(common) == 0
+    on = json.loads(capsys.readouterr().out)
+    assert on["stepped_fraction"] < 0.9
+    assert on["inputs"]["dem"]["gear_free_flight"] is True
+    sc = tmp_path / "s.toml"
+    sc.write_text("[dem]\ngear_free_flight = false\n")
+    assert main(common + ["--scenario", str(sc)]) == 0
+    assert json.loads(capsys.readouterr().out)["stepped_fraction"] == 1.0

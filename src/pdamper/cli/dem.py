@@ -74,6 +74,10 @@ def dem(
              "--accuracy.")] = None,
     accuracy: Annotated[float | None, typer.Option(
         "--accuracy", help="Target of the error estimate, relative (default 0.01).")] = None,
+    free_flight: Annotated[bool | None, typer.Option(
+        "--free-flight/--no-free-flight",
+        help="Gear steps only the spheres that may touch something, the others fly their "
+             "exact parabola (default on; off: every sphere at every step).")] = None,
     vtk: Annotated[str | None, typer.Option("--vtk",
                    help="Directory for ParaView snapshots (.vtp + .pvd); its parent must "
                    "exist.")] = None,
@@ -106,7 +110,8 @@ def dem(
               dem__restitution_pp=restitution_pp, dem__restitution_pw=restitution_pw,
               dem__damping_model=damping_model, dem__seed=seed, dem__packing=packing,
               dem__sample_rate=sample_rate, dem__safety=safety, dem__snapshot_rate=snapshot_rate,
-              dem__error_estimate=error_estimate, dem__accuracy=accuracy)
+              dem__error_estimate=error_estimate, dem__accuracy=accuracy,
+              dem__gear_free_flight=free_flight)
     target = check_output(out)
     vtk_dir = check_output_directory(vtk, "vtk")
     if vtk is not None and sc.dem.snapshot_rate is None:  # option > scenario > VTK default
@@ -145,6 +150,7 @@ def dem(
         "contact_time": res.contact_time,
         "max_overlap_ratio": res.max_overlap_ratio,
         "max_impact_velocity": res.max_impact_velocity,
+        "stepped_fraction": res.stepped_fraction,
         "units": {"wall_seconds": "s", "dissipated_energy_per_cycle": "J", "time_step": "s",
                   "contact_time": "s", "ledger_per_cycle": "J", "max_impact_velocity": "m/s"},
         **meta,

@@ -247,6 +247,7 @@ class DEMSpec(_Section):
     sample_rate: Frequency = DEFAULT_SAMPLE_RATE
     snapshot_rate: Frequency | None = None
     error_estimate: bool = False
+    gear_free_flight: bool = True
     accuracy: Annotated[float, Field(gt=0.0, le=1.0)] = DEFAULT_ACCURACY
     max_refinements: Count = DEFAULT_MAX_REFINEMENTS
 
@@ -839,6 +840,8 @@ error_estimate = {str(dem.error_estimate).lower()}     # estimate the integratio
                             # from a refined companion run (~2x the cost; docs/dem.md)
 accuracy = {dem.accuracy}             # its target (relative); a run missing it is redone
 max_refinements = {dem.max_refinements}         # refined, at most this many times
+gear_free_flight = {str(dem.gear_free_flight).lower()}    # Gear steps only spheres that may touch something,
+                            # the others fly their exact parabola (docs/dem.md)
 
 [restitution]               # COR model of each pair (Level I, docs/restitution.md), instead of the
                             # [dem] constants above (a pair given in both places is an error)
