@@ -43,7 +43,7 @@ from pdamper.dem.kernels.sampling import (
     record_sample,
     step_failed,
 )
-from pdamper.dem.kernels.search import needs_rebuild, needs_rebuild_of, rebuild
+from pdamper.dem.kernels.search import needs_rebuild, rebuild
 from pdamper.dem.kernels.state import ERR_LIST, ERR_NONE, MOTION_STRUCTURE, Rates
 
 # Gear coefficients (Gear 1971; Allen & Tildesley, App. E): 6-value Nordsieck vector of a
@@ -454,8 +454,7 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
             vc = nc[1] / h
         else:
             zc, vc, ac = prescribed_state(tn, drive)
-        if (needs_rebuild(pos, pos_build, skin) if na == n
-                else needs_rebuild_of(pos, pos_build, skin, act, na)):
+        if needs_rebuild(pos, pos_build, skin, act, na):
             if na < n:
                 # the list needs every position (the free spheres regroup after the step)
                 place_all(tn, g, fl, pos, vel)

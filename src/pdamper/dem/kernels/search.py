@@ -137,22 +137,9 @@ def rebuild(pos, rad, zc, world, nbrs):
 
 
 @njit(cache=True, inline="always")
-def needs_rebuild(pos, pos_build, skin):
-    """Rebuild criterion: some particle moved more than skin/2 since the last build."""
-    lim = 0.25 * skin * skin
-    for i in range(pos.shape[0]):
-        dx = pos[i, 0] - pos_build[i, 0]
-        dy = pos[i, 1] - pos_build[i, 1]
-        dz = pos[i, 2] - pos_build[i, 2]
-        if dx * dx + dy * dy + dz * dz > lim:
-            return True
-    return False
-
-
-@njit(cache=True, inline="always")
-def needs_rebuild_of(pos, pos_build, skin, act, na):
-    """:func:`needs_rebuild` for the particles ``act[:na]`` only (the others are known
-    not to have moved skin/2)."""
+def needs_rebuild(pos, pos_build, skin, act, na):
+    """Rebuild criterion: one of the particles ``act[:na]`` moved more than skin/2 since
+    the last build (the others, in free flight, are known not to have)."""
     lim = 0.25 * skin * skin
     for k in range(na):
         i = act[k]
