@@ -14,6 +14,11 @@ rescaled by ``ratio^k``. The friction cap uses ``max(h, stp.h_cap)``. Steps are 
 bounded by ``skin / (4 v_max)``, by ``dt_max``, optionally (``stp.contact_bound``) by the
 time to the next contact (never below ``stp.dt_contact``), and land exactly on the sample
 grid. ``stp.adaptive = 0`` keeps ``stp.dt`` fixed.
+
+With ``stp.free_flight`` the step integrates only the spheres that may touch something;
+the others fly their exact parabola (:mod:`pdamper.dem.kernels.flights`: regroups at each
+sample, after list rebuilds and periodically, rejoining when a horizon ends, speed limits
+checked after each correction).
 """
 
 from __future__ import annotations
