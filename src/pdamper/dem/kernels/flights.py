@@ -83,11 +83,10 @@ def place_all(t, g, fl, pos, vel):
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
-def join(i, t, h, g, mass, fl, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pred):
-    """Free sphere ``i`` rejoins the step at time ``t``: its state on the parabola and the
-    exact Nordsieck vectors of a parabola for the current step ``h`` (acceleration -g e_z,
-    no higher derivatives; constant spin)."""
-    place(i, t, g, fl, pos, vel)
+def _parabola(i, h, g, pos, vel, omg, nx, nw):
+    """The exact Nordsieck vectors of sphere ``i`` in free flight for the step ``h``
+    (acceleration -g e_z, no higher derivatives; constant spin): a Gear step keeps them on
+    the parabola, so the flat loops of the kernel may step a free sphere harmlessly."""
     for a in range(3):
         nx[0, i, a] = pos[i, a]
         nx[1, i, a] = h * vel[i, a]
@@ -100,11 +99,20 @@ def join(i, t, h, g, mass, fl, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pr
         nw[2, i, a] = 0.0
         nw[3, i, a] = 0.0
         nw[4, i, a] = 0.0
+    nx[2, i, 2] = -0.5 * h * h * g
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def join(i, t, h, g, mass, fl, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pred):
+    """Free sphere ``i`` rejoins the step at time ``t``: its state on the parabola and the
+    exact Nordsieck vectors of a parabola for the current step ``h``."""
+    place(i, t, g, fl, pos, vel)
+    _parabola(i, h, g, pos, vel, omg, nx, nw)
+    for a in range(3):
         frc[i, a] = 0.0
         trq[i, a] = 0.0
         vel_pred[i, a] = vel[i, a]
         omg_pred[i, a] = omg[i, a]
-    nx[2, i, 2] = -0.5 * h * h * g
     frc[i, 2] = -mass[i] * g
     fl.free[i] = 0
 
@@ -147,20 +155,26 @@ def join_due(t_end, t, h, g, mass, fl, pos, vel, omg, nx, nw, frc, trq, vel_pred
 @njit(cache=True, fastmath=FASTMATH)
 def regroup(t, h, vc, ac, on, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pred, zc, world,
             part, nbrs, walls, fl, horizon):
-    """Every free sphere rejoins at ``t``; then (``on``) the horizons of all spheres are
-    computed (module docstring) and those with at least :data:`MIN_STEPS` steps ``h`` of
-    horizon leave the step until it ends. ``horizon`` is the longest flight ``T`` [s].
-    Returns the number of stepped spheres."""
+    """Every sphere at time ``t``; then (``on``) the horizons of all spheres are computed
+    (module docstring) and those with at least :data:`MIN_STEPS` steps ``h`` of horizon
+    leave the step until it ends, the others are stepped. ``horizon`` is the longest
+    flight ``T`` [s]. Returns the number of stepped spheres.
+
+    A free sphere is only placed on its parabola to compute its horizon; it rejoins (its
+    Nordsieck vectors written) only if it stays in the step: most stay free, and the
+    result is the same as a rejoin of all followed by a new flight from ``t``."""
     g = world.gravity
     mass = part.mass
     rad = part.rad
     free = fl.free
     n = free.shape[0]
-    for i in range(n):
-        if free[i] != 0:
-            join(i, t, h, g, mass, fl, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pred)
     if not on:
+        for i in range(n):
+            if free[i] != 0:
+                join(i, t, h, g, mass, fl, pos, vel, omg, nx, nw, frc, trq, vel_pred,
+                     omg_pred)
         return _list_active(fl)
+    place_all(t, g, fl, pos, vel)
     vlim = fl.vlim
     hz = fl.until  # the horizons, relative, until they are made absolute below
     vcl = SPEED_FACTOR * abs(vc) + abs(ac) * horizon + SPEED_FLOOR
@@ -225,10 +239,20 @@ def regroup(t, h, vc, ac, on, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pre
     lim = MIN_STEPS * h
     for i in range(n):
         if hz[i] >= lim:
+            if free[i] == 0:
+                # from the step: the spin must stay constant even where the kernel's flat
+                # loops step free spheres (no contact, so no force but gravity, no torque)
+                _parabola(i, h, g, pos, vel, omg, nx, nw)
+                for a in range(3):
+                    frc[i, a] = 0.0
+                    trq[i, a] = 0.0
+                frc[i, 2] = -mass[i] * g
             free[i] = 1
             t0[i] = t
             hz[i] += t
             for a in range(3):
                 x0[i, a] = pos[i, a]
                 v0[i, a] = vel[i, a]
+        elif free[i] != 0:
+            join(i, t, h, g, mass, fl, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pred)
     return _list_active(fl)
