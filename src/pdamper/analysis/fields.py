@@ -47,6 +47,8 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "energy_balance_error": ("relative closure error of the energy ledger", "1"),
     "max_overlap_ratio": ("largest contact overlap / particle radius", "1"),
     "max_impact_velocity": ("fastest normal impact velocity of the run", "m s-1"),
+    "stepped_fraction": ("mean share of the spheres a Gear step integrated (the others in "
+                         "free flight)", "1"),
     "random_packing": ("the run started from a random packing (1) or the lattice (0)", "1"),
     "cycles": ("excitation cycles simulated", "1"),
     "first_cycle": ("first cycle of the averaged window (1-based)", "1"),

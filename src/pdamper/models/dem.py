@@ -544,6 +544,8 @@ def point_diagnostics(run: SteadyRun) -> dict:
 
     ``wall_seconds`` [s], ``steps``, ``energy_balance_error`` [-], ``max_overlap_ratio`` [-]
     (largest overlap / radius), ``max_impact_velocity`` [m/s] (fastest impact),
+    ``stepped_fraction`` [-] (mean share of the spheres a Gear step integrated, the others in
+    free flight),
     ``random_packing`` (1: the run started from a random packing, 0: from the lattice),
     ``cycles`` (simulated), ``first_cycle``/``last_cycle`` (the averaged window),
     ``loss_factor_stderr``, ``loss_factor_spread``, ``loss_factor_drift``
@@ -561,6 +563,7 @@ def point_diagnostics(run: SteadyRun) -> dict:
         "energy_balance_error": float(res.energy_balance_error()),
         "max_overlap_ratio": float(res.max_overlap_ratio),
         "max_impact_velocity": float(res.max_impact_velocity),
+        "stepped_fraction": float(res.stepped_fraction),
         "random_packing": int(run.packing == "random"),
         "cycles": int(st.cycles),
         "first_cycle": int(st.first_cycle),
