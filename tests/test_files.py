@@ -33,3 +33,41 @@ def test_failed_writer_leaves_the_old_file_and_no_temporary(tmp_path):
         atomic_write(p, broken)
     assert p.read_text() == "complete"
     assert [q.name for q in tmp_path.iterdir()] == ["out.nc"]
+
+
+def test_a_signal_during_the_writer_is_raised_after_it_and_removes_the_temporary(tmp_path):
+    """A signal handler raising inside the HDF5 library was sometimes swallowed there (the
+    command went on); the writer holds it until it returns, then the interrupt raises, the
+    temporary goes and the earlier file stays."""
+    import signal
+
+    from pdamper.cli._signals import raising_interrupts
+    from pdamper.errors import Interrupted
+
+    p = tmp_path / "out.nc"
+    atomic_write_text(p, "complete")
+    seen = []
+
+    def writer(path):
+        path.write_text("new")
+        os.kill(os.getpid(), signal.SIGTERM)
+        seen.append("the writer ran to its end")
+
+    with pytest.raises(Interrupted) as info, raising_interrupts():
+        atomic_write(p, writer)
+    assert info.value.signum == signal.SIGTERM
+    assert seen == ["the writer ran to its end"]
+    assert p.read_text() == "complete"
+    assert [q.name for q in tmp_path.iterdir()] == ["out.nc"]
+
+
+def test_signals_deferred_restores_the_handlers_and_leaves_default_ones_alone():
+    import signal
+
+    from pdamper.files import signals_deferred
+
+    before = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    with signals_deferred():
+        assert signal.getsignal(signal.SIGINT) is not before[signal.SIGINT]  # held
+        assert signal.getsignal(signal.SIGTERM) is before[signal.SIGTERM]  # SIG_DFL
+    assert {s: signal.getsignal(s) for s in before} == before

@@ -10,7 +10,11 @@ Policy (the same for every command):
 - **Atomic.** :func:`atomic_write` writes a temporary file beside the target and renames it
   over the target only when the writer has finished, so that a failed or interrupted run
   never leaves a half-written file under the target's name, and an earlier complete result
-  stays as it was. A symlinked target is written through (the link stays).
+  stays as it was. A symlinked target is written through (the link stays). A signal that
+  arrives while the writer runs is held until the writer returns (:func:`signals_deferred`):
+  raised inside the HDF5 library, an interrupt was sometimes swallowed (the command went on)
+  or left the library's state broken; held, it deletes the temporary file and the target
+  stays as it was.
   :func:`atomic_directory` does the same for a directory of results (``paper --out``): the
   files are written into a hidden staging directory beside the target, which becomes the
   target (a new directory appears complete or not at all) or whose files replace their
@@ -32,16 +36,64 @@ import contextlib
 import errno
 import os
 import shutil
+import signal
 import stat
 import sys
 import tempfile
+import threading
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from pdamper.errors import InputError, OutputError
 
 __all__ = ["atomic_directory", "atomic_write", "atomic_write_text", "check_directory_target",
-           "check_file_target", "stdout_error", "write_stdout"]
+           "check_file_target", "signals_deferred", "stdout_error", "write_stdout"]
+
+#: Signals whose Python handlers :func:`signals_deferred` holds back (those the command line
+#: turns into :class:`~pdamper.errors.Interrupted`, where the platform has them).
+DEFERRED_SIGNALS = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP")
+                         if hasattr(signal, name))
+
+
+@contextlib.contextmanager
+def signals_deferred() -> Iterator[None]:
+    """Hold back the Python handlers of :data:`DEFERRED_SIGNALS` while the block runs.
+
+    A signal arriving inside the block is recorded; when the block ends, the handlers are
+    restored and the first recorded signal is handed to its handler, so that an interrupt
+    (``KeyboardInterrupt``, :class:`~pdamper.errors.Interrupted`) is raised *after* the
+    block, never inside third-party code that is not safe against it (the HDF5 library,
+    measured: 10 of 300 signals sent during ``to_netcdf`` were swallowed there, others broke
+    its state). Signals with the default or ignore disposition are left alone, and so is
+    every thread but the main one (where Python runs signal handlers).
+
+    Examples
+    --------
+    >>> import os, signal
+    >>> got = []
+    >>> old = signal.signal(signal.SIGINT, lambda s, f: got.append(("handled", s)))
+    >>> with signals_deferred():
+    ...     os.kill(os.getpid(), signal.SIGINT)
+    ...     got.append("block ends")
+    >>> _ = signal.signal(signal.SIGINT, old)
+    >>> got == ["block ends", ("handled", signal.SIGINT)]
+    True
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    pending: list[int] = []
+    previous = {s: signal.getsignal(s) for s in DEFERRED_SIGNALS}
+    held = {s: h for s, h in previous.items() if callable(h)}
+    for s in held:
+        signal.signal(s, lambda signum, _frame: pending.append(signum))
+    try:
+        yield
+    finally:
+        for s, h in held.items():
+            signal.signal(s, h)
+        if pending:
+            held[pending[0]](pending[0], None)
 
 
 def _umask() -> int:
@@ -194,7 +246,8 @@ def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], object],
     tmp = Path(tmp_name)
     try:
         try:
-            writer(tmp)
+            with signals_deferred():
+                writer(tmp)
             os.chmod(tmp, 0o666 & ~_umask())
             os.replace(tmp, target)
         except OSError as exc:
