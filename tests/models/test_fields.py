@@ -346,13 +346,14 @@ def test_scenario_fields_section(tmp_path):
 @pytest.mark.slow
 def test_model2_from_a_dem_map_within_20_percent_of_model1():
     """Sect. 4.2.1, 32 spheres: model 2 built from a DEM map (a small map around the
-    trajectory's (f, X): 5.0-5.6 Hz x 8-60 mm, 8 cycles per point as the paper) against
-    model 1 (the DEM coupled to the structure): amplitude at 0.75 s within 20 %. The full
-    paper map replaces the small one once the DEM map is cached (issue #9)."""
+    trajectory's (f, X): 5.0-5.6 Hz x 8-60 mm, 2 x 4 points, 8 cycles per point as the
+    paper) against model 1 (the DEM coupled to the structure): amplitude at 0.75 s within
+    20 % (measured: model 2 21.5 mm from 7 strokes, 22.0 mm from the 4 here; model 1
+    25.9 mm). The full paper map replaces the small one once the DEM map is cached."""
     from pdamper.models import DEMDamper
 
     dem = DEMDamper(PAPER_DAMPER)
-    ds = effective_field(dem, np.linspace(5.0, 5.6, 2), np.linspace(0.008, 0.06, 7))
+    ds = effective_field(dem, np.linspace(5.0, 5.6, 2), np.linspace(0.008, 0.06, 4))
     m2 = EffectiveFieldDamper(PAPER_DAMPER, field=ds, extrapolation="clamp")
     run2 = Simulation(PAPER_STRUCTURE, m2, PAPER_INITIAL_DISPLACEMENT).run(0.95)
     run1 = Simulation(PAPER_STRUCTURE, dem, PAPER_INITIAL_DISPLACEMENT).run(0.95)

@@ -56,12 +56,16 @@ def test_short_runs_give_no_verdict_instead_of_a_wrong_one():
 
 
 def test_dem_rows_fig2_and_both_cor_runs(tmp_path):
-    """With the DEM (reduced: 0.8 s, small grid): the Fig. 2 single-impact check within 0.01,
-    DEM model 1 with the scenario's constant COR and, next to it, with the paper's curves
-    (two different runs), Fig. 2 written, the COR models recorded in results.json."""
+    """With the DEM (reduced: 0.8 s, small grids, a one-point DEM map of 4 cycles in this
+    process): the Fig. 2 single-impact check within 0.01, DEM model 1 with the scenario's
+    constant COR and, next to it, with the paper's curves (two different runs), Fig. 2
+    written, the COR models recorded in results.json."""
     sc = load_scenario(None, {"simulation.duration": "0.8 s", "map.frequency": "5Hz:10Hz:2",
-                              "map.amplitude": "10mm:50mm:2"})
-    cs = run_case_study(sc, dem=True)
+                              "map.amplitude": "10mm:50mm:2", "map.dem_frequency": "10Hz",
+                              "map.dem_amplitude": "32mm", "dem.cycles": 4,
+                              "dem.skip_cycles": 1})
+    cs = run_case_study(sc, dem=True, serial=True)
+    assert cs.dem_map["loss_factor"].shape == (1, 1)
     rows = {r.quantity: r for r in cs.rows}
     cal = rows["Fig. 2 COR curves in single DEM impacts, 0.01-2 m/s (max |e_DEM - e|)"]
     assert cal.agrees and all(c.max_deviation < 0.01 for c in cs.cor_checks)
