@@ -67,7 +67,17 @@ def test_signals_deferred_restores_the_handlers_and_leaves_default_ones_alone():
     from pdamper.files import signals_deferred
 
     before = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
-    with signals_deferred():
-        assert signal.getsignal(signal.SIGINT) is not before[signal.SIGINT]  # held
-        assert signal.getsignal(signal.SIGTERM) is before[signal.SIGTERM]  # SIG_DFL
-    assert {s: signal.getsignal(s) for s in before} == before
+    try:
+        def mine(_signum, _frame):
+            pass
+
+        signal.signal(signal.SIGINT, mine)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        with signals_deferred():
+            assert signal.getsignal(signal.SIGINT) is not mine  # held
+            assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL  # left alone
+        assert signal.getsignal(signal.SIGINT) is mine
+        assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+    finally:
+        for s, h in before.items():
+            signal.signal(s, h)
