@@ -20,10 +20,11 @@ import time
 from collections.abc import Iterator
 
 from pdamper.errors import Interrupted
+from pdamper.files import DEFERRED_SIGNALS
 
-#: Signals that stop a command (where the platform has them).
-SIGNALS = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP")
-                if hasattr(signal, name))
+#: Signals that stop a command (where the platform has them): those the atomic writer holds
+#: back while it writes.
+SIGNALS = DEFERRED_SIGNALS
 #: Seconds during which a further signal leaves the cleanup of the first alone.
 GRACE = 2.0
 
