@@ -325,6 +325,33 @@ def test_sliding_sphere_starts_rolling_at_five_sevenths(integrator):
     assert res.dissipated_friction[-1] == pytest.approx(m * v0**2 / 7, rel=0.01)
 
 
+@pytest.mark.parametrize("vn", [0.3, 3.0])
+@pytest.mark.parametrize("ratio", [0.1, 0.3, 3.0])
+def test_oblique_impact_rebounds_as_the_rigid_body_closed_forms(vn, ratio):
+    """Oblique sphere-wall impact with Coulomb friction (rigid-body impact theory, COR e):
+    a sphere whose slip stops within the contact leaves rolling, v_t' = omega r = 5/7 v_t;
+    one that slides throughout leaves with v_t' = v_t - mu (1 + e) v_n and
+    omega r = 5/2 mu (1 + e) v_n. Gear's default step control with its friction cap
+    (``GEAR_FRICTION_CAP_FACTOR``) must keep this within 1e-4 of v_t: at a factor of 10 the
+    slip no longer stops within the contact (1.7e-3)."""
+    e, mu = 0.85, 0.1
+    vt = ratio * vn
+    ps = particles(np.array([[3 * R, 3 * R, R + 1e-5]]), velocities=np.array([[vt, 0, -vn]]))
+    cp = contact(restitution_pw=ConstantRestitution(e), friction_pw=mu)
+    sim = engine(ps, container(box=(20 * R, 6 * R, 8 * R)), cp, integrator="gear",
+                 gravity=0.0, settle_time=0.0, reference_velocity=vn)
+    res = sim.run(1e-5 / vn + 200e-6, sample_rate=1e5)
+    v = res.snapshot_velocities[-1, 0]
+    w = res.snapshot_angular_velocities[-1, 0]
+    if ratio < 3.5 * mu * (1 + e):  # sticks: the slip 2/7 v_t is removed by friction
+        vt_out, wr_out = 5 / 7 * vt, 5 / 7 * vt
+    else:
+        vt_out, wr_out = vt - mu * (1 + e) * vn, 2.5 * mu * (1 + e) * vn
+    assert v[2] == pytest.approx(e * vn, rel=1e-4)
+    assert v[0] == pytest.approx(vt_out, abs=1e-4 * vt)
+    assert w[1] * R == pytest.approx(wr_out, abs=1e-4 * vt)
+
+
 def test_reimpact_rule_keeps_a_packed_column_stable():
     """Persisting gentle contacts hit hard (12 locked layers, sudden container motion)."""
     ps = lattice(192)

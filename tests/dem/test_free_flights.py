@@ -82,29 +82,31 @@ def test_a_grazing_pass_from_free_flight():
                                rtol=0, atol=1e-5 * v)
 
 
-def _shaken(gear_free_flight, seed=3):
+def _shaken(gear_free_flight, seed, duration=0.9):
     sim = engine(random(32, seed=seed), motion=HarmonicMotion(0.032, 10.0), integrator="gear",
                  settle_time=0.1, gear_free_flight=gear_free_flight)
-    return sim.run(0.5, sample_rate=2000.0)
+    return sim.run(duration, sample_rate=2000.0)
 
 
 def test_shaken_bed_same_physics_fewer_sphere_steps():
-    """The paper's damper, random bed, 10 Hz / 32 mm, 5 cycles: free flights take most
-    spheres out of most steps, the energy ledger closes as with every sphere stepped
-    (W = dE + D to 1e-3), and the loss factor over cycles 2-5 agrees with the all-stepped
-    run within the spread of a chaotic bed (5 %; the trajectories part at rounding level
-    after the first impacts, as any two runs differing in the last bit do)."""
-    on = _shaken(True)
-    off = _shaken(False)
-    assert on.stepped_fraction < 0.5
-    assert on.regroups > 1000
-    assert on.energy_balance_error() < 1e-3
-    assert off.energy_balance_error() < 1e-3
-    eta_on = on.complex_power(1).loss_factor
-    eta_off = off.complex_power(1).loss_factor
-    assert eta_on == pytest.approx(eta_off, rel=0.05)
+    """The paper's damper, random beds, 10 Hz / 32 mm: free flights take most spheres out
+    of most steps, the energy ledger closes as with every sphere stepped (W = dE + D to
+    1e-3), and the loss factor over cycles 2-9 agrees with the all-stepped runs.
+
+    The bed is chaotic (the trajectories of two runs part at rounding level after the first
+    impacts), so one run against one run says little: the 8-cycle loss factor of one random
+    bed scatters by 4 % (sd over 6 seeds: 0.046 with free flights, 0.044 without; means 1.128
+    and 1.105). The means over 4 beds each differ by sd ~2.9 %: the band is 8 %."""
+    on = [_shaken(True, seed) for seed in range(1, 5)]
+    off = [_shaken(False, seed) for seed in range(1, 5)]
+    assert on[0].stepped_fraction < 0.5
+    assert on[0].regroups > 1000
+    assert max(r.energy_balance_error() for r in on + off) < 1e-3
+    eta_on = np.mean([r.complex_power(1).loss_factor for r in on])
+    eta_off = np.mean([r.complex_power(1).loss_factor for r in off])
+    assert eta_on == pytest.approx(eta_off, rel=0.08)
     # the cost that free flights save is in the stepped sphere-steps, not in the steps
-    assert on.steps == pytest.approx(off.steps, rel=0.1)
+    assert sum(r.steps for r in on) == pytest.approx(sum(r.steps for r in off), rel=0.1)
 
 
 def test_chunks_do_not_change_a_bit_with_free_flights():

@@ -346,21 +346,28 @@ def test_scenario_fields_section(tmp_path):
 @pytest.mark.slow
 def test_model2_from_a_dem_map_within_20_percent_of_model1():
     """Sect. 4.2.1, 32 spheres: model 2 built from a DEM map (a small map around the
-    trajectory's (f, X): 5.0-5.6 Hz x 8-60 mm, 2 x 4 points, 8 cycles per point as the
-    paper) against model 1 (the DEM coupled to the structure): amplitude at 0.75 s within
-    20 % (measured: model 2 21.5 mm from 7 strokes, 22.0 mm from the 4 here; model 1
-    25.9 mm). The full paper map replaces the small one once the DEM map is cached."""
+    trajectory's (f, X): 5.0-5.6 Hz x 8-60 mm, 2 x 4 points, run until steady) against
+    model 1 (the DEM coupled to the structure): amplitude at 0.75 s within 20 %.
+
+    Model 1 is a transient of a chaotic bed: one run is one realisation. From the paper's
+    lattice its amplitude at 0.75 s moved between 23.5 and 27.7 mm with 1e-9 m moves of the
+    spheres or last-bit changes of the code (Verlet at safety 0.005 alike: 23.5-25.4 mm),
+    because the lattice's mirror symmetry breaks at a rounding-dependent time. Model 2 is
+    built from steady cycles, where the symmetry has broken; its like-for-like reference is
+    model 1 from random packings, averaged over three (measured: 21.24 / 21.87 / 21.29 mm,
+    model 2 21.82 mm)."""
     from pdamper.models import DEMDamper
 
     dem = DEMDamper(PAPER_DAMPER)
     ds = effective_field(dem, np.linspace(5.0, 5.6, 2), np.linspace(0.008, 0.06, 4))
     m2 = EffectiveFieldDamper(PAPER_DAMPER, field=ds, extrapolation="clamp")
     run2 = Simulation(PAPER_STRUCTURE, m2, PAPER_INITIAL_DISPLACEMENT).run(0.95)
-    run1 = Simulation(PAPER_STRUCTURE, dem, PAPER_INITIAL_DISPLACEMENT).run(0.95)
-    a2, a1 = run2.amplitude_at(0.75), run1.amplitude_at(0.75)
+    a2 = run2.amplitude_at(0.75)
+    a1 = [Simulation(PAPER_STRUCTURE, DEMDamper(PAPER_DAMPER, packing="random", seed=s),
+                     PAPER_INITIAL_DISPLACEMENT).run(0.95).amplitude_at(0.75) for s in range(3)]
     print(f"\namplitude at 0.75 s: model 2 (DEM map) {a2 * 1e3:.2f} mm, model 1 "
-          f"{a1 * 1e3:.2f} mm")
-    assert a2 == pytest.approx(a1, rel=0.2)
+          f"{', '.join(f'{a * 1e3:.2f}' for a in a1)} mm")
+    assert a2 == pytest.approx(np.mean(a1), rel=0.2)
 
 
 def test_issue9_flag_encoding_of_status_and_stationary():

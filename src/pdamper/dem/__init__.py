@@ -28,6 +28,7 @@ _EXPORTS = {
     "StructureMotion": "pdamper.dem.model",
     "DEMEngine": "pdamper.dem.simulation",
     "DEMResult": "pdamper.dem.simulation",
+    "SettledBed": "pdamper.dem.simulation",
     "warmup": "pdamper.dem.simulation",
 }
 
@@ -39,6 +40,7 @@ __all__ = [
     "HarmonicMotion",
     "ParticleSet",
     "PrescribedMotion",
+    "SettledBed",
     "StructureMotion",
     "warmup",
 ]
@@ -52,7 +54,7 @@ if TYPE_CHECKING:  # pragma: no cover
         PrescribedMotion,
         StructureMotion,
     )
-    from pdamper.dem.simulation import DEMEngine, DEMResult, warmup
+    from pdamper.dem.simulation import DEMEngine, DEMResult, SettledBed, warmup
 
 
 def __getattr__(name: str):

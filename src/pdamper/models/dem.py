@@ -75,6 +75,9 @@ ERROR_REDUCTION = 0.5
 #: Default number of times a run whose estimate misses the target is redone refined.
 DEFAULT_MAX_REFINEMENTS = 2
 
+#: Settled beds a model keeps (its own settings and the refined companion runs).
+MAX_BEDS = 4
+
 _STEADY = SteadyStateCriterion()
 #: Fewest cycles in each half of an averaged window whose motion modes must agree.
 MIN_HALF_WINDOW = 3
@@ -327,6 +330,18 @@ class DEMDamper(DamperModel):
                                     low_inclusive=False)
         self.max_refinements = _whole("dem.max_refinements", max_refinements, 0)
         self.options = options
+        self._beds: dict = {}
+
+    # the settled beds are a cache of what the inputs determine: not part of the model's
+    # state (its pickle, hence a map's point keys, do not change when they are filled)
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state.pop("_beds", None)
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self._beds = {}
 
     @property
     def run_until_steady(self) -> bool:
@@ -354,6 +369,19 @@ class DEMDamper(DamperModel):
         return DEMEngine(particles, Container(d.box, d.wall_material, d.container_mass),
                          self.contact, motion, integrator=self.integrator, seed=self.seed,
                          **options)
+
+    def _settled(self, engine):
+        """The settled bed ``engine`` starts from: settled once per particles, container,
+        contact law and step settings, then shared by every frequency and amplitude (the
+        settling does not depend on them; :class:`pdamper.dem.SettledBed`)."""
+        key = engine.settle_key
+        bed = self._beds.get(key)
+        if bed is None:
+            bed = engine.settle()
+            # few keys: the model's settings and the refined companions of the error
+            # estimate (copies, e.g. with_damper, start with none: __getstate__)
+            self._beds = {**dict(list(self._beds.items())[-MAX_BEDS + 1:]), key: bed}
+        return bed
 
     def initial_packing(self) -> str:
         """The packing the runs start from: ``"lattice"`` or ``"random"`` (``"auto"``
@@ -411,10 +439,11 @@ class DEMDamper(DamperModel):
 
             # the engine asks after every whole cycle: the run ends at the first steady one
             res = engine.run(self.max_cycles / f, sample_rate=self.sample_rate,
-                             snapshot_rate=self.snapshot_rate, stop=steady)
+                             snapshot_rate=self.snapshot_rate, stop=steady,
+                             start=self._settled(engine))
         else:
             res = engine.run(self.cycles / f, sample_rate=self.sample_rate,
-                             snapshot_rate=self.snapshot_rate)
+                             snapshot_rate=self.snapshot_rate, start=self._settled(engine))
         st, motion = self.assess(res)
         power = res.complex_power(st.first_cycle - 1, st.last_cycle - st.first_cycle + 1)
         run = SteadyRun(res, st, motion, power, packing)
@@ -437,9 +466,10 @@ class DEMDamper(DamperModel):
             st = run.stationarity
             skip, span = st.first_cycle - 1, st.last_cycle - st.first_cycle + 1
             reference = value / factor
-            comp = self._engine(particles, HarmonicMotion(amplitude=x, frequency=f),
-                                **{setting: reference}).run(
-                st.cycles / f, sample_rate=self.sample_rate, snapshot_rate=self.snapshot_rate)
+            engine = self._engine(particles, HarmonicMotion(amplitude=x, frequency=f),
+                                  **{setting: reference})
+            comp = engine.run(st.cycles / f, sample_rate=self.sample_rate,
+                              snapshot_rate=self.snapshot_rate, start=self._settled(engine))
             cp = comp.complex_power(skip, span)
             eta, ratio = run.power.loss_factor, run.power.effective_mass_ratio
             e_eta = error_bound(eta, cp.loss_factor)

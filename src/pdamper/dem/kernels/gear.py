@@ -418,8 +418,9 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
         q4 = q3 * q1
         q5 = q4 * q1
         h = hn
-        # friction cap: never stiffer than at the step hcap (the Verlet step), so that the
-        # error control does not chase the viscous time scale of the stuck tanh law
+        # friction cap: never stiffer than at the step hcap (GEAR_FRICTION_CAP_FACTOR x the
+        # Verlet step, pdamper.dem.simulation), so that the error control does not chase
+        # the viscous time scale of the stuck tanh law
         cap_h = 0.5 / (h if h > hcap else hcap)
         ih = 1.0 / h
         if 2 * na > n:
