@@ -690,11 +690,12 @@ class DEMEngine:
             excitation starts from it instead of settling (``settle`` is then ignored).
         """
         grid = self._sample_grid(duration, sample_rate, snapshot_rate)
-        run = self._allocate(grid)
         if start is not None:
-            run = self._settled_run(start, run)
-        elif settle and self.settle_time > 0:
-            self._settle(run, chunk_seconds)
+            run = self._settled_run(start)
+        else:
+            run = self._allocate(grid)
+            if settle and self.settle_time > 0:
+                self._settle(run, chunk_seconds)
         return self._excite(run, grid, stop, chunk_seconds)
 
     def settle(self, chunk_seconds: float = DEFAULT_CHUNK_SECONDS) -> SettledBed:
@@ -716,7 +717,8 @@ class DEMEngine:
                 stp._replace(half=0.0, nsamp=0), self._start_position())
         return hashlib.sha256(pickle.dumps(what, protocol=4)).hexdigest()[:20]
 
-    def _settled_run(self, bed: SettledBed, fresh: _Run) -> _Run:
+    def _settled_run(self, bed: SettledBed) -> _Run:
+        """A copy of the run state of ``bed`` (checked to be this engine's settling)."""
         if not isinstance(bed, SettledBed):
             raise InputError("start", f"must be a SettledBed, got {type(bed).__name__}")
         if bed.key != self.settle_key:
