@@ -46,8 +46,13 @@ def test_dem_model_input_errors():
 # ------------------------------------------------------------------ run until steady
 @pytest.fixture(scope="module")
 def six_cycles():
-    """A real 6-cycle run (10 Hz, 32 mm) to drive the adapter with fake engines."""
-    return DEMDamper(PAPER_DAMPER, cycles=6, skip_cycles=1).run(10.0, 0.032)
+    """A real 6-cycle run (10 Hz, 32 mm) to drive the adapter with fake engines: the
+    model's engine run directly (as the early-stop test runs it)."""
+    from pdamper.dem import HarmonicMotion
+    from pdamper.models.dem import DEFAULT_SAMPLE_RATE
+
+    eng = DEMDamper(PAPER_DAMPER, cycles=6, skip_cycles=1).engine(HarmonicMotion(0.032, 10.0))
+    return eng.run(0.6, sample_rate=DEFAULT_SAMPLE_RATE)
 
 
 def test_truncate_result_keeps_whole_cycles(six_cycles):
