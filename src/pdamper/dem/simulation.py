@@ -71,6 +71,16 @@ GEAR_ONSET_FACTOR = 6.0
 #: comparison made on an ensemble first. At 10 the slip no longer stops within a contact
 #: (1.7e-3, tests/dem/test_dem_physics.py fails).
 GEAR_FRICTION_CAP_FACTOR = 1.0
+#: Settling beyond the free fall over the container height, the engine's default [s].
+SETTLE_EXTRA = 0.05
+
+
+def free_fall_settling(height: float, gravity: float, extra: float = SETTLE_EXTRA) -> float:
+    """Settling time [s]: the free fall over ``height`` [m] under ``gravity`` [m/s^2] plus
+    ``extra`` [s]; 0 without gravity."""
+    return math.sqrt(2.0 * height / gravity) + extra if gravity > 0 else 0.0
+
+
 #: Target wall time of one kernel call [s]: Ctrl-C and ``stop`` take effect within it.
 DEFAULT_CHUNK_SECONDS = 0.25
 #: ``integrator="auto"`` runs Gear and hands over to velocity Verlet while Gear's mean step
@@ -550,7 +560,7 @@ class DEMEngine:
                      else check_range("skin", skin, low=0.0, low_inclusive=False, unit="m"))
         lx, ly, lz = self.container.box
         if settle_time is None:
-            settle_time = (math.sqrt(2.0 * lz / self.gravity) + 0.05) if self.gravity > 0 else 0.0
+            settle_time = free_fall_settling(lz, self.gravity)
         self.settle_time = check_range("settle_time", settle_time, low=0.0, unit="s")
         pos = particles.positions
         tol = min(self.max_overlap, OVERLAP_WARNING_LIMIT) * r  # initial wall overlaps up to it

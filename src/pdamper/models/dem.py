@@ -79,7 +79,7 @@ DEFAULT_MAX_REFINEMENTS = 2
 #: Settled beds a model keeps (its own settings and the refined companion runs).
 MAX_BEDS = 4
 #: Level II runs settle for the free fall over the container height plus this [s] (the
-#: engine's default adds 0.05 s). After the default, a random bed of the paper's damper still
+#: engine's default adds SETTLE_EXTRA, 0.05 s). After the default, a random bed of the paper's damper still
 #: moves at ~6 cm/s (kinetic energy 2.8e-4 J, 32 spheres) and creeps down through the
 #: averaged window of solid-like cells (8 Hz / 2 mm: eta -1.1e-3, bed height range 0.5 mm,
 #: classified scattering although A = 0.26 g; 2 Hz / 1 mm: eta -7.9e-4). Settling 0.25 /
@@ -383,11 +383,12 @@ class DEMDamper(DamperModel):
     def _level2_settling(self) -> dict:
         """The settling of Level II runs (:data:`LEVEL2_SETTLE_EXTRA`), unless the model's
         options set one."""
+        from pdamper.dem.simulation import free_fall_settling
+
         if "settle_time" in self.options:
             return {}
         g = float(self.options.get("gravity", STANDARD_GRAVITY))
-        fall = math.sqrt(2.0 * self.damper.box[2] / g) if g > 0 else 0.0
-        return {"settle_time": fall + LEVEL2_SETTLE_EXTRA}
+        return {"settle_time": free_fall_settling(self.damper.box[2], g, LEVEL2_SETTLE_EXTRA)}
 
     def _settled(self, engine):
         """The settled bed ``engine`` starts from: settled once per particles, container,
