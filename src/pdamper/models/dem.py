@@ -76,8 +76,12 @@ ERROR_REDUCTION = 0.5
 #: Default number of times a run whose estimate misses the target is redone refined.
 DEFAULT_MAX_REFINEMENTS = 2
 
-#: Settled beds a model keeps (its own settings and the refined companion runs).
-MAX_BEDS = 4
+#: Settled beds a process keeps, the least recently used dropped first: a map's model and
+#: the refined companions of its error estimate, a particle-count axis.
+MAX_BEDS = 8
+#: The cache itself: a memo of a deterministic function of the key (not state: a model
+#: pickled to a sweep's worker finds the bed its process settled for an earlier point).
+_BEDS: dict = {}
 #: Level II runs settle for the free fall over the container height plus this [s] (the
 #: engine's default adds SETTLE_EXTRA, 0.05 s). After the default, a random bed of the paper's damper still
 #: moves at ~6 cm/s (kinetic energy 2.8e-4 J, 32 spheres) and creeps down through the
@@ -340,18 +344,6 @@ class DEMDamper(DamperModel):
                                     low_inclusive=False)
         self.max_refinements = _whole("dem.max_refinements", max_refinements, 0)
         self.options = options
-        self._beds: dict = {}
-
-    # the settled beds are a cache of what the inputs determine: not part of the model's
-    # state (its pickle, hence a map's point keys, do not change when they are filled)
-    def __getstate__(self) -> dict:
-        state = self.__dict__.copy()
-        state.pop("_beds", None)
-        return state
-
-    def __setstate__(self, state: dict) -> None:
-        self.__dict__.update(state)
-        self._beds = {}
 
     @property
     def run_until_steady(self) -> bool:
@@ -390,17 +382,19 @@ class DEMDamper(DamperModel):
         g = float(self.options.get("gravity", STANDARD_GRAVITY))
         return {"settle_time": free_fall_settling(self.damper.box[2], g, LEVEL2_SETTLE_EXTRA)}
 
-    def _settled(self, engine):
-        """The settled bed ``engine`` starts from: settled once per particles, container,
-        contact law and step settings, then shared by every frequency and amplitude (the
-        settling does not depend on them; :class:`pdamper.dem.SettledBed`)."""
+    @staticmethod
+    def _settled(engine):
+        """The settled bed ``engine`` starts from: settled once per process for its
+        particles, container, contact law and step settings (the key), then shared by every
+        frequency and amplitude (the settling does not depend on them; a run from the bed is
+        bit-identical to one that settles by itself: :class:`pdamper.dem.SettledBed`)."""
         key = engine.settle_key
-        bed = self._beds.get(key)
+        bed = _BEDS.pop(key, None)
         if bed is None:
             bed = engine.settle()
-            # few keys: the model's settings and the refined companions of the error
-            # estimate (copies, e.g. with_damper, start with none: __getstate__)
-            self._beds = {**dict(list(self._beds.items())[-MAX_BEDS + 1:]), key: bed}
+        _BEDS[key] = bed  # most recent last
+        while len(_BEDS) > MAX_BEDS:
+            _BEDS.pop(next(iter(_BEDS)))
         return bed
 
     def initial_packing(self) -> str:
