@@ -88,8 +88,8 @@ _BEDS: dict = {}
 #: averaged window of solid-like cells (8 Hz / 2 mm: eta -1.1e-3, bed height range 0.5 mm,
 #: classified scattering although A = 0.26 g; 2 Hz / 1 mm: eta -7.9e-4). Settling 0.25 /
 #: 0.45 / 0.85 s longer leaves 2.6e-6 / 1.1e-7 / 4.6e-11 J and eta 8.6e-6 / -1.2e-4 /
-#: -1.0e-5 there (solid-like). The bed is settled once per model and shared by every
-#: point (SettledBed): ~1 s of CPU per map.
+#: -1.0e-5 there (solid-like). The bed is settled once per process and shared by every
+#: point (SettledBed, _BEDS): ~1.4 s of CPU per worker of a map.
 LEVEL2_SETTLE_EXTRA = 1.0
 
 _STEADY = SteadyStateCriterion()
