@@ -422,11 +422,6 @@ class SettledBed:
     seconds: float
     state: _Run = field(repr=False, compare=False)
 
-    @property
-    def positions(self) -> np.ndarray:
-        """Settled sphere centres in the inertial frame, (n, 3) [m]."""
-        return self.state.pos.copy()
-
 
 @dataclass
 class _Phase:
@@ -723,7 +718,7 @@ class DEMEngine:
         settings and the container's start position, not the rest of the motion."""
         stp = self._stepping(0.0, 1.0, 2, 0, self._first_kernel, settling=True)
         what = (self.particles, self.container.box, self.container.material, self.contact,
-                self.gravity, self.skin, self.settle_time, self._first_kernel, self.safety,
+                self.gravity, self.skin, self.settle_time, self._first_kernel,
                 stp._replace(half=0.0, nsamp=0), self._start_position())
         return hashlib.sha256(pickle.dumps(what, protocol=4)).hexdigest()[:20]
 
