@@ -279,7 +279,7 @@ def sweep_field(model, frequency, amplitude, particles=None, *, store=None,
         The field (variables as :func:`effective_field`, plus ``error``, ``attempts`` and
         the diagnostics the model reports; NaN / -1 where a point failed) and the sweep.
     """
-    from pdamper import __version__
+    from pdamper._version import __version__, source_digest
     from pdamper.sweep import run_sweep
 
     if not callable(getattr(model, "response", None)):
@@ -299,8 +299,8 @@ def sweep_field(model, frequency, amplitude, particles=None, *, store=None,
                 if n is not None:
                     p["particles"] = n
                 points.append(p)
-    ctx = {"pdamper_version": __version__, "model": model_fingerprint(model)} \
-        if context is None else dict(context)
+    ctx = {"pdamper_version": __version__, "pdamper_source": source_digest(),
+           "model": model_fingerprint(model)} if context is None else dict(context)
     sweep = run_sweep(functools.partial(field_point, model), points, store=store, context=ctx,
                       progress=progress, **sweep_options)
     shape = (f.size, x.size) if counts is None else (counts.size, f.size, x.size)

@@ -58,12 +58,14 @@ class MapRun:
 
 def map_context(scenario, model_name: str) -> dict:
     """What every point of a map depends on besides its own (f, X, n): the Level II inputs
-    of the scenario, the model and the pdamper version."""
-    from pdamper import __version__
+    of the scenario, the model, the pdamper version and the digest of its source (the
+    version changes only at releases)."""
+    from pdamper._version import __version__, source_digest
 
     inputs = scenario.model_dump(mode="json")
     level2 = {k: v for k, v in inputs.items() if k not in _NOT_LEVEL_II}
-    return {"model": model_name, "inputs": level2, "pdamper_version": __version__}
+    return {"model": model_name, "inputs": level2, "pdamper_version": __version__,
+            "pdamper_source": source_digest()}
 
 
 def map_key(context: dict, frequency, amplitude, particles=None) -> str:
@@ -142,7 +144,8 @@ def run_map(scenario, model_name: str, *, frequency=None, amplitude=None, partic
     x = np.asarray(amplitude, float)
     context = map_context(effective, model_name)
     key = map_key(context, f, x, particles)
-    attrs = {"pdamper_version": __version__, "inputs": json.dumps(scenario.model_dump(
+    attrs = {"pdamper_version": __version__, "pdamper_source": context["pdamper_source"],
+             "inputs": json.dumps(scenario.model_dump(
         mode="json")), "seed": int(scenario.dem.seed), "map_key": key,
         "model_fidelity": model_name, "packing": effective.dem.packing}
     if out is not None and cache:
