@@ -28,19 +28,21 @@ def test_featherweight_bed_leaves_the_closed_form_oscillator_unchanged():
     assert res.details.steps == res.inputs["steps"]  # the DEM run travels with the result
 
 @pytest.mark.slow
-def test_paper_level3_dem_model_1_against_analytical_model():
+def test_paper_level3_dem_model_1_against_analytical_model(paper_model1_ensemble):
     """Sect. 4.2.1 / Fig. 7, 32 spheres from -58 mm, two fidelities compared: the DEM
-    (model 1, constant COR 0.6 / 0.85) and the analytical model (model 3)
-    agree within 12 % on the amplitude after 0.75 s (DEM 24.5-26.2 mm over four runs that
-    differ only in their steps: Gear tolerance 1e-5 and 1e-6, free flights on and off;
-    analytical 23.6 mm). Both decay slower than the paper's experiment (~19 mm), which the
-    test does not hide: see the case-study table. Damping ratios of the first cycles:
-    0.02-0.06."""
-    dem = Simulation(PAPER_STRUCTURE, DEMDamper(PAPER_DAMPER),
-                     PAPER_INITIAL_DISPLACEMENT).run(0.95)
+    (model 1, constant COR 0.6 / 0.85) and the analytical model (model 3) agree within
+    12 % on the amplitude after 0.75 s, model 1 averaged over three random packings
+    (measured 21.24 / 21.87 / 21.29 mm; analytical 23.6 mm). One run is one realisation
+    of a chaotic transient: from the paper's lattice the amplitude moved between 23.5 and
+    27.7 mm with 1e-9 m moves of the spheres or last-bit changes of the code, a spread as
+    wide as the band, so no single run is compared. Both decay slower than the paper's
+    experiment (~19 mm), which the test does not hide: see the case-study table. Damping
+    ratios of the first cycles of every run: 0.02-0.06 (measured 0.031-0.043)."""
     ana = Simulation(PAPER_STRUCTURE, AnalyticalDamper(PAPER_DAMPER),
                      PAPER_INITIAL_DISPLACEMENT).run(0.95)
-    assert dem.amplitude_at(0.75) == pytest.approx(ana.amplitude_at(0.75), rel=0.12)
-    _, zeta = dem.damping_ratio
-    assert np.all((zeta[:4] > 0.02) & (zeta[:4] < 0.06))
-    assert dem.inputs["energy_balance_error"] < 0.01
+    dem = np.mean([r.amplitude_at(0.75) for r in paper_model1_ensemble])
+    assert dem == pytest.approx(ana.amplitude_at(0.75), rel=0.12)
+    for run in paper_model1_ensemble:
+        _, zeta = run.damping_ratio
+        assert np.all((zeta[:4] > 0.02) & (zeta[:4] < 0.06))
+        assert run.inputs["energy_balance_error"] < 0.01
