@@ -149,27 +149,37 @@ def test_stationarity_evidence_at_14hz_15mm():
     assert MotionMode(int(paper.mode)) is MotionMode.RATTLING
     steady = DEMDamper(PAPER_DAMPER).response(14.0, 0.015)
     st = steady.diagnostics["stationarity"].item()
-    assert steady.stationary.item() and st.first_cycle > 20
+    # past the paper's 8 cycles: the mirror symmetry breaks at a rounding-dependent time
+    # (after cycle 20 before the friction-cap floor moved from 1 to 5 Verlet steps, 15 after)
+    assert steady.stationary.item() and st.first_cycle > 8
     assert float(steady.loss_factor) < 0.3
     rnd = DEMDamper(PAPER_DAMPER, packing="random", seed=1).response(14.0, 0.015)
     assert rnd.stationary.item()
     assert float(steady.loss_factor) == pytest.approx(float(rnd.loss_factor), abs=0.05)
 
 
-@pytest.mark.parametrize("extra", [None, 0.05])
-def test_level2_runs_start_from_a_bed_at_rest(extra):
+def test_level2_runs_start_from_a_bed_at_rest():
     """Below A = g the bed cannot take off (8 Hz / 2 mm: A = X/2 omega^2 = 0.26 g): it
-    moves with the container, eta ~ 0 and its height does not change. A random packing
-    settled for the engine's default (free fall + 0.05 s) still moves at ~6 cm/s and creeps
-    down through the window (eta -1e-3, 0.5 mm: "scattering"); Level II runs settle
-    LEVEL2_SETTLE_EXTRA longer (``extra=None``), and the shorter settling is shown to fail
-    the same check."""
-    options = {}
-    if extra is not None:
-        options["settle_time"] = math.sqrt(2 * PAPER_DAMPER.box[2] / 9.80665) + extra
-    run = DEMDamper(PAPER_DAMPER, packing="random", cycles=6, skip_cycles=2,
-                    **options).steady_run(8.0, 0.002)
-    at_rest = (abs(run.power.loss_factor) < 1e-4
-               and run.motion.lift < 0.01 * PAPER_DAMPER.particle_radius
-               and run.motion.mode == MotionMode.SOLID)
-    assert at_rest == (extra is None), (run.power.loss_factor, run.motion.lift, run.motion.mode)
+    moves with the container and eta ~ 0. A random packing settled for the engine's
+    default (free fall + 0.05 s) still moves (measured 2.9e-4 - 5.6e-4 J over four
+    packings, ~0.3 m/s at the fastest) and in most packings creeps through the averaged
+    window (eta up to 4e-3, lift up to 0.5 mm); Level II runs settle LEVEL2_SETTLE_EXTRA
+    longer and start at rest or nearly (1e-20 - 4.7e-7 J over six packings). A bed at rest
+    can still compact under the shaking through the regularised friction (v_reg =
+    0.01 m/s): in one packing of five (3.7e-12 J at the start) eta -1.1e-3 with lift 0.2 mm,
+    so the check is on the ensemble's median and on the energy."""
+    from pdamper.dem import HarmonicMotion
+
+    short = math.sqrt(2 * PAPER_DAMPER.box[2] / 9.80665) + 0.05
+    etas = []
+    for seed in range(3):
+        model = DEMDamper(PAPER_DAMPER, packing="random", seed=seed, cycles=6, skip_cycles=2)
+        run = model.steady_run(8.0, 0.002)
+        assert run.motion.mode == MotionMode.SOLID
+        etas.append(abs(run.power.loss_factor))
+        _, particles = model._particles()
+        motion = HarmonicMotion(amplitude=0.002, frequency=8.0)
+        assert model._settled(model._engine(particles, motion, **model._level2_settling())
+                              ).kinetic_energy < 2e-6
+        assert model._engine(particles, motion, settle_time=short).settle().kinetic_energy > 1e-4
+    assert np.median(etas) < 1e-4 and max(etas) < 3e-3, etas
