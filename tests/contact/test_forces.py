@@ -13,6 +13,7 @@ from pdamper.contact.forces import (
     DAMPING_EXACT,
     DAMPING_GONTHIER,
     friction_magnitude,
+    friction_per_slip,
     normal_force,
     onset_damping,
 )
@@ -34,6 +35,21 @@ def test_friction_tanh_regularisation():
     assert friction_magnitude(0.1, 5.0, 1.0, 0.01) == pytest.approx(0.5, rel=1e-12)
     assert friction_magnitude(0.1, 5.0, 0.01, 0.01) == pytest.approx(0.5 * math.tanh(1.0))
     assert friction_magnitude(0.1, 5.0, 0.0, 0.01) == 0.0
+
+
+def test_friction_law_is_tanh_to_the_last_bits():
+    """The kernels' tanh (a rational form below |v_t| = 0.625 v_reg, exp above) equals
+    ``math.tanh`` within 1e-15 (relative) from 1e-12 v_reg to beyond saturation, both sides
+    of the split included, and the force per slip speed times the slip speed is the force."""
+    v_reg = 0.01
+    x = np.concatenate([np.logspace(-12, 2, 4001), np.linspace(0.62, 0.63, 1001),
+                        [0.625, np.nextafter(0.625, 0.0), 19.999, 20.0, 20.001]])
+    for xi in x:
+        vt = xi * v_reg
+        exact = 0.5 * math.tanh(xi)
+        assert friction_magnitude(0.1, -5.0, vt, v_reg) == pytest.approx(exact, rel=1e-15)
+        assert friction_per_slip(0.1, 5.0, vt * vt, v_reg) * vt == pytest.approx(exact,
+                                                                                rel=1e-15)
 
 
 def test_hertz_stiffness():

@@ -162,13 +162,45 @@ def normal_force(delta, delta_dot, k, d, model=DAMPING_EXACT):
     return f_n, f_el
 
 
+#: tanh(x) / x below x = 0.625: 1 + y P(y) / Q(y), y = x^2 (Moshier's Cephes library,
+#: tanh.c); above it (1 - exp(-2x)) / (1 + exp(-2x)); both within 2e-16 of tanh
+#: (relative, tests/contact/test_forces.py). Why not ``math.tanh``: libm's tanh has a
+#: latency of ~40 ns, in the dependent chain of every slipping contact of every step
+#: (friction was half the DEM's cost per step, most of it there); this form needs no
+#: square root and no tanh in the resting contacts (small slip) and one ``exp`` otherwise.
+_TANH_SPLIT = 0.625
+_TANH_P = (-9.64399179425052238628e-1, -9.92877231001918586564e1, -1.61468768441708447952e3)
+_TANH_Q = (1.12811678491632931402e2, 2.23548839060100448583e3, 4.84406305325125486048e3)
+#: tanh(20) = 1 - 8e-18: exactly 1.0 in double precision
+_TANH_ONE = 20.0
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def friction_per_slip(mu, f_n, vt2, v_reg):
+    """|F_t| / |v_t| = mu |F_n| tanh(|v_t| / v_reg) / |v_t| [N s/m] from the squared slip
+    speed ``vt2`` [m^2/s^2] (> 0): the viscous coefficient the friction force applies to
+    the slip velocity (no square root while ``|v_t| < 0.625 v_reg``)."""
+    p0, p1, p2 = _TANH_P
+    q0, q1, q2 = _TANH_Q
+    y = vt2 / (v_reg * v_reg)
+    if y < _TANH_SPLIT * _TANH_SPLIT:
+        r = y * ((p0 * y + p1) * y + p2) / (((y + q0) * y + q1) * y + q2)
+        return mu * abs(f_n) / v_reg * (1.0 + r)
+    vt = math.sqrt(vt2)
+    x = vt / v_reg
+    if x > _TANH_ONE:
+        return mu * abs(f_n) / vt
+    e = math.exp(-2.0 * x)
+    return mu * abs(f_n) * (1.0 - e) / ((1.0 + e) * vt)
+
+
 @njit(cache=True)
 def friction_magnitude(mu, f_n, v_t, v_reg):
-    """|F_t| = mu |F_n| tanh(|v_t| / v_reg) [N] for the slip speed ``v_t`` [m/s]."""
-    x = v_t / v_reg
-    if x > 20.0:  # tanh(20) = 1 - 8e-18: exactly 1.0 in double precision
-        return mu * abs(f_n)
-    return mu * abs(f_n) * math.tanh(x)
+    """|F_t| = mu |F_n| tanh(|v_t| / v_reg) [N] for the slip speed ``v_t`` [m/s]
+    (the law of :func:`friction_per_slip`)."""
+    if v_t == 0.0:
+        return 0.0
+    return friction_per_slip(mu, f_n, v_t * v_t, v_reg) * abs(v_t)
 
 
 @njit(cache=True)

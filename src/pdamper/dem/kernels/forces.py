@@ -39,7 +39,7 @@ from typing import NamedTuple
 
 from numba import njit
 
-from pdamper.contact.forces import friction_magnitude, normal_force, onset_damping_cached
+from pdamper.contact.forces import friction_per_slip, normal_force, onset_damping_cached
 from pdamper.contact.hertz import hertz_stiffness
 from pdamper.dem.kernels.state import Rates
 
@@ -117,15 +117,14 @@ def contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, m_a, m_b, 
     tz = uz - ddot * nz
     vt2 = tx * tx + ty * ty + tz * tz
     if vt2 > 0.0 and mu > 0.0:
-        # the square root only for slipping contacts (most are at rest)
-        vt = math.sqrt(vt2)
-        ft = friction_magnitude(mu, fn, vt, law.v_reg)
+        # force per slip speed: no square root in the slow (resting) contacts
+        s = friction_per_slip(mu, fn, vt2, law.v_reg)
         if cap_h > 0.0:
-            # no reversal of the slip within one step (tangential mass 2/7 m*)
-            fmax = 2.0 / 7.0 * m_a * m_b * vt * cap_h
-            if ft * m_sum > fmax:
-                ft = fmax / m_sum
-        s = ft / vt
+            # no reversal of the slip within one step (tangential mass 2/7 m*): |F_t| at
+            # most 2/7 m* |v_t| cap_h, i.e. s at most 2/7 m* cap_h
+            smax = 2.0 / 7.0 * m_a * m_b * cap_h / m_sum
+            if s > smax:
+                s = smax
         gx = -s * tx
         gy = -s * ty
         gz = -s * tz
@@ -133,7 +132,7 @@ def contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, m_a, m_b, 
         fy += gy
         fz += gz
         return ContactForce(fx, fy, fz, ny * gz - nz * gy, nz * gx - nx * gz,
-                            nx * gy - ny * gx, True, p_damp, ft * vt, e_el)
+                            nx * gy - ny * gx, True, p_damp, s * vt2, e_el)
     return ContactForce(fx, fy, fz, 0.0, 0.0, 0.0, False, p_damp, 0.0, e_el)
 
 

@@ -294,6 +294,44 @@ def _correct(q, fx, fw, fpos, fvel, fomg, ffrc, ftrq, im3, ii3, hh, h, ih):
     fomg[q] = fw[0, q]
 
 
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def _correct_rows(fx, fw, fpos, fvel, fomg, ffrc, ftrq, im3, ii3, hh, h, ih, cx, cw):
+    """:func:`_correct` of all 3n components, one Nordsieck row at a time: each loop
+    touches two or three arrays and vectorises, where one loop over every row keeps ~20
+    array pointers live and runs scalar (a fifth of a step's time, measured with perf).
+    Same operations in the same order: the result is bit-identical."""
+    m3 = cx.shape[0]
+    for q in range(m3):
+        cx[q] = hh * ffrc[q] * im3[q] - fx[2, q]
+        cw[q] = h * ftrq[q] * ii3[q] - fw[1, q]
+    for q in range(m3):
+        fx[0, q] += G0 * cx[q]
+    for q in range(m3):
+        fx[1, q] += G1 * cx[q]
+    for q in range(m3):
+        fx[2, q] += cx[q]
+    for q in range(m3):
+        fx[3, q] += G3 * cx[q]
+    for q in range(m3):
+        fx[4, q] += G4 * cx[q]
+    for q in range(m3):
+        fx[5, q] += G5 * cx[q]
+    for q in range(m3):
+        fw[0, q] += H0 * cw[q]
+    for q in range(m3):
+        fw[1, q] += cw[q]
+    for q in range(m3):
+        fw[2, q] += H2 * cw[q]
+    for q in range(m3):
+        fw[3, q] += H3 * cw[q]
+    for q in range(m3):
+        fw[4, q] += H4 * cw[q]
+    for q in range(m3):
+        fpos[q] = fx[0, q]
+        fvel[q] = fx[1, q] * ih
+        fomg[q] = fw[0, q]
+
+
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, nord,
                  fl, lg, rs, st, samples, snaps, j_stop):
@@ -376,6 +414,8 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     # (fresh arrays: the compiler knows they alias nothing, the kicks vectorise)
     im3 = np.empty(m3)
     ii3 = np.empty(m3)
+    cx3 = np.empty(m3)
+    cw3 = np.empty(m3)
     for i in range(n):
         for a in range(3):
             im3[3 * i + a] = part.inv_mass[i]
@@ -523,8 +563,7 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
             continue
         # ---- correct (flat loop over the 3n components when all are stepped)
         if 2 * na > n:
-            for q in range(m3):
-                _correct(q, fx, fw, fpos, fvel, fomg, ffrc, ftrq, im3, ii3, hh, h, ih)
+            _correct_rows(fx, fw, fpos, fvel, fomg, ffrc, ftrq, im3, ii3, hh, h, ih, cx3, cw3)
         else:
             for k in range(na):
                 for q in range(3 * act[k], 3 * act[k] + 3):
