@@ -3,7 +3,9 @@ damper, their cycle loss factors, and where the criterion stops.
 
 Run ``python benchmarks/bench_stationarity.py`` (``--cycles 60``, ``--points`` to choose;
 ``--windows 3x4,3x3,2x4,2x3 --cycles 40`` compares window lengths instead, the table of
-docs/fields.md).
+docs/fields.md; a window ``3x4q2`` is three windows of 4 cycles with the rule for quiet
+beds on windows of 2, ``3x4q0`` without it, plain ``3x4`` the model's default quiet rule;
+``--points grid`` the 9 x 5 points of its table, ``--particles N``, ``--jobs 2``).
 For every point and both packings (the paper's lattice, a random one) it runs ``--cycles``
 cycles once and prints
 
@@ -30,6 +32,10 @@ WINDOW_POINTS = ((2, 50), (2, 200), (3.4, 100), (5, 15), (5, 100), (6, 15), (8, 
                  (20, 200))
 POINTS = ((4, 15), (6, 15), (10, 15), (14, 15), (18, 20), (10, 32), (12, 30), (8, 50),
           (5, 100), (3, 200), (20, 5))
+#: The rule for quiet beds (docs/fields.md): 9 frequencies of the paper's 14 x 5 strokes of
+#: its 24, from the solid-like cells to the fast corner.
+GRID_POINTS = tuple((f, x) for f in (2.0, 3.385, 4.769, 6.154, 8.923, 11.69, 14.46, 17.23, 20.0)
+                    for x in (9.65, 35.7, 70.3, 122.0, 200.0))
 
 
 def main(argv=None) -> None:
@@ -38,13 +44,20 @@ def main(argv=None) -> None:
     ap.add_argument("--points", default=None,
                     help="'f/X_mm,...', e.g. '10/15,14/15,18/20' (default: 11 points)")
     ap.add_argument("--windows", default=None,
-                    help="compare criteria instead, e.g. '3x4,3x3,2x4,2x3' (windows x cycles; "
-                         "random beds, eta at the stop against the mean of the last 20 cycles)")
+                    help="compare criteria instead, e.g. '3x4q0,3x4q2,2x4' (windows x cycles, "
+                         "qN: quiet windows of N cycles, q0: none; random beds, eta at the "
+                         "stop against the mean of the last 20 cycles)")
+    ap.add_argument("--particles", type=int, default=32, help="spheres (window comparison)")
+    ap.add_argument("--jobs", type=int, default=1, help="processes (window comparison)")
     args = ap.parse_args(argv)
     if args.windows:
-        pts = WINDOW_POINTS if args.points is None else tuple(
-            tuple(float(v) for v in p.split("/")) for p in args.points.split(","))
-        compare_windows(pts, args.cycles, args.windows)
+        if args.points == "grid":
+            pts = GRID_POINTS
+        elif args.points is None:
+            pts = WINDOW_POINTS
+        else:
+            pts = tuple(tuple(float(v) for v in p.split("/")) for p in args.points.split(","))
+        compare_windows(pts, args.cycles, args.windows, args.particles, args.jobs)
         return
     from pdamper.analysis.stationarity import SYMMETRY_TOLERANCE, cycle_loss_factors, cycle_symmetry
     from pdamper.models import DEMDamper
@@ -88,44 +101,81 @@ def main(argv=None) -> None:
                   f"{brk:>15}", flush=True)
 
 
-def compare_windows(points, n: int, spec: str) -> None:
-    """For each point one random-bed run of ``n`` cycles; for each criterion of ``spec``
-    (``"3x4,2x4"``: windows x cycles per window) the cycle where a run until steady would
-    stop and its loss factor against the mean of the last 20 cycles; then a summary."""
+def _variant(spec: str) -> tuple[int, int, int | None]:
+    """``"3x4"`` -> (3, 4, None: the default quiet rule); ``"3x4q2"`` -> (3, 4, 2)."""
+    body, _, quiet = spec.partition("q")
+    k, m = (int(v) for v in body.split("x"))
+    return k, m, (int(quiet) if quiet else None)
+
+
+def _long_run(args):
+    """One random-bed run of ``n`` cycles at (f, X); the stops of every criterion."""
+    import warnings
+
     from pdamper.analysis.stationarity import cycle_loss_factors
     from pdamper.models import DEMDamper
     from pdamper.models.dem import truncate_result
     from pdamper.parameters import PAPER_DAMPER
 
-    variants = [tuple(int(v) for v in w.split("x")) for w in spec.split(",")]
-    devs: dict = {w: [] for w in variants}
-    stops: dict = {w: [] for w in variants}
-    for f, x_mm in points:
-        res = DEMDamper(PAPER_DAMPER, packing="random", cycles=n).run(f, x_mm / 1e3)
-        eta = cycle_loss_factors(res.time, -res.force[:, 2], res.container_velocity, f,
-                                 res.bed_mass)
-        late = float(np.mean(eta[-20:]))
-        cells = []
-        for k, m in variants:
-            auto = DEMDamper(PAPER_DAMPER, packing="random", max_cycles=n, window_cycles=m,
-                             steady_windows=k)
-            for c in range(auto.steady.min_cycles, n + 1):
-                st, _ = auto.assess(res if c == n else truncate_result(res, c))
-                if st.stationary:
-                    dev = (st.loss_factor - late) / max(abs(late), 0.05)
-                    devs[(k, m)].append(abs(dev))
-                    stops[(k, m)].append(c)
-                    cells.append(f"{k}x{m}: {c:2d} {st.loss_factor:.3f} ({100 * dev:+.1f} %)")
-                    break
-            else:
-                cells.append(f"{k}x{m}: not steady")
-        print(f"{f:5g} Hz {x_mm:5.1f} mm  last 20: {late:.3f} | " + " | ".join(cells),
-              flush=True)
-    for (k, m), d in devs.items():
-        d = np.asarray(d)
-        print(f"{k} x {m}: stops at {np.median(stops[(k, m)]):.0f} (median), within 1 / 5 / "
-              f"10 %: {(d <= 0.01).sum()} / {(d <= 0.05).sum()} / {(d <= 0.1).sum()} of "
-              f"{len(points)}, worst {100 * d.max():.0f} %")
+    (f, x_mm), n, variants, count = args
+    warnings.simplefilter("ignore")
+    damper = PAPER_DAMPER.with_count(count)
+    res = DEMDamper(damper, packing="random", cycles=n).run(f, x_mm / 1e3)
+    eta = cycle_loss_factors(res.time, -res.force[:, 2], res.container_velocity, f,
+                             res.bed_mass)
+    late = float(np.mean(eta[-20:]))
+    stops = []
+    for k, m, q in variants:
+        quiet = {} if q is None else {"quiet_window_cycles": q}
+        auto = DEMDamper(damper, packing="random", max_cycles=n, window_cycles=m,
+                         steady_windows=k, **quiet)
+        for c in range(auto.steady.min_cycles, n + 1):
+            st, mo = auto.assess(res if c == n else truncate_result(res, c))
+            if st.stationary:
+                stops.append((c, st.loss_factor, st.quiet, mo.mode.label))
+                break
+        else:
+            stops.append(None)
+    return (f, x_mm), late, float(np.std(eta[-20:], ddof=1)), stops
+
+
+def compare_windows(points, n: int, spec: str, count: int = 32, jobs: int = 1) -> None:
+    """For each point one random-bed run of ``n`` cycles; for each criterion of ``spec``
+    (``"3x4q0,3x4q2"``: windows x cycles per window, quiet windows) the cycle where a run
+    until steady would stop and its loss factor against the mean of the last 20 cycles;
+    then a summary."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    specs = spec.split(",")
+    variants = [_variant(w) for w in specs]
+    devs: dict = {w: [] for w in specs}
+    stops: dict = {w: [] for w in specs}
+    quiet_devs: dict = {w: [] for w in specs}
+    tasks = [(p, n, variants, count) for p in points]
+    with ProcessPoolExecutor(jobs) as ex:
+        for (f, x_mm), late, sd, found in ex.map(_long_run, tasks):
+            cells = []
+            for w, stop in zip(specs, found, strict=True):
+                if stop is None:
+                    cells.append(f"{w}: not steady")
+                    continue
+                c, value, quiet, mode = stop
+                dev = (value - late) / max(abs(late), 0.05)
+                devs[w].append(abs(dev))
+                stops[w].append(c)
+                if quiet:
+                    quiet_devs[w].append(abs(dev))
+                cells.append(f"{w}: {c:2d}{'q' if quiet else ' '} {value:.3f} ({100 * dev:+.1f} %)")
+            print(f"{f:5g} Hz {x_mm:5.1f} mm  last 20: {late:.3f} +- {sd:.3f} | "
+                  + " | ".join(cells), flush=True)
+    print(f"{count} spheres, {len(points)} points, {n} cycles each")
+    for w in specs:
+        d = np.asarray(devs[w])
+        q = np.asarray(quiet_devs[w])
+        print(f"{w}: stops at {np.median(stops[w]):.0f} (median), {np.mean(stops[w]):.1f} (mean); "
+              f"within 1 / 5 / 10 %: {(d <= 0.01).sum()} / {(d <= 0.05).sum()} / "
+              f"{(d <= 0.1).sum()} of {len(points)}, worst {100 * d.max():.1f} %; "
+              f"quiet stops {q.size}" + (f", worst {100 * q.max():.1f} %" if q.size else ""))
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ from pdamper.analysis.stationarity import (
 from pdamper.errors import InputError
 
 CRIT = SteadyStateCriterion()
+FULL = SteadyStateCriterion(quiet_window_cycles=0)  # the full window only
 
 
 def first_steady(eta, symmetry=None, resting=False, crit=CRIT):
@@ -29,9 +30,15 @@ def first_steady(eta, symmetry=None, resting=False, crit=CRIT):
 
 def test_constant_loss_factor_is_steady_after_skip_plus_the_window():
     eta = np.full(30, 0.7)
-    assert first_steady(eta) == CRIT.skip_cycles + CRIT.span == 14
+    assert first_steady(eta, crit=FULL) == FULL.skip_cycles + FULL.span == 14
+    # a quiet bed: the same tests on three windows of two cycles
+    assert first_steady(eta) == CRIT.skip_cycles + CRIT.quiet_span == 8
+    st = CRIT.evaluate(eta[:8])
+    assert st.quiet and (st.first_cycle, st.last_cycle) == (3, 8)
+    # once the full window holds, it is the one reported
     st = CRIT.evaluate(eta)
-    assert (st.first_cycle, st.last_cycle) == (19, 30) and st.loss_factor == pytest.approx(0.7)
+    assert not st.quiet and (st.first_cycle, st.last_cycle) == (19, 30)
+    assert st.loss_factor == pytest.approx(0.7)
 
 
 def test_the_paper_transient_at_14hz_is_not_taken_for_a_steady_value():
@@ -58,13 +65,61 @@ def test_noisy_steady_state_is_accepted_and_a_step_or_a_trend_is_not():
     assert n is not None and n <= 20
     assert CRIT.evaluate(noisy[:n]).loss_factor == pytest.approx(1.1, abs=0.1)
     step = np.r_[np.full(10, 1.0), np.full(8, 0.6)]
-    assert CRIT.evaluate(step).reason == "windows disagree"
+    assert FULL.evaluate(step).reason == "windows disagree"
+    # quiet after the step: the window holds only the new level
+    st = CRIT.evaluate(step)
+    assert st.quiet and st.first_cycle == 13 and st.loss_factor == pytest.approx(0.6)
+    noisy_step = step * (1 + 0.05 * rng.standard_normal(18))
+    assert CRIT.evaluate(noisy_step).reason == "windows disagree"
     trend = np.linspace(1.0, 0.6, 18)
     st = CRIT.evaluate(trend)
     assert not st.stationary and st.drift == pytest.approx(11 / 17 * 0.4)  # over the 12-cycle window
     # one transient cycle in the window does not widen the allowance that detects it
     spike = np.r_[np.full(3, 0.66), 2.54, np.full(11, 0.66)]
-    assert not CRIT.evaluate(spike).stationary
+    assert not FULL.evaluate(spike).stationary
+    st = CRIT.evaluate(spike)  # quiet: the last six cycles, after the spike
+    assert st.quiet and st.first_cycle == 10 and st.loss_factor == pytest.approx(0.66)
+
+
+def test_quiet_rule_only_for_quiet_beds_and_no_weaker_on_trends():
+    """The shorter window of a quiet bed (docs/fields.md): a bed scattering by more than
+    0.2 tau from cycle to cycle is judged on the full window; a slope that the 12-cycle
+    window would call a trend is one in the 6-cycle window too; the symmetric lattice state
+    is no steady state in either."""
+    rng = np.random.default_rng(3)
+    # 1.2 +- 2 %: tau = 0.12, scatter 0.024 = 0.2 tau at most
+    quiet = 1.2 * (1 + 0.01 * rng.standard_normal(30))
+    assert first_steady(quiet) == 8
+    chaotic = 1.2 * (1 + 0.05 * rng.standard_normal(30))  # scatter 0.5 tau
+    n = first_steady(chaotic)
+    assert n >= 14 and not CRIT.evaluate(chaotic[:n]).quiet
+    st = CRIT.evaluate(chaotic[:8])
+    assert not st.stationary and st.reason in ("too few cycles", "windows disagree")
+    # a slope of -0.02 per cycle: 0.10 over the 6-cycle window (below tau = 0.15, so tests
+    # 1-4 pass on it), 0.22 over the 11 cycles of the full window, which calls it a trend:
+    # so does the quiet rule, at every cycle (its scatter test 5 already: a slope widens the
+    # scatter of a short window to 2.2 x the slope; test 6 on its own where that allows it)
+    slope = 1.6 - 0.02 * np.arange(30)
+    assert CRIT._judge(slope[:8], 6, 2, None, False).stationary
+    assert CRIT._judge(slope[:8], 6, 2, None, False, quiet=True).reason == "not quiet"
+    assert first_steady(slope, crit=FULL) is None and first_steady(slope) is None
+    loose = SteadyStateCriterion(quiet_scatter=0.5)
+    assert loose._judge(slope[:8], 6, 2, None, False, quiet=True).reason == "trend"
+    assert first_steady(slope, crit=loose) is None
+    # the symmetric lattice state: perfectly quiet, and still no steady state
+    sym = np.full(30, 1e-8)
+    assert first_steady(np.full(30, 2.57), sym) is None
+    assert first_steady(np.full(30, 2.57), sym, resting=True) == 8
+
+
+def test_quiet_rule_off():
+    assert SteadyStateCriterion(quiet_window_cycles=0).quiet_span == 0
+    assert SteadyStateCriterion(quiet_scatter=0.0).quiet_span == 0
+    # no shorter window than the full one's
+    assert SteadyStateCriterion(window_cycles=2).quiet_span == 0
+    assert SteadyStateCriterion(window_cycles=2).min_cycles == 8
+    assert SteadyStateCriterion(quiet_window_cycles=3).quiet_span == 9
+    assert CRIT.min_cycles == 8 and CRIT.full_cycles == 14
 
 
 def test_too_few_cycles_and_bad_parameters():
@@ -76,6 +131,10 @@ def test_too_few_cycles_and_bad_parameters():
         SteadyStateCriterion(windows=1)
     with pytest.raises(InputError, match="dem.steady_rtol"):
         SteadyStateCriterion(rtol=-0.1)
+    with pytest.raises(InputError, match="dem.quiet_scatter"):
+        SteadyStateCriterion(quiet_scatter=math.nan)
+    with pytest.raises(InputError, match="dem.quiet_window_cycles"):
+        SteadyStateCriterion(quiet_window_cycles=-1)
 
 
 def _viscous(f=10.0, x=0.02, cycles=6, spc=400, c_of_cycle=lambda k: 2.0):

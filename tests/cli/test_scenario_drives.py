@@ -106,6 +106,26 @@ sample_rate = "3 kHz"
     assert json.loads(out)["inputs"]["dem"]["cycles"] == 2
 
 
+def test_dem_quiet_rule_from_the_scenario(tmp_path, cli):
+    """A resting bed (A = 0.8 g) is quiet: steady after 2 + 3 x 2 cycles; without the rule
+    (``[dem] quiet_window_cycles = 0``) after 2 + 3 x 4 (docs/fields.md)."""
+    args = ("dem", "--particles", 4, "--frequency", "20 Hz", "--amplitude", "0.5 mm",
+            "--json")
+    code, out, err = cli(*args)
+    assert code == 0, err
+    quiet = json.loads(out)
+    assert quiet["stationary"] and quiet["quiet_window"]
+    assert quiet["cycles"] == 8 and quiet["averaged_cycles"] == [3, 8]
+    assert quiet["motion_mode"] == "solid"
+    scenario = tmp_path / "full.toml"
+    scenario.write_text("[dem]\nquiet_window_cycles = 0\n")
+    code, out, err = cli(*args, "--scenario", scenario)
+    assert code == 0, err
+    full = json.loads(out)
+    assert full["stationary"] and not full["quiet_window"]
+    assert full["cycles"] == 14 and full["averaged_cycles"] == [3, 14]
+
+
 def test_dem_human_summary_unless_json(cli):
     code, out, err = cli("dem", "--particles", 16, "--cycles", 2, "--skip-cycles", 1,
                          "--integrator", "verlet")
@@ -119,7 +139,8 @@ def test_example_scenario_shows_the_dem_section(cli):
     code, out, _ = cli("example-scenario")
     assert code == 0 and "[dem]" in out
     for key in ("integrator", "cycles", "skip_cycles", "restitution_pp", "restitution_pw",
-                "error_estimate", "accuracy", "max_refinements",
+                "error_estimate", "accuracy", "max_refinements", "quiet_window_cycles",
+                "quiet_scatter",
                 "damping_model", "packing", "seed", "safety", "sample_rate", "snapshot_rate"):
         assert f"{key} = " in out, key
 

@@ -59,6 +59,8 @@ VARIABLES: dict[str, tuple[str, str]] = {
                           "1"),
     "symmetric_state": ("bed kept the mirror symmetry of an ideal lattice (1) or not (0)",
                         "1"),
+    "quiet_window": ("the window was judged by the rule for quiet beds, shorter windows (1), "
+                     "or the full one (0)", "1"),
     "period": ("repetition period of the bed motion (0: none)", "1"),
     "periodicity_residual": ("relative residual of the best repetition period", "1"),
     "lift": ("range of the bed's height in the container", "m"),
@@ -89,7 +91,8 @@ def _grid(field: str, values, unit: str) -> np.ndarray:
 
 #: Integer variables (stored as such; -1 where a point has no value).
 _INTEGER = {"subharmonic_order", "steps", "cycles", "first_cycle", "last_cycle",
-            "symmetric_state", "period", "accuracy_met", "accuracy_refinements"}
+            "symmetric_state", "quiet_window", "period", "accuracy_met",
+            "accuracy_refinements"}
 
 STATIONARY_ATTRS = {"long_name": "averaged window is a steady state", "units": "1",
                     "flag_values": [-1, 0, 1], "flag_meanings": "no_result transient steady"}

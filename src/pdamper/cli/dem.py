@@ -141,6 +141,7 @@ def dem(
         "steady_reason": st.reason,
         "cycles": st.cycles,
         "averaged_cycles": [st.first_cycle, st.last_cycle],
+        "quiet_window": bool(st.quiet),
         "loss_factor_stderr": st.stderr,
         "motion_mode": motion.mode.label,
         "subharmonic_order": motion.subharmonic_order,
@@ -178,7 +179,8 @@ def dem(
     human = (
         f"DEM ({model.integrator}), {damper.count} spheres, f = {f:g} Hz, X = {x * 1e3:g} mm, "
         f"{st.cycles} cycles (complex power over cycles {st.first_cycle}-{st.last_cycle}, "
-        + ("steady)\n" if st.stationary else f"NOT steady: {st.reason})\n")
+        + (("steady, a quiet bed)\n" if st.quiet else "steady)\n") if st.stationary
+           else f"NOT steady: {st.reason})\n")
         + f"  effective loss factor        {float(r.loss_factor):.4g} +- {st.stderr:.2g}\n"
         f"  motion mode                  {motion.mode.title} ({motion.reason})\n"
         f"  effective mass ratio         {float(r.effective_mass_ratio):.4g}\n"

@@ -33,6 +33,7 @@ from pydantic import (
 )
 
 from pdamper import resources
+from pdamper.analysis.stationarity import SteadyStateCriterion
 from pdamper.contact.law import DAMPING_MODELS, DEFAULT_MIN_IMPACT_VELOCITY
 from pdamper.dem.model import DEFAULT_SAFETY
 from pdamper.design.study import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
@@ -226,6 +227,10 @@ class FieldsSpec(_Section):
         return self.model_dump()
 
 
+#: The steady-state criterion's defaults (one home: the criterion itself).
+_STEADY = SteadyStateCriterion()
+
+
 class DEMSpec(_Section):
     """Options of the DEM damper model (:class:`pdamper.models.DEMDamper`)."""
 
@@ -233,10 +238,12 @@ class DEMSpec(_Section):
     cycles: Cycles = DEFAULT_CYCLES
     skip_cycles: Count = DEFAULT_SKIP_CYCLES
     max_cycles: Count = DEFAULT_MAX_CYCLES
-    window_cycles: Count = 4
-    steady_windows: Count = 3
-    steady_rtol: float = 0.1
-    steady_atol: float = 0.03
+    window_cycles: Count = _STEADY.window_cycles
+    steady_windows: Count = _STEADY.windows
+    steady_rtol: float = _STEADY.rtol
+    steady_atol: float = _STEADY.atol
+    quiet_window_cycles: Count = _STEADY.quiet_window_cycles
+    quiet_scatter: float = _STEADY.quiet_scatter
     restitution_pp: Restitution = _D.restitution_pp.e
     restitution_pw: Restitution = _D.restitution_pw.e
     damping_model: str = "exact"
@@ -827,6 +834,10 @@ steady_windows = {dem.steady_windows}          # whose loss factors agree within
 steady_rtol = {dem.steady_rtol}           # steady_atol), no trend, no symmetric lattice state
                             # (docs/fields.md)
 steady_atol = {dem.steady_atol}
+quiet_window_cycles = {dem.quiet_window_cycles}     # a quiet bed (cycle-to-cycle scatter below
+quiet_scatter = {dem.quiet_scatter}         # quiet_scatter x the tolerance) is judged on
+                            # steady_windows windows of quiet_window_cycles cycles
+                            # (0: never; docs/fields.md)
 # restitution_pp = {dem.restitution_pp}      # constant sphere-sphere COR (default; or [restitution])
 # restitution_pw = {dem.restitution_pw}     # constant sphere-wall COR (default; or [restitution])
 damping_model = "{dem.damping_model}"     # damping law of the normal force: {_MODELS}

@@ -238,6 +238,10 @@ class DEMDamper(DamperModel):
     window_cycles, steady_windows, steady_rtol, steady_atol
         The steady-state criterion: ``steady_windows`` windows of ``window_cycles`` cycles
         whose loss factors agree within ``max(steady_rtol |eta|, steady_atol)``.
+    quiet_window_cycles, quiet_scatter
+        A quiet bed (cycle-to-cycle scatter at most ``quiet_scatter`` x that tolerance) is
+        judged on ``steady_windows`` windows of ``quiet_window_cycles`` cycles (0: never);
+        :class:`~pdamper.analysis.stationarity.SteadyStateCriterion`, docs/fields.md.
     packing, seed
         ``"lattice"`` (the paper's 4 x 4 layers), ``"random"`` (uses ``seed``) or ``"auto"``
         (random where every sphere can be placed at random, else the lattice:
@@ -285,6 +289,8 @@ class DEMDamper(DamperModel):
                  window_cycles: int = _STEADY.window_cycles,
                  steady_windows: int = _STEADY.windows, steady_rtol: float = _STEADY.rtol,
                  steady_atol: float = _STEADY.atol,
+                 quiet_window_cycles: int = _STEADY.quiet_window_cycles,
+                 quiet_scatter: float = _STEADY.quiet_scatter,
                  min_impact_velocity: float = DEFAULT_MIN_IMPACT_VELOCITY,
                  error_estimate: bool = False, accuracy: float = DEFAULT_ACCURACY,
                  max_refinements: int = DEFAULT_MAX_REFINEMENTS, **options):
@@ -308,12 +314,15 @@ class DEMDamper(DamperModel):
             windows=_whole("dem.steady_windows", steady_windows, 2),
             rtol=check_range("dem.steady_rtol", steady_rtol, low=0.0),
             atol=check_range("dem.steady_atol", steady_atol, low=0.0),
+            quiet_window_cycles=_whole("dem.quiet_window_cycles", quiet_window_cycles, 0),
+            quiet_scatter=check_range("dem.quiet_scatter", quiet_scatter, low=0.0),
             skip_cycles=self.skip_cycles)
         self.max_cycles = _whole("dem.max_cycles", max_cycles, 1)
         if self.cycles == AUTO:
-            if self.max_cycles < self.steady.min_cycles:
+            if self.max_cycles < self.steady.full_cycles:
                 raise InputError("dem.max_cycles", f"must be >= skip_cycles + steady_windows x "
-                                 f"window_cycles = {self.steady.min_cycles}, got {self.max_cycles}")
+                                 f"window_cycles = {self.steady.full_cycles}, got "
+                                 f"{self.max_cycles}")
         elif self.skip_cycles >= self.cycles:
             raise InputError("dem.skip_cycles", f"must be in [0, {self.cycles - 1}] for "
                              f"{self.cycles} cycles, got {self.skip_cycles}")
@@ -511,10 +520,12 @@ class DEMDamper(DamperModel):
         """Stationarity and motion mode of the run ``result`` so far.
 
         Running until steady, the averaged window is the last ``steady_windows x
-        window_cycles`` cycles; with a fixed number of cycles it is every cycle after
+        window_cycles`` cycles, or for a quiet bed the last ``steady_windows x
+        quiet_window_cycles``; with a fixed number of cycles it is every cycle after
         ``skip_cycles`` (the paper's procedure), split into ``steady_windows`` windows.
         Besides the loss-factor criterion, a window of at least ``2 x MIN_HALF_WINDOW``
-        cycles is steady only if its two halves show the same motion mode.
+        cycles is steady only if its two halves show the same motion mode; the motion mode
+        is that of the averaged window.
         """
         f = float(result.frequency)
         eta = cycle_loss_factors(result.time, -result.force[:, 2], result.container_velocity,
@@ -528,11 +539,18 @@ class DEMDamper(DamperModel):
         else:  # the paper's averaged window, split into the criterion's windows
             length = max(n - self.skip_cycles, 1)
             m = max(1, length // self.steady.windows)
-            crit = dataclasses.replace(self.steady, window_cycles=m, windows=max(2, length // m))
+            crit = dataclasses.replace(self.steady, window_cycles=m, windows=max(2, length // m),
+                                       quiet_window_cycles=0)
         signals = BedSignals.from_dem(result)
         motion = classify_motion(signals, n - length + 1, n)
         st = crit.evaluate(eta, cycle_symmetry(result.time, result.force, f),
                            resting=motion.mode is MotionMode.SOLID)
+        if st.quiet:
+            # a quiet bed's window: its motion there (a resting bed may stay symmetric)
+            length = st.last_cycle - st.first_cycle + 1
+            motion = classify_motion(signals, n - length + 1, n)
+            if st.symmetric and motion.mode is not MotionMode.SOLID:
+                st = dataclasses.replace(st, stationary=False, reason="symmetric lattice state")
         if st.stationary and length >= 2 * MIN_HALF_WINDOW:
             # the motion must have settled too: both halves of the window in one mode
             half = length // 2
@@ -598,6 +616,7 @@ def point_diagnostics(run: SteadyRun) -> dict:
     ``cycles`` (simulated), ``first_cycle``/``last_cycle`` (the averaged window),
     ``loss_factor_stderr``, ``loss_factor_spread``, ``loss_factor_drift``
     [-] (:class:`~pdamper.analysis.stationarity.Stationarity`), ``symmetric_state`` (0/1),
+    ``quiet_window`` (0/1: judged by the rule for quiet beds),
     ``period`` [cycles], ``periodicity_residual``, ``lift`` [m], ``contact_fraction``,
     ``lid_contacts_per_cycle`` [-] (:class:`~pdamper.analysis.dem_modes.ModeClassification`),
     with an error estimate also ``loss_factor_error``, ``effective_mass_ratio_error`` [-],
@@ -620,6 +639,7 @@ def point_diagnostics(run: SteadyRun) -> dict:
         "loss_factor_spread": float(st.spread),
         "loss_factor_drift": float(st.drift),
         "symmetric_state": int(st.symmetric),
+        "quiet_window": int(st.quiet),
         "period": int(mo.period),
         "periodicity_residual": float(mo.periodicity_residual),
         "lift": float(mo.lift),
