@@ -51,6 +51,9 @@ def main(argv=None) -> dict:
     ap.add_argument("--packing", default=None,
                     help="initial packing of the runs, random (a map's default) or lattice")
     ap.add_argument("--cycles", default=None, help="'auto' (default) or a number (paper: 8)")
+    ap.add_argument("--quiet-window-cycles", type=int, default=None,
+                    help="windows of the rule for quiet beds (0: the full window only; "
+                         "default: the scenario's)")
     ap.add_argument("--out", type=Path, default=None)
     ap.add_argument("--json", type=Path, default=None)
     args = ap.parse_args(argv)
@@ -68,6 +71,8 @@ def main(argv=None) -> dict:
                  "dem.cycles": None if args.cycles in (None, "auto") else int(args.cycles)}
     if args.cycles == "auto":
         overrides["dem.cycles"] = "auto"
+    if args.quiet_window_cycles is not None:
+        overrides["dem.quiet_window_cycles"] = args.quiet_window_cycles
     sc = load_scenario(None, overrides)
     workers = args.workers or default_workers()
     load0 = os.getloadavg()
@@ -107,6 +112,8 @@ def main(argv=None) -> dict:
     eta_xopt = ds["loss_factor"].values[near, jx]
     result = {
         "grid": [int(f.size), int(x.size)], "points": int(ok.size), "workers": workers,
+        "quiet_window_cycles": sc.dem.quiet_window_cycles,
+        "quiet_cells": int((ds["quiet_window"].values == 1).sum()),
         "packing": sc.for_map().dem.packing, "cycles_option": sc.dem.cycles,
         "total_seconds": total,
         "per_point_seconds": {"median": float(np.nanmedian(wall)),
@@ -148,7 +155,8 @@ def _print(r: dict, MotionMode) -> None:  # noqa: N803
     print("  median per point by f  " + ", ".join(
         f"{k} Hz: {v:.2f} s" for k, v in r["per_point_by_frequency"].items()))
     print(f"  cycles needed          median {r['cycles_needed']['median']:.0f}, "
-          f"max {r['cycles_needed']['max']:.0f}")
+          f"max {r['cycles_needed']['max']:.0f}; {r['quiet_cells']} cells judged quiet "
+          f"(quiet_window_cycles = {r['quiet_window_cycles']})")
     print(f"  steady / transient / failed   {r['steady']} / {r['transient']} / {r['failed']}")
     if r["errors"]:
         print("  errors: " + "; ".join(r["errors"][:3]))
