@@ -49,10 +49,11 @@ evidence for such a bed:
 
 A regular bed (the solid-like and collect-and-collide harmonic beds that make most of the
 paper's map) is then steady after ``skip_cycles + 6`` cycles instead of 14. Measured against
-the mean of cycles 21-40 of 40-cycle runs at 45 points of the map (docs/fields.md): the same
-accuracy as the full window at every point (37 of 45 within 1 %, worst 11.6 % at a
-scattering point that the rule leaves to the full window, as before), median stop 8 cycles
-instead of 14.
+the mean of cycles 21-40 of 40-cycle runs (``benchmarks/bench_stationarity.py --windows
+3x4q0,3x4q2``, docs/fields.md): 53 quiet stops over 85 random-bed points of 16, 32 and 96
+spheres, within 4.7 % of the late mean (the full window on the same beds: 3.7 %); the worst
+points of either rule are scattering beds, which the rule leaves to the full window; the
+median stop over 45 points of the paper's map is 8 cycles instead of 14.
 """
 
 from __future__ import annotations
