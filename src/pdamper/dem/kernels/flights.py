@@ -12,19 +12,24 @@ regroup. The stepped spheres ("active") are integrated as before; forces are eva
 only between them (:func:`~pdamper.dem.kernels.forces.compute_forces` skips a free
 partner).
 
-The horizon is a guarantee, not a prediction. Each sphere gets a speed limit
-``vlim = SPEED_FACTOR |v| + SPEED_FLOOR + g T`` (``T`` the longest horizon, one sample
-interval; it holds while the sphere is stepped) and the container
-``vc_lim = SPEED_FACTOR |v_c| + |a_c| T + SPEED_FLOOR``; while
-every stepped sphere and the container stay below their limits (checked at every step; a
-violation regroups everything at once), no gap of a free sphere can close faster than its
-own speed plus its partner's limit, so the horizon of sphere ``i`` is the smallest of
+The horizon is a guarantee, not a prediction. It is computed in the free-fall frame
+``w(t') = U - g (t' - t) e_z`` of the regroup at ``t``, ``U`` the spheres' mean velocity:
+gravity drops out of every relative motion there, a free sphere's velocity ``u = v - w``
+is constant, and a bed that flies as a block is nearly at rest in it (in the ground frame
+its spheres move at metres per second, and every gap among them looked about to close).
+Each sphere gets a speed limit in that frame ``ulim = SPEED_FACTOR |u| + SPEED_FLOOR``
+(it holds while the sphere is stepped) and the container ``vc_lim = SPEED_FACTOR |v_c| +
+|a_c| T + SPEED_FLOOR`` (``T`` the longest horizon, one sample interval); while every
+stepped sphere and the container stay below their limits (checked at every step; a
+violation regroups everything at once), no gap of a free sphere can close faster than
+its own ``|u|`` plus its partner's limit, so the horizon of sphere ``i`` is the smallest of
 
-* ``gap_ij / (v_i + vlim_j)`` over its Verlet-list partners (0 while in contact), where
-  ``v_i = |v| + g T`` bounds its own speed in free flight,
-* ``gap / v_i`` to the side walls, ``gap / (v_i + vc_lim)`` to floor and lid,
-* ``(skin / 2 - |x_i - x_build|) / v_i``: it cannot trigger a list rebuild (pairs off
-  the list stay more than the skin apart, as with every sphere stepped),
+* ``gap_ij / (|u_i| + ulim_j)`` over its Verlet-list partners (0 while in contact),
+* ``gap / |v_x|`` and ``gap / |v_y|`` to the side walls (they move vertically, and a free
+  sphere's horizontal velocity is constant), ``gap / (|v_z| + g T + vc_lim)`` to floor
+  and lid,
+* ``(skin / 2 - |x_i - x_build|) / (|v_i| + g T)``: it cannot trigger a list rebuild
+  (pairs off the list stay more than the skin apart, as with every sphere stepped),
 * ``T``.
 
 A free sphere's trajectory is the one the Gear step would give it (Gear integrates a
@@ -41,11 +46,11 @@ from numba import njit
 
 from pdamper.dem.kernels.forces import FASTMATH
 
-#: A sphere's speed limit is SPEED_FACTOR x its speed + SPEED_FLOOR (+ g T): the margin a
-#: stepped sphere may gain in contacts before everything is regrouped. Larger limits give
-#: shorter horizons (more spheres stepped), smaller ones more regroups. Chosen, not tuned:
-#: how often violations regroup is not counted separately (``DEMResult.regroups`` counts
-#: all regroups).
+#: A sphere's speed limit is SPEED_FACTOR x its speed + SPEED_FLOOR (in the free-fall frame):
+#: the margin a stepped sphere may gain in contacts before everything is regrouped. Larger
+#: limits give shorter horizons (more spheres stepped), smaller ones more regroups. Chosen,
+#: not tuned; a floor of 0.25 m/s, or MIN_STEPS 4, changed the CPU time of twelve map
+#: points by less than this VM's scatter (docs/dem.md).
 SPEED_FACTOR = 1.5
 #: [m/s], see SPEED_FACTOR
 SPEED_FLOOR = 0.1
@@ -181,6 +186,23 @@ def regroup(t, h, vc, ac, on, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pre
     hz = fl.until  # the horizons, relative, until they are made absolute below
     vcl = SPEED_FACTOR * abs(vc) + abs(ac) * horizon + SPEED_FLOOR
     fl.scal[1] = vcl
+    # the free-fall frame w(t') = U - g (t' - t) e_z, U the mean velocity: gravity drops
+    # out of the relative motion, so a free sphere's velocity in it is constant and a bed
+    # that flies as a block is nearly at rest in it
+    ux = 0.0
+    uy = 0.0
+    uz = 0.0
+    for i in range(n):
+        ux += vel[i, 0]
+        uy += vel[i, 1]
+        uz += vel[i, 2]
+    ux /= n
+    uy /= n
+    uz /= n
+    fl.scal[3] = ux
+    fl.scal[4] = uy
+    fl.scal[5] = uz
+    fl.scal[6] = t
     lx = world.lx
     ly = world.ly
     lz = world.lz
@@ -189,10 +211,14 @@ def regroup(t, h, vc, ac, on, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pre
     w_act = walls.active
     vown = fl.vown
     for i in range(n):
-        v = math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
-        vlim[i] = SPEED_FACTOR * v + SPEED_FLOOR + g * horizon
+        vx = vel[i, 0]
+        vy = vel[i, 1]
+        vz = vel[i, 2]
+        v = math.sqrt(vx * vx + vy * vy + vz * vz)
+        u = math.sqrt((vx - ux) ** 2 + (vy - uy) ** 2 + (vz - uz) ** 2)
+        vlim[i] = SPEED_FACTOR * u + SPEED_FLOOR
+        vown[i] = u
         vl = v + g * horizon + 1e-300  # (> 0: no division by zero)
-        vown[i] = vl
         ri = rad[i]
         touching = False
         for w in range(6):
@@ -205,11 +231,13 @@ def regroup(t, h, vc, ac, on, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pre
         dy = pos[i, 1] - pb[i, 1]
         dz = pos[i, 2] - pb[i, 2]
         tt = (half_skin - math.sqrt(dx * dx + dy * dy + dz * dz)) / vl
-        gside = min(min(pos[i, 0], lx - pos[i, 0]), min(pos[i, 1], ly - pos[i, 1])) - ri
-        tt = min(tt, gside / vl)
+        # the side walls move vertically: only the (constant) horizontal velocity of a
+        # free sphere closes its gap to them
+        tt = min(tt, (min(pos[i, 0], lx - pos[i, 0]) - ri) / (abs(vx) + 1e-300))
+        tt = min(tt, (min(pos[i, 1], ly - pos[i, 1]) - ri) / (abs(vy) + 1e-300))
         zr = pos[i, 2] - zc
         gz = min(zr, lz - zr) - ri
-        tt = min(tt, gz / (vl + vcl))
+        tt = min(tt, gz / (abs(vz) + g * horizon + vcl))
         hz[i] = min(tt, horizon)
     pairs = nbrs.pairs
     nb_start = pairs.start
@@ -227,8 +255,8 @@ def regroup(t, h, vc, ac, on, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pre
                 dy = pos[j, 1] - pos[i, 1]
                 dz = pos[j, 2] - pos[i, 2]
                 gap = math.sqrt(dx * dx + dy * dy + dz * dz) - ri - rad[j]
-                # a sphere in free flight keeps its own speed, its partner stays below its
-                # limit (stepped or not)
+                # in the free-fall frame a sphere in free flight keeps its own speed, its
+                # partner stays below its limit (stepped or not)
                 ti = gap / (vown[i] + vlim[j])
                 tj = gap / (vown[j] + vlim[i])
             if ti < hz[i]:

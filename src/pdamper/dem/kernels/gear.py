@@ -559,10 +559,15 @@ def gear_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
                 for q in range(3 * act[k], 3 * act[k] + 3):
                     _correct(q, fx, fw, fpos, fvel, fomg, ffrc, ftrq, im3, ii3, hh, h, ih)
         if na < n:
-            # a stepped sphere faster than the horizons assumed: regroup after the step
+            # a stepped sphere faster in the free-fall frame than the horizons assumed:
+            # regroup after the step
+            wx = fl.scal[3]
+            wy = fl.scal[4]
+            wz = fl.scal[5] - g * (tn - fl.scal[6])
             for k in range(na):
                 i = act[k]
-                if (vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2) > vlim[i] * vlim[i]:
+                if ((vel[i, 0] - wx) ** 2 + (vel[i, 1] - wy) ** 2
+                        + (vel[i, 2] - wz) ** 2) > vlim[i] * vlim[i]:
                     due = True
         if structure:
             corr = hh * ac - nc[2]

@@ -173,12 +173,14 @@ class Flights(NamedTuple):
     v0: np.ndarray      # (n, 3) velocity at the start of the flight [m/s]
     t0: np.ndarray      # (n,) start of the flight [s]
     until: np.ndarray   # (n,) no contact of the sphere is possible before this time [s]
-    vlim: np.ndarray    # (n,) speed the horizons assume the sphere keeps below [m/s]
-    vown: np.ndarray    # (n,) its speed bound while in free flight [m/s]
+    vlim: np.ndarray    # (n,) speed in the free-fall frame the horizons assume the sphere
+    #                     keeps below [m/s]
+    vown: np.ndarray    # (n,) its (constant) speed in that frame in free flight [m/s]
     act: np.ndarray     # (n,) int: the stepped spheres, the first ``count[0]`` entries
     count: np.ndarray   # (1,) int
-    scal: np.ndarray    # (3,) float: earliest ``until`` [s], container speed limit [m/s],
-    #                     steps between periodic regroups
+    scal: np.ndarray    # (7,) float: earliest ``until`` [s], container speed limit [m/s],
+    #                     steps between periodic regroups, the free-fall frame's velocity
+    #                     U [m/s] (3) and time [s] of the last regroup
 
 
 class Nordsieck(NamedTuple):
@@ -282,7 +284,7 @@ def empty_flights(n: int) -> Flights:
     """Flights of ``n`` spheres, all stepped."""
     return Flights(np.zeros(n, np.int64), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n),
                    np.zeros(n), np.zeros(n), np.zeros(n), np.arange(n, dtype=np.int64),
-                   np.array([n], np.int64), np.array([np.inf, 0.0, 0.0]))
+                   np.array([n], np.int64), np.array([np.inf, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]))
 
 
 def empty_samples(nsamp: int) -> Samples:
