@@ -54,6 +54,11 @@ def main(argv=None) -> dict:
     ap.add_argument("--quiet-window-cycles", type=int, default=None,
                     help="windows of the rule for quiet beds (0: the full window only; "
                          "default: the scenario's)")
+    ap.add_argument("--quiet-windows", type=int, default=None,
+                    help="number of windows of the rule for quiet beds (default: the "
+                         "scenario's)")
+    ap.add_argument("--quiet-skip-cycles", type=int, default=None,
+                    help="cycles the rule for quiet beds skips (default: the scenario's)")
     ap.add_argument("--out", type=Path, default=None)
     ap.add_argument("--json", type=Path, default=None)
     args = ap.parse_args(argv)
@@ -73,6 +78,10 @@ def main(argv=None) -> dict:
         overrides["dem.cycles"] = "auto"
     if args.quiet_window_cycles is not None:
         overrides["dem.quiet_window_cycles"] = args.quiet_window_cycles
+    if args.quiet_windows is not None:
+        overrides["dem.quiet_windows"] = args.quiet_windows
+    if args.quiet_skip_cycles is not None:
+        overrides["dem.quiet_skip_cycles"] = args.quiet_skip_cycles
     sc = load_scenario(None, overrides)
     workers = args.workers or default_workers()
     load0 = os.getloadavg()
@@ -113,6 +122,8 @@ def main(argv=None) -> dict:
     result = {
         "grid": [int(f.size), int(x.size)], "points": int(ok.size), "workers": workers,
         "quiet_window_cycles": sc.dem.quiet_window_cycles,
+        "quiet_windows": sc.dem.quiet_windows,
+        "quiet_skip_cycles": sc.dem.quiet_skip_cycles,
         "quiet_cells": int((ds["quiet_window"].values == 1).sum()),
         "packing": sc.for_map().dem.packing, "cycles_option": sc.dem.cycles,
         "total_seconds": total,
@@ -156,7 +167,8 @@ def _print(r: dict, MotionMode) -> None:  # noqa: N803
         f"{k} Hz: {v:.2f} s" for k, v in r["per_point_by_frequency"].items()))
     print(f"  cycles needed          median {r['cycles_needed']['median']:.0f}, "
           f"max {r['cycles_needed']['max']:.0f}; {r['quiet_cells']} cells judged quiet "
-          f"(quiet_window_cycles = {r['quiet_window_cycles']})")
+          f"(quiet rule: {r['quiet_windows']} x {r['quiet_window_cycles']} cycles after "
+          f"{r['quiet_skip_cycles']})")
     print(f"  steady / transient / failed   {r['steady']} / {r['transient']} / {r['failed']}")
     if r["errors"]:
         print("  errors: " + "; ".join(r["errors"][:3]))

@@ -4,7 +4,8 @@ damper, their cycle loss factors, and where the criterion stops.
 Run ``python benchmarks/bench_stationarity.py`` (``--cycles 60``, ``--points`` to choose;
 ``--windows 3x4,3x3,2x4,2x3 --cycles 40`` compares window lengths instead, the table of
 docs/fields.md; a window ``3x4q2`` is three windows of 4 cycles with the rule for quiet
-beds on windows of 2, ``3x4q0`` without it, plain ``3x4`` the model's default quiet rule;
+beds on windows of 2, ``3x4q2w3s2`` on three of them after two skipped cycles (the rule of
+issue 9's stop 19), ``3x4q0`` without it, plain ``3x4`` the model's default quiet rule;
 ``--points grid`` the 9 x 5 points of its table, ``--particles N``, ``--jobs 2``).
 For every point and both packings (the paper's lattice, a random one) it runs ``--cycles``
 cycles once and prints
@@ -49,6 +50,8 @@ def main(argv=None) -> None:
                          "stop against the mean of the last 20 cycles)")
     ap.add_argument("--particles", type=int, default=32, help="spheres (window comparison)")
     ap.add_argument("--jobs", type=int, default=1, help="processes (window comparison)")
+    ap.add_argument("--seed", type=int, default=0,
+                    help="seed of the random packing (window comparison; default 0)")
     args = ap.parse_args(argv)
     if args.windows:
         if args.points == "grid":
@@ -57,7 +60,7 @@ def main(argv=None) -> None:
             pts = WINDOW_POINTS
         else:
             pts = tuple(tuple(float(v) for v in p.split("/")) for p in args.points.split(","))
-        compare_windows(pts, args.cycles, args.windows, args.particles, args.jobs)
+        compare_windows(pts, args.cycles, args.windows, args.particles, args.jobs, args.seed)
         return
     from pdamper.analysis.stationarity import SYMMETRY_TOLERANCE, cycle_loss_factors, cycle_symmetry
     from pdamper.models import DEMDamper
@@ -101,11 +104,22 @@ def main(argv=None) -> None:
                   f"{brk:>15}", flush=True)
 
 
-def _variant(spec: str) -> tuple[int, int, int | None]:
-    """``"3x4"`` -> (3, 4, None: the default quiet rule); ``"3x4q2"`` -> (3, 4, 2)."""
+def _variant(spec: str) -> tuple[int, int, dict | None]:
+    """``"3x4"`` -> (3, 4, None: the default quiet rule); ``"3x4q2"`` -> (3, 4, quiet
+    windows of 2 cycles); ``"3x4q2w3s2"``: three of them after two cycles (the rule of
+    issue 9's stop 19)."""
     body, _, quiet = spec.partition("q")
     k, m = (int(v) for v in body.split("x"))
-    return k, m, (int(quiet) if quiet else None)
+    if not quiet:
+        return k, m, None
+    rest, _, skip = quiet.partition("s")
+    cycles, _, windows = rest.partition("w")
+    opts = {"quiet_window_cycles": int(cycles)}
+    if windows:
+        opts["quiet_windows"] = int(windows)
+    if skip:
+        opts["quiet_skip_cycles"] = int(skip)
+    return k, m, opts
 
 
 def _long_run(args):
@@ -117,17 +131,17 @@ def _long_run(args):
     from pdamper.models.dem import truncate_result
     from pdamper.parameters import PAPER_DAMPER
 
-    (f, x_mm), n, variants, count = args
+    (f, x_mm), n, variants, count, seed = args
     warnings.simplefilter("ignore")
     damper = PAPER_DAMPER.with_count(count)
-    res = DEMDamper(damper, packing="random", cycles=n).run(f, x_mm / 1e3)
+    res = DEMDamper(damper, packing="random", seed=seed, cycles=n).run(f, x_mm / 1e3)
     eta = cycle_loss_factors(res.time, -res.force[:, 2], res.container_velocity, f,
                              res.bed_mass)
     late = float(np.mean(eta[-20:]))
     stops = []
     for k, m, q in variants:
-        quiet = {} if q is None else {"quiet_window_cycles": q}
-        auto = DEMDamper(damper, packing="random", max_cycles=n, window_cycles=m,
+        quiet = {} if q is None else q
+        auto = DEMDamper(damper, packing="random", seed=seed, max_cycles=n, window_cycles=m,
                          steady_windows=k, **quiet)
         for c in range(auto.steady.min_cycles, n + 1):
             st, mo = auto.assess(res if c == n else truncate_result(res, c))
@@ -139,7 +153,8 @@ def _long_run(args):
     return (f, x_mm), late, float(np.std(eta[-20:], ddof=1)), stops
 
 
-def compare_windows(points, n: int, spec: str, count: int = 32, jobs: int = 1) -> None:
+def compare_windows(points, n: int, spec: str, count: int = 32, jobs: int = 1,
+                    seed: int = 0) -> None:
     """For each point one random-bed run of ``n`` cycles; for each criterion of ``spec``
     (``"3x4q0,3x4q2"``: windows x cycles per window, quiet windows) the cycle where a run
     until steady would stop and its loss factor against the mean of the last 20 cycles;
@@ -151,7 +166,7 @@ def compare_windows(points, n: int, spec: str, count: int = 32, jobs: int = 1) -
     devs: dict = {w: [] for w in specs}
     stops: dict = {w: [] for w in specs}
     quiet_devs: dict = {w: [] for w in specs}
-    tasks = [(p, n, variants, count) for p in points]
+    tasks = [(p, n, variants, count, seed) for p in points]
     with ProcessPoolExecutor(jobs) as ex:
         for (f, x_mm), late, sd, found in ex.map(_long_run, tasks):
             cells = []
@@ -168,7 +183,7 @@ def compare_windows(points, n: int, spec: str, count: int = 32, jobs: int = 1) -
                 cells.append(f"{w}: {c:2d}{'q' if quiet else ' '} {value:.3f} ({100 * dev:+.1f} %)")
             print(f"{f:5g} Hz {x_mm:5.1f} mm  last 20: {late:.3f} +- {sd:.3f} | "
                   + " | ".join(cells), flush=True)
-    print(f"{count} spheres, {len(points)} points, {n} cycles each")
+    print(f"{count} spheres, {len(points)} points, {n} cycles each, seed {seed}")
     for w in specs:
         d = np.asarray(devs[w])
         q = np.asarray(quiet_devs[w])

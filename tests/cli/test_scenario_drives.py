@@ -107,16 +107,24 @@ sample_rate = "3 kHz"
 
 
 def test_dem_quiet_rule_from_the_scenario(tmp_path, cli):
-    """A resting bed (A = 0.8 g) is quiet: steady after 2 + 3 x 2 cycles; without the rule
-    (``[dem] quiet_window_cycles = 0``) after 2 + 3 x 4 (docs/fields.md)."""
+    """A resting bed (A = 0.8 g; its second cycle still settles) is quiet: steady after
+    2 + 2 x 2 cycles; without the rule
+    (``[dem] quiet_window_cycles = 0``) after 2 + 3 x 4 (docs/fields.md); the quiet rule's
+    windows and skip from the scenario."""
     args = ("dem", "--particles", 4, "--frequency", "20 Hz", "--amplitude", "0.5 mm",
             "--json")
     code, out, err = cli(*args)
     assert code == 0, err
     quiet = json.loads(out)
     assert quiet["stationary"] and quiet["quiet_window"]
-    assert quiet["cycles"] == 8 and quiet["averaged_cycles"] == [3, 8]
+    assert quiet["cycles"] == 6 and quiet["averaged_cycles"] == [3, 6]
     assert quiet["motion_mode"] == "solid"
+    scenario = tmp_path / "three.toml"
+    scenario.write_text("[dem]\nquiet_windows = 3\nquiet_skip_cycles = 2\n")
+    code, out, err = cli(*args, "--scenario", scenario)
+    assert code == 0, err
+    three = json.loads(out)
+    assert three["quiet_window"] and three["averaged_cycles"] == [3, 8]
     scenario = tmp_path / "full.toml"
     scenario.write_text("[dem]\nquiet_window_cycles = 0\n")
     code, out, err = cli(*args, "--scenario", scenario)
@@ -140,7 +148,7 @@ def test_example_scenario_shows_the_dem_section(cli):
     assert code == 0 and "[dem]" in out
     for key in ("integrator", "cycles", "skip_cycles", "restitution_pp", "restitution_pw",
                 "error_estimate", "accuracy", "max_refinements", "quiet_window_cycles",
-                "quiet_scatter",
+                "quiet_scatter", "quiet_windows", "quiet_skip_cycles",
                 "damping_model", "packing", "seed", "safety", "sample_rate", "snapshot_rate"):
         assert f"{key} = " in out, key
 

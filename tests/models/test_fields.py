@@ -354,7 +354,7 @@ def test_model2_from_a_dem_map_within_20_percent_of_model1(paper_model1_ensemble
     spheres or last-bit changes of the code (Verlet at safety 0.005 alike: 23.5-25.4 mm),
     because the lattice's mirror symmetry breaks at a rounding-dependent time. Model 2 is
     built from steady cycles, where the symmetry has broken; its like-for-like reference is
-    model 1 from random packings, averaged over three (measured: 21.83 / 21.35 / 21.30 mm,
+    model 1 from random packings, averaged over ten (measured: mean 21.35 mm, 20.11-22.35;
     model 2 21.80 mm)."""
     from pdamper.models import DEMDamper
 

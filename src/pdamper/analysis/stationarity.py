@@ -32,28 +32,30 @@ default to ``rtol = 0.1``, ``atol = 0.03`` (the resolution of the paper's
 Fig. 5 colour scale, log 0.1-1), ``windows = 3`` of ``window_cycles = 4`` cycles and
 ``z = 2``.
 
-**Quiet beds** are judged on a shorter window too: the same tests on ``windows`` windows of
-``quiet_window_cycles`` (2) cycles, and two more, so that the shorter window is no weaker
-evidence for such a bed:
+**Quiet beds** are judged on a shorter window too: the same tests on ``quiet_windows`` (2)
+windows of ``quiet_window_cycles`` (2) cycles after ``quiet_skip_cycles`` (1, at most
+``skip_cycles``), and two more, so that the shorter window is no weaker evidence for such
+a bed:
 
 5. *quiet* - the cycle-to-cycle scatter (the larger of the standard deviation and the
-   robust scale of test 1) is at most ``quiet_scatter`` (0.2) x ``tau``: the window means
-   are then known to ``0.2 tau / sqrt(2)`` each, and a disagreement or a trend cannot
-   hide behind the scatter allowance (the beds that drift slowly, scattering and
-   subharmonic ones, scatter by 0.4-5 ``tau``: they are judged on the full window);
+   robust scale of test 1) of the bed's history, every cycle after the first or, if that
+   is quieter, after the second (the paper's skip), is at most ``quiet_scatter`` (0.2) x
+   ``tau``: the window means are then known to ``0.2 tau / sqrt(2)`` each, a disagreement
+   or a trend cannot hide behind the scatter allowance, and a bed with a transient after
+   its second cycle is left to the full window (the beds that drift slowly, scattering and
+   subharmonic ones, scatter by 0.4-5 ``tau``: they are judged on the full window too).
+   The history, not the four cycles of the window: four values estimate a scatter poorly,
+   and a window that slides over a chaotic bed passes by chance sooner or later;
 6. *no steeper trend than the full window allows* - the least-squares slope per cycle, times
-   the full window's ``span - 1`` cycles, is at most ``tau`` (a 6-cycle window alone would
-   let through a slope 2.2 times steeper than a 12-cycle one). With the defaults test 5
-   already implies it: a slope widens the scatter of a 6-cycle window to 2.2 x the slope, so
-   a quiet window's slope is below ``tau / 11``; test 6 holds the bound for other settings.
+   the full window's ``span - 1`` cycles, is at most ``tau`` (a 4-cycle window alone would
+   let through a slope 3.7 times steeper than a 12-cycle one).
 
 A regular bed (the solid-like and collect-and-collide harmonic beds that make most of the
-paper's map) is then steady after ``skip_cycles + 6`` cycles instead of 14. Measured against
-the mean of cycles 21-40 of 40-cycle runs (``benchmarks/bench_stationarity.py --windows
-3x4q0,3x4q2``, docs/fields.md): 53 quiet stops over 85 random-bed points of 16, 32 and 96
-spheres, within 4.7 % of the late mean (the full window on the same beds: 3.7 %); the worst
-points of either rule are scattering beds, which the rule leaves to the full window; the
-median stop over 45 points of the paper's map is 8 cycles instead of 14.
+paper's map) is then steady after 1 + 4 = 5 cycles instead of 14 (6 if its second cycle
+still settles). Measured against the mean of cycles 21-40 of 40-cycle runs
+(``benchmarks/bench_stationarity.py --windows 3x4q2w3s2,3x4,3x4q0``, docs/fields.md): see
+docs/fields.md for the table; the worst points of every rule are scattering beds, which the
+rule leaves to the full window.
 """
 
 from __future__ import annotations
@@ -69,6 +71,10 @@ from pdamper.errors import InputError
 #: Fewest cycles a window must hold to be judged steady at all (with fewer, the scatter
 #: allowance of test 1 covers any difference).
 MIN_JUDGED_CYCLES = 4
+#: Windows of the rule for quiet beds, and the cycles it skips (module docstring):
+#: chosen on 45 points of the paper's map, checked on others (docs/fields.md).
+QUIET_WINDOWS = 2
+QUIET_SKIP_CYCLES = 1
 #: Horizontal / vertical force ratio below which a cycle counts as mirror-symmetric [-].
 #: The symmetric lattice state shows <= 3e-7 (round-off); a broken symmetry >= 2e-4.
 SYMMETRY_TOLERANCE = 1.0e-5
@@ -209,15 +215,26 @@ class SteadyStateCriterion:
         docstring).
     quiet_scatter
         Largest cycle-to-cycle scatter of a quiet bed, relative to the tolerance [-].
+    quiet_windows
+        Number of windows the rule for quiet beds compares [-].
+    quiet_skip_cycles
+        Cycles never averaged in a quiet bed's window [-]; at most ``skip_cycles``
+        (:attr:`quiet_skip`).
 
     Examples
     --------
-    A bed that settles from 2.0 to 0.3 and stays there is quiet: steady once the last
-    6 cycles are at 0.3. Scattering from cycle to cycle by 5 % it needs the last 12:
+    A bed at 0.3 from its second cycle on is quiet: steady after five cycles, averaged over
+    cycles 2-5. One that settles from 2.0 to 0.3 only after six cycles, or scatters from
+    cycle to cycle by 5 %, needs the full window, the last 12 cycles:
 
     >>> c = SteadyStateCriterion()
-    >>> quiet = [2.0] * 6 + [0.3] * 12
-    >>> c.evaluate(quiet[:11]).stationary, c.evaluate(quiet[:12]).stationary
+    >>> quiet = [2.0] + [0.3] * 5
+    >>> c.evaluate(quiet[:4]).stationary, c.evaluate(quiet[:5]).stationary
+    (False, True)
+    >>> c.evaluate(quiet[:5]).first_cycle, c.evaluate(quiet[:5]).quiet
+    (2, True)
+    >>> late = [2.0] * 6 + [0.3] * 12
+    >>> c.evaluate(late[:17]).stationary, c.evaluate(late).stationary
     (False, True)
     >>> noisy = [2.0] * 6 + [0.3 * (1 + 0.05 * (-1) ** k) for k in range(12)]
     >>> c.evaluate(noisy[:17]).stationary, c.evaluate(noisy).stationary
@@ -235,10 +252,13 @@ class SteadyStateCriterion:
     symmetry_tolerance: float = SYMMETRY_TOLERANCE
     quiet_window_cycles: int = 2
     quiet_scatter: float = 0.2
+    quiet_windows: int = QUIET_WINDOWS
+    quiet_skip_cycles: int = QUIET_SKIP_CYCLES
 
     def __post_init__(self) -> None:
         for name, low in (("window_cycles", 1), ("windows", 2), ("skip_cycles", 0),
-                          ("quiet_window_cycles", 0)):
+                          ("quiet_window_cycles", 0), ("quiet_windows", 2),
+                          ("quiet_skip_cycles", 0)):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < low:
                 raise InputError(f"dem.{name}", f"must be a whole number >= {low}, got {v!r}")
@@ -255,18 +275,27 @@ class SteadyStateCriterion:
 
     @property
     def quiet_span(self) -> int:
-        """Cycles in the averaged window of a quiet bed, ``windows x quiet_window_cycles``
-        (0: no quiet rule: ``quiet_window_cycles`` 0 or not below ``window_cycles``,
-        ``quiet_scatter`` 0, or fewer than ``MIN_JUDGED_CYCLES`` cycles)."""
-        q = self.windows * self.quiet_window_cycles
-        quiet = (self.quiet_scatter > 0 and self.quiet_window_cycles < self.window_cycles
-                 and q >= MIN_JUDGED_CYCLES)
+        """Cycles in the averaged window of a quiet bed, ``quiet_windows x
+        quiet_window_cycles`` (0: no quiet rule: ``quiet_window_cycles`` or
+        ``quiet_scatter`` 0, a window no shorter than the full one, or fewer than
+        ``MIN_JUDGED_CYCLES`` cycles)."""
+        q = self.quiet_windows * self.quiet_window_cycles
+        quiet = (self.quiet_scatter > 0 and MIN_JUDGED_CYCLES <= q < self.span
+                 and self.quiet_window_cycles > 0)
         return q if quiet else 0
+
+    @property
+    def quiet_skip(self) -> int:
+        """Cycles skipped before a quiet bed's window, ``min(quiet_skip_cycles,
+        skip_cycles)``: a quiet bed shows in its own window that its start-up is over."""
+        return min(self.quiet_skip_cycles, self.skip_cycles)
 
     @property
     def min_cycles(self) -> int:
         """Fewest cycles a run needs before it can be steady (a quiet bed's)."""
-        return self.skip_cycles + (self.quiet_span or self.span)
+        if self.quiet_span:
+            return min(self.quiet_skip + self.quiet_span, self.full_cycles)
+        return self.full_cycles
 
     @property
     def full_cycles(self) -> int:
@@ -296,9 +325,9 @@ class SteadyStateCriterion:
     def _judge(self, eta: np.ndarray, span: int, m: int, symmetry, resting: bool,
                quiet: bool = False) -> Stationarity:
         """Tests 1-4 on the last ``span`` cycles in windows of ``m``; with ``quiet`` also
-        tests 5 and 6 (module docstring)."""
+        tests 5 and 6 (module docstring), after :attr:`quiet_skip` cycles."""
         n = eta.size
-        L = min(span, max(n - self.skip_cycles, 0))
+        L = min(span, max(n - (self.quiet_skip if quiet else self.skip_cycles), 0))
         first = n - L + 1
         if L < 2:
             mean = float(eta[-1]) if n else math.nan
@@ -332,9 +361,24 @@ class SteadyStateCriterion:
             reason = "trend"
         elif symmetric and not resting:
             reason = "symmetric lattice state"
-        elif quiet and max(s, robust) > self.quiet_scatter * tau:
+        elif quiet and self._history_scatter(eta) > self.quiet_scatter * tau:
             reason = "not quiet"
         elif quiet and abs(slope) * (self.span - 1) > tau:
             reason = "trend"
         return Stationarity(not reason, reason, n, first, n, mean, s / math.sqrt(L), spread,
                             drift, tau, symmetric, quiet)
+
+    def _history_scatter(self, eta: np.ndarray) -> float:
+        """Scatter of test 5: the larger of the standard deviation and the robust scale of
+        every cycle after :attr:`quiet_skip` or, if that is smaller and holds the window,
+        after ``skip_cycles``; not of the window alone (four values estimate a scatter too
+        poorly: judged on its window, a bed scattering by 0.5 tau passed as quiet in 28 %
+        of synthetic runs, judged on its history in 9 %, the 6-cycle window of three
+        windows of two cycles after two in 6 %)."""
+        best = math.inf
+        for start in {self.quiet_skip, self.skip_cycles}:
+            h = eta[start:]
+            if h.size >= max(self.quiet_span, 2):
+                robust = 1.4826 * float(np.median(np.abs(h - np.median(h))))
+                best = min(best, max(float(h.std(ddof=1)), robust))
+        return best

@@ -244,6 +244,8 @@ class DEMSpec(_Section):
     steady_atol: float = _STEADY.atol
     quiet_window_cycles: Count = _STEADY.quiet_window_cycles
     quiet_scatter: float = _STEADY.quiet_scatter
+    quiet_windows: Count = _STEADY.quiet_windows
+    quiet_skip_cycles: Count = _STEADY.quiet_skip_cycles
     restitution_pp: Restitution = _D.restitution_pp.e
     restitution_pw: Restitution = _D.restitution_pw.e
     damping_model: str = "exact"
@@ -836,8 +838,9 @@ steady_rtol = {dem.steady_rtol}           # steady_atol), no trend, no symmetric
 steady_atol = {dem.steady_atol}
 quiet_window_cycles = {dem.quiet_window_cycles}     # a quiet bed (cycle-to-cycle scatter below
 quiet_scatter = {dem.quiet_scatter}         # quiet_scatter x the tolerance) is judged on
-                            # steady_windows windows of quiet_window_cycles cycles
-                            # (0: never; docs/fields.md)
+quiet_windows = {dem.quiet_windows}           # quiet_windows windows of quiet_window_cycles cycles
+quiet_skip_cycles = {dem.quiet_skip_cycles}       # after min(quiet_skip_cycles, skip_cycles) cycles
+                            # (quiet_window_cycles = 0: never; docs/fields.md)
 # restitution_pp = {dem.restitution_pp}      # constant sphere-sphere COR (default; or [restitution])
 # restitution_pw = {dem.restitution_pw}     # constant sphere-wall COR (default; or [restitution])
 damping_model = "{dem.damping_model}"     # damping law of the normal force: {_MODELS}

@@ -238,9 +238,10 @@ class DEMDamper(DamperModel):
     window_cycles, steady_windows, steady_rtol, steady_atol
         The steady-state criterion: ``steady_windows`` windows of ``window_cycles`` cycles
         whose loss factors agree within ``max(steady_rtol |eta|, steady_atol)``.
-    quiet_window_cycles, quiet_scatter
+    quiet_window_cycles, quiet_scatter, quiet_windows, quiet_skip_cycles
         A quiet bed (cycle-to-cycle scatter at most ``quiet_scatter`` x that tolerance) is
-        judged on ``steady_windows`` windows of ``quiet_window_cycles`` cycles (0: never);
+        judged on ``quiet_windows`` windows of ``quiet_window_cycles`` cycles (0: never)
+        after ``min(quiet_skip_cycles, skip_cycles)`` cycles;
         :class:`~pdamper.analysis.stationarity.SteadyStateCriterion`, docs/fields.md.
     packing, seed
         ``"lattice"`` (the paper's 4 x 4 layers), ``"random"`` (uses ``seed``) or ``"auto"``
@@ -291,6 +292,8 @@ class DEMDamper(DamperModel):
                  steady_atol: float = _STEADY.atol,
                  quiet_window_cycles: int = _STEADY.quiet_window_cycles,
                  quiet_scatter: float = _STEADY.quiet_scatter,
+                 quiet_windows: int = _STEADY.quiet_windows,
+                 quiet_skip_cycles: int = _STEADY.quiet_skip_cycles,
                  min_impact_velocity: float = DEFAULT_MIN_IMPACT_VELOCITY,
                  error_estimate: bool = False, accuracy: float = DEFAULT_ACCURACY,
                  max_refinements: int = DEFAULT_MAX_REFINEMENTS, **options):
@@ -316,6 +319,8 @@ class DEMDamper(DamperModel):
             atol=check_range("dem.steady_atol", steady_atol, low=0.0),
             quiet_window_cycles=_whole("dem.quiet_window_cycles", quiet_window_cycles, 0),
             quiet_scatter=check_range("dem.quiet_scatter", quiet_scatter, low=0.0),
+            quiet_windows=_whole("dem.quiet_windows", quiet_windows, 2),
+            quiet_skip_cycles=_whole("dem.quiet_skip_cycles", quiet_skip_cycles, 0),
             skip_cycles=self.skip_cycles)
         self.max_cycles = _whole("dem.max_cycles", max_cycles, 1)
         if self.cycles == AUTO:
@@ -520,7 +525,7 @@ class DEMDamper(DamperModel):
         """Stationarity and motion mode of the run ``result`` so far.
 
         Running until steady, the averaged window is the last ``steady_windows x
-        window_cycles`` cycles, or for a quiet bed the last ``steady_windows x
+        window_cycles`` cycles, or for a quiet bed the last ``quiet_windows x
         quiet_window_cycles``; with a fixed number of cycles it is every cycle after
         ``skip_cycles`` (the paper's procedure), split into ``steady_windows`` windows.
         Besides the loss-factor criterion, a window of at least ``2 x MIN_HALF_WINDOW``
