@@ -373,8 +373,8 @@ class SteadyStateCriterion:
         every cycle after :attr:`quiet_skip` or, if that is smaller and holds the window,
         after ``skip_cycles``; not of the window alone (four values estimate a scatter too
         poorly: judged on its window, a bed scattering by 0.5 tau passed as quiet in 28 %
-        of synthetic runs, judged on its history in 9 %, the 6-cycle window of three
-        windows of two cycles after two in 6 %)."""
+        of 400 synthetic runs, judged on its history in 9 %, the 6-cycle window of three
+        windows of two cycles after two in 6 %; docs/fields.md)."""
         best = math.inf
         for start in {self.quiet_skip, self.skip_cycles}:
             h = eta[start:]
