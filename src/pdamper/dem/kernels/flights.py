@@ -80,7 +80,7 @@ def place(i, t, g, fl, pos, vel):
     vel[i, 2] -= g * tau
 
 
-@njit(cache=True, fastmath=FASTMATH)
+@njit(cache=True, fastmath=FASTMATH, _nrt=False)
 def place_all(t, g, fl, pos, vel):
     """Every free sphere's position and velocity at ``t`` (a sample, a list rebuild)."""
     free = fl.free
@@ -143,7 +143,7 @@ def _list_active(fl):
     return na
 
 
-@njit(cache=True, fastmath=FASTMATH)
+@njit(cache=True, fastmath=FASTMATH, _nrt=False)
 def join_due(t_end, t, h, g, mass, fl, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pred):
     """The free spheres whose horizon ends before ``t_end`` rejoin at ``t``; returns the
     number of stepped spheres and the largest speed of those that joined."""
@@ -159,7 +159,7 @@ def join_due(t_end, t, h, g, mass, fl, pos, vel, omg, nx, nw, frc, trq, vel_pred
     return _list_active(fl), vmax
 
 
-@njit(cache=True, fastmath=FASTMATH)
+@njit(cache=True, fastmath=FASTMATH, _nrt=False)
 def regroup(t, h, vc, ac, on, pos, vel, omg, nx, nw, frc, trq, vel_pred, omg_pred, zc, world,
             part, nbrs, walls, fl, horizon):
     """Every sphere at time ``t``; then (``on``) the horizons of all spheres are computed

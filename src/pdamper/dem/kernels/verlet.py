@@ -137,6 +137,19 @@ def verlet_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp,
     are predicted as ``v + dt a`` (local error O(dt^2); a higher extrapolation,
     ``+ dt/2 (a - a_prev)``, was tried and is unstable in stiff contact networks).
     """
+    n = pos.shape[0]
+    m3 = 3 * n
+    _verlet_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, lg, rs,
+                  st, samples, snaps, j_stop, np.empty(m3), np.empty(m3), np.arange(n),
+                  np.zeros(n, np.int64))
+
+
+@njit(cache=True, fastmath=FASTMATH, error_model="numpy", _nrt=False)
+def _verlet_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, lg, rs,
+                  st, samples, snaps, j_stop, im3, ii3, every, none):
+    """The steps of :func:`verlet_advance`, compiled without reference counting (see
+    :func:`pdamper.dem.kernels.gear._gear_steps`); ``im3``, ``ii3`` work arrays of the
+    3n components, ``every = arange(n)``, ``none = zeros(n)``."""
     # arrays out of their bundles once (an access inside the loops counts references)
     frc = work.frc
     trq = work.trq
@@ -176,12 +189,6 @@ def verlet_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp,
     fwev = omg_pred.reshape(m3)
     ffrc = frc.reshape(m3)
     ftrq = trq.reshape(m3)
-    # (fresh arrays: the compiler knows they alias nothing, the kicks vectorise)
-    im3 = np.empty(m3)
-    ii3 = np.empty(m3)
-    # every particle is stepped (free flights are Gear's)
-    every = np.arange(n)
-    none = np.zeros(n, np.int64)
     for i in range(n):
         for a in range(3):
             im3[3 * i + a] = part.inv_mass[i]
