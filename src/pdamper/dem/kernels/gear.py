@@ -345,7 +345,8 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
     functions (``compute_forces`` takes ~25) cost an atomic increment and decrement per
     step that LLVM cannot remove: 165 ns of a force evaluation of no sphere, more than a
     step's whole work at the ~5 stepped spheres of an impact (measured). The callers
-    keep the arrays alive; the results are bit-identical.
+    keep the arrays alive; the results are those of the earlier single function (one
+    that allocated the work arrays itself and counted references) to the last bit.
     """
     # arrays out of their bundles once (an access inside the loops counts references)
     frc = work.frc
@@ -420,7 +421,6 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
     fomg = omg.reshape(m3)
     ffrc = frc.reshape(m3)
     ftrq = trq.reshape(m3)
-    # (fresh arrays: the compiler knows they alias nothing, the kicks vectorise)
     for i in range(n):
         for a in range(3):
             im3[3 * i + a] = part.inv_mass[i]
