@@ -118,6 +118,7 @@ def test_failed_map_leaves_no_file(tmp_path, capsys, run):
 
 
 @pytest.mark.slow
+@pytest.mark.filterwarnings("error:constrained_layout not applied:UserWarning")
 def test_paper_main_job_writes_figures_and_table(tmp_path, capsys, run):
     """`pdamper paper --out DIR`: Figs. 3, 4, 5, 7, 8, 9, the maps and the table; the DEM
     map (a reduced 2 x 2 grid here) is cached in DIR: a rerun does not recompute it."""
