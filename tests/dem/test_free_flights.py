@@ -88,6 +88,36 @@ def test_a_collision_from_free_flight_is_neither_missed_nor_delayed(v):
                                rtol=0, atol=1e-7)
 
 
+@pytest.mark.parametrize("v_fast, v_slow, max_step", [(10.0, 5.0, 1e-4), (20.0, 16.0, MAX_STEP)])
+def test_a_pair_the_list_rebuild_adds_is_not_missed(v_fast, v_slow, max_step):
+    """Two spheres approach head-on from exactly one skin apart (not on the first Verlet
+    list), the fast one stepped (its horizon is shorter than MIN_STEPS steps), the slow one
+    in free flight. The fast one's displacement triggers the list rebuild that adds the
+    pair: the step that rebuilds must not leave the free sphere out, or the pair closes
+    unseen and the next regroup finds it overlapping (the kernels before: velocities off by
+    7e-4 v and the ledger 20x worse than with every sphere stepped). Newton's impact law
+    and the run with every sphere stepped, to the Gear tolerance."""
+    skin = 1e-3
+
+    def run(ff):
+        ps = particles(np.array([[0.02, 0.02, 0.03], [0.02, 0.02, 0.03 + 2 * R + skin]]),
+                       velocities=np.array([[0.0, 0.0, v_fast], [0.0, 0.0, -v_slow]]))
+        cp = contact(ConstantRestitution(0.6), ConstantRestitution(0.85), 0.0, 0.0)
+        return engine(ps, cp=cp, integrator="gear", settle_time=0.0, gravity=0.0, skin=skin,
+                      gear_free_flight=ff, max_step=max_step).run(
+            0.0015, sample_rate=2000.0, snapshot_rate=2000.0)
+
+    on, off = run(True), run(False)
+    assert on.stepped_fraction < 1.0 and on.contact_onsets == off.contact_onsets == 1
+    # e = 0.6, equal masses: the velocities exchange (1 + e) / 2 of their difference
+    dv = 0.8 * (v_fast + v_slow)
+    np.testing.assert_allclose(on.snapshot_velocities[-1, :, 2], [v_fast - dv, -v_slow + dv],
+                               rtol=5e-3)
+    np.testing.assert_allclose(on.snapshot_velocities[-1], off.snapshot_velocities[-1],
+                               rtol=0, atol=1e-5 * v_fast)
+    assert on.energy_balance_error() < 1.5 * off.energy_balance_error()
+
+
 def test_a_grazing_pass_from_free_flight():
     """An oblique pass (impact parameter 1.5 radii: a glancing impact, no head-on) is the
     same with and without free flights: the deflection and the contact count agree."""

@@ -32,6 +32,11 @@ its own ``|u|`` plus its partner's limit, so the horizon of sphere ``i`` is the 
   (pairs off the list stay more than the skin apart, as with every sphere stepped),
 * ``T``.
 
+A stepped sphere can still trigger a rebuild, and the new list may pair it with a free
+sphere whose horizon knew only the old one: the Gear kernel then undoes that step, brings
+every sphere back into it and takes it again (the rebuild sees every sphere, the forces
+every new pair), and regroups after it.
+
 A free sphere's trajectory is the one the Gear step would give it (Gear integrates a
 constant acceleration exactly) up to rounding, so free flights change the cost of a step,
 not its physics: the error control, the contacts and the ledger only ever see stepped
