@@ -59,6 +59,9 @@ def main(argv=None) -> dict:
                          "scenario's)")
     ap.add_argument("--quiet-skip-cycles", type=int, default=None,
                     help="cycles the rule for quiet beds skips (default: the scenario's)")
+    ap.add_argument("--transient-tolerance", type=float, default=None,
+                    help="Gear tolerance of the start from rest (default: the scenario's; "
+                         "1e-5, Gear's own, for none)")
     ap.add_argument("--out", type=Path, default=None)
     ap.add_argument("--json", type=Path, default=None)
     args = ap.parse_args(argv)
@@ -82,6 +85,7 @@ def main(argv=None) -> dict:
         overrides["dem.quiet_windows"] = args.quiet_windows
     if args.quiet_skip_cycles is not None:
         overrides["dem.quiet_skip_cycles"] = args.quiet_skip_cycles
+    overrides["dem.transient_tolerance"] = args.transient_tolerance
     sc = load_scenario(None, overrides)
     workers = args.workers or default_workers()
     load0 = os.getloadavg()
@@ -125,6 +129,7 @@ def main(argv=None) -> dict:
         "quiet_windows": sc.dem.quiet_windows,
         "quiet_skip_cycles": sc.dem.quiet_skip_cycles,
         "quiet_cells": int((ds["quiet_window"].values == 1).sum()),
+        "transient_tolerance": sc.dem.transient_tolerance,
         "packing": sc.for_map().dem.packing, "cycles_option": sc.dem.cycles,
         "total_seconds": total,
         "per_point_seconds": {"median": float(np.nanmedian(wall)),
@@ -168,7 +173,8 @@ def _print(r: dict, MotionMode) -> None:  # noqa: N803
     print(f"  cycles needed          median {r['cycles_needed']['median']:.0f}, "
           f"max {r['cycles_needed']['max']:.0f}; {r['quiet_cells']} cells judged quiet "
           f"(quiet rule: {r['quiet_windows']} x {r['quiet_window_cycles']} cycles after "
-          f"{r['quiet_skip_cycles']})")
+          f"{r['quiet_skip_cycles']}; start from rest at Gear tolerance "
+          f"{r['transient_tolerance']:g})")
     print(f"  steady / transient / failed   {r['steady']} / {r['transient']} / {r['failed']}")
     if r["errors"]:
         print("  errors: " + "; ".join(r["errors"][:3]))

@@ -159,6 +159,8 @@ def test_level2_keys_of_issue_9(tmp_path):
     ('[dem]\ncycles = "forever"', "dem.cycles"),
     ("[dem]\nmax_cycles = 5", "dem.max_cycles"),
     ("[dem]\nsteady_rtol = -1", "dem.steady_rtol"),
+    ("[dem]\ntransient_tolerance = 0", "dem.transient_tolerance"),
+    ('[dem]\ntransient_tolerance = "loose"', "dem.transient_tolerance"),
     ('[map]\nparticles = "16:90:6"', "map.particles"),
     ('[map]\nparticles = "100:300:3"', "map.particles"),
     ('[map]\ndem_packing = "hex"', "map.dem_packing"),

@@ -119,14 +119,17 @@ def test_a_quiet_bed_is_steady_after_five_cycles():
     """The rule for quiet beds (docs/fields.md): a regular double collect-and-collide bed
     (14.46 Hz / 122 mm, cycle loss factors within ~1 % of each other from the second cycle
     on) is judged on two windows of two cycles after one cycle and stops after 1 + 4
-    cycles, with the value the full 3 x 4 window gives on the same bed within 2 %
-    (measured: 0.449 against 0.450, and 0.451 over cycles 21-40 of a 40-cycle run)."""
+    cycles, or 2 + 4 where its second cycle still settles (this realisation since the start
+    from rest runs at Gear tolerance 1e-3: cycles 3-6), with the value the full 3 x 4
+    window gives on the same bed within 2 % (measured: 0.449 against 0.450, and 0.451 over
+    cycles 21-40 of a 40-cycle run; 0.441 against 0.449 with the looser start)."""
     quiet = DEMDamper(PAPER_DAMPER, packing="random", max_cycles=20).steady_run(14.46, 0.122)
     st = quiet.stationarity
-    assert st.stationary and st.quiet and (st.first_cycle, st.last_cycle, st.cycles) == (2, 5, 5)
+    assert st.stationary and st.quiet and st.cycles in (5, 6)
+    assert (st.first_cycle, st.last_cycle) == (st.cycles - 3, st.cycles)
     assert quiet.power.loss_factor == pytest.approx(st.loss_factor, rel=1e-9)
     assert quiet.motion.mode is MotionMode.DOUBLE_CAC_HARMONIC
-    assert quiet.motion.first_cycle == 2
+    assert quiet.motion.first_cycle == st.first_cycle
     full = DEMDamper(PAPER_DAMPER, packing="random", max_cycles=20,
                      quiet_window_cycles=0).steady_run(14.46, 0.122)
     assert full.stationarity.stationary and not full.stationarity.quiet
@@ -215,3 +218,32 @@ def test_level2_runs_start_from_a_bed_at_rest():
                               ).kinetic_energy < 2e-6
         assert model._engine(particles, motion, settle_time=short).settle().kinetic_energy > 1e-4
     assert np.median(etas) < 1e-4 and max(etas) < 3e-3, etas
+
+
+def test_the_start_from_rest_runs_at_the_transient_tolerance():
+    """The cycles every averaged window skips run at ``transient_tolerance``: the first
+    min(skip_cycles, quiet_skip_cycles) (1 by default) whatever judges the run, so that
+    runs of a fixed number of cycles, until steady, or with the rule for quiet beds off
+    follow one trajectory; none where nothing is skipped or the tolerance is None. The
+    engine of a Level II run gets them, the settled bed it starts from stays that of
+    Gear's own tolerance."""
+    from pdamper.dem import HarmonicMotion
+    from pdamper.models.dem import DEFAULT_TRANSIENT_TOLERANCE
+
+    tr = DEFAULT_TRANSIENT_TOLERANCE
+    assert DEMDamper(PAPER_DAMPER)._transient() == {"transient_cycles": 1,
+                                                    "gear_transient_tolerance": tr}
+    assert DEMDamper(PAPER_DAMPER, quiet_window_cycles=0)._transient()["transient_cycles"] == 1
+    assert DEMDamper(PAPER_DAMPER, cycles=8)._transient()["transient_cycles"] == 1
+    assert DEMDamper(PAPER_DAMPER, quiet_skip_cycles=3)._transient()["transient_cycles"] == 2
+    assert DEMDamper(PAPER_DAMPER, cycles=8, skip_cycles=0)._transient() == {}
+    assert DEMDamper(PAPER_DAMPER, transient_tolerance=None)._transient() == {}
+    with pytest.raises(InputError, match="dem.transient_tolerance"):
+        DEMDamper(PAPER_DAMPER, transient_tolerance=-1e-3)
+    model = DEMDamper(PAPER_DAMPER, packing="random")
+    _, particles = model._particles()
+    motion = HarmonicMotion(amplitude=0.01, frequency=10.0)
+    eng = model._engine(particles, motion, **model._level2_settling(), **model._transient())
+    plain = model._engine(particles, motion, **model._level2_settling())
+    assert (eng.transient_cycles, eng.gear_transient_tolerance) == (1, tr)
+    assert eng.settle_key == plain.settle_key

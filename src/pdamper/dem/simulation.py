@@ -516,6 +516,12 @@ class DEMEngine:
         (multiple time stepping; their free flight is an exact parabola): the same physics
         at a lower cost per step where few spheres are in contact (default True;
         :mod:`pdamper.dem.kernels.flights`, docs/dem.md).
+    transient_cycles, gear_transient_tolerance
+        The first ``transient_cycles`` cycles of a harmonic excitation (the start from rest,
+        which the averaged window of a Level II run skips) run at the Gear tolerance
+        ``gear_transient_tolerance`` [-] instead of ``gear_tolerance`` (default 0: none;
+        the tolerance defaults to ``gear_tolerance``). What the window sees is the
+        motion after them, a state the bed reaches from any start (docs/dem.md).
     """
 
     def __init__(self, particles: ParticleSet, container: Container,
@@ -528,7 +534,8 @@ class DEMEngine:
                  skin: float | None = None, settle_time: float | None = None,
                  max_overlap: float | None = None, reference_velocity: float | None = None,
                  gear_contact_bound: bool = False, seed: int | None = None,
-                 auto_cost_ratio: float = AUTO_COST_RATIO, gear_free_flight: bool = True):
+                 auto_cost_ratio: float = AUTO_COST_RATIO, gear_free_flight: bool = True,
+                 transient_cycles: int = 0, gear_transient_tolerance: float | None = None):
         for name, value, cls in (("particles", particles, ParticleSet),
                                  ("container", container, Container),
                                  ("contact", contact, ContactParameters)):
@@ -555,6 +562,11 @@ class DEMEngine:
                                         low_inclusive=False))
         self.gear_contact_bound = bool(gear_contact_bound)
         self.gear_free_flight = bool(gear_free_flight)
+        self.transient_cycles = check_whole("transient_cycles", transient_cycles, low=0)
+        self.gear_transient_tolerance = (
+            self.gear_tolerance if gear_transient_tolerance is None else
+            check_range("gear_transient_tolerance", gear_transient_tolerance, low=0.0,
+                        low_inclusive=False))
         self.auto_cost_ratio = (math.inf if auto_cost_ratio == math.inf else
                                 check_range("auto_cost_ratio", auto_cost_ratio, low=0.0))
         self.seed = seed
@@ -868,6 +880,10 @@ class DEMEngine:
         m = self.motion
         stp = self._stepping(0.0, 0.5 * grid.interval, grid.nsamp, grid.snap_every,
                              self._first_kernel)
+        transient_end = 0  # landing where the transient tolerance ends
+        if self.transient_cycles > 0 and grid.per_cycle > 0:
+            transient_end = min(2 * grid.per_cycle * self.transient_cycles, 2 * (grid.nsamp - 1))
+            stp = stp._replace(tol=float(self.gear_transient_tolerance))
         rs = K.record(K.RUN_STATE)
         if isinstance(m, HarmonicMotion):
             drive = _drive(K.MOTION_HARMONIC, amplitude=m.amplitude, omega=m.angular_frequency)
@@ -888,7 +904,8 @@ class DEMEngine:
             def check(j: int) -> bool:
                 return bool(stop(self._result(run, phase, grid, j // 2, time.perf_counter() - t1)))
         j = self._advance(run, phase, 2 * (grid.nsamp - 1), chunk_seconds, check,
-                          2 * grid.per_cycle if stop is not None else 0, "excitation")
+                          2 * grid.per_cycle if stop is not None else 0, "excitation",
+                          transient_end)
         wall = time.perf_counter() - t1
         log.info("%s: %d steps in %.3f s", self.integrator, phase.stats[0]["steps"], wall)
         if not math.isnan(phase.switch_time):
@@ -913,11 +930,12 @@ class DEMEngine:
         self._check(phase, name)
 
     def _advance(self, run: _Run, phase: _Phase, j_end: int, chunk_seconds: float, check,
-                 cycle: int, name: str) -> int:
+                 cycle: int, name: str, transient_end: int = 0) -> int:
         """Advance to landing ``j_end`` in chunks of about ``chunk_seconds`` of wall time,
         ending on samples (even landings); ``check(j)`` after each chunk (only at the ends
-        of whole cycles of ``cycle`` landings when ``cycle > 0``). Returns the last
-        landing reached."""
+        of whole cycles of ``cycle`` landings when ``cycle > 0``). At landing
+        ``transient_end`` (even, > 0) the Gear tolerance becomes ``gear_tolerance``.
+        Returns the last landing reached."""
         a = run.kernel_args(phase)
         tail = (phase.ledger, phase.state, phase.stats, phase.samples, phase.snaps)
         j = 0
@@ -936,6 +954,8 @@ class DEMEngine:
                 target = min(target, nxt) if nxt > j else target
             if auto:
                 target = min(target, decide)
+            if j < transient_end:
+                target = min(target, transient_end)
             target += target % 2
             target = min(target, j_end)
             t1 = time.perf_counter()
@@ -947,6 +967,9 @@ class DEMEngine:
             self._check(phase, name)
             done = target - j
             j = target
+            if j == transient_end:
+                phase.stepping = phase.stepping._replace(tol=float(self.gear_tolerance))
+                a = run.kernel_args(phase)
             if auto and j == decide and j < j_end:
                 steps = int(phase.stats[0]["steps"])
                 if phase.kernel == "gear":
@@ -983,7 +1006,9 @@ class DEMEngine:
                 half: float) -> None:
         """Continue ``phase`` with ``kernel`` from landing ``j`` (``integrator="auto"``)."""
         old = phase.stepping
-        phase.stepping = self._stepping(old.t0, half, old.nsamp, old.snap_every, kernel)
+        # (the tolerance of the moment: a transient one stays until its landing)
+        phase.stepping = self._stepping(old.t0, half, old.nsamp, old.snap_every,
+                                        kernel)._replace(tol=old.tol)
         phase.kernel = kernel
         if kernel == "verlet":
             if math.isnan(phase.switch_time):
@@ -1126,6 +1151,9 @@ class DEMEngine:
                      gear_tolerance=self.gear_tolerance,
                      gear_velocity_scale_m_s=self.gear_velocity_scale,
                      gear_adaptive=int(self.gear_adaptive), max_step_s=self.max_step)
+            if self.transient_cycles > 0:
+                d.update(transient_cycles=self.transient_cycles,
+                         gear_transient_tolerance=self.gear_transient_tolerance)
         if isinstance(m, HarmonicMotion):
             d.update(amplitude_m=m.amplitude, frequency_hz=m.frequency)
         elif isinstance(m, StructureMotion):

@@ -47,6 +47,7 @@ from pdamper.models.dem import (
     DEFAULT_MAX_REFINEMENTS,
     DEFAULT_SAMPLE_RATE,
     DEFAULT_SKIP_CYCLES,
+    DEFAULT_TRANSIENT_TOLERANCE,
     PAPER_CYCLES,
 )
 from pdamper.parameters import vertical_dampers_paper as paper
@@ -259,6 +260,7 @@ class DEMSpec(_Section):
     gear_free_flight: bool = True
     accuracy: Annotated[float, Field(gt=0.0, le=1.0)] = DEFAULT_ACCURACY
     max_refinements: Count = DEFAULT_MAX_REFINEMENTS
+    transient_tolerance: Annotated[float, Field(gt=0.0)] = DEFAULT_TRANSIENT_TOLERANCE
 
     def options(self) -> dict:
         """Keyword arguments of :class:`pdamper.models.DEMDamper`."""
@@ -856,6 +858,8 @@ accuracy = {dem.accuracy}             # its target (relative); a run missing it 
 max_refinements = {dem.max_refinements}         # refined, at most this many times
 gear_free_flight = {str(dem.gear_free_flight).lower()}    # Gear steps only spheres that may touch something,
                             # the others fly their exact parabola (docs/dem.md)
+transient_tolerance = {dem.transient_tolerance}  # Gear tolerance of the start from rest (the cycles no
+                            # window averages; 1e-5, Gear's own: none; docs/fields.md)
 
 [restitution]               # COR model of each pair (Level I, docs/restitution.md), instead of the
                             # [dem] constants above (a pair given in both places is an error)
