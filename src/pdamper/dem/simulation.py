@@ -520,8 +520,9 @@ class DEMEngine:
         The first ``transient_cycles`` cycles of a harmonic excitation (the start from rest,
         which the averaged window of a Level II run skips) run at the Gear tolerance
         ``gear_transient_tolerance`` [-] instead of ``gear_tolerance`` (default 0: none;
-        the tolerance defaults to ``gear_tolerance``). What the window sees is the
-        motion after them, a state the bed reaches from any start (docs/dem.md).
+        the tolerance defaults to ``gear_tolerance``). The averaged window sees only the
+        motion after them, which for a chaotic bed starts another realisation
+        (docs/fields.md, section 1).
     """
 
     def __init__(self, particles: ParticleSet, container: Container,
