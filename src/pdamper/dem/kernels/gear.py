@@ -344,8 +344,10 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
     functions (``compute_forces`` takes ~25) cost an atomic increment and decrement per
     step that LLVM cannot remove: 165 ns of a force evaluation of no sphere, more than a
     step's whole work at the ~5 stepped spheres of an impact (measured). The callers
-    keep the arrays alive; the results are those of the earlier single function (one
-    that allocated the work arrays itself and counted references) to the last bit.
+    keep the arrays alive. Not bit-identical to the earlier single function (one that
+    allocated the work arrays itself and counted references): the compiled code rounds
+    differently (3e-13 m at a run's first sample), and a chaotic bed then follows another
+    realisation (docs/dem.md, Kernels).
     """
     # arrays out of their bundles once (an access inside the loops counts references)
     frc = work.frc
