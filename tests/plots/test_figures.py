@@ -46,7 +46,12 @@ def inputs():
                              [parse_variable("particles=32:160:64"),
                               parse_variable("radius=4mm:6mm:2")], obj)
     comparisons = {"analytic": compare_with_measurement(run, run)}
+    from pdamper.dem import HarmonicMotion
+
+    profiled = DEMDamper(PAPER_DAMPER).engine(HarmonicMotion(0.032, 10.0)).run(
+        0.2, sample_rate=1000.0, step_profile=True)
     return {
+        "plot_step_profile": (profiled.step_profile(10, skip_cycles=1),),
         "plot_cor_check": (check,),
         "plot_cor_sensitivity": (study,),
         "plot_material_table": ({"sphere": S235, "wall": PVC},),

@@ -14,6 +14,7 @@ from pdamper.plots.figures import (
     plot_mode_map,
     plot_optimization,
     plot_particle_snapshots,
+    plot_step_profile,
 )
 from pdamper.plots.level3 import (
     plot_design_landscape,
@@ -37,6 +38,7 @@ __all__ = [
     "plot_restitution_curves",
     "plot_damping_ratio",
     "plot_effective_mass_map",
+    "plot_step_profile",
     "plot_field_difference",
     "plot_design_landscape",
     "plot_free_vibration",

@@ -298,3 +298,43 @@ def plot_optimization(opt, ax=None):
     ax.set_ylabel(f"amplitude at t = {opt.at:g} s [mm]")
     ax.legend(fontsize="small")
     return ax
+
+
+def plot_step_profile(profile, ax=None):
+    """Where a DEM run's steps go within the excitation cycle: the share of the steps and
+    of the integrator's wall time in each phase bin (bars), and the mean step (line, right
+    axis).
+
+    Parameters
+    ----------
+    profile : xarray.Dataset
+        :meth:`pdamper.dem.DEMResult.step_profile`.
+    """
+    ax = _axes(ax)
+    phase = profile["phase"].values
+    width = phase[1] - phase[0] if phase.size > 1 else 1.0
+    ax.bar(phase, 100 * profile["step_share"].values, width=0.9 * width, color="#9ecae1",
+           label="steps")
+    ax.step(phase, 100 * profile["wall_share"].values, where="mid", color="#08519c",
+            label="wall time")
+    ax.set_xlabel("phase of z_c = X sin(2 pi f t) [-]")
+    ax.set_ylabel("share of the run [%]")
+    top = 100 * max(float(profile["step_share"].max()), float(profile["wall_share"].max()))
+    ax.set_ylim(0.0, 1.3 * top if top > 0 else 1.0)  # room for the legend
+    right = ax.twinx()
+    right.plot(phase, 1e6 * profile["mean_step"].values, "o-", color="#d7301f", ms=3,
+               label="mean step")
+    right.set_ylabel("mean step [us]", color="#d7301f")
+    right.set_yscale("log")
+    steps_us = 1e6 * profile["mean_step"].values
+    if np.isfinite(steps_us).any():
+        right.set_ylim(np.nanmin(steps_us) / 1.5, 4.0 * np.nanmax(steps_us))
+    ax.set_title(f"{profile.attrs['integrator']}, {profile.attrs['particles']} spheres, "
+                 f"{profile.attrs['cycles']} cycles, {profile.attrs['steps']} steps",
+                 fontsize="small")
+    # one legend, on the right axes (drawn over the left one)
+    handles = ax.get_legend_handles_labels()
+    more = right.get_legend_handles_labels()
+    right.legend(handles[0] + more[0], handles[1] + more[1], loc="upper center",
+                 fontsize="small", framealpha=0.9, ncols=3)
+    return ax
