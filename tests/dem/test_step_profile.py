@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from dem_inputs import engine, lattice, random
-from pdamper.dem import HarmonicMotion
+from pdamper.dem import HarmonicMotion, StructureMotion
 from pdamper.errors import InputError
 
 SERIES = ("time", "force", "kinetic_energy", "elastic_energy", "dissipated_normal",
@@ -102,3 +102,10 @@ def test_step_profile_needs_a_profiled_run():
         0.1, sample_rate=1000.0, step_profile=True)
     with pytest.raises(InputError, match="bins"):
         prof.step_profile(0)
+    with pytest.raises(InputError, match="skip_cycles"):
+        prof.step_profile(skip_cycles=1)  # a run of one cycle
+    free = engine(lattice(4), motion=StructureMotion(1.0, 0.1, 100.0), settle_time=0.02).run(
+        0.05, sample_rate=1000.0, step_profile=True)
+    assert free.steps_per_sample.sum() == free.steps
+    with pytest.raises(InputError, match="harmonic"):
+        free.step_profile()

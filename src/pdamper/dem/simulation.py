@@ -335,6 +335,9 @@ class DEMResult:
         if self.steps_per_sample is None:
             raise InputError("step_profile", "the run recorded no step profile: run it with "
                              "DEMEngine.run(..., step_profile=True)")
+        if self.frequency is None or self.frequency <= 0:
+            raise InputError("step_profile", "binning over the cycle needs a harmonic "
+                             "excitation (a structure's motion has no fixed cycle)")
         bins = check_whole("bins", bins, low=1)
         mask = self.window(skip_cycles)
         # interval k is (t[k-1], t[k]]: in the window when both of its ends are
