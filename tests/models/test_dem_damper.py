@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from pdamper.analysis.modes import MotionMode
+from pdamper.constants import STANDARD_GRAVITY
 from pdamper.errors import InputError
 from pdamper.models import DEMDamper
 from pdamper.parameters import PAPER_DAMPER
@@ -201,8 +202,12 @@ def test_level2_runs_start_from_a_bed_at_rest():
     window (eta up to 4e-3, lift up to 0.5 mm); Level II runs settle LEVEL2_SETTLE_EXTRA
     longer and start at rest or nearly (1e-20 - 4.7e-7 J over six packings). A bed at rest
     can still compact under the shaking through the regularised friction (v_reg =
-    0.01 m/s): in one packing of five (3.7e-12 J at the start) eta -1.1e-3 with lift 0.2 mm,
-    so the check is on the ensemble's median and on the energy."""
+    0.01 m/s): in one packing of five (3.7e-12 J at the start) eta -1.1e-3 with lift 0.2 mm;
+    on another machine's rounding seed 2 sinks 0.35 mm in the window (eta 4.4e-3). So the
+    check is on the ensemble's median and on the energy: where a packing dissipates at all
+    (eta above 1e-4), the potential energy its compaction releases in the averaged window
+    pays for at least half of it (a bed that took off would draw it from the container's
+    work instead), and eta stays two orders below a moving bed's (0.1-1)."""
     from pdamper.dem import HarmonicMotion
 
     short = math.sqrt(2 * PAPER_DAMPER.box[2] / 9.80665) + 0.05
@@ -212,12 +217,24 @@ def test_level2_runs_start_from_a_bed_at_rest():
         run = model.steady_run(8.0, 0.002)
         assert run.motion.mode == MotionMode.SOLID
         etas.append(abs(run.power.loss_factor))
+        res, st = run.result, run.stationarity
+        w = np.flatnonzero(res.window(st.first_cycle - 1, st.last_cycle - st.first_cycle + 1))
+        a, b = w[0], w[-1]
+        dissipated = sum(float(e[b] - e[a]) for e in (res.dissipated_normal,
+                                                       res.dissipated_friction))
+        # the bed's height in the container: whole cycles, so the container's own lift
+        # drops out
+        sink = ((res.center_of_mass[a, 2] - res.container_position[a])
+                - (res.center_of_mass[b, 2] - res.container_position[b]))
+        released = res.bed_mass * STANDARD_GRAVITY * sink
+        assert etas[-1] < 1e-4 or released >= 0.5 * dissipated, (seed, etas[-1], released,
+                                                                 dissipated)
         _, particles = model._particles()
         motion = HarmonicMotion(amplitude=0.002, frequency=8.0)
         assert model._settled(model._engine(particles, motion, **model._level2_settling())
                               ).kinetic_energy < 2e-6
         assert model._engine(particles, motion, settle_time=short).settle().kinetic_energy > 1e-4
-    assert np.median(etas) < 1e-4 and max(etas) < 3e-3, etas
+    assert np.median(etas) < 1e-4 and max(etas) < 1e-2, etas
 
 
 def test_the_start_from_rest_runs_at_the_transient_tolerance():
