@@ -23,12 +23,20 @@ PROMPT = 1.5
 _BIG_MAP = ["map", "--frequency", "2Hz:20Hz:100", "--amplitude", "1mm:200mm:100"]
 
 
-def interrupt(args, sig=signal.SIGINT, after=AFTER, cwd=None):
-    """Start ``pdamper ARGS``, send ``sig`` after ``after`` s; (status, stderr, seconds)."""
+def interrupt(args, sig=signal.SIGINT, after=AFTER, cwd=None, ready=None):
+    """Start ``pdamper ARGS``, send ``sig`` after ``after`` s, or as soon as ``ready()`` is
+    true (a state of the run, whatever the machine's speed); (status, stderr, seconds)."""
     p = subprocess.Popen(command(*args), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                          env=env(), text=True, cwd=cwd)
     try:
-        time.sleep(after)
+        if ready is None:
+            time.sleep(after)
+        else:
+            deadline = time.monotonic() + 60
+            while not ready() and time.monotonic() < deadline:
+                assert p.poll() is None, f"finished before it was ready: {p.communicate()}"
+                time.sleep(0.01)
+            assert ready(), "never ready"
         assert p.poll() is None, f"finished before the signal: {p.communicate()}"
         t0 = time.monotonic()
         p.send_signal(sig)
@@ -127,8 +135,11 @@ def test_optimize_sigterm():
 
 
 def test_paper_leaves_no_directory(tmp_path):
-    """``paper`` used to leave an empty directory behind."""
-    assert_interrupted(*interrupt(["paper", "--no-dem", "--out", tmp_path / "results"]))
+    """``paper`` used to leave an empty directory behind. The signal comes while the
+    results are being made in their temporary directory (``paper --no-dem`` takes ~3.5 s
+    on a fast machine: a fixed delay could come after the end)."""
+    assert_interrupted(*interrupt(["paper", "--no-dem", "--out", tmp_path / "results"],
+                                  ready=lambda: any(tmp_path.glob(".results*"))))
     assert list(tmp_path.iterdir()) == []
 
 
