@@ -207,7 +207,7 @@ def test_level2_runs_start_from_a_bed_at_rest():
     check is on the ensemble's median and on the energy: where a packing dissipates at all
     (eta above 1e-4), the potential energy its compaction releases in the averaged window
     pays for at least half of it (a bed that took off would draw it from the container's
-    work instead), and eta stays two orders below a moving bed's (0.1-1)."""
+    work instead), and eta stays an order below a moving bed's (0.1-1)."""
     from pdamper.dem import HarmonicMotion
 
     short = math.sqrt(2 * PAPER_DAMPER.box[2] / 9.80665) + 0.05
@@ -222,8 +222,7 @@ def test_level2_runs_start_from_a_bed_at_rest():
         a, b = w[0], w[-1]
         dissipated = sum(float(e[b] - e[a]) for e in (res.dissipated_normal,
                                                        res.dissipated_friction))
-        # the bed's height in the container: whole cycles, so the container's own lift
-        # drops out
+        # the bed's sinking in the container
         sink = ((res.center_of_mass[a, 2] - res.container_position[a])
                 - (res.center_of_mass[b, 2] - res.container_position[b]))
         released = res.bed_mass * STANDARD_GRAVITY * sink
