@@ -15,6 +15,13 @@ Policy (the same for every command):
   raised inside the HDF5 library, an interrupt was sometimes swallowed (the command went on)
   or left the library's state broken; held, it deletes the temporary file and the target
   stays as it was.
+- **Only this module touches the device.** Third-party writers serialise into memory
+  (:func:`atomic_write_netcdf`: the HDF5 library writes into a buffer, never into a file),
+  and :func:`atomic_write_bytes` writes the bytes with plain system calls, checking every
+  count and the size written before the rename. A full device thus ends with one line
+  (an :class:`~pdamper.errors.OutputError`, status 1 at the command line) for every
+  format: written by HDF5 itself, a file on a full device ended in a segmentation fault
+  of the library after its own tracebacks.
   :func:`atomic_directory` does the same for a directory of results (``paper --out``): the
   files are written into a hidden staging directory beside the target, which becomes the
   target (a new directory appears complete or not at all) or whose files replace their
@@ -23,9 +30,13 @@ Policy (the same for every command):
   temporary-file machinery would give (``mkstemp`` makes 0600).
 - **Missing directories are refused, not created**: a command creates at most the output
   directory it is asked for, never its parents.
-- **Standard output** (:func:`write_stdout`): a closed pipe or a full device becomes an
+- **Standard output** (:func:`write_stdout`): written with the same checked system calls
+  (Python's buffered stream took a short write on a nearly full device as complete: 4096
+  of 7611 bytes and status 0); a closed pipe, a closed stream or a full device becomes an
   :class:`~pdamper.errors.OutputError` for ``stdout`` (one line, status 1 at the command
   line), with nothing more printed at exit.
+- **One line.** Every message is one line (:func:`one_line`), whatever the operating
+  system or a library put in it.
 
 Problems while writing (a full device) are :class:`~pdamper.errors.OutputError`\\ s.
 """
@@ -34,7 +45,9 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import io
 import os
+import re
 import shutil
 import signal
 import stat
@@ -46,8 +59,9 @@ from pathlib import Path
 
 from pdamper.errors import InputError, OutputError
 
-__all__ = ["atomic_directory", "atomic_write", "atomic_write_text", "check_directory_target",
-           "check_file_target", "signals_deferred", "stdout_error", "write_stdout"]
+__all__ = ["atomic_directory", "atomic_write", "atomic_write_bytes", "atomic_write_netcdf",
+           "atomic_write_text", "check_directory_target", "check_file_target", "one_line",
+           "signals_deferred", "stdout_error", "write_stdout"]
 
 #: Signals whose Python handlers :func:`signals_deferred` holds back (those the command line
 #: turns into :class:`~pdamper.errors.Interrupted`, where the platform has them).
@@ -102,10 +116,47 @@ def _umask() -> int:
     return mask
 
 
+def one_line(text: str) -> str:
+    """``text`` with its line breaks (and the blanks around them) replaced by one space:
+    an error is one line, whatever a library or the system put in its message.
+
+    >>> one_line("file write failed: time = Thu\n, errno = 28\r\n")
+    'file write failed: time = Thu , errno = 28'
+    """
+    return re.sub(r"\s*[\r\n\v\f\x85\u2028\u2029]+\s*", " ", str(text)).strip()
+
+
 def _reason(exc: OSError) -> str:
     if isinstance(exc, BrokenPipeError) or exc.errno == errno.EPIPE:
         return "broken pipe (the reading end was closed)"
-    return exc.strerror or str(exc)
+    if exc.errno == errno.EBADF:
+        return "the stream is closed"
+    return one_line(exc.strerror or str(exc))
+
+
+#: Errors of a write that did not fit (a full device, a quota, a file size limit).
+_FULL = {errno.ENOSPC, errno.EDQUOT, errno.EFBIG}
+
+
+def _size(n: int) -> str:
+    for unit, scale in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if n >= scale:
+            return f"{n / scale:.3g} {unit}"
+    return f"{n} bytes"
+
+
+def _write_all(fd: int, data: bytes | bytearray | memoryview) -> None:
+    """Write every byte of ``data`` to ``fd`` with plain ``os.write`` calls.
+
+    A short count is followed by another call, which then says why (``ENOSPC``); a call
+    that writes nothing is taken as a full device rather than tried forever.
+    """
+    view = memoryview(data).cast("B")
+    while view:
+        n = os.write(fd, view)
+        if n <= 0:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        view = view[n:]
 
 
 def _text(path: str | os.PathLike[str], field: str, what: str) -> str:
@@ -259,14 +310,77 @@ def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], object],
     return path
 
 
-def atomic_write_text(path: str | os.PathLike[str], text: str, field: str = "out") -> Path:
-    """Write ``text`` (UTF-8, ``\\n`` line ends) atomically to ``path``."""
+def atomic_write_bytes(path: str | os.PathLike[str], data: bytes | bytearray | memoryview,
+                       field: str = "out") -> Path:
+    """Write ``data`` atomically to ``path`` with checked system calls.
+
+    Every ``os.write`` count is checked (a short write on a nearly full device is followed
+    by another call, which says why) and the size of the temporary file is compared with
+    ``len(data)`` before the rename.
+
+    Raises
+    ------
+    OutputError
+        On a full device (or any other failed write): one line naming ``field``, the file
+        and the size that did not fit; the target is as it was and no temporary is left.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> atomic_write_bytes(d / "a.bin", b"\\x00\\x01").read_bytes()
+    b'\\x00\\x01'
+    """
+    size = memoryview(data).nbytes
 
     def write(p: Path) -> None:
-        with open(p, "w", encoding="utf-8", newline="\n") as f:
-            f.write(text)
+        try:
+            fd = os.open(p, os.O_WRONLY | os.O_TRUNC | getattr(os, "O_BINARY", 0))
+            try:
+                _write_all(fd, data)
+                written = os.fstat(fd).st_size
+            finally:
+                os.close(fd)  # where the file system reports a failed write late (NFS)
+        except OSError as exc:
+            if exc.errno in _FULL:
+                raise OSError(exc.errno, f"{_reason(exc)} (writing {_size(size)})") from None
+            raise
+        if written != size:  # pragma: no cover - a file system that lost bytes silently
+            raise OSError(errno.EIO, f"{written} of {size} bytes reached the file")
 
     return atomic_write(path, write, field)
+
+
+def atomic_write_text(path: str | os.PathLike[str], text: str, field: str = "out") -> Path:
+    """Write ``text`` (UTF-8, ``\\n`` line ends) atomically to ``path``."""
+    return atomic_write_bytes(path, text.encode("utf-8"), field)
+
+
+def netcdf_bytes(ds) -> memoryview:
+    """``ds`` (an ``xarray.Dataset``) as the bytes of a NetCDF-4 file (h5netcdf engine),
+    made in memory: the HDF5 library never writes to a device (on a full one, it printed
+    tracebacks and ended in a segmentation fault). Signals wait until it returns
+    (:func:`signals_deferred`)."""
+    buf = io.BytesIO()
+    with signals_deferred():
+        ds.to_netcdf(buf, engine="h5netcdf")
+    return buf.getbuffer()
+
+
+def atomic_write_netcdf(path: str | os.PathLike[str], ds, field: str = "out") -> Path:
+    """Write ``ds`` (an ``xarray.Dataset``) as NetCDF-4 atomically to ``path``: serialised
+    in memory (:func:`netcdf_bytes`, the file's size once more in memory for a moment),
+    then written by :func:`atomic_write_bytes`.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, xarray as xr
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> p = atomic_write_netcdf(d / "a.nc", xr.Dataset({"x": ("i", [1.0, 2.0])}))
+    >>> xr.load_dataset(p, engine="h5netcdf")["x"].values.tolist()
+    [1.0, 2.0]
+    """
+    return atomic_write_bytes(path, netcdf_bytes(ds), field)
 
 
 @contextlib.contextmanager
@@ -331,15 +445,35 @@ def stdout_error(exc: OSError) -> OutputError:
 
 
 def write_stdout(text: str) -> None:
-    """Write ``text`` to standard output and flush it.
+    """Write ``text`` to standard output, completely, or raise.
+
+    What the stream holds is flushed first; then the encoded text goes to its file
+    descriptor with checked ``os.write`` calls (:func:`_write_all`), since the buffered
+    stream of Python took a short write on a nearly full device for a complete one. A
+    stream without a descriptor (a test's capture) is written as a stream.
 
     Raises
     ------
     OutputError
-        For ``stdout`` when the pipe was closed by its reader or the device is full.
+        For ``stdout`` when the pipe was closed by its reader, standard output is closed
+        (``>&-``) or the device is full.
     """
+    stream = sys.stdout
     try:
-        sys.stdout.write(text)
-        sys.stdout.flush()
+        if stream is None:  # closed when Python started (``>&-``)
+            raise OSError(errno.EBADF, "standard output is closed")
+        try:
+            fd = stream.fileno()
+        except (AttributeError, ValueError, io.UnsupportedOperation):
+            fd = None
+        if fd is None:
+            stream.write(text)
+            stream.flush()
+            return
+        stream.flush()
+        if os.linesep != "\n":  # pragma: no cover - the stream's newline translation
+            text = text.replace("\n", os.linesep)
+        _write_all(fd, text.encode(getattr(stream, "encoding", None) or "utf-8",
+                                   getattr(stream, "errors", None) or "strict"))
     except OSError as exc:
         raise stdout_error(exc) from None

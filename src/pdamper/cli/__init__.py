@@ -1,6 +1,6 @@
 """The ``pdamper`` command line: one entry point, one module per command.
 
-Commands are registered explicitly in :func:`_register` (a missing module is an import
+Commands are registered explicitly in :func:`_application` (a missing module is an import
 error, not a silently absent command). Errors a user can cause are printed as one line
 naming the field and what is allowed, with exit status 2; a result that cannot be written
 ends with one line and status 1; Ctrl-C and SIGTERM end with ``interrupted`` and status 130
@@ -14,53 +14,64 @@ from __future__ import annotations
 import errno
 import sys
 
-import typer
-
-app = typer.Typer(
-    name="pdamper",
-    help="Design particle dampers for vertically vibrating structures.",
-    no_args_is_help=True,
-    add_completion=False,
-    pretty_exceptions_enable=False,
-)
-
-_registered = False
+_app = None
 
 
-def _register() -> None:
-    global _registered
-    if _registered:
-        return
-    from pdamper.cli import (
-        analytic,
-        cor,
-        cor_sensitivity,
-        dem,
-        map,
-        optimize,
-        paper,
-        scenario,
-        simulate,
-    )
+def _application():
+    """The typer application with every command registered (built on first use: typer is
+    imported after the signal handlers of :func:`main` are in place, so that a Ctrl-C
+    during that import, too, ends with ``interrupted``)."""
+    global _app
+    if _app is None:
+        import typer
 
-    app.command("analytic")(analytic.analytic)
-    app.command("map")(map.map_)
-    app.command("simulate")(simulate.simulate)
-    app.command("optimize")(optimize.optimize)
-    app.command("dem")(dem.dem)
-    app.command("paper")(paper.paper)
-    app.command("example-scenario")(scenario.example_scenario)
-    app.command("cor")(cor.cor)
-    app.command("cor-sensitivity")(cor_sensitivity.cor_sensitivity)
-    _registered = True
+        from pdamper.cli import (
+            analytic,
+            cor,
+            cor_sensitivity,
+            dem,
+            map,
+            optimize,
+            paper,
+            scenario,
+            simulate,
+        )
+
+        app = typer.Typer(
+            name="pdamper",
+            help="Design particle dampers for vertically vibrating structures.",
+            no_args_is_help=True,
+            add_completion=False,
+            pretty_exceptions_enable=False,
+        )
+        app.command("analytic")(analytic.analytic)
+        app.command("map")(map.map_)
+        app.command("simulate")(simulate.simulate)
+        app.command("optimize")(optimize.optimize)
+        app.command("dem")(dem.dem)
+        app.command("paper")(paper.paper)
+        app.command("example-scenario")(scenario.example_scenario)
+        app.command("cor")(cor.cor)
+        app.command("cor-sensitivity")(cor_sensitivity.cor_sensitivity)
+        _app = app
+    return _app
+
+
+def __getattr__(name: str):
+    if name == "app":  # ``pdamper.cli.app``: the typer application
+        return _application()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _say(line: str, status: int) -> int:
-    """Print one line on stderr; returns ``status``."""
+    """Print ``line`` on stderr as one line (line breaks of a library's message become
+    blanks); returns ``status``."""
+    from pdamper.files import one_line
+
     try:
-        sys.stderr.write(line + "\n")
+        sys.stderr.write(one_line(line) + "\n")
         sys.stderr.flush()
-    except (OSError, ValueError):  # stderr closed as well: the status still tells
+    except (OSError, ValueError, AttributeError):  # stderr closed as well: the status tells
         pass
     return status
 
@@ -88,17 +99,65 @@ def _stdout_is_null() -> bool:
 
 
 #: Errors of a failed write to a stream (what click lets through from its help text).
-_STREAM_ERRNOS = {errno.EPIPE, errno.ENOSPC, errno.EIO, errno.EDQUOT, errno.EFBIG}
+_STREAM_ERRNOS = {errno.EPIPE, errno.ENOSPC, errno.EIO, errno.EDQUOT, errno.EFBIG, errno.EBADF}
 
 
-def _run(argv: list[str] | None) -> int:
-    from pdamper.errors import OutputError, PdamperError
+class _ClosedStream:
+    """Standard output or error that was closed when the process started (``>&-``): every
+    write fails as a write to a closed descriptor does, so that it ends as such a failure
+    (one line, status 1) and not in an ``AttributeError`` of ``None``."""
+
+    encoding, errors = "utf-8", "strict"
+
+    def write(self, _text: str) -> int:
+        raise OSError(errno.EBADF, "the stream is closed")
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return False
+
+
+def _standard_streams() -> None:
+    """Descriptors 0-2 that were closed at start-up point at the null device (so that no
+    file opened later becomes standard output or error), and ``sys.stdout`` or
+    ``sys.stderr`` that Python set to None become :class:`_ClosedStream`\\ s."""
+    import os
+
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+        except OSError:
+            try:
+                null = os.open(os.devnull, os.O_RDWR)
+            except OSError:  # pragma: no cover - no null device
+                continue
+            if null != fd:
+                os.dup2(null, fd)
+                os.close(null)
+    if sys.stdout is None:
+        sys.stdout = _ClosedStream()
+    if sys.stderr is None:
+        sys.stderr = _ClosedStream()
+
+
+def _run(argv: list[str] | None, received: list[int] = ()) -> int:  # noqa: B006 - read only
+    from pdamper.errors import Interrupted, OutputError, PdamperError
     from pdamper.files import stdout_error
 
-    _register()
     was_null = _stdout_is_null()
     try:
-        status = app(args=argv, standalone_mode=False)
+        try:
+            status = _application()(args=argv, standalone_mode=False)
+        except (Interrupted, KeyboardInterrupt):
+            raise
+        except BaseException as exc:
+            # a signal that a library turned into an error of its own (an extension
+            # module's "ImportError: initialization failed", click's Abort): interrupted
+            if received:
+                raise Interrupted(received[0]) from exc
+            raise
     except OutputError as exc:
         return _say(f"error: {exc}", 1)
     except PdamperError as exc:
@@ -142,9 +201,10 @@ def main(argv: list[str] | None = None) -> int:
     from pdamper.cli._signals import raising_interrupts
     from pdamper.errors import Interrupted
 
+    _standard_streams()
     try:
-        with raising_interrupts():
-            return _run(argv)
+        with raising_interrupts() as received:
+            return _run(argv, received)
     except Interrupted as exc:
         return _say("interrupted", 128 + exc.signum)
     except KeyboardInterrupt:

@@ -7,6 +7,12 @@ file, a staging directory disappears) and the command line ends with one line,
 signal while the first unwinds is ignored for :data:`GRACE` seconds, so that the cleanup
 finishes; after that, another one raises again. A signal that lands in a finalizer (where
 Python prints an exception and goes on) is delivered again.
+
+Every signal is recorded before its exception is raised, so that the command line answers
+``interrupted`` even where a library turned the exception into one of its own: the
+extension modules of matplotlib (pybind11) report any error of their initialisation as
+``ImportError: initialization failed``, so that a Ctrl-C landing in ``import matplotlib``
+(``cor --plot``) ended with that traceback and status 1.
 """
 
 from __future__ import annotations
@@ -30,15 +36,22 @@ GRACE = 2.0
 
 
 @contextlib.contextmanager
-def raising_interrupts() -> Iterator[None]:
+def raising_interrupts() -> Iterator[list[int]]:
     """While the block runs, :data:`SIGNALS` raise :class:`Interrupted` (main thread only;
-    elsewhere the block runs with the handlers as they are)."""
+    elsewhere the block runs with the handlers as they are).
+
+    Yields the list of the signals received so far (their numbers, in order; filled in
+    before the exception is raised), for the caller to tell an interrupt from what a
+    library made of it.
+    """
+    received: list[int] = []
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield received
         return
     first: list[float] = []
 
     def handler(signum, _frame):
+        received.append(signum)
         now = time.monotonic()
         if first and now - first[0] < GRACE:
             return
@@ -62,7 +75,7 @@ def raising_interrupts() -> Iterator[None]:
     previous = {s: signal.signal(s, handler) for s in SIGNALS}
     sys.unraisablehook = unraisable
     try:
-        yield
+        yield received
     finally:
         sys.unraisablehook = previous_hook
         for s, h in previous.items():

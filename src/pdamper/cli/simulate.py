@@ -111,7 +111,9 @@ def simulate(
     if out is not None:
         ds = first.to_dataset()
         ds.attrs.update(pdamper_version=meta["version"])
-        write_atomic(out, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+        from pdamper.files import atomic_write_netcdf
+
+        atomic_write_netcdf(out, ds)
     payload = {k: v for k, v in _run_payload(first, seconds[names[0]]).items() if k != "model"}
     payload["units"] = {"time": "s", "amplitude": "m", "frequency": "Hz",
                         "effective_mass": "kg", "damping": "kg/s", "wall_seconds": "s"}

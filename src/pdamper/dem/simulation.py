@@ -430,11 +430,11 @@ class DEMResult:
     def write_netcdf(self, path: str | Path, attrs: dict | None = None) -> Path:
         """Write :meth:`to_dataset` to NetCDF (h5netcdf) atomically (temp file + rename),
         with extra global ``attrs`` (e.g. the inputs of the run)."""
-        from pdamper.files import atomic_write
+        from pdamper.files import atomic_write_netcdf
 
         ds = self.to_dataset()
         ds.attrs.update(attrs or {})
-        return atomic_write(path, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+        return atomic_write_netcdf(path, ds)
 
     def write_vtk(self, directory: str | Path) -> Path:
         """Write the snapshots as a ParaView series (.vtp files + .pvd index)."""

@@ -129,7 +129,7 @@ def run_map(scenario, model_name: str, *, frequency=None, amplitude=None, partic
     """
     from pdamper import __version__
     from pdamper.analysis.fields import effective_field, sweep_field
-    from pdamper.files import atomic_write
+    from pdamper.files import atomic_write_netcdf
 
     t0 = time.perf_counter()
     model = scenario.map_model(model_name)
@@ -169,7 +169,7 @@ def run_map(scenario, model_name: str, *, frequency=None, amplitude=None, partic
                                              sweep.workers)
     path = None
     if out is not None:
-        path = atomic_write(out, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+        path = atomic_write_netcdf(out, ds)
         if not vectorised and not keep_partial:
             from pdamper.sweep import PointStore
 

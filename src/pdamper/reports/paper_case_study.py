@@ -40,7 +40,7 @@ from pdamper.contact.restitution import ConstantRestitution
 from pdamper.coupling import FreeVibrationResult, Simulation
 from pdamper.design.optimize import OptimizationResult, optimize_particle_count
 from pdamper.errors import InputError, SimulationError
-from pdamper.files import atomic_write, atomic_write_text
+from pdamper.files import atomic_write_bytes, atomic_write_netcdf, atomic_write_text
 from pdamper.models import AnalyticalDamper, EffectiveFieldDamper
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.reports.html import ReportFigure, render_report
@@ -582,13 +582,12 @@ def write_case_study(cs: CaseStudy, out: Path,
         buf = io.BytesIO()
         fig.savefig(buf, dpi=120, format="png")
         png = buf.getvalue()
-        written.append(atomic_write(out / name, lambda p, png=png: p.write_bytes(png)))
+        written.append(atomic_write_bytes(out / name, png))
         caption = next((ax.get_title() for ax in fig.axes if ax.get_title()), name)
         report_figures.append(ReportFigure(name, caption, png))
     say("writing map and table")
     cs.field_map.attrs["pdamper_version"] = __version__
-    written.append(atomic_write(out / "fig5_analytic_map.nc",
-                                lambda p: cs.field_map.to_netcdf(p, engine="h5netcdf")))
+    written.append(atomic_write_netcdf(out / "fig5_analytic_map.nc", cs.field_map))
     if cs.dem_map is not None:
         dem_path = out / DEM_MAP_FILE
         run = cs.dem_map_run
@@ -597,7 +596,7 @@ def write_case_study(cs: CaseStudy, out: Path,
         stored = (run is not None and run.path is not None and Path(run.path).is_file()
                   and Path(run.path).name == DEM_MAP_FILE)
         if not stored:
-            atomic_write(dem_path, lambda p: cs.dem_map.to_netcdf(p, engine="h5netcdf"))
+            atomic_write_netcdf(dem_path, cs.dem_map)
         written.append(dem_path)
     agree = sum(r.agrees is True for r in cs.rows)
     written.append(atomic_write_text(

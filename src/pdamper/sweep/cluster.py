@@ -1,4 +1,12 @@
-"""The dask.distributed engine a sweep runs on: a local cluster or an existing scheduler."""
+"""The dask.distributed engine a sweep runs on: a local cluster or an existing scheduler.
+
+A scheduler's address is judged by :func:`check_scheduler` (the commands call it before
+any computation; :func:`open_client` again, for callers of the library): a malformed one
+is an :class:`~pdamper.errors.InputError` for ``scheduler``, as is one that cannot be
+reached. An interrupted or failed sweep on a local cluster stops its worker processes at
+once (:func:`_stop_workers`) instead of waiting the 4 s that dask grants a busy worker to
+finish its task, so that Ctrl-C ends a DEM map within a second like every other command.
+"""
 
 from __future__ import annotations
 
@@ -10,6 +18,106 @@ from collections.abc import Iterator
 from pdamper.errors import InputError
 
 logger = logging.getLogger(__name__)
+
+
+#: Seconds a worker process of a local cluster is given to stop when the sweep was
+#: interrupted or failed, before it is killed (its results are not wanted any more).
+STOP_WAIT = 0.1
+#: Seconds then allowed for the killed processes to be gone.
+REAP_WAIT = 0.5
+
+_EXAMPLE = "e.g. 'tcp://10.0.0.5:8786'"
+
+
+def check_scheduler(address, field: str = "scheduler") -> str:
+    """``address`` if it can be the address of a dask scheduler (``[scheme://]host:port``
+    with a scheme dask knows and a port in 1-65535); an :class:`InputError` for ``field``
+    otherwise. Whether a scheduler answers there is seen when connecting
+    (:func:`open_client`).
+
+    >>> check_scheduler("tcp://10.0.0.5:8786")
+    'tcp://10.0.0.5:8786'
+    >>> check_scheduler("notanaddress")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    pdamper.errors.InputError: scheduler: must be the address of a dask scheduler, ... got 'notanaddress' (missing port number in address 'notanaddress')
+    """
+    if not isinstance(address, str) or not address.strip():
+        raise InputError(field, f"must be the address of a dask scheduler, {_EXAMPLE}, got "
+                         f"{address!r}")
+    from distributed.comm.addressing import get_address_host_port, parse_address
+
+    try:
+        scheme, _ = parse_address(address)
+        if scheme != "inproc":
+            host, port = get_address_host_port(address)
+            if not host or not 0 < int(port) < 65536:
+                raise ValueError(f"no host or a port outside 1-65535 in {address!r}")
+    except (ValueError, TypeError) as exc:
+        raise InputError(field, f"must be the address of a dask scheduler, {_EXAMPLE}, got "
+                         f"{address!r} ({exc})") from None
+    return address
+
+
+def _stop_workers(cluster) -> None:
+    """Kill the worker processes of a local ``cluster`` after :data:`STOP_WAIT` s (dask's
+    own close waits 4 s for a worker busy in a task, such as a DEM kernel), and wait until
+    they are gone (at most :data:`REAP_WAIT` s more; one still there at exit is reported by
+    dask as a "stray process")."""
+    import asyncio
+    import signal
+
+    async def stop():
+        nannies = [w for w in list(cluster.workers.values()) if hasattr(w, "close")]
+        # the worker processes (distributed's AsyncProcess), taken before close forgets them
+        procs = [getattr(getattr(w, "process", None), "process", None) for w in nannies]
+        await asyncio.gather(*(w.close(timeout=STOP_WAIT) for w in nannies),
+                             return_exceptions=True)
+        procs = [p for p in procs if p is not None and getattr(p, "pid", None)]
+        for p in procs:
+            with contextlib.suppress(Exception):
+                if p.is_alive():
+                    os.kill(p.pid, getattr(signal, "SIGKILL", signal.SIGTERM))
+        await asyncio.gather(*(p.join(REAP_WAIT) for p in procs), return_exceptions=True)
+
+    with contextlib.suppress(Exception):
+        cluster.sync(stop)
+
+
+def _abandon(cluster, instances) -> None:
+    """Let a cluster whose start was interrupted close in the background, without dask's
+    exit handler waiting for it (it waits for every worker to finish starting, then for it
+    to stop: 1-1.6 s, up to its 10 s limit). Its worker processes end with this process
+    at the latest: distributed's child processes exit when their parent is gone."""
+    import threading
+
+    with contextlib.suppress(Exception):
+        instances.discard(cluster)
+    quiet = _quiet_logs()
+    quiet.__enter__()
+    threading.Thread(target=_close_quietly, args=(cluster, quiet), daemon=True,
+                     name="pdamper-abandoned-cluster").start()
+
+
+def _close_quietly(cluster, quiet) -> None:
+    try:
+        with contextlib.suppress(BaseException):
+            cluster.close(timeout=10)
+    finally:
+        quiet.__exit__(None, None, None)
+
+
+@contextlib.contextmanager
+def _quiet_logs() -> Iterator[None]:
+    """dask's complaints while a cluster is torn down after an interrupt or an error
+    ("Couldn't gather keys" of a scheduler whose workers were just killed) are no news to
+    whoever stopped it: only critical ones are logged meanwhile."""
+    log = logging.getLogger("distributed")
+    level = log.level
+    log.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        log.setLevel(level)
 
 
 def default_workers() -> int:
@@ -25,7 +133,8 @@ def open_client(workers: int | None = None, scheduler: str | None = None) -> Ite
     """A ``distributed.Client``: to the scheduler at ``scheduler`` (an existing cluster;
     left running afterwards), else on a new local cluster of ``workers`` single-threaded
     worker processes (default: every core), bound to localhost (its status page too, on a
-    free port); the local cluster is shut down on exit.
+    free port); the local cluster is shut down on exit, at once when the block raised (an
+    interrupt, an error).
     """
     if workers is not None and (isinstance(workers, bool) or int(workers) != workers
                                 or workers < 1):
@@ -36,9 +145,10 @@ def open_client(workers: int | None = None, scheduler: str | None = None) -> Ite
     from distributed import Client, LocalCluster
 
     if scheduler is not None:
+        check_scheduler(scheduler)
         try:
             client = Client(scheduler, timeout="20s")
-        except (OSError, TimeoutError) as exc:
+        except (OSError, TimeoutError, ValueError, TypeError, OverflowError) as exc:
             raise InputError("scheduler", f"cannot connect to {scheduler!r}: {exc}") from None
         try:
             yield client
@@ -47,7 +157,24 @@ def open_client(workers: int | None = None, scheduler: str | None = None) -> Ite
         return
     n = default_workers() if workers is None else int(workers)
     logger.info("starting a local dask cluster of %d worker processes", n)
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
-                      dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR) as cluster, \
-            Client(cluster) as client:
-        yield client
+    from distributed.deploy.spec import SpecCluster
+
+    # the clusters of this process (dask's own record, which its exit handler closes, slowly)
+    instances = getattr(SpecCluster, "_instances", ())
+    before = set(instances)
+    try:
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                               silence_logs=logging.ERROR)
+    except BaseException:
+        for half in set(instances) - before:
+            _abandon(half, instances)
+        raise
+    quiet = contextlib.ExitStack()
+    with quiet, cluster, Client(cluster) as client:
+        try:
+            yield client
+        except BaseException:
+            quiet.enter_context(_quiet_logs())  # until the cluster is closed
+            _stop_workers(cluster)
+            raise
