@@ -165,4 +165,18 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("ok-paper-corner-analytic", ["analytic", "--frequency", "20Hz", "--amplitude", "200mm",
                                   "--json"], OK()),
     ("ok-example-scenario", ["example-scenario"], OK()),
+    # -- scheduler addresses: judged before anything runs, one line naming the option
+    ("scheduler-not-an-address", ["map", "--model", "dem", "--scheduler", "notanaddress",
+                                  "--frequency", "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2"],
+     Error("scheduler")),
+    ("scheduler-empty", ["map", "--model", "dem", "--scheduler", "", "--frequency",
+                         "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2"], Error("scheduler")),
+    ("scheduler-port-not-a-number", [*_MAP, "--scheduler", "tcp://10.0.0.5:port"],
+     Error("scheduler")),
+    ("scheduler-unknown-scheme", [*_MAP, "--scheduler", "ftp://10.0.0.5:8786"],
+     Error("scheduler")),
+    ("scheduler-empty-optimize", ["optimize", "--scheduler", ""],
+     Error("optimization.scheduler")),
+    ("scheduler-empty-paper", ["paper", "--no-dem", "--scheduler", "", "--out", "{tmp}/p"],
+     Error("scheduler")),
 ]

@@ -117,7 +117,7 @@ def _umask() -> int:
 
 
 def one_line(text: str) -> str:
-    """``text`` with its line breaks (and the blanks around them) replaced by one space:
+    r"""``text`` with its line breaks (and the blanks around them) replaced by one space:
     an error is one line, whatever a library or the system put in its message.
 
     >>> one_line("file write failed: time = Thu\n, errno = 28\r\n")

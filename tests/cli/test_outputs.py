@@ -4,10 +4,14 @@ with one line and status 1; the same policy in every command."""
 
 from __future__ import annotations
 
+import errno
 import json
 import os
+import shutil
 import stat
 import subprocess
+import sys
+import textwrap
 import time
 
 import pytest
@@ -16,6 +20,7 @@ from answers import check_answer
 from proc import command, env, unprivileged_prefix
 
 _MAP = ["map", "--frequency", "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2"]
+_DEM = ["dem", "--particles", 4, "--cycles", 2, "--skip-cycles", 1]
 
 
 def _mode(path) -> int:
@@ -31,7 +36,8 @@ def _umask() -> int:
 @pytest.mark.parametrize("args", [
     ["analytic"],
     [*_MAP, "--json"],
-], ids=["analytic", "map-json"])
+    ["simulate", "--duration", "0.5s", "--json"],
+], ids=["analytic", "map-json", "simulate-json"])
 def test_stdout_on_a_full_device_is_one_line_and_status_1(args):
     with open("/dev/full", "w") as full:
         p = subprocess.run(command(*args), stdout=full, stderr=subprocess.PIPE, text=True,
@@ -199,3 +205,143 @@ def test_help_text_on_a_broken_pipe_or_full_device(args):
                            env=env(), timeout=120)
     assert q.returncode == 1 and q.stderr.startswith("error: stdout: ") and \
         q.stderr.count("\n") == 1, q.stderr
+
+
+# -- full devices and closed streams: every writer ends with one line and status 1 ---------
+
+#: Runs inside a private mount namespace (``unshare --mount``): mounts a small tmpfs on the
+#: directory given, puts an earlier result there, runs the command and reports as JSON.
+_ON_A_SMALL_TMPFS = textwrap.dedent("""
+    import json, os, subprocess, sys
+    directory, size, earlier, stdout, *args = sys.argv[1:]
+    mount = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", directory],
+                           capture_output=True, text=True)
+    if mount.returncode:
+        print(json.dumps({"skip": "cannot mount a tmpfs: " + mount.stderr.strip()}))
+        sys.exit()
+    if earlier:
+        with open(os.path.join(directory, earlier), "w") as f:
+            f.write("earlier")
+    with open(os.path.join(directory, stdout), "wb") if stdout else open(os.devnull, "wb") as out:
+        p = subprocess.run(args, stdout=out, stderr=subprocess.PIPE, text=True)
+    found = {}
+    for root, dirs, files in os.walk(directory):
+        for name in files:
+            path = os.path.join(root, name)
+            found[os.path.relpath(path, directory)] = os.path.getsize(path)
+    print(json.dumps({
+        "status": p.returncode, "stderr": p.stderr, "files": found,
+        "earlier": open(os.path.join(directory, earlier)).read() if earlier else None}))
+""")
+
+
+def on_a_small_tmpfs(tmp_path, size, args, earlier="", stdout=""):
+    """Run ``pdamper ARGS`` (``{dir}`` is the tmpfs) with a tmpfs of ``size`` mounted on a
+    directory (the mount is private to the command: nothing to clean up), or skip where
+    this process may not mount one (not root, no user namespaces)."""
+    if shutil.which("unshare") is None:
+        pytest.skip("no unshare here to mount a tmpfs")
+    d = tmp_path / "small"
+    d.mkdir()
+    p = subprocess.run(["unshare", "--mount", "--propagation", "private", sys.executable,
+                        "-c", _ON_A_SMALL_TMPFS, str(d), size, earlier, stdout,
+                        *command(*[str(a).replace("{dir}", str(d)) for a in args])],
+                       capture_output=True, text=True, env=env(), timeout=300)
+    if p.returncode != 0 or not p.stdout.strip():
+        pytest.skip(f"cannot mount a tmpfs here: {p.stderr.strip()[-200:]}")
+    report = json.loads(p.stdout.strip().splitlines()[-1])
+    if "skip" in report:
+        pytest.skip(report["skip"])
+    assert list(d.iterdir()) == [], "the tmpfs was not private to the command"
+    return report
+
+
+_DEM_MAP_SERIAL = ["map", "--model", "dem", "--serial", "--particles", 4, "--frequency",
+                   "4Hz:6Hz:2", "--amplitude", "2mm:4mm:2"]
+
+
+@pytest.mark.parametrize(("args", "size"), [
+    ([*_MAP, "--out", "{dir}/r.nc"], "8k"),
+    (["simulate", "--duration", "0.5s", "--out", "{dir}/r.nc"], "8k"),
+    ([*_DEM, "--integrator", "verlet", "--out", "{dir}/r.nc"], "8k"),
+    # room for the four per-point records of <out>.partial/ (a page each), not for the map
+    ([*_DEM_MAP_SERIAL, "--out", "{dir}/r.nc"], "24k"),
+    # no room for the per-point records either: the store fails the same way
+    ([*_DEM_MAP_SERIAL, "--out", "{dir}/r.nc"], "8k"),
+    (["simulate", "--duration", "0.5s", "--plot", "{dir}/r.png"], "8k"),
+], ids=["map", "simulate", "dem", "map-dem", "map-dem-store", "simulate-plot"])
+def test_a_full_device_is_one_line_and_status_1(tmp_path, args, size):
+    """On a nearly full device the NetCDF writers printed HDF5's tracebacks, then an error
+    line with HDF5's multi-line message, and died of a segmentation fault (status -11).
+    Now: one line naming the option and the size that did not fit, status 1, the earlier
+    result intact, no temporary file."""
+    field = "plot" if "--plot" in args else "out"
+    r = on_a_small_tmpfs(tmp_path, size, args, earlier="r.png" if field == "plot" else "r.nc")
+    assert r["status"] == 1, r
+    assert r["stderr"].count("\n") == 1 and r["stderr"].startswith(f"error: {field}: "), r
+    assert "No space left on device" in r["stderr"], r
+    assert r["earlier"] == "earlier"
+    assert not [f for f in r["files"] if os.path.basename(f).startswith(".")], r["files"]
+
+
+def test_stdout_cut_short_on_a_nearly_full_device(tmp_path):
+    """``simulate --json > full/s.json`` ended with status 0 and 4096 of its 7611 bytes:
+    Python's buffered stream took the short write for a complete one."""
+    r = on_a_small_tmpfs(tmp_path, "4k", ["simulate", "--json"], stdout="s.json")
+    assert r["status"] == 1, r
+    assert r["stderr"] == "error: stdout: cannot write: No space left on device\n", r
+    assert r["files"]["s.json"] == 4096  # what fitted; the status says it is incomplete
+
+
+@pytest.mark.parametrize("args", [
+    ["analytic", "--json"],
+    ["analytic"],
+    ["example-scenario"],
+    ["--help"],
+    [*_MAP, "--json"],
+], ids=["analytic-json", "analytic", "example-scenario", "help", "map-json"])
+def test_stdout_closed(args):
+    """``pdamper analytic --json >&-`` ended in an AttributeError traceback (Python sets
+    ``sys.stdout`` to None when descriptor 1 is closed at start-up)."""
+    p = subprocess.run(command(*args), stderr=subprocess.PIPE, text=True, env=env(),
+                       timeout=120, preexec_fn=lambda: os.close(1))
+    assert p.returncode == 1, p.stderr
+    assert p.stderr == "error: stdout: cannot write: the stream is closed\n", p.stderr
+
+
+def test_stdout_closed_leaves_no_file_in_its_place(tmp_path):
+    """With descriptor 1 closed, the next file opened would have become standard output
+    (the result file, its temporary): descriptor 1 points at the null device instead, the
+    result file is complete and only the summary line is missing (status 1)."""
+    out = tmp_path / "m.nc"
+    p = subprocess.run(command(*_MAP, "--out", out), stderr=subprocess.PIPE, text=True,
+                       env=env(), timeout=120, preexec_fn=lambda: os.close(1))
+    assert p.returncode == 1 and p.stderr.startswith("error: stdout: "), p.stderr
+    assert out.read_bytes()[:4] == b"\x89HDF"
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["m.nc"]
+
+
+def test_error_lines_are_one_line():
+    """A library's message with line breaks (HDF5's) is printed as one line."""
+    from pdamper.files import one_line
+
+    assert one_line("write failed: time = Thu Nov 26\n, errno = 28\r\n") == \
+        "write failed: time = Thu Nov 26 , errno = 28"
+
+
+def test_short_writes_are_completed_or_raise(monkeypatch):
+    """A write that returns less than it was given is followed by another; one that writes
+    nothing is a full device, not a loop."""
+    from pdamper import files
+
+    calls = []
+
+    def short(fd, view):
+        calls.append(bytes(view))
+        return min(3, len(view)) if len(calls) < 4 else 0
+
+    monkeypatch.setattr(files.os, "write", short)
+    with pytest.raises(OSError) as info:
+        files._write_all(1, b"0123456789")
+    assert calls[:3] == [b"0123456789", b"3456789", b"6789"]
+    assert info.value.errno == errno.ENOSPC

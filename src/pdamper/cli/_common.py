@@ -98,3 +98,16 @@ def write_atomic(path: Path, writer, field: str = "out") -> Path:
     from pdamper.files import atomic_write
 
     return atomic_write(path, writer, field)
+
+
+def write_figure(path: Path, fig, field: str = "plot", **savefig) -> Path:
+    """Write a matplotlib figure (``savefig`` options, e.g. ``format="png", dpi=110``):
+    rendered in memory, then written by :func:`pdamper.files.atomic_write_bytes`, so that
+    a full device ends as for every other output, naming the option (``--plot``)."""
+    import io
+
+    from pdamper.files import atomic_write_bytes
+
+    buf = io.BytesIO()
+    fig.savefig(buf, **savefig)
+    return atomic_write_bytes(path, buf.getbuffer(), field)

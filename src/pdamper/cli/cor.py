@@ -96,13 +96,13 @@ def cor(
     if plot is not None:
         from matplotlib.figure import Figure
 
-        from pdamper.cli._common import write_atomic
+        from pdamper.cli._common import write_figure
         from pdamper.plots import plot_cor_check
 
         fig = Figure(figsize=(7, 4.5), layout="constrained")
         plot_cor_check(check, ax=fig.subplots(), curve=curve)
         fmt = _FORMATS[plot.suffix.lower()]
-        payload["plot"] = str(write_atomic(plot, lambda p: fig.savefig(p, format=fmt, dpi=120)))
+        payload["plot"] = str(write_figure(plot, fig, format=fmt, dpi=120))
     kind_text = "sphere-sphere" if sphere_sphere else "sphere-wall"
     lines = [f"{check.pair} ({kind_text}, r = {r * 1e3:g} mm): target {check.curve}",
              f"DEM single impacts: {check.damping_model} COR-damping relation, "

@@ -84,9 +84,9 @@ def cor_sensitivity(
     study = run_cor_sensitivity(sc, names, pts, level3=level3)
     payload = {**study.as_dict(), **metadata(sc)}
     if plot is not None:
-        from pdamper.cli._common import write_atomic
+        from pdamper.cli._common import write_figure
 
         fig = sensitivity_figure(study)
-        payload["plot"] = str(write_atomic(plot, lambda p: fig.savefig(p, format="png", dpi=110)))
+        payload["plot"] = str(write_figure(plot, fig, format="png", dpi=110))
     emit(payload, as_json, study.markdown() + f"\n{study.wall_seconds:.1f} s"
          + (f"; figure written to {payload['plot']}" if plot is not None else ""))

@@ -57,6 +57,10 @@ def map_(
         raise InputError("workers", f"must be a whole number >= 1, got {workers}")
     if retries < 0:
         raise InputError("retries", f"must be a whole number >= 0, got {retries}")
+    if scheduler is not None:
+        from pdamper.sweep.cluster import check_scheduler
+
+        check_scheduler(scheduler)
     count, axis = None, None
     if particles is not None:
         if ":" in particles:

@@ -15,7 +15,7 @@ from pdamper.cli._common import (
     emit,
     load,
     metadata,
-    write_atomic,
+    write_figure,
 )
 
 
@@ -92,7 +92,7 @@ def optimize(
 
         fig = Figure(figsize=(7, 5), layout="constrained")
         plot_design_landscape(res, ax=fig.subplots())
-        write_atomic(plot, lambda p: fig.savefig(p, dpi=120, format="png"))
+        write_figure(plot, fig, dpi=120, format="png")
     unit = {"m": "m", "s": "s", "1": "1"}[res.objective.unit]
     payload = {**res.as_dict(), "workers": n_workers,
                "units": {"mass": "kg", "objective": unit, "at": "s", "radius": "m",

@@ -46,6 +46,10 @@ def paper(
     target = check_output_directory(out)
     if workers is not None and workers < 1:
         raise InputError("workers", f"must be a whole number >= 1, got {workers}")
+    if scheduler is not None:
+        from pdamper.sweep.cluster import check_scheduler
+
+        check_scheduler(scheduler)
     options = {k: v for k, v in (("workers", workers), ("scheduler", scheduler)) if v is not None}
     t0 = time.perf_counter()
     console = Console(file=sys.stderr)

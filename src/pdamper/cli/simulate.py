@@ -16,7 +16,6 @@ from pdamper.cli._common import (
     emit,
     load,
     metadata,
-    write_atomic,
 )
 
 
@@ -162,7 +161,7 @@ def _figure(path: Path, runs: dict, aligned, comparisons: dict) -> None:
     from matplotlib.figure import Figure
 
     from pdamper import plots
-    from pdamper.cli._common import write_atomic
+    from pdamper.cli._common import write_figure
 
     panels = 3 if aligned is not None else 2
     fig = Figure(figsize=(11, 3.6 * panels), layout="constrained")
@@ -174,4 +173,4 @@ def _figure(path: Path, runs: dict, aligned, comparisons: dict) -> None:
     if aligned is not None:
         plots.plot_phase_drift(comparisons, ax=axes[2])
         axes[2].set_title("phase drift against the measurement")
-    write_atomic(path, lambda p: fig.savefig(p, dpi=110, format="png"))
+    write_figure(path, fig, dpi=110, format="png")

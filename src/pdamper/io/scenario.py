@@ -141,6 +141,16 @@ class SimulationSpec(_Section):
     sample_rate: Frequency = 2000.0
 
 
+def _scheduler(v: str) -> str:
+    """The address of a dask scheduler (:func:`pdamper.sweep.cluster.check_scheduler`)."""
+    from pdamper.sweep.cluster import check_scheduler
+
+    try:
+        return check_scheduler(v)
+    except InputError as exc:  # pydantic adds the location
+        raise ValueError(exc.message) from None
+
+
 class OptimizationSpec(_Section):
     """The design study (:mod:`pdamper.design.study`); without ``vary``, the paper's
     particle-count study (Sect. 4.2.2)."""
@@ -152,7 +162,7 @@ class OptimizationSpec(_Section):
     method: Literal["auto", "grid", "optimize"] = "auto"
     threshold: PositiveLength | None = None
     workers: Annotated[int, Field(ge=0, strict=True)] | Literal["auto"] = "auto"
-    scheduler: str | None = None
+    scheduler: Annotated[str, AfterValidator(_scheduler)] | None = None
     max_evaluations: Annotated[int, Field(ge=4, strict=True)] = DEFAULT_MAX_EVALUATIONS
     max_grid: Annotated[int, Field(ge=1, strict=True)] = DEFAULT_MAX_GRID
     seed: Annotated[int, Field(ge=0, strict=True)] = 0

@@ -39,19 +39,22 @@ def check_scheduler(address, field: str = "scheduler") -> str:
     'tcp://10.0.0.5:8786'
     >>> check_scheduler("notanaddress")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
-    pdamper.errors.InputError: scheduler: must be the address of a dask scheduler, ... got 'notanaddress' (missing port number in address 'notanaddress')
+    pdamper.errors.InputError: scheduler: must be the address of a dask scheduler, ...
     """
     if not isinstance(address, str) or not address.strip():
         raise InputError(field, f"must be the address of a dask scheduler, {_EXAMPLE}, got "
                          f"{address!r}")
     from distributed.comm.addressing import get_address_host_port, parse_address
+    from distributed.comm.registry import get_backend
 
     try:
         scheme, _ = parse_address(address)
-        if scheme != "inproc":
+        if scheme in ("tcp", "tls", "ws", "wss"):
             host, port = get_address_host_port(address)
             if not host or not 0 < int(port) < 65536:
                 raise ValueError(f"no host or a port outside 1-65535 in {address!r}")
+        else:  # inproc, ucx: a scheme that dask knows
+            get_backend(scheme)
     except (ValueError, TypeError) as exc:
         raise InputError(field, f"must be the address of a dask scheduler, {_EXAMPLE}, got "
                          f"{address!r} ({exc})") from None
