@@ -227,3 +227,104 @@ def test_a_signal_in_a_finalizer_is_delivered_again():
     p = subprocess.run([sys.executable, "-c", _IN_A_FINALIZER], capture_output=True,
                        text=True, env=env(), timeout=120)
     assert (p.stdout, p.stderr) == ("interrupted 2\n", "")
+
+
+#: ``pdamper ARGS`` with an import hook: when ``TARGET`` is first imported, the process
+#: sends itself SIGINT and the module's initialisation turns what the signal raised into
+#: ``ImportError: initialization failed``, as matplotlib's extension modules (pybind11) do
+#: with any error of their initialisation.
+_IMPORT_TURNS_THE_SIGNAL_INTO_AN_ERROR = textwrap.dedent("""
+    import importlib.abc, importlib.util, os, signal, sys
+
+    TARGET = sys.argv[1]
+
+    class Loader(importlib.abc.Loader):
+        def create_module(self, spec):
+            return None
+
+        def exec_module(self, module):
+            try:
+                os.kill(os.getpid(), signal.SIGINT)
+                for _ in range(10**6):  # the handler runs here
+                    pass
+            except BaseException as exc:
+                raise ImportError("initialization failed") from exc
+
+    class Finder(importlib.abc.MetaPathFinder):
+        def find_spec(self, name, path=None, target=None):
+            if name != TARGET:
+                return None
+            sys.meta_path.remove(self)
+            return importlib.util.spec_from_loader(name, Loader())
+
+    sys.meta_path.insert(0, Finder())
+    from pdamper.cli import main
+    sys.exit(main(sys.argv[2:]))
+""")
+
+
+@pytest.mark.parametrize(("target", "args"), [
+    ("matplotlib.figure", ["cor", "--velocity", "0.5m/s:1m/s:2", "--plot", "{tmp}/c.png"]),
+    ("typer", ["analytic"]),
+], ids=["cor-plot-matplotlib", "start-up-typer"])
+def test_a_signal_during_an_import(tmp_path, target, args):
+    """A Ctrl-C landing in ``import matplotlib`` (``cor --plot``) ended with
+    ``ImportError: initialization failed`` and status 1: the signal is recorded before its
+    exception is raised, so that whatever a library makes of it the command is
+    interrupted. The command line's own imports (typer) come after its handlers."""
+    p = subprocess.run([sys.executable, "-c", _IMPORT_TURNS_THE_SIGNAL_INTO_AN_ERROR, target,
+                        *[a.replace("{tmp}", str(tmp_path)) for a in args]],
+                       capture_output=True, text=True, env=env(), timeout=300)
+    assert (p.returncode, p.stderr) == (130, "interrupted\n")
+    assert list(tmp_path.iterdir()) == []
+
+
+#: A DEM map on a local cluster of two worker processes whose points take seconds each.
+_DEM_MAP = ["map", "--model", "dem", "--workers", 2, "--particles", 16, "--frequency",
+            "4Hz:6Hz:2", "--amplitude", "2mm:4mm:3"]
+
+
+@pytest.mark.parametrize("when", ["starting", "computing"])
+def test_dem_map_on_a_local_cluster(tmp_path, when):
+    """Ctrl-C into a DEM map on a local cluster took 4.1 s: dask gives a worker busy in a
+    task 4 s to finish before it kills it (and its exit handler waits for a cluster that
+    is still starting). The workers are stopped at once and none is left behind."""
+    import psutil  # a dependency of dask.distributed
+
+    out = tmp_path / "m.nc"
+    partial = tmp_path / "m.nc.partial"
+    p = subprocess.Popen(command(*_DEM_MAP, "--out", out), stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, env=env(), text=True)
+    try:
+        me = psutil.Process(p.pid)
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline:
+            assert p.poll() is None, f"finished before it was ready: {p.communicate()}"
+            workers = me.children(recursive=True)
+            points = list(partial.glob("*.json"))
+            if when == "starting" and workers and not points:
+                break  # worker processes are starting; nothing computed yet
+            if when == "computing" and points:
+                break  # the first point is in: the others are being computed
+            time.sleep(0.01)
+        else:
+            pytest.fail("never ready")
+        workers = me.children(recursive=True)
+        t0 = time.monotonic()
+        p.send_signal(signal.SIGINT)
+        try:
+            _, err = p.communicate(timeout=4 * PROMPT)
+        except subprocess.TimeoutExpired:
+            pytest.fail(f"still running {4 * PROMPT:g} s after the signal")
+        seconds = time.monotonic() - t0
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.communicate()
+    # warnings of the DEM runs may come first; the end is one line
+    assert p.returncode == 130 and err.endswith("interrupted\n"), err
+    assert "Traceback" not in err and "distributed." not in err, err
+    assert seconds < PROMPT, f"took {seconds:.2f} s to stop"
+    assert not out.exists()
+    _, alive = psutil.wait_procs(workers, timeout=10)
+    assert not alive, f"worker processes left behind: {alive}"
