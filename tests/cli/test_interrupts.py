@@ -152,9 +152,10 @@ _SLOW_WRITE = textwrap.dedent(f"""
     write = xr.Dataset.to_netcdf
     def slow(self, path, **kw):
         write(self, path, **kw)
+        open(sys.argv[1], "w").close()  # HDF5 is at work: the test may send its signal
         time.sleep({_WRITE})  # the signal arrives during the write, here or before
     xr.Dataset.to_netcdf = slow
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(main(sys.argv[2:]))
 """)
 
 
@@ -162,18 +163,20 @@ _SLOW_WRITE = textwrap.dedent(f"""
 def test_signal_during_the_write_leaves_no_temporary(tmp_path, sig):
     """A kill during the write used to leave ``.m.nc.tmp``; a signal raised inside the HDF5
     library was sometimes swallowed there (the command went on). The writer holds the
-    signal until the file is written, then stops: no temporary, the earlier file intact."""
+    signal until HDF5 has made the file (in memory), then stops: no temporary, the earlier
+    file intact."""
     out = tmp_path / "m.nc"
     out.write_text("earlier")
-    p = subprocess.Popen([sys.executable, "-c", _SLOW_WRITE, "map", "--frequency", "2Hz:4Hz:2",
-                          "--amplitude", "1mm:2mm:2", "--out", str(out)],
+    mark = tmp_path.parent / f"{tmp_path.name}-writing"
+    p = subprocess.Popen([sys.executable, "-c", _SLOW_WRITE, str(mark), "map", "--frequency",
+                          "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2", "--out", str(out)],
                          stderr=subprocess.PIPE, stdout=subprocess.PIPE, env=env(), text=True)
     try:
         deadline = time.monotonic() + 60
-        while not no_temporaries(tmp_path) and time.monotonic() < deadline:
+        while not mark.exists() and time.monotonic() < deadline:
             assert p.poll() is None, p.communicate()
             time.sleep(0.01)
-        assert no_temporaries(tmp_path), "the writer never started"
+        assert mark.exists(), "the writer never started"
         t0 = time.monotonic()
         p.send_signal(sig)
         try:
