@@ -263,8 +263,9 @@ def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], object],
     path
         Target file; its directory must exist. A symlink is written through.
     writer
-        Writes the complete file to the path it is given (e.g.
-        ``lambda p: ds.to_netcdf(p, engine="h5netcdf")``).
+        Writes the complete file to the path it is given, with Python's file objects
+        (which raise on a full device). A library that writes in C (HDF5) serialises into
+        memory instead: :func:`atomic_write_netcdf`, :func:`atomic_write_bytes`.
     field
         The option that named ``path``, for error messages.
 
