@@ -60,8 +60,8 @@ from pathlib import Path
 from pdamper.errors import InputError, OutputError
 
 __all__ = ["atomic_directory", "atomic_write", "atomic_write_bytes", "atomic_write_netcdf",
-           "atomic_write_text", "check_directory_target", "check_file_target", "one_line",
-           "signals_deferred", "stdout_error", "write_stdout"]
+           "atomic_write_text", "check_directory_target", "check_file_target", "checked_stdout",
+           "one_line", "signals_deferred", "stdout_error", "write_stdout"]
 
 #: Signals whose Python handlers :func:`signals_deferred` holds back (those the command line
 #: turns into :class:`~pdamper.errors.Interrupted`, where the platform has them).
@@ -443,6 +443,45 @@ def stdout_error(exc: OSError) -> OutputError:
     /dev/null, so that the interpreter's final flush raises nothing more)."""
     _quiet_stdout()
     return OutputError("stdout", f"cannot write: {_reason(exc)}")
+
+
+class _CompleteWrites(io.RawIOBase):
+    """A raw stream on a file descriptor (not owned: never closed) whose every write is
+    complete or raises (:func:`_write_all`)."""
+
+    def __init__(self, fd: int):
+        super().__init__()
+        self._fd = fd
+
+    def writable(self) -> bool:
+        return True
+
+    def fileno(self) -> int:
+        return self._fd
+
+    def isatty(self) -> bool:
+        return os.isatty(self._fd)
+
+    def write(self, b) -> int:
+        view = memoryview(b)
+        _write_all(self._fd, view)
+        return view.nbytes
+
+
+def checked_stdout(stream):
+    """``stream`` (``sys.stdout``) rebuilt on :class:`_CompleteWrites`, so that what other
+    libraries print there (click's help text, rich) is written completely or raises, as
+    :func:`write_stdout` does; the same encoding, error handler and line buffering. A
+    stream without a descriptor (a test's capture) is returned as it is."""
+    try:
+        fd = stream.fileno()
+        stream.flush()
+    except (AttributeError, OSError, ValueError, io.UnsupportedOperation):
+        return stream
+    return io.TextIOWrapper(io.BufferedWriter(_CompleteWrites(fd)),
+                            encoding=getattr(stream, "encoding", None) or "utf-8",
+                            errors=getattr(stream, "errors", None) or "strict",
+                            line_buffering=bool(getattr(stream, "line_buffering", False)))
 
 
 def write_stdout(text: str) -> None:

@@ -345,3 +345,28 @@ def test_short_writes_are_completed_or_raise(monkeypatch):
         files._write_all(1, b"0123456789")
     assert calls[:3] == [b"0123456789", b"3456789", b"6789"]
     assert info.value.errno == errno.ENOSPC
+
+
+def test_what_other_libraries_print_is_written_completely_or_raises(monkeypatch, tmp_path):
+    """The console script rebuilds ``sys.stdout`` on checked writes (click's help text,
+    rich): a short write is completed, a device that takes nothing more raises."""
+    from pdamper import files
+
+    real = os.write
+    counts = []
+
+    def short(fd, view):
+        if len(counts) == 3:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        counts.append(real(fd, bytes(view[:4])))
+        return counts[-1]
+
+    with open(tmp_path / "o", "w") as f:
+        stream = files.checked_stdout(f)
+        monkeypatch.setattr(files.os, "write", short)
+        stream.write("0123456789")
+        stream.flush()
+        assert (tmp_path / "o").read_text() == "0123456789"
+        stream.write("more")
+        with pytest.raises(OSError):
+            stream.flush()

@@ -221,8 +221,10 @@ def entry() -> None:  # pragma: no cover - run as a process by the tests
     import atexit
     import os
 
-    from pdamper.files import stdout_error
+    from pdamper.files import checked_stdout, stdout_error
 
+    if sys.stdout is not None:  # Python's own stream took a short write for a complete one
+        sys.stdout = checked_stdout(sys.stdout)
     status = main()
     atexit._run_exitfuncs()
     try:  # what click printed (help, usage) may still sit in the buffer
