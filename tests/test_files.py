@@ -81,3 +81,56 @@ def test_signals_deferred_restores_the_handlers_and_leaves_default_ones_alone():
     finally:
         for s, h in before.items():
             signal.signal(s, h)
+
+
+def test_a_full_device_is_one_output_error_and_leaves_the_old_file(tmp_path, monkeypatch):
+    """The bytes of every file are written by ``os.write`` calls whose counts are checked
+    (a NetCDF file is made by HDF5 in memory first): a full device is an OutputError of one
+    line naming the option and the size, the old file stays and no temporary is left.
+    (Where a tmpfs can be mounted, tests/cli/test_outputs.py fills a real one.)"""
+    import errno
+
+    import xarray as xr
+
+    from pdamper import files
+    from pdamper.errors import OutputError
+
+    p = tmp_path / "map.nc"
+    atomic_write_text(p, "complete")
+    real = os.write
+
+    def fills_up(fd, view):
+        if fd <= 2:
+            return real(fd, view)
+        n = real(fd, bytes(view[:1000]))  # a short write, then nothing fits
+        monkeypatch.setattr(files.os, "write", full)
+        return n
+
+    def full(fd, view):
+        if fd <= 2:
+            return real(fd, view)
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(files.os, "write", fills_up)
+    ds = xr.Dataset({"loss_factor": (("frequency",), [0.1, 0.2])},
+                    attrs={"note": "two\nlines"})
+    with pytest.raises(OutputError) as info:
+        files.atomic_write_netcdf(p, ds, "out")
+    message = str(info.value)
+    assert message.startswith(f"out: cannot write {p}: No space left on device (writing ")
+    assert "\n" not in message
+    assert p.read_text() == "complete"
+    assert [q.name for q in tmp_path.iterdir()] == ["map.nc"]
+
+
+def test_netcdf_made_in_memory_reads_back(tmp_path):
+    import numpy as np
+    import xarray as xr
+
+    from pdamper.files import atomic_write_netcdf
+
+    ds = xr.Dataset({"x": (("i", "j"), np.arange(6.0).reshape(2, 3))},
+                    coords={"i": [1.0, 2.0]}, attrs={"inputs": '{"a": 1}'})
+    p = atomic_write_netcdf(tmp_path / "a.nc", ds)
+    back = xr.load_dataset(p, engine="h5netcdf")
+    xr.testing.assert_identical(back, ds)
