@@ -47,8 +47,25 @@ def _out(v, e):
     return float(e) if np.ndim(v) == 0 else np.asarray(e, float)
 
 
+def _cached_names(cls: type) -> frozenset[str]:
+    """Names of the :func:`functools.cached_property` attributes of ``cls``."""
+    return frozenset(name for klass in cls.__mro__ for name, value in vars(klass).items()
+                     if isinstance(value, cached_property))
+
+
 class RestitutionCurve:
-    """Base class: a COR [-] as a function of the normal impact speed [m/s]."""
+    """Base class: a COR [-] as a function of the normal impact speed [m/s].
+
+    A curve pickles as its defining fields alone: what it caches (tabulated nodes,
+    interpolants) is derived, may not pickle (closures), and must not change the bytes of
+    a pickle, which cross processes on the sweep engine and key the settled-bed cache
+    (:attr:`pdamper.dem.DEMEngine.settle_key`): a curve pickles the same before and after
+    its first evaluation.
+    """
+
+    def __getstate__(self) -> dict:
+        cached = _cached_names(type(self))
+        return {k: v for k, v in self.__dict__.items() if k not in cached}
 
     def __call__(self, v):
         v_nodes, e_nodes = self.tabulate()
