@@ -94,10 +94,11 @@ def simulate(
     models = {n: sc.model(n, damper) for n in names}  # all built (and checked) before any run
     aligned = None
     if measured is not None:
-        from pdamper.coupling.measurement import align_measurement
+        from pdamper.coupling.measurement import align_measurement, check_release_scale
         from pdamper.io.measured import read_measured
 
         aligned = align_measurement(read_measured(measured))
+        check_release_scale(aligned, sc.structure.initial_displacement)  # before any run
     structure = sc.structure_model()
     x0 = sc.structure.initial_displacement
     runs, seconds = {}, {}

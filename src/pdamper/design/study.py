@@ -114,6 +114,13 @@ class DesignVariable:
     bounds: tuple[float, float] | None = None
     spec: str = ""
 
+    def __post_init__(self) -> None:
+        # a study over no value evaluates nothing and would end with no best design
+        if self.values is None and self.bounds is None or (
+                self.values is not None and len(self.values) == 0):
+            raise InputError("optimization.vary", f"{self.spec or self.name!r}: no values; "
+                             "give at least one value or an interval")
+
     @property
     def kind(self) -> str:
         return VARIABLES[self.name].kind
@@ -163,7 +170,10 @@ def parse_variable(spec: str) -> DesignVariable:
     if kind.kind == "categorical":
         from pdamper.materials import get_material
 
-        names = tuple(p.strip() for p in text.split(",") if p.strip())
+        names = tuple(p.strip() for p in text.split(","))
+        if not all(names):
+            raise InputError(field_, f"{spec!r}: an empty material name in the list; give "
+                             "names separated by commas (e.g. 'particle-material=S235,PVC')")
         for n in names:
             get_material(n, where)
         return DesignVariable(name, names, spec=spec)
