@@ -150,7 +150,6 @@ def test_damper_model_pickles_and_answers_the_same(fidelity):
 
 def test_dem_settings_pickle_and_keep_the_settle_key():
     from dem_inputs import contact, container, lattice
-
     from pdamper.dem import DEMEngine, HarmonicMotion, StructureMotion
 
     cp = contact(paper.PAPER_COR_PP, MEASURED, pairs={("S235", "PVC"): MEASURED.scaled(0.9)})

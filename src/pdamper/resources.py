@@ -237,6 +237,19 @@ def check_stroke(value: float, field: str, what: str = "the stroke") -> None:
                          f"vibrating structure a damper is mounted on moves that far")
 
 
+def check_impact_speed(speed: float, materials: Sequence, field: str) -> float:
+    """Refuse an impact ``speed`` [m/s] of bodies of ``materials`` above
+    :data:`MAX_SPEED_FRACTION` of the bar wave speed of the slowest of them (no quasi-static
+    impact: outside Hertz's law and any COR); returns ``speed``."""
+    slowest = min(materials, key=bar_wave_speed)
+    v_max = MAX_SPEED_FRACTION * bar_wave_speed(slowest)
+    if not 0.0 < speed <= v_max:
+        raise InputError(field, f"impact speeds must be in (0, {v_max:.3g}] m/s, got "
+                         f"{speed:.3g} m/s: above {MAX_SPEED_FRACTION:g} of the bar wave speed "
+                         f"of {slowest.name}, not a quasi-static impact")
+    return speed
+
+
 def check_motion(damper: ParticleDamper, frequency: float, amplitude: float, *,
                  fields: tuple[str, str] = ("excitation.frequency", "excitation.amplitude"),
                  usual: tuple[float, float] = (10.0, 0.032), contact_law: bool = False,

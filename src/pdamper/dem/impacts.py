@@ -145,9 +145,12 @@ def check_restitution(velocity, curve: RestitutionCurve, sphere: Material, partn
 
     ``sphere_sphere`` defaults to ``sphere.name == partner.name``.
     """
+    from pdamper.resources import check_impact_speed
+
     v = np.atleast_1d(np.asarray(velocity, float))
     if v.ndim != 1 or v.size < 1 or np.any(~np.isfinite(v)) or np.any(v <= 0):
         raise InputError("velocity", "impact speeds must be finite and > 0 m/s")
+    check_impact_speed(float(v.max()), (sphere, partner), "velocity")
     ss = sphere.name == partner.name if sphere_sphere is None else bool(sphere_sphere)
     sim = np.array([simulate_impact(x, curve, sphere, partner, radius, ss, damping_model,
                                     integrator) for x in v])
