@@ -19,11 +19,10 @@ from typing import Annotated
 
 import typer
 
-from pdamper.cli._common import JsonOpt, ScenarioOpt, check_output, emit, load, metadata
+from pdamper.cli._common import JsonOpt, ScenarioOpt, check_plot, emit, load, metadata, plot_option
 
 #: Default velocity grid of ``--velocity``.
 DEFAULT_VELOCITY = "0.01m/s:2m/s:40"
-_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
 
 
 def cor(
@@ -42,8 +41,7 @@ def cor(
         "--integrator", help="gear (default) or verlet.")] = None,
     radius: Annotated[str | None, typer.Option(
         "--radius", help="Sphere radius, e.g. '5mm' (default: the scenario's).")] = None,
-    plot: Annotated[str | None, typer.Option(
-        "--plot", help="Figure file (.png, .pdf or .svg).")] = None,
+    plot: plot_option("the target and simulated COR") = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -59,9 +57,7 @@ def cor(
 
     sc = load(scenario, particles__radius=radius, dem__damping_model=damping_model,
               dem__integrator=integrator)
-    plot = check_output(plot, "plot")
-    if plot is not None and plot.suffix.lower() not in _FORMATS:
-        raise InputError("plot", f"must end in {', '.join(_FORMATS)}, got {plot.name!r}")
+    plot = check_plot(plot)
     v0, v1, n = parse_range(velocity, "m/s", "velocity")
     if min(v0, v1) <= 0:
         raise InputError("velocity", f"impact speeds must be > 0 m/s, got {min(v0, v1):g} m/s")
@@ -96,13 +92,12 @@ def cor(
     if plot is not None:
         from matplotlib.figure import Figure
 
-        from pdamper.cli._common import write_atomic
+        from pdamper.cli._common import write_figure
         from pdamper.plots import plot_cor_check
 
         fig = Figure(figsize=(7, 4.5), layout="constrained")
         plot_cor_check(check, ax=fig.subplots(), curve=curve)
-        fmt = _FORMATS[plot.suffix.lower()]
-        payload["plot"] = str(write_atomic(plot, lambda p: fig.savefig(p, format=fmt, dpi=120)))
+        payload["plot"] = str(write_figure(fig, plot, dpi=120))
     kind_text = "sphere-sphere" if sphere_sphere else "sphere-wall"
     lines = [f"{check.pair} ({kind_text}, r = {r * 1e3:g} mm): target {check.curve}",
              f"DEM single impacts: {check.damping_model} COR-damping relation, "

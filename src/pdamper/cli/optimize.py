@@ -11,11 +11,12 @@ from pdamper.cli._common import (
     JsonOpt,
     ModelOpt,
     ScenarioOpt,
-    check_output,
+    check_plot,
     emit,
     load,
     metadata,
-    write_atomic,
+    plot_option,
+    write_figure,
 )
 
 
@@ -41,7 +42,7 @@ def optimize(
     max_evaluations: Annotated[int | None, typer.Option(
         "--max-evaluations", help="Evaluation budget of the optimiser.")] = None,
     seed: Annotated[int | None, typer.Option(help="Seed of the optimiser.")] = None,
-    plot: Annotated[str | None, typer.Option(help="PNG file of the landscape.")] = None,
+    plot: plot_option("the design landscape") = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -64,7 +65,7 @@ def optimize(
               optimization__threshold=threshold, optimization__method=method,
               optimization__workers=workers, optimization__scheduler=scheduler,
               optimization__max_evaluations=max_evaluations, optimization__seed=seed)
-    plot = check_output(plot, "plot")
+    plot = check_plot(plot)
     o = sc.optimization
     damper = sc.damper()
     variables = o.variables()
@@ -92,7 +93,7 @@ def optimize(
 
         fig = Figure(figsize=(7, 5), layout="constrained")
         plot_design_landscape(res, ax=fig.subplots())
-        write_atomic(plot, lambda p: fig.savefig(p, dpi=120, format="png"))
+        write_figure(fig, plot, dpi=120)
     unit = {"m": "m", "s": "s", "1": "1"}[res.objective.unit]
     payload = {**res.as_dict(), "workers": n_workers,
                "units": {"mass": "kg", "objective": unit, "at": "s", "radius": "m",
