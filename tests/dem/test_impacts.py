@@ -48,3 +48,8 @@ def test_head_on_spheres_give_the_constant_cor():
 def test_bad_velocities():
     with pytest.raises(InputError, match="velocity"):
         check_restitution([0.1, -1.0], paper.PAPER_COR_PW, S235, PVC, 0.005)
+    # faster than a quasi-static impact (0.1 of PVC's bar wave speed): refused before any
+    # run (1e305 m/s overflowed the Hertz closed forms with a traceback)
+    for v in ([1e305], [1.0, 1e3]):
+        with pytest.raises(InputError, match=r"^velocity: impact speeds must be in \(0, 146\]"):
+            check_restitution(v, paper.PAPER_COR_PW, S235, PVC, 0.005)

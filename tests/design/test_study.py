@@ -40,6 +40,9 @@ def test_variable_specifications():
     ("radius=-3mm:6mm:4", "radius"),
     ("radius=3 blorps", "unknown unit"),
     ("radius", "expected 'name=values'"),
+    ("particle-material=,", "empty material name"),          # a list of no material
+    ("particle-material=S235,,PVC", "empty material name"),
+    ("particle-material=S235,", "empty material name"),
 ])
 def test_bad_specifications(spec, pattern):
     with pytest.raises(InputError, match=pattern):
@@ -219,3 +222,10 @@ def test_particle_material_is_a_design_variable():
                                                                                     "PVC")
     assert pvc.mass == pytest.approx(steel.mass * 1400 / 7900)
     assert res.best is steel and pvc.objective > 1.2 * steel.objective
+
+
+def test_a_variable_without_values_is_refused():
+    """A study over an empty list would evaluate nothing and end with no best design."""
+    for values, bounds in (((), None), (None, None)):
+        with pytest.raises(InputError, match="^optimization.vary: 'particles': no values"):
+            DesignVariable("particles", values, bounds)

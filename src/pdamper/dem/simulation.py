@@ -637,6 +637,10 @@ class DEMEngine:
         self.particles = particles
         self.container = container
         self.contact = contact
+        motions = (HarmonicMotion, PrescribedMotion, StructureMotion)
+        if motion is not None and not isinstance(motion, motions):
+            raise InputError("motion", f"must be one of {', '.join(m.__name__ for m in motions)} "
+                             f"or None (at rest), got {motion!r}")
         self.motion = motion or HarmonicMotion()
         if integrator not in INTEGRATORS:
             raise InputError("integrator", f"must be one of {', '.join(INTEGRATORS)}, "
