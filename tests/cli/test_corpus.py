@@ -8,7 +8,7 @@ import os
 import pytest
 
 from answers import check_answer, time_bound
-from issue11_corpus import CASES, OK, SCENARIOS
+from issue11_corpus import CASES, FILES, OK, SCENARIOS
 
 #: Seconds one invocation may take here (the slowest valid case runs a small map).
 BOUND = 60.0
@@ -21,6 +21,8 @@ def corpus_tmp(tmp_path):
     os.mkfifo(tmp_path / "fifo")
     for name, text in SCENARIOS.items():
         (tmp_path / f"{name}.toml").write_text(text, encoding="utf-8")
+    for name, text in FILES.items():
+        (tmp_path / name).write_text(text, encoding="utf-8")
     return tmp_path
 
 
