@@ -85,8 +85,8 @@ def split_variant(text: str, field: str = "variants") -> tuple[str, str]:
 
     >>> split_variant("0.6/0.85"), split_variant("paper*1.5")
     (('0.6', '0.85'), ('paper*1.5', 'paper*1.5'))
-    >>> split_variant("0.9/tables/pvc.csv")  # whose file is missing: read_cor_table says so
-    ('0.9', 'tables/pvc.csv')
+    >>> split_variant("thornton/0.9*0.5")
+    ('thornton', '0.9*0.5')
     """
     text = str(text).strip()
     cuts = [k for k, c in enumerate(text) if c == "/"]
