@@ -204,3 +204,23 @@ def test_scenario_with_a_cor_table_pickles(tmp_path):
         section = getattr(sc, name, None)
         if section is not None:
             assert roundtrip(section) == section
+
+
+def test_design_evaluator_of_a_scenario_pickles_and_answers_the_same(tmp_path):
+    """What ``pdamper optimize`` sends to its workers: the evaluator of a scenario with a COR
+    table, its model built by the scenario (a bound method, no closure)."""
+    import functools
+
+    from pdamper.design.study import DesignEvaluator, make_objective
+    from pdamper.io.scenario import load_scenario
+
+    (tmp_path / "cor.csv").write_text("velocity [m/s], cor [-]\n0.2, 0.89\n1.8, 0.80\n")
+    (tmp_path / "s.toml").write_text('[restitution]\nparticle_wall = { model = "table", '
+                                     'file = "cor.csv" }\n')
+    sc = load_scenario(tmp_path / "s.toml")
+    obj = make_objective("amplitude-at", 0.8, -0.058, sc.structure_model())
+    ev = DesignEvaluator(sc.structure_model(), sc.damper(), -0.058, obj,
+                         functools.partial(sc.model, None))
+    back = roundtrip(ev)
+    design = {"particles": 48}
+    assert back(design) == ev(design)

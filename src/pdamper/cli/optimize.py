@@ -48,6 +48,7 @@ def optimize(
     as_json: JsonOpt = False,
 ) -> None:
     """Design with the best objective; every candidate (the landscape) is listed."""
+    import functools
     import os
 
     from pdamper.design.study import DesignVariable, optimize_design
@@ -82,7 +83,7 @@ def optimize(
         parallel = proto.expensive and importlib.util.find_spec("distributed") is not None
         n_workers = (os.cpu_count() or 1) if parallel else 0
     res = optimize_design(sc.structure_model(), damper, sc.structure.initial_displacement,
-                          variables, o.objective, o.at, model=lambda d: sc.model(None, d),
+                          variables, o.objective, o.at, model=functools.partial(sc.model, None),
                           threshold=o.threshold, method=o.method, max_grid=o.max_grid,
                           max_evaluations=o.max_evaluations, seed=o.seed,
                           workers=n_workers, scheduler=o.scheduler)
