@@ -256,15 +256,20 @@ def check_release_scale(measured: AlignedMeasurement, initial_displacement: floa
     Parameters
     ----------
     measured
-        The aligned measurement (its fitted ``initial_deflection`` [m]).
+        The aligned measurement; its release is its first peak (the fitted
+        ``initial_deflection``) [m].
     initial_displacement
         The simulated release deflection x0 [m].
     """
-    x_m, x_s = abs(float(measured.initial_deflection)), abs(float(initial_displacement))
+    peaks = np.asarray(measured.peak_amplitudes, float)
+    if peaks.size == 0:
+        return math.nan
+    x_m, x_s = abs(float(peaks[0])), abs(float(initial_displacement))
     ratio = x_m / x_s if x_s > 0 else math.inf
     if not 1.0 / MAX_RELEASE_RATIO <= ratio <= MAX_RELEASE_RATIO:
         factor = f"{ratio:.3g} times" if ratio >= 1 else f"1/{1.0 / ratio:.3g} of"
-        raise InputError("measured", f"{measured.source or 'the measurement'}: released from "
+        source = getattr(measured, "source", "") or "the measurement"
+        raise InputError("measured", f"{source}: released from "
                          f"{x_m:.4g} m, {factor} the simulated release of {x_s:.4g} m "
                          f"(structure.initial_displacement); compared only within a factor "
                          f"of {MAX_RELEASE_RATIO:g}: check the unit in the file's header")
