@@ -189,6 +189,23 @@ def test_analysis_and_design_settings_pickle():
     assert roundtrip(obj) == obj
 
 
+def test_cor_study_settings_pickle(tmp_path, monkeypatch):
+    """A COR sensitivity variant with a table, and a fit with its covariance."""
+    from pdamper.reports.cor_sensitivity import cor_variant
+
+    (tmp_path / "cor.csv").write_text("velocity [m/s], cor [-]\n0.2, 0.89\n0.6, 0.86\n"
+                                      "1.8, 0.80\n")
+    monkeypatch.chdir(tmp_path)
+    v = cor_variant("paper/cor.csv*1.2", PAPER_DAMPER)
+    v.restitution_pw(V)  # evaluated: its interpolant cached
+    assert roundtrip(v) == v
+    fit = fit_restitution((0.1, 0.3, 0.6, 1.0, 1.5), (0.9, 0.75, 0.6, 0.52, 0.5),
+                          std=(0.01,) * 5, model="exponential")
+    back = roundtrip(fit)
+    np.testing.assert_array_equal(back.curve(V), fit.curve(V))
+    np.testing.assert_array_equal(back.covariance, fit.covariance)
+
+
 def test_scenario_with_a_cor_table_pickles(tmp_path):
     from pdamper.io.scenario import load_scenario
 
