@@ -9,6 +9,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from pdamper import resources
 from pdamper.damper import ParticleDamper
 from pdamper.errors import InputError
 
@@ -88,11 +89,18 @@ class DamperModel(ABC):
     #: Whether one Level III run costs seconds or more (design studies then evaluate
     #: designs on parallel workers by default).
     expensive: ClassVar[bool] = False
+    #: Whether the model resolves the contacts with the contact law (Hertz): its runs must
+    #: also keep the Hertz contact radius below half the sphere radius
+    #: (:data:`pdamper.resources.MAX_CONTACT_RADIUS_RATIO`).
+    contact_law: ClassVar[bool] = False
 
     def __init__(self, damper: ParticleDamper):
         if not isinstance(damper, ParticleDamper):
             raise InputError("damper", f"must be a ParticleDamper (e.g. "
                              f"pdamper.parameters.PAPER_DAMPER), got {type(damper).__name__}")
+        # spheres below 0.1 mm are a cohesive powder in every model: refused wherever a
+        # model of any fidelity is made (a design study's candidate, the API)
+        resources.check_particles(damper)
         self.damper = damper
 
     @property
@@ -105,6 +113,7 @@ class DamperModel(ABC):
         ``model.with_damper(model.damper.with_count(64))`` for a particle-count sweep."""
         if not isinstance(damper, ParticleDamper):
             raise InputError("damper", f"must be a ParticleDamper, got {type(damper).__name__}")
+        resources.check_particles(damper)
         new = copy.copy(self)
         new.damper = damper
         return new
