@@ -90,7 +90,6 @@ def test_a_grid_no_machine_holds_is_refused_from_its_axes():
     """10^10 points (10^5 x 10^5) used to hang; the axes' lengths are judged by the hard
     limits of :mod:`pdamper.resources` before the grid exists, whatever form they have."""
     from answers import memory_headroom
-
     from pdamper.errors import InputError
 
     axis = np.linspace(1.0, 20.0, 100_000)

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+
 from answers import memory_headroom
 from dem_inputs import engine, lattice, particles
-
 from pdamper.dem import HarmonicMotion, StructureMotion
 from pdamper.errors import InputError
 from pdamper.materials import S235

@@ -226,7 +226,6 @@ def test_a_variables_count_is_judged_before_its_values_are_built():
     """``particles=0:1000000000:1`` used to build a tuple of 10^9 counts (out of memory);
     ``radius=1mm:3mm:100000000`` hung."""
     from answers import memory_headroom
-
     from pdamper.design.study import variable_size
     from pdamper.io.scenario import load_scenario
 
