@@ -222,3 +222,17 @@ def test_every_free_vibration_obeys_the_release_limits():
     Simulation(stiff, AnalyticalDamper(PAPER_DAMPER), -0.07)
     _refused(lambda: Simulation(stiff, DEMDamper(PAPER_DAMPER), -0.07),
              "structure.initial_displacement", "contact radius")
+
+
+def test_the_analytical_model_refuses_excitations_outside_the_limits():
+    """The Python API's Level II run of the analytical model is judged as `pdamper
+    analytic` is (at the fastest frequency with the extreme strokes of its arrays)."""
+    import numpy as np
+
+    from pdamper.models import AnalyticalDamper
+
+    model = AnalyticalDamper(PAPER_DAMPER)
+    _refused(lambda: model.response(10.0, 20.0), "amplitude", "10 m")
+    _refused(lambda: model.response(np.array([10.0, 5e4]), np.array([1e-5, 0.01])),
+             "frequency", "contact frequency")
+    assert float(model.response(20.0, 0.2).loss_factor) > 0  # the paper's corner

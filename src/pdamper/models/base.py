@@ -10,6 +10,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from pdamper import resources
+from pdamper.constants import STANDARD_GRAVITY
 from pdamper.damper import ParticleDamper
 from pdamper.errors import InputError
 
@@ -117,6 +118,22 @@ class DamperModel(ABC):
         new = copy.copy(self)
         new.damper = damper
         return new
+
+    def check_excitation(self, frequency, amplitude) -> None:
+        """Refuse harmonic excitations ``X sin(2 pi f t)`` outside the physics limits of a
+        run of this model (:func:`pdamper.resources.check_grid`: strokes, impact speeds,
+        the contact frequency and, with :attr:`contact_law`, Hertz's law), judged at the
+        fastest frequency with the largest and smallest stroke of the arrays given; what is
+        not a positive finite number is left to the model's own checks."""
+        f = np.asarray(frequency, float).ravel()
+        x = np.abs(np.asarray(amplitude, float).ravel())
+        f, x = f[np.isfinite(f) & (f > 0)], x[np.isfinite(x) & (x > 0)]
+        if f.size and x.size:
+            resources.check_grid(self.damper, (float(f.min()), float(f.max())),
+                                 (float(x.min()), float(x.max())),
+                                 fields=("frequency", "amplitude"),
+                                 contact_law=self.contact_law,
+                                 gravity=getattr(self, "gravity", STANDARD_GRAVITY))
 
     @abstractmethod
     def response(self, frequency, amplitude) -> DamperResponse:
