@@ -41,6 +41,15 @@ that are off by orders of magnitude, not to tune runs).
   optimisation, which issue 9 runs in parallel), each of them within :data:`TIME_LIMIT`.
   Never above :data:`FORCE_TIME_LIMIT` (30 days), even with ``--force``.
 
+**Where.** The edges (scenario, command line) judge what their inputs imply, naming their
+fields, with ``--force``. Underneath, every run is judged where it is made, so that every
+command and the API inherit the limits: :class:`pdamper.dem.DEMEngine` (every DEM run)
+by :func:`check_impacts` at its reference speed and by the hard cost limits at ``run``;
+the damper models (sphere radius, the analytical model's excitation) and
+:class:`pdamper.coupling.Simulation` (the release). A count (a grid's axes, a range's
+values, a list of runs) is judged from its parameters (:func:`count_cost`) before the
+list exists.
+
 The per-unit costs below are the README's figures (2-core machine, one core), rounded up.
 The DEM step count is that of a fixed step of ``safety`` x the shortest Hertz contact time
 at the fastest implied impact (the variable-step Gear integrator mostly needs fewer).
@@ -196,6 +205,8 @@ def hertz_impacts(spheres: Iterable[tuple[float, Material]], wall: Material | No
                           effective_modulus(mi, mj), min(ri, rj)))
         if wall is not None:
             pairs.append((massi, effective_radius(ri), effective_modulus(mi, wall), ri))
+    if not pairs:
+        raise ValueError("hertz_impacts needs a wall or contacts between spheres")
     times, ratios = [], []
     for m_star, r_star, e_star, r in pairs:
         k = hertz_stiffness(e_star, r_star)
