@@ -203,7 +203,6 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("cor-velocity-1000mps-sphere-sphere", ["cor", "--velocity", "1000m/s:2000m/s:2",
                                             "--pair", "S235:S235"], Error("velocity")),
     ("ok-optimize-vary-radius", ["optimize", "--vary", "radius=3mm:6mm:3", "--json"], OK()),
-    ("ok-cor-two-speeds", ["cor", "--velocity", "0.5m/s:1m/s:2", "--json"], OK()),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds
