@@ -59,6 +59,9 @@ SCENARIOS = {
     "cor_table_too_fast": '[restitution]\nparticle_wall = { model = "table", '
                           'file = "cor_1e305.csv" }\n',
     "four_spheres": '[particles]\ncount = 4\n[dem]\nintegrator = "verlet"\n',
+    # -- counts judged before they are built; physics limits on every run
+    "vary_particles_huge": '[optimization]\nvary = ["particles=0:1000000000:1"]\n',
+    "count_16": "[particles]\ncount = 16\n",
 }
 
 
@@ -230,4 +233,50 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("cor-sensitivity-plot-gif", ["cor-sensitivity", "--plot", "{tmp}/x.gif"], Error("plot")),
     ("ok-simulate-plot-jpg", ["simulate", "--duration", "0.5s", "--plot", "{tmp}/x.jpg",
                               "--json"], OK()),
+
+
+    # -- counts judged by the resource model from their parameters, before anything is
+    #    built (a list of 10^9 speeds, design variables of 10^8-10^9 values); --force
+    #    lifts the soft limits only
+    ("cor-velocity-count-1e9", ["cor", "--velocity", "0.1m/s:1m/s:1000000000"],
+     Error("velocity")),
+    ("cor-velocity-count-1e9-forced", ["cor", "--velocity", "0.1m/s:1m/s:1000000000",
+                                       "--force"], Error("velocity")),
+    ("cor-velocity-count-1e7", ["cor", "--velocity", "0.1m/s:1m/s:10000000"],
+     Error("velocity")),
+    ("optimize-vary-particles-1e9", ["optimize", "--vary", "particles=0:1000000000:1"],
+     Error("optimization.vary.particles")),
+    ("optimize-vary-particles-1e9-scenario", ["optimize", "--scenario",
+                                              "{scenario:vary_particles_huge}"],
+     Error("optimization.vary.particles")),
+    ("optimize-vary-radius-1e8", ["optimize", "--vary", "radius=1mm:3mm:100000000"],
+     Error("optimization.vary.radius")),
+    # a scenario's study is checked, not built, by a command that does not run it
+    ("ok-analytic-scenario-vary-particles-1e9", ["analytic", "--scenario",
+                                                 "{scenario:vary_particles_huge}", "--json"],
+     OK()),
+    # -- the physics limits of `pdamper dem` on every run: design candidates, cor,
+    #    cor-sensitivity
+    ("optimize-vary-radius-1nm", ["optimize", "--vary", "radius=1nm:3mm:4"],
+     Error("optimization.vary.radius")),
+    ("cor-sensitivity-10Hz-100m", ["cor-sensitivity", "--points", "10Hz/100m", "--no-level3"],
+     Error("points")),
+    ("cor-sensitivity-10Hz-100m-16-spheres", ["cor-sensitivity", "--points", "10Hz/100m",
+                                              "--no-level3", "--scenario",
+                                              "{scenario:count_16}"], Error("points")),
+    ("cor-sensitivity-10Hz-5m", ["cor-sensitivity", "--points", "10Hz/5m", "--no-level3"],
+     Error("points")),
+    ("cor-velocity-1000mps", ["cor", "--velocity", "1000m/s:2000m/s:2"], Error("velocity")),
+    ("cor-velocity-1000mps-sphere-sphere", ["cor", "--velocity", "1000m/s:2000m/s:2",
+                                            "--pair", "S235:S235"], Error("velocity")),
+    ("ok-optimize-vary-radius", ["optimize", "--vary", "radius=3mm:6mm:3", "--json"], OK()),
 ]
+
+#: Address space [bytes] a case may map beyond what the test process holds
+#: (``answers.memory_headroom``): where a regression would build what the input implies
+#: (gigabytes), it fails at once instead of taking the machine's memory.
+HEADROOM: dict[str, float] = {
+    name: 2**30 for name in (
+        "cor-velocity-count-1e9", "cor-velocity-count-1e9-forced", "cor-velocity-count-1e7",
+        "optimize-vary-particles-1e9", "optimize-vary-particles-1e9-scenario",
+        "optimize-vary-radius-1e8", "ok-analytic-scenario-vary-particles-1e9")}

@@ -118,3 +118,14 @@ def test_tables_given_by_path(tmp_path, monkeypatch):
         split_variant("paper/none/x.csv")
     with pytest.raises(InputError, match="COR table not found: none.csv"):
         cor_variant("none.csv", paper.PAPER_DAMPER)
+
+
+@pytest.mark.parametrize("count", [32, 16])
+def test_points_outside_the_dem_limits_are_refused_before_any_run(count):
+    """10 Hz / 100 m used to start DEM runs that stopped advising a smaller Gear tolerance
+    (and with 16 spheres reported a loss factor)."""
+    sc = load_scenario(None, {"particles.count": count})
+    for point in ((10.0, 100.0), (10.0, 5.0)):
+        with pytest.raises(InputError) as info:
+            run_cor_sensitivity(sc, ["0.6/0.85"], [(10.0, 0.032), point], level3=False)
+        assert info.value.field == "points"

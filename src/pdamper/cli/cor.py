@@ -19,10 +19,21 @@ from typing import Annotated
 
 import typer
 
-from pdamper.cli._common import JsonOpt, ScenarioOpt, check_plot, emit, load, metadata, plot_option
+from pdamper.cli._common import (
+    ForceOpt,
+    JsonOpt,
+    ScenarioOpt,
+    check_plot,
+    emit,
+    load,
+    metadata,
+    plot_option,
+)
 
 #: Default velocity grid of ``--velocity``.
 DEFAULT_VELOCITY = "0.01m/s:2m/s:40"
+#: Its count: the usual number of single impacts.
+DEFAULT_IMPACTS = 40
 
 
 def cor(
@@ -42,6 +53,7 @@ def cor(
     radius: Annotated[str | None, typer.Option(
         "--radius", help="Sphere radius, e.g. '5mm' (default: the scenario's).")] = None,
     plot: plot_option("the target and simulated COR") = None,
+    force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -49,7 +61,8 @@ def cor(
     (paper Sect. 2, Fig. 2-right)."""
     import numpy as np
 
-    from pdamper.dem.impacts import check_restitution
+    from pdamper import resources
+    from pdamper.dem.impacts import check_restitution, impacts_cost
     from pdamper.errors import InputError
     from pdamper.io.restitution import build_curve, parse_model_text, validate_spec
     from pdamper.materials import get_material
@@ -61,6 +74,7 @@ def cor(
     v0, v1, n = parse_range(velocity, "m/s", "velocity")
     if min(v0, v1) <= 0:
         raise InputError("velocity", f"impact speeds must be > 0 m/s, got {min(v0, v1):g} m/s")
+    resources.require(impacts_cost(n), force)  # judged from the count, before the list exists
     v = np.linspace(v0, v1, n)
 
     damper = sc.damper()

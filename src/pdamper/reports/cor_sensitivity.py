@@ -275,6 +275,10 @@ def run_cor_sensitivity(scenario=None, variants: Sequence[str | CORVariant] = DE
     pts = [(float(f), float(x)) for f, x in points]
     if not pts:
         raise InputError("points", "give at least one (frequency, amplitude) point")
+    from pdamper import resources
+
+    for f, x in pts:  # the DEM's physics limits, for every point before the first run
+        resources.check_motion(base, f, x, fields=("points", "points"), contact_law=True)
     t0 = time.perf_counter()
     shape = (len(vs), len(pts))
     out = {k: np.full(shape, np.nan) for k in (
