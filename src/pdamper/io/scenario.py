@@ -872,11 +872,21 @@ transient_tolerance = {dem.transient_tolerance}  # Gear tolerance of the start f
 """
 
 
-#: A commented scenario file with every key and its default (``pdamper example-scenario``).
-EXAMPLE_SCENARIO = _example()
+@functools.cache
+def _example_text() -> str:
+    return _example()
+
+
+def __getattr__(name: str) -> Any:
+    # ``EXAMPLE_SCENARIO``: a commented scenario file with every key and its default
+    # (``pdamper example-scenario``), written when first asked for: it formats every
+    # quantity with its unit, which needs the unit registry, and most commands never print it
+    if name == "EXAMPLE_SCENARIO":
+        return _example_text()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 @functools.cache
 def example_scenario() -> Scenario:
     """The example scenario, parsed (it must equal the defaults)."""
-    return scenario_from_dict(tomllib.loads(EXAMPLE_SCENARIO))
+    return scenario_from_dict(tomllib.loads(_example_text()))
