@@ -1,7 +1,9 @@
 """Start-up of pdamper as whole processes: ``import pdamper``, ``pdamper analytic`` and a
 short DEM run, side by side with another source tree (the previous release).
 
-Targets (median of 10 runs, warm caches: byte code, numba's kernels, pint's definitions):
+Targets (median of 10 runs, warm caches: byte code, numba's kernels, pint's definitions;
+``PYTHONDONTWRITEBYTECODE`` is ignored so that the byte code is cached as in an
+installation):
 
 =========================================================  ========
 command                                                    target
@@ -55,6 +57,9 @@ CASES = (
 def _env(src: Path) -> dict[str, str]:
     env = dict(os.environ)
     env["PYTHONPATH"] = str(src)
+    # warm: the byte code of the tree is written on the first run and read after, as an
+    # installed package has it (pip compiles it)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
     return env
 
 
@@ -84,7 +89,7 @@ def measure(trees: dict[str, Path], repeat: int, python: str = sys.executable,
             progress=None) -> dict[str, dict[str, list[float]]]:
     """``times[case][tree]``: ``repeat`` wall times each, the trees taking turns."""
     times = {label: {name: [] for name in trees} for label, _, _ in CASES}
-    for label, args, _ in CASES:  # warm the caches (and compile a tree's kernels)
+    for _label, args, _ in CASES:  # warm the caches (and compile a tree's kernels)
         for src in trees.values():
             run_once(src, args, python)
     for i in range(repeat):
@@ -154,7 +159,7 @@ def main(argv: list[str] | None = None) -> int:
     print("DEM run itself in the dem command (its wall_seconds, one run): "
           + ", ".join(f"{n} {k:.3f} s" if k is not None else f"{n} n/a"
                       for n, k in kernel.items()))
-    print(f"load average after " + " ".join(f"{x:.2f}" for x in os.getloadavg())
+    print("load average after " + " ".join(f"{x:.2f}" for x in os.getloadavg())
           + f"; benchmark took {time.perf_counter() - t0:.0f} s")
     return 0 if ok or not args.check else 1
 

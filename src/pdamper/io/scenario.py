@@ -36,7 +36,6 @@ from pdamper import resources
 from pdamper.analysis.stationarity import SteadyStateCriterion
 from pdamper.contact.law import DAMPING_MODELS, DEFAULT_MIN_IMPACT_VELOCITY
 from pdamper.dem.model import DEFAULT_SAFETY
-from pdamper.design.study import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
 from pdamper.errors import InputError
 from pdamper.io.restitution import MODELS as COR_MODELS
 from pdamper.io.restitution import RestitutionSpec, resolve_files
@@ -51,6 +50,7 @@ from pdamper.models.dem import (
     PAPER_CYCLES,
 )
 from pdamper.parameters import vertical_dampers_paper as paper
+from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
 from pdamper.units import format_quantity, parse_quantity, parse_range
 
 
@@ -159,6 +159,8 @@ class OptimizationSpec(_Section):
 
     def variables(self):
         """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary``."""
+        if not self.vary:  # no import of Level III for the commands that do not optimise
+            return []
         from pdamper.design.study import parse_variable
 
         return [parse_variable(v) for v in self.vary]
