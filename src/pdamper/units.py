@@ -35,10 +35,13 @@ SI = {
 def _import_pint():
     """pint, imported without dask.
 
-    pint looks for dask at import and imports it when installed (0.1-0.2 s) to accept dask
-    arrays as magnitudes; pdamper's quantities are numbers at the edges, never dask arrays,
-    and a command that runs no sweep should not pay for dask. While pint is first imported,
-    dask is therefore marked absent (unless something imported it already)."""
+    pint looks for dask at import and imports it when installed (0.1 s of CPU, a quarter of
+    a ``pdamper analytic``) for its methods on dask-array magnitudes (``Quantity.compute``,
+    ``persist``, ``visualize``); pdamper's quantities are numbers at the edges, never dask
+    arrays, and a command that runs no sweep should not pay for dask. While pint is first
+    imported, dask is therefore marked absent, unless something imported it already (a
+    sweep, a user's script): in a process where pdamper imports pint first, pint has no
+    dask methods."""
     import sys
 
     if "pint" in sys.modules or "dask" in sys.modules:
