@@ -78,12 +78,12 @@ def _registry():
     Parsing pint's definitions file takes 0.2-0.6 s; pint caches the parsed definitions on
     disk (``cache_folder``, named by a hash of the file, pint's and Python's versions), so
     that later processes load them in a few milliseconds. A cache that cannot be read (a
-    file another process is still writing, a full disk) is dropped and the definitions are
-    parsed afresh: the registry is the same either way.
+    file another process is still writing, a full disk) is dropped and written afresh, or
+    the definitions are parsed without a cache: the registry is the same either way.
     """
     pint = _import_pint()
     folder = _cache_folder()
-    if folder is not None:
+    for _ in range(2 if folder is not None else 0):  # a damaged cache is written afresh
         try:
             return pint.UnitRegistry(cache_folder=folder)
         except Exception:  # noqa: BLE001 - a damaged cache must not stop a run
