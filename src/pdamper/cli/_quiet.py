@@ -23,8 +23,8 @@ def quiet() -> bool:
     return _quiet
 
 
-def set_quiet(ctx=None, param=None, value: bool = True) -> bool:
-    """Turn quiet on (a click callback of ``--quiet``); returns ``value``."""
+def set_quiet(value: bool = True) -> bool:
+    """Turn quiet on when ``value`` (the callback of ``--quiet``); returns ``value``."""
     global _quiet
     if value and not _quiet:
         _quiet = True
