@@ -68,16 +68,17 @@ def _child(cmd) -> tuple[float, float, subprocess.CompletedProcess]:
     return wall, (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime), proc
 
 
-def startup(packing: str) -> tuple[float, float, float]:
+def startup(packing: str, integrator: str = "gear") -> tuple[float, float, float]:
     """CPU seconds of: the import of the CLI and models; that + the numba cache load of the
-    DEM kernels (a ``pdamper dem``'s start-up); and a whole ``pdamper map --model dem``
+    DEM kernels a run with ``integrator`` calls (a ``pdamper dem``'s start-up: the kernels of
+    the other integrators are not loaded); and a whole ``pdamper map --model dem``
     process of one cheap point (one cycle at 20 Hz / 1 mm after settling: 0.06 s of CPU,
     left in, so the start-up is slightly overstated and pdamper's per-point cost with it),
     the start-up a map pays once (its imports of xarray, NetCDF and the sweep engine)."""
     _, imp, _ = _child([sys.executable, "-c", "import pdamper.cli, pdamper.models"])
     _, load, _ = _child([sys.executable, "-c",
                          "import pdamper.dem.simulation as s; from pdamper.dem import warmup; "
-                         "warmup()"])
+                         f"warmup(integrators=({integrator!r},), motions=('harmonic',))"])
     with tempfile.TemporaryDirectory() as tmp:
         scenario = Path(tmp) / "s.toml"
         scenario.write_text(f'[dem]\ncycles = 1\nskip_cycles = 0\n\n[map]\n'
@@ -123,7 +124,7 @@ def main(argv=None) -> None:
     args = ap.parse_args(argv)
     if not available():
         sys.exit("liggghts not found (Debian: apt-get install liggghts)")
-    imp, load, mapped = startup(args.packing)
+    imp, load, mapped = startup(args.packing, args.integrator)
     print(f"pdamper packing: {args.packing}, integrator: {args.integrator}, {CYCLES} cycles "
           "per point")
     print(f"pdamper start-up (CPU s): import of the CLI and models {imp:.2f}, "

@@ -98,6 +98,11 @@ TIME_LIMIT = 3600.0
 SWEEP_TIME_LIMIT = 86400.0
 #: Estimated run time that not even ``--force`` allows [s].
 FORCE_TIME_LIMIT = 30 * 86400.0
+#: Design study (:mod:`pdamper.design.study`): most grid points of a brute-force study
+#: before ``method="auto"`` turns to the optimiser, and the optimiser's evaluation budget
+#: (here, not in the study, so that the scenario reader does not import Level III).
+DEFAULT_MAX_GRID = 400
+DEFAULT_MAX_EVALUATIONS = 200
 
 # ---------------------------------------------------------------- per-unit costs
 #: DEM: seconds per particle and time step (README: 29-34 ns, Verlet).

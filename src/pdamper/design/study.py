@@ -63,13 +63,10 @@ from pdamper.coupling.simulation import Simulation
 from pdamper.damper import ParticleDamper
 from pdamper.design.parallel import Outcome, evaluate_parallel
 from pdamper.errors import InputError, check_range
+from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID  # noqa: F401 - the study's defaults
 
 logger = logging.getLogger(__name__)
 
-#: Most grid points of a brute-force study before ``method="auto"`` turns to the optimiser.
-DEFAULT_MAX_GRID = 400
-#: Evaluation budget of the optimiser.
-DEFAULT_MAX_EVALUATIONS = 200
 #: Largest grid a study accepts (a typo guard, not a design question).
 MAX_GRID = 100_000
 #: Objective value given to the optimiser for infeasible or failed designs.

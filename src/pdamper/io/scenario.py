@@ -37,7 +37,6 @@ from pdamper import resources
 from pdamper.analysis.stationarity import SteadyStateCriterion
 from pdamper.contact.law import DAMPING_MODELS, DEFAULT_MIN_IMPACT_VELOCITY
 from pdamper.dem.model import DEFAULT_SAFETY
-from pdamper.design.study import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
 from pdamper.errors import InputError
 from pdamper.io.restitution import MODELS as COR_MODELS
 from pdamper.io.restitution import RestitutionSpec, resolve_files
@@ -52,6 +51,7 @@ from pdamper.models.dem import (
     PAPER_CYCLES,
 )
 from pdamper.parameters import vertical_dampers_paper as paper
+from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
 from pdamper.units import format_quantity, parse_quantity, parse_range
 
 
@@ -161,6 +161,8 @@ class OptimizationSpec(_Section):
     def variables(self):
         """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary`` (judge
         their sizes first: :meth:`Scenario.check_resources` with ``"optimization"``)."""
+        if not self.vary:  # no import of Level III for the commands that do not optimise
+            return []
         from pdamper.design.study import parse_variable
 
         return [parse_variable(v) for v in self.vary]
@@ -906,11 +908,21 @@ transient_tolerance = {dem.transient_tolerance}  # Gear tolerance of the start f
 """
 
 
-#: A commented scenario file with every key and its default (``pdamper example-scenario``).
-EXAMPLE_SCENARIO = _example()
+@functools.cache
+def _example_text() -> str:
+    return _example()
+
+
+def __getattr__(name: str) -> Any:
+    # ``EXAMPLE_SCENARIO``: a commented scenario file with every key and its default
+    # (``pdamper example-scenario``), written when first asked for: it formats every
+    # quantity with its unit, which needs the unit registry, and most commands never print it
+    if name == "EXAMPLE_SCENARIO":
+        return _example_text()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 @functools.cache
 def example_scenario() -> Scenario:
     """The example scenario, parsed (it must equal the defaults)."""
-    return scenario_from_dict(tomllib.loads(EXAMPLE_SCENARIO))
+    return scenario_from_dict(tomllib.loads(_example_text()))
