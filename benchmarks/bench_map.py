@@ -12,8 +12,9 @@ Run ``python benchmarks/bench_map.py`` (the paper's 14 x 24 grid, 32 spheres, ev
   side-by-side comparison ``benchmarks/liggghts/compare.py``; then, finer, at the step of
   its ``--liggghts-step verlet`` (at each point the step pdamper's velocity Verlet takes
   there, 0.28-0.54 us, which resolves the contacts to the accuracy of the verification
-  table); and at 0.2 Rayleigh times with an older measured 4.69 wall s per simulated second
-  (docs/dem.md);
+  table). ``--json`` also keeps ``liggghts_estimate_seconds``, 0.2 Rayleigh times at an
+  older measured 4.69 wall s per simulated second (docs/dem.md), superseded by the 1 us
+  estimate at the measured cost per step;
 * the largest overlap / radius and the fastest impact over the map (the large-overlap
   regime of the fast corners, docs/dem.md);
 * the agreement with the analytical map on the same grid (share of cells whose motion
@@ -191,9 +192,7 @@ def _print(r: dict, MotionMode) -> None:  # noqa: N803
           f"the same cores at its users' step, {1e6 * LIGGGHTS_USERS_STEP:g} us "
           f"({1e6 * LIGGGHTS_CPU_PER_STEP_32:g} us per step of 32 spheres, the same cycles); "
           f"finer, at pdamper's Verlet step at each point (compare.py --liggghts-step verlet) "
-          f"{r['liggghts_estimate_at_accuracy_step_seconds']:.0f} s; "
-          f"{r['liggghts_estimate_seconds']:.0f} s at 0.2 Rayleigh times "
-          f"({LIGGGHTS_WALL_PER_SIMULATED_SECOND} wall s per simulated s)")
+          f"{r['liggghts_estimate_at_accuracy_step_seconds']:.0f} s")
     print(f"  largest overlap        {100 * r['max_overlap_ratio']:.1f} % of the radius, "
           f"fastest impact {r['max_impact_velocity']:.1f} m/s")
     a = r["agreement"]
