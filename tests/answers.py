@@ -76,3 +76,31 @@ def check_answer(code: int, out: str, err: str, field: str | None = None,
         assert got == field or got.startswith(field + "."), (
             f"expected the field {field!r}, got {lines[0]!r}")
     return m["field"]
+
+
+@contextlib.contextmanager
+def memory_headroom(nbytes: float | None):
+    """Let the block map at most ``nbytes`` of address space beyond what the process holds
+    (the soft ``RLIMIT_AS``, restored after): an input whose refusal regressed into building
+    what it implies fails with MemoryError at once instead of taking the machine's memory.
+    Does nothing for None or where the limit cannot be set."""
+    import resource
+
+    if nbytes is None:
+        yield
+        return
+    try:
+        with open("/proc/self/status") as fh:
+            held = next(int(line.split()[1]) * 1024 for line in fh if line.startswith("VmSize:"))
+        old = resource.getrlimit(resource.RLIMIT_AS)
+    except (OSError, StopIteration, ValueError, AttributeError):
+        yield
+        return
+    cap = held + int(nbytes)
+    if old[1] != resource.RLIM_INFINITY:
+        cap = min(cap, old[1])
+    resource.setrlimit(resource.RLIMIT_AS, (cap, old[1]))
+    try:
+        yield
+    finally:
+        resource.setrlimit(resource.RLIMIT_AS, old)

@@ -4,7 +4,8 @@ Each case is one ``pdamper`` invocation and what it must answer: ``OK`` (exit 0,
 JSON when ``--json`` is given) or ``Error(field)`` (exit 2, exactly one line on stderr,
 ``error: <field>...``). Arguments may name paths under the test's temporary directory with
 ``{tmp}``; a temporary directory holds a directory ``dir``, a regular file ``file``, a FIFO
-``fifo`` and a scenario for every ``SCENARIOS`` entry (``{scenario:NAME}``).
+``fifo``, a scenario for every ``SCENARIOS`` entry (``{scenario:NAME}``) and every
+``FILES`` entry under its name (COR tables, measured records).
 
 The corpus runs as ordinary tests (``tests/cli/test_corpus.py``); the fuzz suite
 (``tests/fuzz``) adds what it finds here.
@@ -49,6 +50,38 @@ SCENARIOS = {
     "frequency_decorated": '[excitation]\nfrequency = "10Hz🙂"\n',
     "glass": '[particles]\nmaterial = { name = "glass", youngs_modulus = "63 GPa", '
              'poisson_ratio = 0.2, density = "2500 kg/m^3" }\n',
+    # -- COR tables in runs, meaningless inputs (block: tables, scales, choices, formats)
+    "cor_table": '[restitution]\nparticle_wall = { model = "table", file = "cor.csv" }\n'
+                 'particle_particle = { model = "table", file = "cor.csv" }\n',
+    "cor_table_small_map": '[particles]\ncount = 4\n[dem]\ncycles = 2\nskip_cycles = 1\n'
+                           'integrator = "verlet"\n[restitution]\n'
+                           'particle_wall = { model = "table", file = "cor.csv" }\n',
+    "cor_table_too_fast": '[restitution]\nparticle_wall = { model = "table", '
+                          'file = "cor_1e305.csv" }\n',
+    "four_spheres": '[particles]\ncount = 4\n[dem]\nintegrator = "verlet"\n',
+    # -- counts judged before they are built; physics limits on every run
+    "vary_particles_huge": '[optimization]\nvary = ["particles=0:1000000000:1"]\n',
+    "count_16": "[particles]\ncount = 16\n",
+}
+
+
+def _free_decay(unit: str) -> str:
+    """A measured free decay of the 58 mm release (5.56 Hz, zeta 0.03) in ``unit``."""
+    import math
+
+    w = 2 * math.pi * 5.56
+    rows = (f"{k * 1e-3:.3f}, {-58.0 * math.exp(-0.03 * w * k * 1e-3) * math.cos(w * k * 1e-3):.4f}\n"
+            for k in range(2000))
+    return f"time [s], displacement [{unit}]\n" + "".join(rows)
+
+
+#: Further files of the corpus' temporary directory, by name.
+FILES = {
+    "cor.csv": "velocity [m/s], cor [-], std [-]\n0.20, 0.89, 0.01\n0.60, 0.86, 0.01\n"
+               "1.80, 0.80, 0.02\n",
+    "cor_1e305.csv": "velocity [m/s], cor [-]\n0.2, 0.89\n1e300, 0.85\n1e305, 0.80\n",
+    "decay_mm.csv": _free_decay("mm"),
+    "decay_furlong.csv": _free_decay("furlong"),
 }
 
 _MAP = ["map", "--frequency", "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2"]
@@ -165,6 +198,78 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("ok-paper-corner-analytic", ["analytic", "--frequency", "20Hz", "--amplitude", "200mm",
                                   "--json"], OK()),
     ("ok-example-scenario", ["example-scenario"], OK()),
+    # -- COR tables in runs, meaningless inputs (block: tables, scales, choices, formats)
+    ("dem-cor-table", [*_DEM, "--scenario", "{scenario:cor_table}", "--json"], OK()),
+    ("map-dem-cor-table-2x2", ["map", "--model", "dem", "--frequency", "10Hz:15Hz:2",
+                               "--amplitude", "5mm:10mm:2", "--workers", "2", "--scenario",
+                               "{scenario:cor_table_small_map}", "--json"], OK()),
+    ("optimize-material-list-empty", ["optimize", "--vary", "particle-material=,"],
+     Error("optimization.vary")),
+    ("optimize-material-list-empty-entry", ["optimize", "--vary", "particle-material=S235,,PVC"],
+     Error("optimization.vary")),
+    ("simulate-measured-in-furlongs", ["simulate", "--measured", "{tmp}/decay_furlong.csv"],
+     Error("measured")),
+    ("simulate-measured-1mm-release", ["simulate", "--measured", "{tmp}/decay_mm.csv",
+                                       "--initial-displacement=-1mm"], Error("measured")),
+    ("ok-simulate-measured-mm", ["simulate", "--measured", "{tmp}/decay_mm.csv", "--json"], OK()),
+    ("cor-velocity-1e305", ["cor", "--velocity", "1e305m/s"], Error("velocity")),
+    ("cor-velocity-range-to-1e305", ["cor", "--velocity", "1m/s:1e305m/s:3"], Error("velocity")),
+    ("cor-table-velocity-1e305", ["cor", "--model", "{tmp}/cor_1e305.csv"],
+     Error("restitution.particle_wall.file")),
+    ("analytic-table-velocity-1e305", ["analytic", "--scenario", "{scenario:cor_table_too_fast}"],
+     Error("restitution.particle_wall.file")),
+    ("ok-cor-sensitivity-table-by-path", ["cor-sensitivity", "--variants", "{tmp}/cor.csv",
+                                          "--points", "10Hz/32mm", "--no-level3", "--cycles", "3",
+                                          "--skip-cycles", "1", "--scenario",
+                                          "{scenario:four_spheres}", "--json"], OK()),
+    ("ok-cor-sensitivity-tables-pp-pw-by-path", [
+        "cor-sensitivity", "--variants", "0.6/{tmp}/cor.csv,{tmp}/cor.csv/{tmp}/cor.csv*1.2",
+        "--points", "10Hz/32mm", "--no-level3", "--cycles", "3", "--skip-cycles", "1",
+        "--scenario", "{scenario:four_spheres}", "--json"], OK()),
+    ("simulate-plot-gif", ["simulate", "--plot", "{tmp}/x.gif"], Error("plot")),
+    ("simulate-plot-no-suffix", ["simulate", "--plot", "{tmp}/x"], Error("plot")),
+    ("optimize-plot-gif", ["optimize", "--plot", "{tmp}/x.gif"], Error("plot")),
+    ("cor-plot-gif", ["cor", "--plot", "{tmp}/x.gif"], Error("plot")),
+    ("cor-sensitivity-plot-gif", ["cor-sensitivity", "--plot", "{tmp}/x.gif"], Error("plot")),
+    ("ok-simulate-plot-jpg", ["simulate", "--duration", "0.5s", "--plot", "{tmp}/x.jpg",
+                              "--json"], OK()),
+
+
+    # -- counts judged by the resource model from their parameters, before anything is
+    #    built (a list of 10^9 speeds, design variables of 10^8-10^9 values); --force
+    #    lifts the soft limits only
+    ("cor-velocity-count-1e9", ["cor", "--velocity", "0.1m/s:1m/s:1000000000"],
+     Error("velocity")),
+    ("cor-velocity-count-1e9-forced", ["cor", "--velocity", "0.1m/s:1m/s:1000000000",
+                                       "--force"], Error("velocity")),
+    ("cor-velocity-count-1e7", ["cor", "--velocity", "0.1m/s:1m/s:10000000"],
+     Error("velocity")),
+    ("optimize-vary-particles-1e9", ["optimize", "--vary", "particles=0:1000000000:1"],
+     Error("optimization.vary.particles")),
+    ("optimize-vary-particles-1e9-scenario", ["optimize", "--scenario",
+                                              "{scenario:vary_particles_huge}"],
+     Error("optimization.vary.particles")),
+    ("optimize-vary-radius-1e8", ["optimize", "--vary", "radius=1mm:3mm:100000000"],
+     Error("optimization.vary.radius")),
+    # a scenario's study is checked, not built, by a command that does not run it
+    ("ok-analytic-scenario-vary-particles-1e9", ["analytic", "--scenario",
+                                                 "{scenario:vary_particles_huge}", "--json"],
+     OK()),
+    # -- the physics limits of `pdamper dem` on every run: design candidates, cor,
+    #    cor-sensitivity
+    ("optimize-vary-radius-1nm", ["optimize", "--vary", "radius=1nm:3mm:4"],
+     Error("optimization.vary.radius")),
+    ("cor-sensitivity-10Hz-100m", ["cor-sensitivity", "--points", "10Hz/100m", "--no-level3"],
+     Error("points")),
+    ("cor-sensitivity-10Hz-100m-16-spheres", ["cor-sensitivity", "--points", "10Hz/100m",
+                                              "--no-level3", "--scenario",
+                                              "{scenario:count_16}"], Error("points")),
+    ("cor-sensitivity-10Hz-5m", ["cor-sensitivity", "--points", "10Hz/5m", "--no-level3"],
+     Error("points")),
+    ("cor-velocity-1000mps", ["cor", "--velocity", "1000m/s:2000m/s:2"], Error("velocity")),
+    ("cor-velocity-1000mps-sphere-sphere", ["cor", "--velocity", "1000m/s:2000m/s:2",
+                                            "--pair", "S235:S235"], Error("velocity")),
+    ("ok-optimize-vary-radius", ["optimize", "--vary", "radius=3mm:6mm:3", "--json"], OK()),
     # -- scheduler addresses: judged before anything runs, one line naming the option
     ("scheduler-not-an-address", ["map", "--model", "dem", "--scheduler", "notanaddress",
                                   "--frequency", "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2"],
@@ -180,3 +285,12 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("scheduler-empty-paper", ["paper", "--no-dem", "--scheduler", "", "--out", "{tmp}/p"],
      Error("scheduler")),
 ]
+
+#: Address space [bytes] a case may map beyond what the test process holds
+#: (``answers.memory_headroom``): where a regression would build what the input implies
+#: (gigabytes), it fails at once instead of taking the machine's memory.
+HEADROOM: dict[str, float] = {
+    name: 2**30 for name in (
+        "cor-velocity-count-1e9", "cor-velocity-count-1e9-forced", "cor-velocity-count-1e7",
+        "optimize-vary-particles-1e9", "optimize-vary-particles-1e9-scenario",
+        "optimize-vary-radius-1e8", "ok-analytic-scenario-vary-particles-1e9")}

@@ -194,3 +194,45 @@ def test_force_allows_what_this_machine_can_do():
 
 def test_unknown_run_is_refused():
     _refused(lambda: load_scenario(None).check_resources("everything"), "run")
+
+
+# -- the physics limits wherever a run is made (the models, the free vibration)
+def test_every_model_refuses_spheres_below_a_tenth_of_a_millimetre():
+    from pdamper.models import AnalyticalDamper, DEMDamper
+
+    tiny = replace(PAPER_DAMPER, particle_radius=1e-9)
+    for make in (lambda: AnalyticalDamper(tiny), lambda: DEMDamper(tiny),
+                 lambda: AnalyticalDamper(PAPER_DAMPER).with_damper(tiny)):
+        _refused(make, "particles.radius", "0.1 mm")
+
+
+def test_every_free_vibration_obeys_the_release_limits():
+    """A Level III run of any model is judged where it is made (:class:`Simulation`), the
+    DEM's also by Hertz's law: the API and every command inherit it."""
+    from pdamper.coupling import Simulation
+    from pdamper.models import AnalyticalDamper, DEMDamper
+    from pdamper.parameters import PAPER_STRUCTURE
+    from pdamper.structure import SingleDOFStructure
+
+    _refused(lambda: Simulation(PAPER_STRUCTURE, AnalyticalDamper(PAPER_DAMPER), -20.0),
+             "structure.initial_displacement", "10 m")
+    # a release the analytical model may describe, not the contact law: a/R above 0.5
+    stiff = SingleDOFStructure(mass=PAPER_STRUCTURE.mass, damping=0.0,
+                               stiffness=PAPER_STRUCTURE.stiffness * 400)
+    Simulation(stiff, AnalyticalDamper(PAPER_DAMPER), -0.07)
+    _refused(lambda: Simulation(stiff, DEMDamper(PAPER_DAMPER), -0.07),
+             "structure.initial_displacement", "contact radius")
+
+
+def test_the_analytical_model_refuses_excitations_outside_the_limits():
+    """The Python API's Level II run of the analytical model is judged as `pdamper
+    analytic` is (at the fastest frequency with the extreme strokes of its arrays)."""
+    import numpy as np
+
+    from pdamper.models import AnalyticalDamper
+
+    model = AnalyticalDamper(PAPER_DAMPER)
+    _refused(lambda: model.response(10.0, 20.0), "amplitude", "10 m")
+    _refused(lambda: model.response(np.array([10.0, 5e4]), np.array([1e-5, 0.01])),
+             "frequency", "contact frequency")
+    assert float(model.response(20.0, 0.2).loss_factor) > 0  # the paper's corner

@@ -62,17 +62,17 @@ def _private(directory: Path) -> bool:
     return _writable(directory)
 
 
-def candidates(environ: MutableMapping[str, str] = os.environ) -> list[Path]:
-    """Cache directories to try, in order."""
+def candidates(environ: MutableMapping[str, str] = os.environ, kind: str = "numba") -> list[Path]:
+    """Cache directories to try, in order (``kind``: what is cached, ``numba`` or ``pint``)."""
     out = []
     xdg = environ.get("XDG_CACHE_HOME")
     if xdg and os.path.isabs(xdg):
-        out.append(Path(xdg) / "pdamper" / "numba")
+        out.append(Path(xdg) / "pdamper" / kind)
     home = environ.get("HOME")
     if home and os.path.isabs(home):
-        out.append(Path(home) / ".cache" / "pdamper" / "numba")
+        out.append(Path(home) / ".cache" / "pdamper" / kind)
     uid = os.getuid() if hasattr(os, "getuid") else "user"
-    out.append(Path(tempfile.gettempdir()) / f"pdamper-numba-cache-{uid}")
+    out.append(Path(tempfile.gettempdir()) / f"pdamper-{kind}-cache-{uid}")
     return out
 
 

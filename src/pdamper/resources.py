@@ -41,6 +41,15 @@ that are off by orders of magnitude, not to tune runs).
   optimisation, which issue 9 runs in parallel), each of them within :data:`TIME_LIMIT`.
   Never above :data:`FORCE_TIME_LIMIT` (30 days), even with ``--force``.
 
+**Where.** The edges (scenario, command line) judge what their inputs imply, naming their
+fields, with ``--force``. Underneath, every run is judged where it is made, so that every
+command and the API inherit the limits: :class:`pdamper.dem.DEMEngine` (every DEM run)
+by :func:`check_impacts` at its reference speed and by the hard cost limits at ``run``;
+the damper models (sphere radius, the analytical model's excitation) and
+:class:`pdamper.coupling.Simulation` (the release). A count (a grid's axes, a range's
+values, a list of runs) is judged from its parameters (:func:`count_cost`) before the
+list exists.
+
 The per-unit costs below are the README's figures (2-core machine, one core), rounded up.
 The DEM step count is that of a fixed step of ``safety`` x the shortest Hertz contact time
 at the fastest implied impact (the variable-step Gear integrator mostly needs fewer).
@@ -65,6 +74,7 @@ from pdamper.contact.elastic import (
 )
 from pdamper.damper import ParticleDamper
 from pdamper.errors import InputError
+from pdamper.materials import Material
 
 # ---------------------------------------------------------------- physical meaning
 #: Smallest sphere radius [m] (adhesion outweighs gravity below).
@@ -88,6 +98,11 @@ TIME_LIMIT = 3600.0
 SWEEP_TIME_LIMIT = 86400.0
 #: Estimated run time that not even ``--force`` allows [s].
 FORCE_TIME_LIMIT = 30 * 86400.0
+#: Design study (:mod:`pdamper.design.study`): most grid points of a brute-force study
+#: before ``method="auto"`` turns to the optimiser, and the optimiser's evaluation budget
+#: (here, not in the study, so that the scenario reader does not import Level III).
+DEFAULT_MAX_GRID = 400
+DEFAULT_MAX_EVALUATIONS = 200
 
 # ---------------------------------------------------------------- per-unit costs
 #: DEM: seconds per particle and time step (README: 29-34 ns, Verlet).
@@ -107,6 +122,14 @@ ANALYTIC_BYTES_PER_POINT = 12 * 1024
 #: the dataset's copy).
 PSEUDO_FORCE_SECONDS_PER_CYCLE = 3e-3
 PSEUDO_FORCE_BYTES_PER_SAMPLE = 16 * 3
+#: A value of a list built from a range (a design variable's values, the impact speeds of
+#: ``pdamper cor``): a Python object, its slot in a tuple, its text in the JSON record.
+BYTES_PER_VALUE = 64
+#: A candidate of a design study: its design, result record and JSON text.
+BYTES_PER_CANDIDATE = 2048
+#: One simulated single impact of ``pdamper cor`` (an engine built and run; measured over
+#: 0.01-2 m/s: 0.7 ms with Gear, 9 ms with Verlet).
+SECONDS_PER_IMPACT = 0.01
 
 
 def _gib(b: float) -> str:
@@ -170,26 +193,80 @@ class Impact:
     contact_radius_ratio: float
 
 
+def hertz_impacts(spheres: Iterable[tuple[float, Material]], wall: Material | None,
+                  speed: float, *, between_spheres: bool = True) -> Impact:
+    """Contact times and contact radii of spheres ``(radius [m], material)`` hitting each
+    other (unless ``between_spheres`` is False) and a ``wall`` (unless None) at ``speed``
+    [m/s]: every pair of the distinct kinds (paper Sect. 3; elastic Hertz closed forms).
+    The contact radius is relative to the smaller sphere of a pair."""
+    kinds = list({(float(r), m.name): (float(r), m) for r, m in spheres}.values())
+    v = max(float(speed), 1e-6)
+    pairs = []  # (m*, R*, E*, smaller radius)
+    for i, (ri, mi) in enumerate(kinds):
+        massi = 4.0 / 3.0 * math.pi * ri**3 * mi.density
+        for rj, mj in kinds[i:] if between_spheres else ():
+            massj = 4.0 / 3.0 * math.pi * rj**3 * mj.density
+            pairs.append((massi * massj / (massi + massj), effective_radius(ri, rj),
+                          effective_modulus(mi, mj), min(ri, rj)))
+        if wall is not None:
+            pairs.append((massi, effective_radius(ri), effective_modulus(mi, wall), ri))
+    if not pairs:
+        raise ValueError("hertz_impacts needs a wall or contacts between spheres")
+    times, ratios = [], []
+    for m_star, r_star, e_star, r in pairs:
+        k = hertz_stiffness(e_star, r_star)
+        times.append(contact_duration(m_star, k, v))
+        ratios.append(math.sqrt(r_star * max_overlap(m_star, k, v)) / r)
+    return Impact(v, min(times), max(times), max(ratios))
+
+
 def hertz_impact(damper: ParticleDamper, speed: float) -> Impact:
     """Contact times and contact radius of ``damper``'s spheres hitting each other and the
-    walls at ``speed`` [m/s] (paper Sect. 3; elastic Hertz closed forms).
+    walls at ``speed`` [m/s] (:func:`hertz_impacts`).
 
     >>> from pdamper.parameters import PAPER_DAMPER
     >>> imp = hertz_impact(PAPER_DAMPER, 5.55)
     >>> round(imp.longest_contact * 1e6), round(imp.contact_radius_ratio, 2)
     (100, 0.19)
     """
-    r = damper.particle_radius
-    p, w = damper.particle_material, damper.wall_material
-    m = 4.0 / 3.0 * math.pi * r**3 * p.density
-    v = max(float(speed), 1e-6)
-    times, ratios = [], []
-    for m_star, r_star, e_star in ((0.5 * m, effective_radius(r, r), effective_modulus(p, p)),
-                                   (m, effective_radius(r), effective_modulus(p, w))):
-        k = hertz_stiffness(e_star, r_star)
-        times.append(contact_duration(m_star, k, v))
-        ratios.append(math.sqrt(r_star * max_overlap(m_star, k, v)) / r)
-    return Impact(v, min(times), max(times), max(ratios))
+    return hertz_impacts([(damper.particle_radius, damper.particle_material)],
+                         damper.wall_material, speed)
+
+
+def check_impacts(spheres: Sequence[tuple[float, Material]], wall: Material | None,
+                  speed: float, *, speed_field: str, frequency: float | None = None,
+                  frequency_field: str = "frequency", radius_field: str = "particles.radius",
+                  contact_law: bool = True, between_spheres: bool = True,
+                  remedy: str = "lower the impact speed") -> Impact:
+    """Refuse impacts that have no physical meaning: spheres ``(radius [m], material)``
+    hitting each other and ``wall`` at up to ``speed`` [m/s] (the fastest impact a run
+    implies), under an excitation of ``frequency`` [Hz] (None: none). The limits of the
+    module's documentation (the sphere radius, the speed, the contact frequency and, for
+    the contact law, the contact radius), in terms of the impacts themselves: every DEM run
+    is judged by them when its engine is built (:class:`pdamper.dem.DEMEngine`), and the
+    single impacts of ``pdamper cor`` before the first runs."""
+    spheres = list(spheres)
+    r_min = min(float(r) for r, _ in spheres)
+    if r_min < MIN_PARTICLE_RADIUS:
+        raise InputError(radius_field, _small_sphere(r_min))
+    materials = [m for _, m in spheres] + ([] if wall is None else [wall])
+    slowest = min(materials, key=bar_wave_speed)
+    v_max = MAX_SPEED_FRACTION * bar_wave_speed(slowest)
+    if not speed <= v_max:
+        raise InputError(speed_field, f"impacts at up to {speed:.3g} m/s are above "
+                         f"{MAX_SPEED_FRACTION:g} of the bar wave speed of {slowest.name} "
+                         f"({v_max:.3g} m/s): not a quasi-static impact (Hertz's law and "
+                         f"the rigid-body model do not hold); {remedy}")
+    imp = hertz_impacts(spheres, wall, speed, between_spheres=between_spheres)
+    if frequency is not None and frequency * imp.longest_contact > 1.0:
+        raise InputError(frequency_field, f"{frequency:.3g} Hz is above the contact frequency "
+                         f"{1.0 / imp.longest_contact:.3g} Hz of these spheres at the implied "
+                         f"impact speed {speed:.3g} m/s: impacts would last longer than a period")
+    if contact_law and imp.contact_radius_ratio > MAX_CONTACT_RADIUS_RATIO:
+        raise InputError(speed_field, f"impacts at up to {speed:.3g} m/s give a Hertz contact "
+                         f"radius of {imp.contact_radius_ratio:.2f} of the sphere radius "
+                         f"(Hertz's law holds below {MAX_CONTACT_RADIUS_RATIO:g}); {remedy}")
+    return imp
 
 
 def _ratio(value: float, usual: float) -> float:
@@ -224,10 +301,14 @@ def _remedy(drivers: Sequence[tuple], blamed: str) -> str:
 def check_particles(damper: ParticleDamper, field: str = "particles.radius") -> None:
     """Refuse spheres smaller than :data:`MIN_PARTICLE_RADIUS`."""
     r = damper.particle_radius
-    if r < MIN_PARTICLE_RADIUS:
-        raise InputError(field, f"must be >= {MIN_PARTICLE_RADIUS * 1e3:g} mm, got {r * 1e3:.3g} mm"
-                         f": below, adhesion outweighs the weight of a sphere (a cohesive "
-                         f"powder, not a particle damper) and the contact law does not apply")
+    if not r >= MIN_PARTICLE_RADIUS:
+        raise InputError(field, _small_sphere(r))
+
+
+def _small_sphere(r: float) -> str:
+    return (f"must be >= {MIN_PARTICLE_RADIUS * 1e3:g} mm, got {r * 1e3:.3g} mm: below, "
+            f"adhesion outweighs the weight of a sphere (a cohesive powder, not a particle "
+            f"damper) and the contact law does not apply")
 
 
 def check_stroke(value: float, field: str, what: str = "the stroke") -> None:
@@ -339,6 +420,8 @@ class Cost:
     runs
         For a sweep: the number of runs and the estimated time of the longest
         (``seconds`` is the total).
+    remedy
+        How to get below a limit (default: lower the drivers above their usual value).
     """
 
     what: str
@@ -348,6 +431,7 @@ class Cost:
     drivers: tuple[tuple[str, float], ...]
     runs: int = 1
     longest: float | None = None
+    remedy: str | None = None
 
 
 def require(cost: Cost, force: bool = False) -> Cost:
@@ -360,7 +444,7 @@ def require(cost: Cost, force: bool = False) -> Cost:
         how to get below it.
     """
     field = _blame(cost.drivers) if cost.drivers else "run"
-    lower = _remedy(cost.drivers, field)
+    lower = cost.remedy or _remedy(cost.drivers, field)
     seconds = cost.seconds if math.isfinite(cost.seconds) else math.inf
     memory = cost.memory if math.isfinite(cost.memory) else math.inf
     ram = physical_memory()
@@ -399,22 +483,58 @@ def dem_cost(damper: ParticleDamper, duration: float, speed: float, *, sample_ra
     """Cost of one DEM run of ``duration`` [s] (after settling) with impacts up to
     ``speed`` [m/s]; with a harmonic ``frequency`` the samples per cycle are whole, as the
     engine makes them."""
-    n = max(damper.count, 1)
     dt = safety * hertz_impact(damper, speed).shortest_contact
     settle = math.sqrt(2.0 * damper.length / gravity) + 0.05
-    steps = (duration + settle) / dt
     if frequency is not None and frequency > 0:
         per_cycle = max(4.0, round(sample_rate / frequency))
         samples = duration * frequency * per_cycle + 1
     else:
         samples = duration * sample_rate + 1
     snapshots = 2.0 if snapshot_rate is None else duration * snapshot_rate + 1
+    return dem_run_cost(damper.count, duration, duration + settle, dt, samples, snapshots,
+                        drivers, what)
+
+
+def dem_run_cost(count: int, duration: float, simulated: float, time_step: float,
+                 samples: float, snapshots: float, drivers: Iterable[tuple[str, float]] = (),
+                 what: str = "the DEM run") -> Cost:
+    """Cost of a DEM run of ``count`` spheres that simulates ``simulated`` [s] (``duration``
+    of them recorded: settling included) in steps of ``time_step`` [s] (a fixed step; the
+    Gear integrator mostly needs fewer), holding ``samples`` samples and ``snapshots``
+    particle snapshots; judged from these numbers alone, before any array exists
+    (:class:`pdamper.dem.DEMEngine` judges every run by it)."""
+    n = max(int(count), 1)
+    steps = simulated / time_step
     memory = (samples * DEM_BYTES_PER_SAMPLE + snapshots * n * DEM_BYTES_PER_SNAPSHOT_PARTICLE
               + n * DEM_BYTES_PER_PARTICLE)
     seconds = steps * n * DEM_SECONDS_PER_PARTICLE_STEP
-    detail = (f"{duration:.3g} s simulated, ~{steps:.2g} time steps of {dt:.2g} s for {n} "
-              f"spheres, {samples:.3g} samples")
+    detail = (f"{duration:.3g} s simulated, ~{steps:.2g} time steps of {time_step:.2g} s for "
+              f"{n} spheres, {samples:.3g} samples")
     return Cost(what, seconds, memory, detail, tuple(drivers))
+
+
+def count_cost(count: float, what: str, items: str, *, bytes_each: float,
+               seconds_each: float = 0.0, field: str, usual: float,
+               extra: Iterable[tuple[str, float]] = ()) -> Cost:
+    """Cost of ``count`` ``items`` (the values of a range, the runs of a list) judged from
+    the count alone, before the list is built: ``bytes_each`` of memory and
+    ``seconds_each`` of one core per item (each a run of its own when not 0); ``field`` is
+    the input that sets the count (``usual``: its usual count).
+
+    >>> c = count_cost(1e9, "the COR check", "single impacts", bytes_each=64,
+    ...                seconds_each=0.02, field="velocity", usual=40)
+    >>> try:
+    ...     require(c, force=True)
+    ... except InputError as exc:
+    ...     print(exc.field)
+    velocity
+    """
+    n = float(count)
+    return Cost(what, n * seconds_each, n * bytes_each, f"{n:.3g} {items}",
+                ((field, _ratio(n, usual)), *extra),
+                runs=max(1, int(min(n, 2**62))) if seconds_each else 1,
+                longest=seconds_each if seconds_each else None,
+                remedy=f"give {field} fewer values")
 
 
 def analytic_map_cost(points: float, drivers: Iterable[tuple[str, float]] = ()) -> Cost:

@@ -32,10 +32,66 @@ SI = {
 }
 
 
+def _import_pint():
+    """pint, imported without dask.
+
+    pint looks for dask at import and imports it when installed (0.1 s of CPU, a quarter of
+    a ``pdamper analytic``) for its methods on dask-array magnitudes (``Quantity.compute``,
+    ``persist``, ``visualize``); pdamper's quantities are numbers at the edges, never dask
+    arrays, and a command that runs no sweep should not pay for dask. While pint is first
+    imported, dask is therefore marked absent, unless something imported it already (a
+    sweep, a user's script): in a process where pdamper imports pint first, pint has no
+    dask methods."""
+    import sys
+
+    if "pint" in sys.modules or "dask" in sys.modules:
+        import pint
+
+        return pint
+    sys.modules["dask"] = None  # type: ignore[assignment]  # find_spec: "not installed"
+    try:
+        import pint
+    finally:
+        if sys.modules.get("dask", 0) is None:
+            del sys.modules["dask"]
+    return pint
+
+
+def _cache_folder():
+    """A private per-user directory for pint's parsed unit definitions, or None.
+
+    ``$XDG_CACHE_HOME/pdamper/pint``, ``~/.cache/pdamper/pint`` or a private directory in the
+    system's temporary directory: the first that is ours, not a symlink, and writable
+    (:func:`pdamper._numba_cache.candidates`, the same rules as numba's cache)."""
+    from pdamper._numba_cache import _private, candidates
+
+    for directory in candidates(kind="pint"):
+        if _private(directory):
+            return directory
+    return None
+
+
 @functools.cache
 def _registry():
-    import pint
+    """pint's unit registry, built once per process.
 
+    Parsing pint's definitions file takes 0.2-0.6 s; pint caches the parsed definitions on
+    disk (``cache_folder``, named by a hash of the file, pint's and Python's versions), so
+    that later processes load them in a few milliseconds. A cache that cannot be read (a
+    file another process is still writing, a full disk) is dropped and written afresh, or
+    the definitions are parsed without a cache: the registry is the same either way.
+    """
+    pint = _import_pint()
+    folder = _cache_folder()
+    for _ in range(2 if folder is not None else 0):  # a damaged cache is written afresh
+        try:
+            return pint.UnitRegistry(cache_folder=folder)
+        except Exception:  # noqa: BLE001 - a damaged cache must not stop a run
+            for stale in folder.glob("*.pickle"):
+                try:
+                    stale.unlink()
+                except OSError:
+                    pass
     return pint.UnitRegistry()
 
 
@@ -131,9 +187,9 @@ def parse_quantity(value: str | float | int, unit: str, field: str) -> float:
 
 def _unit_factor(unit_text: str, unit: str, field: str, value: str) -> float:
     """Magnitude of one ``unit_text`` in ``unit``."""
+    ureg = _registry()
     import pint
 
-    ureg = _registry()
     try:
         parsed = ureg.parse_units(unit_text)
     except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError) as exc:

@@ -84,3 +84,19 @@ def test_field_agreement_counts_modes_and_loss_factor_differences():
     by = a["by_mode"][MotionMode(int(ref["motion_mode"][0, 0])).label]
     assert by["mode_agreement"] < 1.0
     assert sum(v["cells"] for v in a["by_mode"].values()) == 5
+
+
+def test_a_grid_no_machine_holds_is_refused_from_its_axes():
+    """10^10 points (10^5 x 10^5) used to hang; the axes' lengths are judged by the hard
+    limits of :mod:`pdamper.resources` before the grid exists, whatever form they have."""
+    from answers import memory_headroom
+    from pdamper.errors import InputError
+
+    axis = np.linspace(1.0, 20.0, 100_000)
+    with memory_headroom(2**30):
+        for run in (effective_field, sweep_field):
+            for f, x in ((axis, axis * 1e-3), (range(1, 10**10), [0.01])):
+                with pytest.raises(InputError) as info:
+                    run(AnalyticalDamper(PAPER_DAMPER), f, x)
+                assert info.value.field == "frequency"
+                assert "more than this machine has" in info.value.message

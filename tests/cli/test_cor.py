@@ -71,7 +71,13 @@ def test_default_pair_and_model_and_the_figure(cli, tmp_path):
     (("--pair", "S235:unobtainium"), "error: pair: unknown material 'unobtainium'; known: S235, PVC"),
     (("--velocity", "0m/s:1m/s:3"), "error: velocity: impact speeds must be > 0"),
     (("--model", "fancy"), "error: model: unknown COR model 'fancy'"),
-    (("--plot", "cor.jpg"), "error: plot: must end in .png"),
+    (("--plot", "cor.gif"), "error: plot: must end in .png, .pdf, .svg, .jpg, .jpeg"),
+    (("--velocity", "1e305m/s"), "error: velocity: impacts at up to 1e+305 m/s are above 0.1 "
+                                 "of the bar wave speed of PVC (146 m/s)"),
+    (("--velocity", "1m/s:1e305m/s:3"), "error: velocity: impacts at up to 1e+305 m/s are above"),
+    (("--velocity", "600m/s", "--pair", "S235:S235"),
+     "error: velocity: impacts at up to 600 m/s are above 0.1 of the bar wave speed of S235 "
+     "(513 m/s)"),
 ])
 def test_bad_input_is_one_line(cli, args, message):
     code, out, err = cli("cor", *args)

@@ -7,8 +7,8 @@ import os
 
 import pytest
 
-from answers import check_answer, time_bound
-from issue11_corpus import CASES, OK, SCENARIOS
+from answers import check_answer, memory_headroom, time_bound
+from issue11_corpus import CASES, FILES, HEADROOM, OK, SCENARIOS
 
 #: Seconds one invocation may take here (the slowest valid case runs a small map).
 BOUND = 60.0
@@ -21,6 +21,8 @@ def corpus_tmp(tmp_path):
     os.mkfifo(tmp_path / "fifo")
     for name, text in SCENARIOS.items():
         (tmp_path / f"{name}.toml").write_text(text, encoding="utf-8")
+    for name, text in FILES.items():
+        (tmp_path / name).write_text(text, encoding="utf-8")
     return tmp_path
 
 
@@ -31,9 +33,9 @@ def expand(arg: str, tmp) -> str:
 
 
 @pytest.mark.parametrize(("args", "expected"), [c[1:] for c in CASES], ids=[c[0] for c in CASES])
-def test_corpus_case(cli, corpus_tmp, args, expected):
+def test_corpus_case(cli, corpus_tmp, args, expected, request):
     before = sorted(p.name for p in corpus_tmp.iterdir())
-    with time_bound(BOUND):
+    with time_bound(BOUND), memory_headroom(HEADROOM.get(request.node.callspec.id)):
         code, out, err = cli(*[expand(a, corpus_tmp) for a in args])
     if isinstance(expected, OK):
         check_answer(code, out, err, ok=True)

@@ -138,3 +138,30 @@ def test_failed_dem_points_end_in_status_not_in_an_error(tmp_path, cli):
         assert all(e.startswith("SimulationError: unstable DEM run")
                    for e in ds["error"].values.ravel())
         assert (ds["attempts"] == 1).all()  # deterministic: not retried
+
+
+def test_dem_map_with_a_cor_table_in_the_scenario(tmp_path, cli):
+    """A 2 x 2 DEM map whose curves come from a COR table (the curve crosses to the worker
+    processes and keys the settled beds): every point computed, and a table that holds 0.5
+    at every speed gives the map of the constant 0.5 (run in this process)."""
+    (tmp_path / "flat.csv").write_text("velocity [m/s], cor [-]\n0.1, 0.5\n1.0, 0.5\n3.0, 0.5\n")
+    dem = "[dem]\ncycles = 2\nskip_cycles = 1\nintegrator = \"verlet\"\n[particles]\ncount = 4\n"
+    (tmp_path / "table.toml").write_text(
+        dem + '[restitution]\nparticle_wall = { model = "table", file = "flat.csv" }\n'
+        'particle_particle = { model = "table", file = "flat.csv" }\n')
+    (tmp_path / "constant.toml").write_text(
+        dem + "[restitution]\nparticle_wall = 0.5\nparticle_particle = 0.5\n")
+    grid = ("--frequency", "10Hz:15Hz:2", "--amplitude", "5mm:10mm:2")
+    maps = {}
+    for name, how in (("table", ("--workers", "2")), ("constant", ("--serial",))):
+        out = tmp_path / f"{name}.nc"
+        code, stdout, err = cli("map", "--model", "dem", *grid, *how, "--scenario",
+                                tmp_path / f"{name}.toml", "--out", out, "--json")
+        assert code == 0, err
+        d = json.loads(stdout)
+        assert d["computed"] == 4 and d["failed"] == 0, d
+        with xr.open_dataset(out, engine="h5netcdf") as ds:
+            assert (ds["status"] == 0).all()
+            maps[name] = ds["loss_factor"].values
+    assert np.isfinite(maps["table"]).all()
+    np.testing.assert_array_equal(maps["table"], maps["constant"])

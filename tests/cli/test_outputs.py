@@ -207,6 +207,59 @@ def test_help_text_on_a_broken_pipe_or_full_device(args):
         q.stderr.count("\n") == 1, q.stderr
 
 
+def _plot_commands() -> list[str]:
+    """Every registered command with a ``--plot`` option."""
+    import inspect
+
+    from pdamper.cli import _register, app
+
+    _register()
+    return sorted(c.name for c in app.registered_commands
+                  if "plot" in inspect.signature(c.callback).parameters)
+
+
+def test_every_plot_option_is_the_one_checked_option():
+    """One ``--plot`` for all (``pdamper.cli._common.check_plot``): the same help and
+    formats in every command that draws a figure."""
+    import typer
+
+    from pdamper.cli import app
+
+    names = _plot_commands()
+    assert {"simulate", "optimize", "cor", "cor-sensitivity"} <= set(names)
+    group = typer.main.get_command(app)
+    for name in names:
+        (opt,) = [p for p in group.commands[name].params if p.name == "plot"]
+        assert opt.opts == ["--plot"], name
+        assert opt.help.endswith("its suffix names the format (.png, .pdf, .svg, .jpg, "
+                                 ".jpeg)."), (name, opt.help)
+
+
+@pytest.mark.parametrize("name", _plot_commands())
+@pytest.mark.parametrize("suffix", [".gif", ".txt", ""])
+def test_a_plot_suffix_without_a_format_is_refused_before_the_run(tmp_path, cli, name, suffix):
+    """``--plot x.gif`` (or no suffix): one line naming ``plot`` and the allowed suffixes,
+    before anything runs or is written, in every command that draws a figure."""
+    t0 = time.perf_counter()
+    code, out, err = cli(name, "--plot", tmp_path / f"figure{suffix}")
+    check_answer(code, out, err, field="plot")
+    assert "must end in .png, .pdf, .svg, .jpg, .jpeg" in err
+    assert time.perf_counter() - t0 < 5.0 and not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize(("suffix", "magic"), [
+    (".jpg", b"\xff\xd8\xff"), (".JPEG", b"\xff\xd8\xff"), (".pdf", b"%PDF"),
+    (".svg", b"<?xml"), (".png", b"\x89PNG"),
+])
+def test_the_plot_suffix_names_the_format_written(tmp_path, cli, suffix, magic):
+    """``simulate --plot x.jpg`` wrote PNG bytes under the .jpg name."""
+    path = tmp_path / f"figure{suffix}"
+    code, out, err = cli("simulate", "--duration", "0.5s", "--plot", path, "--json")
+    assert code == 0, err
+    assert path.read_bytes()[:len(magic)] == magic
+    assert [p.name for p in tmp_path.iterdir()] == [path.name]
+
+
 # -- full devices and closed streams: every writer ends with one line and status 1 ---------
 
 #: Runs inside a private mount namespace (``unshare --mount``): mounts a small tmpfs on the

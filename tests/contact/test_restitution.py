@@ -99,6 +99,9 @@ def test_scaled_curve():
     (lambda: LinearRestitution(0.9, 1.0, 1.0), "restitution.slope"),  # 0 at 0.9 m/s
     (lambda: MeasuredRestitution((0.5, 0.2), (0.9, 0.8)), "restitution.velocity"),
     (lambda: MeasuredRestitution((0.1, 0.2), (0.9, 1.1)), "restitution.restitution"),
+    (lambda: MeasuredRestitution((0.2, 1e300, 1e305), (0.9, 0.85, 0.8)), "restitution.velocity"),
+    (lambda: TabulatedRestitution((0.2, 2e4), (0.9, 0.8)), "restitution.velocity"),
+    (lambda: MeasuredRestitution((0.0, 1e-300, 1.0), (0.9, 0.8, 0.7)), "restitution.velocity"),
 ])
 def test_bad_curves(make, field):
     with pytest.raises(InputError, match=field):
@@ -128,3 +131,21 @@ def test_paper_steel_pvc_shape():
     chord = e(0.0) + (e(1.8) - e(0.0)) * v / 1.8
     assert np.max(np.abs(e(v) - chord)) < 0.01   # almost linear
     assert e(3.0) == e(1.8)                       # held beyond the measured range
+
+
+def test_tables_over_the_whole_admissible_range_interpolate_without_warnings():
+    """Nodes 1e-12 m/s apart, or up to 10 km/s next to 1 mm/s, give a finite monotone curve
+    (PCHIP's slope means overflowed, with RuntimeWarnings, for nodes 300 orders apart)."""
+    import warnings
+
+    for v, e in (((0.0, 1e-12, 1.0), (0.9, 0.8, 0.7)),
+                 ((1e-3, 0.5, 1e4), (0.95, 0.9, 0.5)),
+                 ((0.0, 1e-9, 2e-9, 1e4), (1.0, 0.99, 0.98, 0.1))):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            c = MeasuredRestitution(v, e)
+            x = np.geomspace(1e-15, 2e4, 400)
+            y = c(x)
+            nodes = c.tabulate()[1]
+        assert np.all(np.isfinite(y)) and np.all(np.isfinite(nodes))
+        assert np.all(np.diff(y) <= 1e-15) and min(e) <= y.min() and y.max() <= max(e)

@@ -164,4 +164,6 @@ def test_release_from_far_away_answers_at_once():
     t0 = time.perf_counter()
     with pytest.raises(InputError) as info:
         Simulation(PAPER_STRUCTURE, AnalyticalDamper(PAPER_DAMPER), -1e300).run(2.0)
-    assert info.value.field == "amplitude" and time.perf_counter() - t0 < 2.0
+    # refused where every Level III run is made, by the stroke limit of the release
+    assert info.value.field == "structure.initial_displacement"
+    assert time.perf_counter() - t0 < 2.0

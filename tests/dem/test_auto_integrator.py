@@ -153,3 +153,15 @@ def test_auto_probes_gear_again_with_a_doubling_span():
     verlet = engine_at(4, 10.0, 0.01, integrator="verlet", settle_time=0.0).run(
         0.2, sample_rate=2000.0)
     assert verlet.verlet_time == pytest.approx(0.2)
+
+
+def test_a_motion_that_is_no_motion_object_names_the_field():
+    """``motion="harmonic"`` was accepted (and failed later, or ran at rest)."""
+    from dem_inputs import engine, lattice
+    from pdamper.dem import HarmonicMotion
+
+    for bad in ("harmonic", 10.0, (0.01, 10.0)):
+        with pytest.raises(InputError, match="^motion: must be one of HarmonicMotion, "
+                                             "PrescribedMotion, StructureMotion or None"):
+            engine(lattice(4), motion=bad)
+    assert engine(lattice(4)).motion == HarmonicMotion()  # None: at rest

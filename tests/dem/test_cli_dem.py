@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import xarray as xr
 
@@ -92,3 +93,36 @@ def test_dem_command_free_flights_on_and_off(tmp_path, capsys):
     sc.write_text("[dem]\ngear_free_flight = false\n")
     assert main(common + ["--scenario", str(sc)]) == 0
     assert json.loads(capsys.readouterr().out)["stepped_fraction"] == 1.0
+
+
+# -- a COR table in the scenario reaches the DEM kernels
+COR_TABLE = "velocity [m/s], cor [-], std [-]\n0.20, 0.89, 0.01\n0.60, 0.86, 0.01\n1.80, 0.80, 0.02\n"
+#: A table whose COR is 0.5 at every speed: the kernels must see the constant 0.5.
+FLAT_TABLE = "velocity [m/s], cor [-]\n0.1, 0.5\n1.0, 0.5\n3.0, 0.5\n"
+
+
+def _dem_json(cli, *args):
+    code, out, err = cli("dem", "--particles", "4", "--cycles", "3", "--skip-cycles", "1",
+                         "--integrator", "verlet", *args, "--json")
+    assert code == 0, err
+    return json.loads(out)
+
+
+def test_dem_runs_with_a_cor_table_in_the_scenario(tmp_path, cli):
+    """``particle_wall = { model = "table", file = ... }`` (docs/restitution.md): the run
+    ends, and a flat table gives to the bit the run of the constant it holds."""
+    (tmp_path / "cor.csv").write_text(COR_TABLE)
+    (tmp_path / "flat.csv").write_text(FLAT_TABLE)
+    for name, entry in (("table", '{ model = "table", file = "cor.csv" }'),
+                        ("flat", '{ model = "table", file = "flat.csv" }'),
+                        ("constant", "0.5")):
+        (tmp_path / f"{name}.toml").write_text(
+            f"[restitution]\nparticle_wall = {entry}\nparticle_particle = {entry}\n")
+    table = _dem_json(cli, "--scenario", tmp_path / "table.toml")
+    assert math.isfinite(table["loss_factor"]) and table["energy_balance_error"] < 0.02
+    assert table["inputs"]["restitution"]["particle_wall"]["model"] == "table"
+    flat = _dem_json(cli, "--scenario", tmp_path / "flat.toml")
+    constant = _dem_json(cli, "--scenario", tmp_path / "constant.toml")
+    default = _dem_json(cli)
+    assert flat["loss_factor"] == constant["loss_factor"] and flat["steps"] == constant["steps"]
+    assert flat["loss_factor"] != default["loss_factor"]  # 0.6 / 0.85 without the table

@@ -48,3 +48,24 @@ def test_head_on_spheres_give_the_constant_cor():
 def test_bad_velocities():
     with pytest.raises(InputError, match="velocity"):
         check_restitution([0.1, -1.0], paper.PAPER_COR_PW, S235, PVC, 0.005)
+    # faster than a quasi-static impact (0.1 of PVC's bar wave speed): refused before any
+    # run (1e305 m/s overflowed the Hertz closed forms with a traceback)
+    for v in ([1e305], [1.0, 1e3]):
+        with pytest.raises(InputError, match=r"^velocity: impacts at up to .* bar wave speed "
+                                             r"of PVC \(146 m/s\)"):
+            check_restitution(v, paper.PAPER_COR_PW, S235, PVC, 0.005)
+
+
+def test_speeds_are_judged_before_the_first_impact():
+    """The physics limits of every DEM run (a tenth of the bar wave speed: 146 m/s for a
+    PVC wall) and the number of runs (hard limits) are judged before anything runs."""
+    from answers import memory_headroom
+
+    curve = paper.PAPER_COR_PW
+    with pytest.raises(InputError) as info:
+        check_restitution([1.0, 1000.0], curve, S235, PVC, paper.PAPER_PARTICLE_RADIUS)
+    assert info.value.field == "velocity" and "bar wave speed of PVC" in info.value.message
+    many = np.broadcast_to(1.0, (10**10,))  # a view: no memory
+    with memory_headroom(2**30), pytest.raises(InputError) as info:
+        check_restitution(many, curve, S235, PVC, paper.PAPER_PARTICLE_RADIUS)
+    assert info.value.field == "velocity"

@@ -50,3 +50,13 @@ def test_bad_optimization_inputs():
         optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, at=0.0)
     with pytest.raises(InputError, match="optimization.step"):
         optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, 0.8, step=0)
+
+
+def test_a_count_list_no_machine_holds_is_refused_before_it_is_read():
+    """``counts=range(10**10)`` used to be read into a list (out of memory)."""
+    from answers import memory_headroom
+
+    with memory_headroom(2**30), pytest.raises(InputError) as info:
+        optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, PAPER_INITIAL_DISPLACEMENT, 0.8,
+                                counts=range(10**10))
+    assert info.value.field == "optimization.counts"

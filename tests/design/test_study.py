@@ -40,6 +40,9 @@ def test_variable_specifications():
     ("radius=-3mm:6mm:4", "radius"),
     ("radius=3 blorps", "unknown unit"),
     ("radius", "expected 'name=values'"),
+    ("particle-material=,", "empty material name"),          # a list of no material
+    ("particle-material=S235,,PVC", "empty material name"),
+    ("particle-material=S235,", "empty material name"),
 ])
 def test_bad_specifications(spec, pattern):
     with pytest.raises(InputError, match=pattern):
@@ -219,3 +222,78 @@ def test_particle_material_is_a_design_variable():
                                                                                     "PVC")
     assert pvc.mass == pytest.approx(steel.mass * 1400 / 7900)
     assert res.best is steel and pvc.objective > 1.2 * steel.objective
+
+
+def test_a_variable_without_values_is_refused():
+    """A study over an empty list would evaluate nothing and end with no best design."""
+    for values, bounds in (((), None), (None, None)):
+        with pytest.raises(InputError, match="^optimization.vary: 'particles': no values"):
+            DesignVariable("particles", values, bounds)
+
+
+# -- counts judged before they are built; ranges judged by the physics limits up front
+def test_a_variables_count_is_judged_before_its_values_are_built():
+    """``particles=0:1000000000:1`` used to build a tuple of 10^9 counts (out of memory);
+    ``radius=1mm:3mm:100000000`` hung."""
+    from answers import memory_headroom
+    from pdamper.design.study import variable_size
+    from pdamper.io.scenario import load_scenario
+
+    with memory_headroom(2**30):
+        assert variable_size("particles=0:1000000000:1") == ("particles", 1000000001)
+        assert variable_size("radius=1mm:3mm:100000000") == ("radius", 100000000)
+        with pytest.raises(InputError) as info:  # the API: what no machine holds
+            parse_variable("particles=0:1000000000:1")
+        assert info.value.field == "optimization.vary.particles"
+        with pytest.raises(InputError) as info:
+            optimize_design(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, ["particles=0:1000000000:1"])
+        assert info.value.field == "optimization.vary.particles"
+        # the scenario: read by any command without building, judged for the study
+        spec = {"optimization.vary": ["radius=1mm:3mm:100000000"]}
+        load_scenario(None, spec)
+        with pytest.raises(InputError) as info:
+            load_scenario(None, spec, runs=("optimization",))
+        assert info.value.field == "optimization.vary.radius" and "--force" in info.value.message
+        load_scenario(None, spec, runs=("optimization",), force=True)  # judged, not built
+
+
+def test_a_range_outside_the_physical_limits_is_refused_before_any_run():
+    """``radius=1nm:3mm:4`` used to evaluate a 1 nm sphere as a feasible design."""
+    from pdamper.models import AnalyticalDamper
+
+    runs = []
+
+    class Counted(AnalyticalDamper):
+        def response(self, frequency, amplitude):
+            runs.append(self.damper.particle_radius)
+            return super().response(frequency, amplitude)
+
+    with pytest.raises(InputError) as info:
+        optimize_design(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, ["radius=1nm:3mm:4"],
+                        model=Counted)
+    assert info.value.field == "optimization.vary.radius"
+    assert "0.1 mm" in info.value.message and "\n" not in str(info.value)
+    assert runs == []  # no design ran
+
+
+def test_a_candidate_outside_the_physical_limits_is_infeasible_with_the_reason():
+    """A combination of in-range values outside the limits (found by the optimiser, say)
+    stays in the landscape, infeasible, with the reason; it is never evaluated."""
+    evaluated = []
+
+    class Evaluate:
+        def __call__(self, design):
+            evaluated.append(design)
+            return float(design["particles"]), {}
+
+        def check(self, design):
+            if design.get("particles") == 32 and design.get("radius", 0.005) < 0.005:
+                raise InputError("structure.initial_displacement", "too fast together")
+
+    obj = make_objective("amplitude-at", 0.8, -0.058, PAPER_STRUCTURE)
+    res = run_design_study(Evaluate(), PAPER_DAMPER, [parse_variable("particles=16,32"),
+                                                      parse_variable("radius=4mm,5mm")], obj)
+    bad = [c for c in res.candidates if c.status == "infeasible"]
+    assert [(c.design["particles"], c.design["radius"]) for c in bad] == [(32, 0.004)]
+    assert "too fast together" in bad[0].reason
+    assert {"particles": 32, "radius": 0.004} not in evaluated and len(evaluated) == 3

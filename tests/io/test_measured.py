@@ -165,3 +165,31 @@ def test_too_short_a_record_is_refused(tmp_path):
         f"{a}, {-0.05 * np.cos(35 * a)}\n" for a in t))
     with pytest.raises(InputError, match="needs at least 3 full oscillation cycles"):
         align_measurement(read_measured(p))
+
+
+def test_a_record_orders_of_magnitude_off_the_release_is_refused_with_the_factor(reference,
+                                                                                  tmp_path, cli):
+    """The record of a 58 mm release with its header in furlongs (201 m), metres or
+    nanometres: a release of 11.7 km, 58 m or 58 nm is no measurement of the 58 mm one; compared, its peak
+    errors were kilometres and its damping bands empty. Refused before any run (CLI) and
+    by compare_with_measurement (API), naming the factor; within a factor of 10 the
+    comparison stands (a 20 mm simulated release against the 58 mm record)."""
+    from pdamper.coupling.comparison import compare_with_measurement
+    from pdamper.coupling.measurement import align_measurement
+
+    res, _, disp, _ = reference
+    text = disp.read_text()
+    import re
+
+    for unit, factor in (("furlong", "2.01e+05 times"), ("m", "1e+03 times"),
+                         ("nm", "1/9.99e+05 of")):
+        bad = _write(tmp_path / f"{unit}.csv", text.replace("displacement [mm]",
+                                                            f"displacement [{unit}]"))
+        with pytest.raises(InputError, match=f"^measured: .*{re.escape(factor)} the simulated"):
+            compare_with_measurement(res, align_measurement(read_measured(bad)))
+        code, out, err = cli("simulate", "--measured", bad, "--json")
+        assert code == 2 and out == "" and err.count("\n") == 1, err
+        assert err.startswith(f"error: measured: {bad}: released from") and factor in err
+    code, out, err = cli("simulate", "--measured", disp, "--initial-displacement=-20mm",
+                         "--json")
+    assert code == 0, err

@@ -18,6 +18,7 @@ from pdamper.reports.cor_sensitivity import (
     cor_variant,
     run_cor_sensitivity,
     sensitivity_figure,
+    split_variant,
     study_scenario,
 )
 
@@ -84,3 +85,47 @@ def test_default_window_outlasts_the_initial_transient():
     dem = study_scenario(load_scenario(None, {"dem.cycles": 20})).dem
     assert (dem.cycles, dem.skip_cycles) == (20, 16)
     assert study_scenario(load_scenario(None), 12, 4).dem.cycles == 12
+
+
+def test_tables_given_by_path(tmp_path, monkeypatch):
+    """A COR table's path holds '/' too: the variant splits at the one '/' that leaves a
+    model on both sides, so tables can be named by relative or absolute path; the old
+    forms read as before."""
+    table = "velocity [m/s], cor [-]\n0.2, 0.89\n0.6, 0.86\n1.8, 0.80\n"
+    (tmp_path / "tab").mkdir()
+    for name in ("pp.csv", "pw.csv"):
+        (tmp_path / "tab" / name).write_text(table)
+    monkeypatch.chdir(tmp_path)
+    pp, pw = tmp_path / "tab" / "pp.csv", tmp_path / "tab" / "pw.csv"
+    assert split_variant(str(pw)) == (str(pw), str(pw))
+    assert split_variant(f"{pp}/{pw}") == (str(pp), str(pw))
+    assert split_variant("tab/pp.csv/tab/pw.csv") == ("tab/pp.csv", "tab/pw.csv")
+    assert split_variant("0.6/tab/pw.csv*1.2") == ("0.6", "tab/pw.csv*1.2")
+    assert split_variant("paper*0.5/tab/pw.csv") == ("paper*0.5", "tab/pw.csv")
+    assert split_variant("0.6/0.85") == ("0.6", "0.85")
+    v = cor_variant(f"{pp}/{pw}*1.2", paper.PAPER_DAMPER)
+    assert v.restitution_pp.describe().startswith("table pp.csv")
+    assert v.restitution_pw.describe().startswith("table pw.csv")
+    assert v.restitution_pw.describe().endswith("dissipation x 1.2")
+    # a file named like a split of another: both readings exist, the error lists them
+    (tmp_path / "0.6").mkdir()
+    (tmp_path / "0.6" / "pw.csv").write_text(table)
+    (tmp_path / "pw.csv").write_text(table)
+    with pytest.raises(InputError, match=r"^variants: '0.6/pw.csv' reads as several variants "
+                                         r"\(0.6/pw.csv for both; 0.6 / pw.csv\)"):
+        split_variant("0.6/pw.csv")
+    with pytest.raises(InputError, match="^variants: 'paper/none/x.csv': no such COR table"):
+        split_variant("paper/none/x.csv")
+    with pytest.raises(InputError, match="COR table not found: none.csv"):
+        cor_variant("none.csv", paper.PAPER_DAMPER)
+
+
+@pytest.mark.parametrize("count", [32, 16])
+def test_points_outside_the_dem_limits_are_refused_before_any_run(count):
+    """10 Hz / 100 m used to start DEM runs that stopped advising a smaller Gear tolerance
+    (and with 16 spheres reported a loss factor)."""
+    sc = load_scenario(None, {"particles.count": count})
+    for point in ((10.0, 100.0), (10.0, 5.0)):
+        with pytest.raises(InputError) as info:
+            run_cor_sensitivity(sc, ["0.6/0.85"], [(10.0, 0.032), point], level3=False)
+        assert info.value.field == "points"

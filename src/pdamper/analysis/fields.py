@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pdamper import resources
 from pdamper.analysis.modes import MODE_FLAG_ATTRS
 from pdamper.errors import InputError
 
@@ -87,6 +88,28 @@ def _grid(field: str, values, unit: str) -> np.ndarray:
         raise InputError(field, f"must be {expected} with at least one value, got shape "
                          f"{grid.shape}")
     return grid
+
+
+def _require_grid(frequency, amplitude, particles) -> None:
+    """Refuse a grid that no run can compute (more memory than the machine has, months of
+    computing: the hard limits of :mod:`pdamper.resources`), judged from the axes' lengths
+    before any array of the grid exists; the analytical model's cost per point, the least
+    of every model's, stands for all."""
+    sizes = [("frequency", _length(frequency)), ("amplitude", _length(amplitude)),
+             ("particles", 1 if particles is None else _length(particles))]
+    resources.require(resources.analytic_map_cost(math.prod(n for _, n in sizes), sizes),
+                      force=True)
+
+
+def _length(values) -> int:
+    """Number of values of a 1-D grid as given (a list, an array, a range), without
+    converting it (1 for a number; what is not a grid is refused by :func:`_grid`)."""
+    if isinstance(values, str | bytes):
+        return 1
+    try:
+        return len(values)
+    except TypeError:
+        return 1
 
 
 #: Integer variables (stored as such; -1 where a point has no value).
@@ -178,6 +201,7 @@ def effective_field(model, frequency, amplitude, attrs: dict | None = None,
         raise InputError("model", "must be a damper model with response(f, X) (a "
                          "pdamper.models.DamperModel, e.g. AnalyticalDamper(damper)), got "
                          f"{type(model).__name__}")
+    _require_grid(frequency, amplitude, particles)
     f = _grid("frequency", frequency, "Hz")
     x = _grid("amplitude", amplitude, "m")
     models = [model] if particles is None else [
@@ -290,6 +314,7 @@ def sweep_field(model, frequency, amplitude, particles=None, *, store=None,
                          "pdamper.models.DamperModel, e.g. AnalyticalDamper(damper)), got "
                          f"{type(model).__name__}")
 
+    _require_grid(frequency, amplitude, particles)
     f = _grid("frequency", frequency, "Hz")
     x = _grid("amplitude", amplitude, "m")
     counts = None if particles is None else np.asarray(particles, int).ravel()

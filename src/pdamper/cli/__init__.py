@@ -1,7 +1,7 @@
 """The ``pdamper`` command line: one entry point, one module per command.
 
-Commands are registered explicitly in :func:`_application` (a missing module is an import
-error, not a silently absent command). Errors a user can cause are printed as one line
+Commands are registered explicitly in :func:`pdamper.cli._app._register` (a missing module
+is an import error, not a silently absent command). Errors a user can cause are printed as one line
 naming the field and what is allowed, with exit status 2; a result that cannot be written
 ends with one line and status 1; Ctrl-C and SIGTERM end with ``interrupted`` and status 130
 or 143 (:mod:`pdamper.cli._signals`). The commands only parse, call the library and format
@@ -14,52 +14,21 @@ from __future__ import annotations
 import errno
 import sys
 
-_app = None
 
+def _register() -> None:
+    """Register the commands (:mod:`pdamper.cli._app`, imported here: typer with it)."""
+    from pdamper.cli import _app
 
-def _application():
-    """The typer application with every command registered (built on first use: typer is
-    imported after the signal handlers of :func:`main` are in place, so that a Ctrl-C
-    during that import, too, ends with ``interrupted``)."""
-    global _app
-    if _app is None:
-        import typer
-
-        from pdamper.cli import (
-            analytic,
-            cor,
-            cor_sensitivity,
-            dem,
-            map,
-            optimize,
-            paper,
-            scenario,
-            simulate,
-        )
-
-        app = typer.Typer(
-            name="pdamper",
-            help="Design particle dampers for vertically vibrating structures.",
-            no_args_is_help=True,
-            add_completion=False,
-            pretty_exceptions_enable=False,
-        )
-        app.command("analytic")(analytic.analytic)
-        app.command("map")(map.map_)
-        app.command("simulate")(simulate.simulate)
-        app.command("optimize")(optimize.optimize)
-        app.command("dem")(dem.dem)
-        app.command("paper")(paper.paper)
-        app.command("example-scenario")(scenario.example_scenario)
-        app.command("cor")(cor.cor)
-        app.command("cor-sensitivity")(cor_sensitivity.cor_sensitivity)
-        _app = app
-    return _app
+    _app._register()
 
 
 def __getattr__(name: str):
-    if name == "app":  # ``pdamper.cli.app``: the typer application
-        return _application()
+    # ``pdamper.cli.app`` and the group's classes live in pdamper.cli._app, imported on
+    # first use (after the signal handlers of main() are in place)
+    if name in ("app", "_Group", "_Command"):
+        from pdamper.cli import _app
+
+        return getattr(_app, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
@@ -143,13 +112,16 @@ def _standard_streams() -> None:
 
 
 def _run(argv: list[str] | None, received: list[int] = ()) -> int:  # noqa: B006 - read only
+    from pdamper.cli import _app, _quiet
     from pdamper.errors import Interrupted, OutputError, PdamperError
     from pdamper.files import stdout_error
 
+    _app._register()
     was_null = _stdout_is_null()
     try:
         try:
-            status = _application()(args=argv, standalone_mode=False)
+            with _quiet.scope():
+                status = _app.app(args=argv, standalone_mode=False)
         except (Interrupted, KeyboardInterrupt):
             raise
         except BaseException as exc:

@@ -93,21 +93,48 @@ def check_output_directory(path: str | None, field: str = "out") -> Path | None:
     return None if path is None else check_directory_target(path, field)
 
 
-def write_atomic(path: Path, writer, field: str = "out") -> Path:
-    """Write an output file through the one atomic writer (:mod:`pdamper.files`)."""
-    from pdamper.files import atomic_write
-
-    return atomic_write(path, writer, field)
+#: Figure formats of every ``--plot``, by file suffix: the suffix names the format written
+#: (matplotlib; JPEG through Pillow, a dependency of matplotlib).
+PLOT_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg", ".jpg": "jpeg", ".jpeg": "jpeg"}
 
 
-def write_figure(path: Path, fig, field: str = "plot", **savefig) -> Path:
-    """Write a matplotlib figure (``savefig`` options, e.g. ``format="png", dpi=110``):
-    rendered in memory, then written by :func:`pdamper.files.atomic_write_bytes`, so that
-    a full device ends as for every other output, naming the option (``--plot``)."""
+
+def plot_option(what: str):
+    """The ``--plot`` option of a command whose figure shows ``what`` (checked by
+    :func:`check_plot`, written by :func:`write_figure`)."""
+    return Annotated[str | None, typer.Option(
+        "--plot", help=f"Figure file of {what}; its suffix names the format "
+                       f"({', '.join(PLOT_FORMATS)}).")]
+
+
+def check_plot(path: str | None, field: str = "plot") -> Path | None:
+    """The figure file ``--plot`` names, checked before any computation like ``--out``,
+    with a suffix of :data:`PLOT_FORMATS` (None: not given)."""
+    from pdamper.errors import InputError
+
+    target = check_output(path, field)
+    if target is not None and target.suffix.lower() not in PLOT_FORMATS:
+        raise InputError(field, f"must end in {', '.join(PLOT_FORMATS)} (the figure's format), "
+                         f"got {target.name!r}")
+    return target
+
+
+def write_figure(fig, path: Path, dpi: int = 110, field: str = "plot") -> Path:
+    """Write the matplotlib ``fig`` to ``path`` (checked by :func:`check_plot`) in the
+    format its suffix names, atomically: rendered in memory, then written by
+    :func:`pdamper.files.atomic_write_bytes`, so that a full device ends as for every
+    other output, naming the option (``--plot``)."""
     import io
 
     from pdamper.files import atomic_write_bytes
 
     buf = io.BytesIO()
-    fig.savefig(buf, **savefig)
+    fig.savefig(buf, format=PLOT_FORMATS[path.suffix.lower()], dpi=dpi)
     return atomic_write_bytes(path, buf.getbuffer(), field)
+
+
+def write_atomic(path: Path, writer, field: str = "out") -> Path:
+    """Write an output file through the one atomic writer (:mod:`pdamper.files`)."""
+    from pdamper.files import atomic_write
+
+    return atomic_write(path, writer, field)

@@ -19,11 +19,21 @@ from typing import Annotated
 
 import typer
 
-from pdamper.cli._common import JsonOpt, ScenarioOpt, check_output, emit, load, metadata
+from pdamper.cli._common import (
+    ForceOpt,
+    JsonOpt,
+    ScenarioOpt,
+    check_plot,
+    emit,
+    load,
+    metadata,
+    plot_option,
+)
 
 #: Default velocity grid of ``--velocity``.
 DEFAULT_VELOCITY = "0.01m/s:2m/s:40"
-_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
+#: Its count: the usual number of single impacts.
+DEFAULT_IMPACTS = 40
 
 
 def cor(
@@ -42,8 +52,8 @@ def cor(
         "--integrator", help="gear (default) or verlet.")] = None,
     radius: Annotated[str | None, typer.Option(
         "--radius", help="Sphere radius, e.g. '5mm' (default: the scenario's).")] = None,
-    plot: Annotated[str | None, typer.Option(
-        "--plot", help="Figure file (.png, .pdf or .svg).")] = None,
+    plot: plot_option("the target and simulated COR") = None,
+    force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -51,7 +61,8 @@ def cor(
     (paper Sect. 2, Fig. 2-right)."""
     import numpy as np
 
-    from pdamper.dem.impacts import check_restitution
+    from pdamper import resources
+    from pdamper.dem.impacts import check_restitution, impacts_cost
     from pdamper.errors import InputError
     from pdamper.io.restitution import build_curve, parse_model_text, validate_spec
     from pdamper.materials import get_material
@@ -59,12 +70,11 @@ def cor(
 
     sc = load(scenario, particles__radius=radius, dem__damping_model=damping_model,
               dem__integrator=integrator)
-    plot = check_output(plot, "plot")
-    if plot is not None and plot.suffix.lower() not in _FORMATS:
-        raise InputError("plot", f"must end in {', '.join(_FORMATS)}, got {plot.name!r}")
+    plot = check_plot(plot)
     v0, v1, n = parse_range(velocity, "m/s", "velocity")
     if min(v0, v1) <= 0:
         raise InputError("velocity", f"impact speeds must be > 0 m/s, got {min(v0, v1):g} m/s")
+    resources.require(impacts_cost(n), force)  # judged from the count, before the list exists
     v = np.linspace(v0, v1, n)
 
     damper = sc.damper()
@@ -101,8 +111,7 @@ def cor(
 
         fig = Figure(figsize=(7, 4.5), layout="constrained")
         plot_cor_check(check, ax=fig.subplots(), curve=curve)
-        fmt = _FORMATS[plot.suffix.lower()]
-        payload["plot"] = str(write_figure(plot, fig, format=fmt, dpi=120))
+        payload["plot"] = str(write_figure(fig, plot, dpi=120))
     kind_text = "sphere-sphere" if sphere_sphere else "sphere-wall"
     lines = [f"{check.pair} ({kind_text}, r = {r * 1e3:g} mm): target {check.curve}",
              f"DEM single impacts: {check.damping_model} COR-damping relation, "

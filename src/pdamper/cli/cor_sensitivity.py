@@ -22,7 +22,7 @@ from typing import Annotated
 
 import typer
 
-from pdamper.cli._common import JsonOpt, ScenarioOpt, check_output, emit, load, metadata
+from pdamper.cli._common import JsonOpt, ScenarioOpt, check_plot, emit, load, metadata, plot_option
 
 
 def _points(text: str):
@@ -61,12 +61,11 @@ def cor_sensitivity(
     skip_cycles: Annotated[int | None, typer.Option(
         "--skip-cycles", help="Cycles left out of the complex power (default: the "
                               "scenario's, else 16).")] = None,
-    plot: Annotated[str | None, typer.Option("--plot", help="Figure file (.png).")] = None,
+    plot: plot_option("the loss factors and amplitudes per COR variant") = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
     """Rerun DEM Level II points and Level III DEM model 1 under several COR models."""
-    from pdamper.errors import InputError
     from pdamper.reports.cor_sensitivity import (
         DEFAULT_POINTS,
         DEFAULT_VARIANTS,
@@ -76,9 +75,7 @@ def cor_sensitivity(
 
     sc = load(scenario, simulation__duration=duration, dem__cycles=cycles,
               dem__skip_cycles=skip_cycles)
-    plot = check_output(plot, "plot")
-    if plot is not None and plot.suffix.lower() != ".png":
-        raise InputError("plot", f"must end in .png, got {plot.name!r}")
+    plot = check_plot(plot)
     names = DEFAULT_VARIANTS if variants is None else [v for v in variants.split(",") if v.strip()]
     pts = DEFAULT_POINTS if points is None else _points(points)
     study = run_cor_sensitivity(sc, names, pts, level3=level3)
@@ -87,6 +84,6 @@ def cor_sensitivity(
         from pdamper.cli._common import write_figure
 
         fig = sensitivity_figure(study)
-        payload["plot"] = str(write_figure(plot, fig, format="png", dpi=110))
+        payload["plot"] = str(write_figure(fig, plot, dpi=110))
     emit(payload, as_json, study.markdown() + f"\n{study.wall_seconds:.1f} s"
          + (f"; figure written to {payload['plot']}" if plot is not None else ""))

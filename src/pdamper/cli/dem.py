@@ -92,7 +92,6 @@ def dem(
     values (`pdamper example-scenario` shows every default)."""
     import json
 
-    from pdamper.dem.vtk import DEFAULT_SNAPSHOT_RATE
     from pdamper.errors import InputError
     from pdamper.files import atomic_directory
 
@@ -115,6 +114,8 @@ def dem(
     target = check_output(out)
     vtk_dir = check_output_directory(vtk, "vtk")
     if vtk is not None and sc.dem.snapshot_rate is None:  # option > scenario > VTK default
+        from pdamper.dem.vtk import DEFAULT_SNAPSHOT_RATE
+
         sc = sc.model_copy(update={"dem": sc.dem.model_copy(
             update={"snapshot_rate": DEFAULT_SNAPSHOT_RATE})})
     damper = sc.damper()

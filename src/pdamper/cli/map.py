@@ -14,6 +14,7 @@ from typing import Annotated
 import typer
 
 from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, check_output, emit, load
+from pdamper.cli._quiet import quiet
 
 
 def map_(
@@ -86,7 +87,7 @@ def map_(
     if scheduler is not None:
         options["scheduler"] = scheduler
     meta = metadata(sc, model=model, seed=sc.dem.seed)
-    with _progress(sys.stderr, as_json) as progress:
+    with _progress(sys.stderr, as_json or quiet()) as progress:
         result = run_map(sc, model, out=out, keep_partial=keep_partial, progress=progress,
                          **options)
     ds = result.dataset
@@ -116,7 +117,8 @@ def map_(
 
 
 class _progress:
-    """A rich progress bar on stderr (none with --json), as a sweep ``progress`` callback."""
+    """A rich progress bar on stderr (none with --json or --quiet), as a sweep ``progress``
+    callback."""
 
     def __init__(self, stream, quiet: bool):
         self.stream, self.quiet = stream, quiet

@@ -11,10 +11,11 @@ from pdamper.cli._common import (
     JsonOpt,
     ModelOpt,
     ScenarioOpt,
-    check_output,
+    check_plot,
     emit,
     load,
     metadata,
+    plot_option,
     write_figure,
 )
 
@@ -41,12 +42,13 @@ def optimize(
     max_evaluations: Annotated[int | None, typer.Option(
         "--max-evaluations", help="Evaluation budget of the optimiser.")] = None,
     seed: Annotated[int | None, typer.Option(help="Seed of the optimiser.")] = None,
-    plot: Annotated[str | None, typer.Option(help="PNG file of the landscape.")] = None,
+    plot: plot_option("the design landscape") = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
     """Design with the best objective; every candidate (the landscape) is listed."""
+    import functools
     import os
 
     from pdamper.design.study import DesignVariable, optimize_design
@@ -64,7 +66,7 @@ def optimize(
               optimization__threshold=threshold, optimization__method=method,
               optimization__workers=workers, optimization__scheduler=scheduler,
               optimization__max_evaluations=max_evaluations, optimization__seed=seed)
-    plot = check_output(plot, "plot")
+    plot = check_plot(plot)
     o = sc.optimization
     damper = sc.damper()
     variables = o.variables()
@@ -81,7 +83,7 @@ def optimize(
         parallel = proto.expensive and importlib.util.find_spec("distributed") is not None
         n_workers = (os.cpu_count() or 1) if parallel else 0
     res = optimize_design(sc.structure_model(), damper, sc.structure.initial_displacement,
-                          variables, o.objective, o.at, model=lambda d: sc.model(None, d),
+                          variables, o.objective, o.at, model=functools.partial(sc.model, None),
                           threshold=o.threshold, method=o.method, max_grid=o.max_grid,
                           max_evaluations=o.max_evaluations, seed=o.seed,
                           workers=n_workers, scheduler=o.scheduler)
@@ -92,7 +94,7 @@ def optimize(
 
         fig = Figure(figsize=(7, 5), layout="constrained")
         plot_design_landscape(res, ax=fig.subplots())
-        write_figure(plot, fig, dpi=120, format="png")
+        write_figure(fig, plot, dpi=120)
     unit = {"m": "m", "s": "s", "1": "1"}[res.objective.unit]
     payload = {**res.as_dict(), "workers": n_workers,
                "units": {"mass": "kg", "objective": unit, "at": "s", "radius": "m",

@@ -7,6 +7,7 @@ from typing import Annotated
 import typer
 
 from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, check_output_directory, emit, load
+from pdamper.cli._quiet import quiet
 
 
 def paper(
@@ -56,7 +57,7 @@ def paper(
     # a progress display for a terminal only, gone when done: errors stay one line
     with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(),
                   console=console, transient=True,
-                  disable=not console.is_terminal) as prog:
+                  disable=not console.is_terminal or quiet()) as prog:
         steps = 10 if dem else 8
         task = prog.add_task("case study", total=steps)
         points = None

@@ -13,9 +13,12 @@ from pdamper.cli._common import (
     ModelOpt,
     ScenarioOpt,
     check_output,
+    check_plot,
     emit,
     load,
     metadata,
+    plot_option,
+    write_figure,
 )
 
 
@@ -62,8 +65,7 @@ def simulate(
     measured: Annotated[Path | None, typer.Option(
         help="Measured end-effector trajectory (CSV with unit headers, e.g. 'time [ms], "
              "displacement [mm]'; or velocity, acceleration).")] = None,
-    plot: Annotated[str | None, typer.Option(
-        help="PNG figure: trajectories, damping ratios (and phase drift).")] = None,
+    plot: plot_option("the trajectories and damping ratios (and the phase drift)") = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file for the trajectory.")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
@@ -80,7 +82,7 @@ def simulate(
               structure__initial_displacement=initial_displacement,
               fields__file=None if fields is None else str(fields))
     out = check_output(out)
-    plot = check_output(plot, "plot")
+    plot = check_plot(plot)
     names = [sc.simulation.model]
     if compare is not None:
         names = [n.strip() for n in compare.split(",") if n.strip()]
@@ -93,10 +95,11 @@ def simulate(
     models = {n: sc.model(n, damper) for n in names}  # all built (and checked) before any run
     aligned = None
     if measured is not None:
-        from pdamper.coupling.measurement import align_measurement
+        from pdamper.coupling.measurement import align_measurement, check_release_scale
         from pdamper.io.measured import read_measured
 
         aligned = align_measurement(read_measured(measured))
+        check_release_scale(aligned, sc.structure.initial_displacement)  # before any run
     structure = sc.structure_model()
     x0 = sc.structure.initial_displacement
     runs, seconds = {}, {}
@@ -161,7 +164,6 @@ def _figure(path: Path, runs: dict, aligned, comparisons: dict) -> None:
     from matplotlib.figure import Figure
 
     from pdamper import plots
-    from pdamper.cli._common import write_figure
 
     panels = 3 if aligned is not None else 2
     fig = Figure(figsize=(11, 3.6 * panels), layout="constrained")
@@ -173,4 +175,4 @@ def _figure(path: Path, runs: dict, aligned, comparisons: dict) -> None:
     if aligned is not None:
         plots.plot_phase_drift(comparisons, ax=axes[2])
         axes[2].set_title("phase drift against the measurement")
-    write_figure(path, fig, dpi=110, format="png")
+    write_figure(fig, path, dpi=110)

@@ -40,6 +40,11 @@ from pdamper.errors import InputError, check_range
 TABULATION_RANGE = (0.0, 20.0)
 #: Largest deviation of the kernels' linear interpolation from a smooth curve [-].
 TABULATION_TOLERANCE = 1e-4
+#: Largest impact speed a COR table may give [m/s]: above the bar wave speed sqrt(E/rho)
+#: of every material of the library (at most 9.8 km/s, alumina), where nothing rebounds;
+#: the impacts a COR describes are a hundred times slower (the quasi-static limit of
+#: :mod:`pdamper.resources` is 0.1 of that speed). Tables beyond it are unit mistakes.
+MAX_TABLE_VELOCITY = 1e4
 
 
 def _out(v, e):
@@ -47,8 +52,25 @@ def _out(v, e):
     return float(e) if np.ndim(v) == 0 else np.asarray(e, float)
 
 
+def _cached_names(cls: type) -> frozenset[str]:
+    """Names of the :func:`functools.cached_property` attributes of ``cls``."""
+    return frozenset(name for klass in cls.__mro__ for name, value in vars(klass).items()
+                     if isinstance(value, cached_property))
+
+
 class RestitutionCurve:
-    """Base class: a COR [-] as a function of the normal impact speed [m/s]."""
+    """Base class: a COR [-] as a function of the normal impact speed [m/s].
+
+    A curve pickles as its defining fields alone: what it caches (tabulated nodes,
+    interpolants) is derived, may not pickle (closures), and must not change the bytes of
+    a pickle, which cross processes on the sweep engine and key the settled-bed cache
+    (:attr:`pdamper.dem.DEMEngine.settle_key`): a curve pickles the same before and after
+    its first evaluation.
+    """
+
+    def __getstate__(self) -> dict:
+        cached = _cached_names(type(self))
+        return {k: v for k, v in self.__dict__.items() if k not in cached}
 
     def __call__(self, v):
         v_nodes, e_nodes = self.tabulate()
@@ -87,6 +109,10 @@ def _check_table(velocity, restitution) -> tuple[np.ndarray, np.ndarray]:
         raise InputError("restitution.velocity", "needs as many velocities as COR values (>= 1)")
     if np.any(~np.isfinite(v)) or np.any(v < 0) or np.any(np.diff(v) <= 0):
         raise InputError("restitution.velocity", "must be finite, >= 0 m/s and strictly increasing")
+    if v[-1] > MAX_TABLE_VELOCITY:
+        raise InputError("restitution.velocity", f"must be <= {MAX_TABLE_VELOCITY:g} m/s, got "
+                         f"{v[-1]:.3g} m/s: faster than sound in any solid, no impact a COR "
+                         "describes (check the unit of the velocity column)")
     _check_cor("restitution.restitution", e)
     return v, e
 
@@ -364,6 +390,11 @@ class MeasuredRestitution(SmoothRestitution):
             val = getattr(self, name)
             if val is not None:
                 object.__setattr__(self, name, tuple(float(x) for x in val))
+        with np.errstate(over="ignore", divide="ignore"):  # PCHIP's coefficients ~ de / dv^2
+            if v.size > 1 and not np.all(np.isfinite(1.0 / np.diff(v) ** 2)):
+                raise InputError("restitution.velocity", f"{self.source or 'the table'}: "
+                                 "velocities too close together to interpolate (spacing "
+                                 f"{float(np.min(np.diff(v))):.3g} m/s)")
 
     @cached_property
     def _interpolant(self):
@@ -373,7 +404,14 @@ class MeasuredRestitution(SmoothRestitution):
             return lambda x: np.full(np.shape(x), e[0])
         from scipy.interpolate import PchipInterpolator
 
-        p = PchipInterpolator(v, e, extrapolate=False)
+        # nodes orders of magnitude apart overflow PCHIP's harmonic mean of the slopes
+        # (a zero, admissible derivative); what is not finite then is refused
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            p = PchipInterpolator(v, e, extrapolate=False)
+        if not np.all(np.isfinite(p.c)):
+            raise InputError("restitution.velocity", f"{self.source or 'the table'}: "
+                             "velocities too close together to interpolate (spacing "
+                             f"{float(np.min(np.diff(v))):.3g} m/s)")
         return lambda x: p(np.clip(x, v[0], v[-1]))
 
     def evaluate(self, v):
@@ -431,6 +469,7 @@ __all__ = [
     "ScaledRestitution",
     "SmoothRestitution",
     "TABULATION_RANGE",
+    "MAX_TABLE_VELOCITY",
     "TABULATION_TOLERANCE",
     "TabulatedRestitution",
     "tabulate_function",

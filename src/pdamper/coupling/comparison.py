@@ -115,8 +115,17 @@ def compare_with_measurement(result, measured, bands: int | Sequence[float] = DE
     ----------
     bands
         Number of equal amplitude bands over the measured range, or explicit edges [m].
+
+    A measurement released from more than
+    :data:`~pdamper.coupling.measurement.MAX_RELEASE_RATIO` times (or less than its
+    inverse) the simulated release is refused
+    (:func:`~pdamper.coupling.measurement.check_release_scale`).
     """
+    from pdamper.coupling.measurement import check_release_scale
+
     ta, aa = np.asarray(result.peak_times), np.asarray(result.peak_amplitudes)
+    if aa.size:  # the release is the first peak
+        check_release_scale(measured, float(aa[0]))
     tm, am = np.asarray(measured.peak_times), np.asarray(measured.peak_amplitudes)
     n = min(ta.size, tm.size)
     err = aa[1:n] - am[1:n]

@@ -40,6 +40,12 @@ from pdamper.errors import InputError
 DRIFT_DEGREE = {"displacement": 0, "velocity": 1, "acceleration": 2}
 #: Fewest negative peaks after the release needed to align and compare a record.
 MIN_PEAKS = 3
+#: Largest ratio between the measured and the simulated release deflection (either way)
+#: that is compared [-]. Beyond it the two describe different experiments, most likely a
+#: unit of the file's header (``[m]`` for millimetres: 1000) or a release that is not the
+#: simulated one; the peak errors are then meaningless and the damping bands hold no
+#: common amplitude.
+MAX_RELEASE_RATIO = 10.0
 
 
 @dataclass(frozen=True)
@@ -240,6 +246,34 @@ def _centres(te: np.ndarray, xe: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 # ----------------------------------------------------------------------------- alignment
 def _fail(m: MeasuredTrajectory, msg: str) -> InputError:
     return InputError("measured", f"{m.source or 'the measurement'}: {msg}")
+
+
+def check_release_scale(measured: AlignedMeasurement, initial_displacement: float) -> float:
+    """The ratio ``|x0 measured| / |x0 simulated|`` [-]; an :class:`InputError` naming the
+    factor where it is beyond :data:`MAX_RELEASE_RATIO` either way (orders of magnitude:
+    the record's unit, or another release than the simulated one).
+
+    Parameters
+    ----------
+    measured
+        The aligned measurement; its release is its first peak (the fitted
+        ``initial_deflection``) [m].
+    initial_displacement
+        The simulated release deflection x0 [m].
+    """
+    peaks = np.asarray(measured.peak_amplitudes, float)
+    if peaks.size == 0:
+        return math.nan
+    x_m, x_s = abs(float(peaks[0])), abs(float(initial_displacement))
+    ratio = x_m / x_s if x_s > 0 else math.inf
+    if not 1.0 / MAX_RELEASE_RATIO <= ratio <= MAX_RELEASE_RATIO:
+        factor = f"{ratio:.3g} times" if ratio >= 1 else f"1/{1.0 / ratio:.3g} of"
+        source = getattr(measured, "source", "") or "the measurement"
+        raise InputError("measured", f"{source}: released from "
+                         f"{x_m:.4g} m, {factor} the simulated release of {x_s:.4g} m "
+                         f"(structure.initial_displacement); compared only within a factor "
+                         f"of {MAX_RELEASE_RATIO:g}: check the unit in the file's header")
+    return ratio
 
 
 def align_measurement(m: MeasuredTrajectory, time_offset: float | None = None,

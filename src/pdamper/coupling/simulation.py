@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from pdamper import resources
 from pdamper.coupling.cosimulation import co_simulate
 from pdamper.coupling.modal import simulate_modal_pseudo_force
 from pdamper.coupling.pseudo_force import simulate_pseudo_force
@@ -84,6 +85,10 @@ class Simulation:
         self.initial_displacement = check_range("structure.initial_displacement",
                                                 initial_displacement, high=0.0,
                                                 high_inclusive=False, unit="m")
+        # the physics limits of every Level III run, whichever the model (a design study's
+        # candidate, the API): the release at the (first) natural frequency
+        resources.check_release(model.damper, structure.natural_frequency,
+                                self.initial_displacement, contact_law=model.contact_law)
 
     def run(self, duration: float, sample_rate: float = 2000.0) -> FreeVibrationResult:
         """Simulate ``duration`` [s]; the trajectory is sampled at ``sample_rate`` [Hz]."""

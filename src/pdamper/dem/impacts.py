@@ -14,11 +14,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pdamper import resources
 from pdamper.contact.law import ContactParameters
 from pdamper.contact.restitution import RestitutionCurve
 from pdamper.errors import InputError, SimulationError, check_range
 from pdamper.materials import Material
 
+#: Usual number of single impacts of a check (``pdamper cor``'s default grid).
+USUAL_IMPACTS = 40
 #: Simulated time after the approach, in elastic Hertz contact durations (the damped contact
 #: lasts longer than the elastic one; the rebound is checked to have ended).
 CONTACT_DURATIONS = 4.0
@@ -138,17 +141,34 @@ def simulate_impact(velocity: float, curve: RestitutionCurve, sphere: Material,
     return float(e)
 
 
+def impacts_cost(count: float, field: str = "velocity") -> resources.Cost:
+    """What ``count`` simulated single impacts cost (:func:`pdamper.resources.count_cost`),
+    judged from the count alone, before the speeds exist."""
+    return resources.count_cost(count, "the COR check", "single impacts, each a DEM run",
+                                bytes_each=4 * resources.BYTES_PER_VALUE,
+                                seconds_each=resources.SECONDS_PER_IMPACT, field=field,
+                                usual=USUAL_IMPACTS)
+
+
 def check_restitution(velocity, curve: RestitutionCurve, sphere: Material, partner: Material,
                       radius: float, sphere_sphere: bool | None = None,
                       damping_model: str = "exact", integrator: str = "gear") -> ImpactCheck:
     """Simulated single impacts at every speed of ``velocity`` [m/s] against ``curve``.
 
-    ``sphere_sphere`` defaults to ``sphere.name == partner.name``.
+    ``sphere_sphere`` defaults to ``sphere.name == partner.name``. The speeds are judged
+    before the first run: their number by the hard limits of :mod:`pdamper.resources`
+    (what no run can do), the fastest by the physics limits every DEM run obeys
+    (:func:`pdamper.resources.check_impacts`).
     """
     v = np.atleast_1d(np.asarray(velocity, float))
+    resources.require(impacts_cost(v.size), force=True)  # before any array of that size
     if v.ndim != 1 or v.size < 1 or np.any(~np.isfinite(v)) or np.any(v <= 0):
         raise InputError("velocity", "impact speeds must be finite and > 0 m/s")
     ss = sphere.name == partner.name if sphere_sphere is None else bool(sphere_sphere)
+    r = check_range("radius", radius, low=0.0, low_inclusive=False, unit="m")
+    resources.check_impacts([(r, sphere)], None if ss else partner, float(v.max()),
+                            speed_field="velocity", radius_field="radius",
+                            between_spheres=ss)
     sim = np.array([simulate_impact(x, curve, sphere, partner, radius, ss, damping_model,
                                     integrator) for x in v])
     return ImpactCheck(v, np.asarray(curve(v), float), sim, sphere.name, partner.name, ss,

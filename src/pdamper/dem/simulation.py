@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pdamper import resources
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.contact.forces import DAMPING_CODES
 from pdamper.contact.hertz import (
@@ -637,6 +638,10 @@ class DEMEngine:
         self.particles = particles
         self.container = container
         self.contact = contact
+        motions = (HarmonicMotion, PrescribedMotion, StructureMotion)
+        if motion is not None and not isinstance(motion, motions):
+            raise InputError("motion", f"must be one of {', '.join(m.__name__ for m in motions)} "
+                             f"or None (at rest), got {motion!r}")
         self.motion = motion or HarmonicMotion()
         if integrator not in INTEGRATORS:
             raise InputError("integrator", f"must be one of {', '.join(INTEGRATORS)}, "
@@ -687,12 +692,43 @@ class DEMEngine:
         #: fall over the container height (not the motion: one settled bed serves all).
         self.settle_reference_velocity = (self._fall_velocity() if reference_velocity is None
                                           else self.reference_velocity)
+        self._check_physics(reference_velocity is not None)
         self.contact_time = self._contact_time(self.reference_velocity)
         self.rayleigh_time = min(rayleigh_time(float(ri), m)
                                  for ri, m in zip(r, particles.material, strict=True))
         self.time_step = self.safety * self.contact_time
 
     # ------------------------------------------------------------------ set-up
+    def _check_physics(self, given_speed: bool) -> None:
+        """Refuse a run without physical meaning (:func:`pdamper.resources.check_impacts`):
+        spheres below 0.1 mm, strokes above 10 m, impacts at the reference speed (the
+        fastest the motion implies) above a tenth of the bar wave speed or with a Hertz
+        contact radius above half the sphere radius, an excitation faster than a contact.
+        Every DEM run of every command and of the API passes here, before anything runs."""
+        m = self.motion
+        frequency, speed_field, frequency_field = None, "reference_velocity", "frequency"
+        remedy = "lower reference_velocity"
+        if isinstance(m, HarmonicMotion):
+            resources.check_stroke(m.amplitude, "amplitude")
+            frequency = m.frequency if m.frequency > 0 else None
+            if not given_speed:  # the motion sets the speed: name the input further off
+                speed_field = max((("frequency", m.frequency / 10.0),
+                                   ("amplitude", m.amplitude / 0.032)), key=lambda d: d[1])[0]
+                remedy = "lower the frequency or the amplitude"
+        elif isinstance(m, StructureMotion):
+            resources.check_stroke(m.x0, "x0", "the release deflection")
+            frequency, frequency_field = m.natural_frequency, "stiffness"
+            if not given_speed:
+                speed_field, remedy = "x0", "lower x0 or the stiffness"
+        elif not given_speed:
+            speed_field, remedy = "motion", "slow the motion down"
+        p = self.particles
+        spheres = [(float(r), mat) for r, mat in zip(p.radius, p.material, strict=True)]
+        resources.check_impacts(spheres, self.container.material, self.reference_velocity,
+                                speed_field=speed_field, frequency=frequency,
+                                frequency_field=frequency_field, radius_field="particles.radius",
+                                between_spheres=p.count > 1, remedy=remedy)
+
     def _build_tables(self) -> None:
         p = self.particles
         names: list[str] = []
@@ -816,6 +852,7 @@ class DEMEngine:
             not change it).
         """
         grid = self._sample_grid(duration, sample_rate, snapshot_rate)
+        self._require(grid, settle and start is None)
         if start is not None:
             run = self._settled_run(start)
         else:
@@ -878,6 +915,19 @@ class DEMEngine:
         return _SampleGrid(duration=duration, interval=interval, nsamp=nsamp,
                            snap_every=snap_every, per_cycle=per_cycle, frequency=freq,
                            snapshots_requested=snapshot_rate is not None)
+
+    def _require(self, grid: _SampleGrid, settle: bool) -> None:
+        """Refuse a run that no machine can do (:func:`pdamper.resources.require`, hard
+        limits: more memory than this machine has, months of computing), judged from the
+        sample grid's numbers before any array is allocated."""
+        snapshots = grid.nsamp / grid.snap_every + 2
+        simulated = grid.duration + (self.settle_time if settle else 0.0)
+        resources.require(resources.dem_run_cost(
+            self.particles.count, grid.duration, simulated, self.time_step, grid.nsamp,
+            snapshots, drivers=(("duration", grid.duration / 1.0),
+                                ("sample_rate", grid.nsamp / grid.duration / 2000.0),
+                                ("snapshot_rate", snapshots / grid.duration / 2000.0))),
+            force=True)
 
     def _allocate(self, grid: _SampleGrid) -> _Run:
         """Every array of a run, once: particles, contact lists, histories, work."""
@@ -1289,16 +1339,31 @@ class DEMEngine:
         return d
 
 
-def warmup() -> float:
-    """Compile (or load from the numba cache) the integrator kernels; returns seconds."""
+def warmup(integrators: tuple[str, ...] = INTEGRATORS,
+           motions: tuple[str, ...] = ("harmonic", "structure")) -> float:
+    """Compile (or load from the numba cache) the kernels of ``integrators`` (default all)
+    for the container ``motions`` (``"harmonic"``, ``"structure"``; default both); returns
+    seconds.
+
+    A run loads only the kernels it calls, when it first calls them; this loads them ahead
+    (all of them: to fill the cache, or to leave compilation out of a timing). Loading every
+    variant costs several times what one run's start-up loads (the variable-step kernels
+    of Gear, the fixed-step ones of Verlet, ``auto``'s resume, each per motion)."""
     t0 = time.perf_counter()
     from pdamper.contact.restitution import ConstantRestitution
     from pdamper.materials import PVC, S235
 
+    for name in integrators:
+        if name not in INTEGRATORS:
+            raise InputError("integrators", f"must be among {', '.join(INTEGRATORS)}, got {name!r}")
+    kinds = {"harmonic": HarmonicMotion(0.001, 10.0), "structure": StructureMotion(1.0, 0.1, 100.0)}
+    for name in motions:
+        if name not in kinds:
+            raise InputError("motions", f"must be among {', '.join(kinds)}, got {name!r}")
     contact = ContactParameters(ConstantRestitution(0.8), ConstantRestitution(0.8), 0.1, 0.1)
-    for integ in INTEGRATORS:
+    for integ in integrators:
         parts = ParticleSet(np.array([[0.02, 0.02, 0.006], [0.02, 0.02, 0.03]]), 0.005, S235)
-        for motion in (HarmonicMotion(0.001, 10.0), StructureMotion(1.0, 0.1, 100.0)):
+        for motion in (kinds[m] for m in motions):
             # "auto" made to hand over at its first judgement: the resume kernel too
             DEMEngine(parts, Container((0.04, 0.04, 0.12), PVC), contact, motion,
                       integrator=integ, settle_time=0.0, auto_cost_ratio=math.inf).run(

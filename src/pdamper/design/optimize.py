@@ -12,6 +12,7 @@ import logging
 from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass
 
+from pdamper import resources
 from pdamper.coupling.simulation import Simulation
 from pdamper.damper import ParticleDamper
 from pdamper.errors import InputError, check_range, check_whole
@@ -84,11 +85,17 @@ def optimize_particle_count(
     if counts is None:
         step = damper.per_layer if step is None else check_whole("optimization.step", step, 1)
         counts = range(0, damper.max_count, step)
+    # one period past T so that the envelope at T is bracketed by two peaks
+    duration = at + 2.0 / structure.natural_frequency
+    if hasattr(counts, "__len__"):  # what no run can do, judged before the list is read
+        one = resources.pseudo_force_cost(duration, 200.0, structure.natural_frequency)
+        resources.require(resources.count_cost(
+            len(counts), "the optimisation", "candidates",
+            bytes_each=resources.BYTES_PER_CANDIDATE, seconds_each=one.seconds,
+            field="optimization.counts", usual=12), force=True)
     counts = [check_whole("optimization.counts", n, 0) for n in counts]
     if not counts:
         raise InputError("optimization.counts", "needs at least one particle count")
-    # one period past T so that the envelope at T is bracketed by two peaks
-    duration = at + 2.0 / structure.natural_frequency
     out = []
     for k, n in enumerate(counts):
         d = damper.with_count(n)

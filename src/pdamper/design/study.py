@@ -27,6 +27,16 @@ A design whose spheres do not fit the container (more than n_max, or a diameter 
 than the container) is *infeasible*: it stays in the landscape with its reason and no
 objective; an evaluation that fails is kept as ``failed`` with its error.
 
+Physical limits (:mod:`pdamper.resources`: spheres of at least 0.1 mm, the release's
+impacts quasi-static and, for the DEM, within Hertz's law) are judged where every run is
+made (the damper model, the free vibration), so every candidate obeys them. A variable
+whose *given range* reaches outside them is refused before anything runs, with one line
+naming the variable (``optimization.vary.radius``: ``radius=1nm:3mm:4`` is a typo, not a
+landscape to report); a combination of values each within the limits that is outside them
+together (found by the optimiser, say) is an infeasible candidate with the reason.
+The number of values of a variable is judged before they are built (:func:`values_cost`;
+the scenario judges the whole study, :meth:`pdamper.io.scenario.Scenario.check_resources`).
+
 Variable specifications (CLI ``--vary``, scenario ``[optimization] vary``)
 -------------------------------------------------------------------------
 ``particles=16:176:16``
@@ -53,13 +63,10 @@ from pdamper.coupling.simulation import Simulation
 from pdamper.damper import ParticleDamper
 from pdamper.design.parallel import Outcome, evaluate_parallel
 from pdamper.errors import InputError, check_range
+from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID  # noqa: F401 - the study's defaults
 
 logger = logging.getLogger(__name__)
 
-#: Most grid points of a brute-force study before ``method="auto"`` turns to the optimiser.
-DEFAULT_MAX_GRID = 400
-#: Evaluation budget of the optimiser.
-DEFAULT_MAX_EVALUATIONS = 200
 #: Largest grid a study accepts (a typo guard, not a design question).
 MAX_GRID = 100_000
 #: Objective value given to the optimiser for infeasible or failed designs.
@@ -114,6 +121,13 @@ class DesignVariable:
     bounds: tuple[float, float] | None = None
     spec: str = ""
 
+    def __post_init__(self) -> None:
+        # a study over no value evaluates nothing and would end with no best design
+        if self.values is None and self.bounds is None or (
+                self.values is not None and len(self.values) == 0):
+            raise InputError("optimization.vary", f"{self.spec or self.name!r}: no values; "
+                             "give at least one value or an interval")
+
     @property
     def kind(self) -> str:
         return VARIABLES[self.name].kind
@@ -135,18 +149,41 @@ def _name(raw: str) -> str:
     return name
 
 
-def parse_variable(spec: str) -> DesignVariable:
-    """A :class:`DesignVariable` from ``"name=..."`` (module docstring for the forms).
+#: Usual number of values of a design variable (the paper's study: 12 layers).
+USUAL_VALUES = 12
 
-    Examples
-    --------
-    >>> parse_variable("particles=16:176:16").values[:3]
-    (16, 32, 48)
-    >>> [round(v * 1e3, 3) for v in parse_variable("radius=3mm:6mm:4").values]
-    [3.0, 4.0, 5.0, 6.0]
-    >>> parse_variable("radius=3mm:6mm").bounds
-    (0.003, 0.006)
-    """
+
+def variable_field(name: str) -> str:
+    """The field that names variable ``name`` in errors: ``optimization.vary.radius``."""
+    return f"optimization.vary.{name}"
+
+
+@dataclass(frozen=True)
+class _Spec:
+    """A parsed specification, not yet built: ``form`` is ``"list"`` (``items``),
+    ``"range"`` (whole ``start, stop, step``), ``"grid"`` (``start, stop, count``) or
+    ``"interval"`` (``start, stop``)."""
+
+    name: str
+    form: str
+    items: tuple = ()
+    start: float = 0.0
+    stop: float = 0.0
+    step: int = 1
+    count: int = 0
+
+    @property
+    def size(self) -> float:
+        """Number of values (inf for an interval), known without building them."""
+        if self.form == "list":
+            return len(self.items)
+        if self.form == "range":
+            return (int(self.stop) - int(self.start)) // self.step + 1
+        return self.count if self.form == "grid" else math.inf
+
+
+def _parse(spec: str) -> _Spec:
+    """Read ``"name=..."`` completely (every check of the text) without building a range."""
     from pdamper.units import parse_quantity
 
     field_ = "optimization.vary"
@@ -159,14 +196,17 @@ def parse_variable(spec: str) -> DesignVariable:
     text = text.strip()
     if not text:
         raise InputError(field_, f"{spec!r}: no values after '='")
-    where = f"{field_} ({name.replace('_', '-')})"
+    where = variable_field(name)
     if kind.kind == "categorical":
         from pdamper.materials import get_material
 
-        names = tuple(p.strip() for p in text.split(",") if p.strip())
+        names = tuple(p.strip() for p in text.split(","))
+        if not all(names):
+            raise InputError(field_, f"{spec!r}: an empty material name in the list; give "
+                             "names separated by commas (e.g. 'particle-material=S235,PVC')")
         for n in names:
             get_material(n, where)
-        return DesignVariable(name, names, spec=spec)
+        return _Spec(name, "list", names)
     if kind.kind == "integer":
         if ":" in text:
             parts = text.split(":")
@@ -181,25 +221,26 @@ def parse_variable(spec: str) -> DesignVariable:
                 raise InputError(where, f"{text!r}: stop - start = {b - a} is not a multiple of "
                                  f"the step {step} (particle counts use start:stop:STEP, e.g. "
                                  "16:176:16)")
-            values = tuple(range(a, b + 1, step))
-        else:
-            try:
-                values = tuple(int(p) for p in text.split(","))
-            except ValueError:
-                raise InputError(where, f"expected whole numbers, got {text!r}") from None
+            if a < 0:
+                raise InputError(where, f"counts must be >= 0, got {text!r}")
+            return _Spec(name, "range", start=a, stop=b, step=step)
+        try:
+            values = tuple(int(p) for p in text.split(","))
+        except ValueError:
+            raise InputError(where, f"expected whole numbers, got {text!r}") from None
         if any(v < 0 for v in values):
             raise InputError(where, f"counts must be >= 0, got {text!r}")
-        return DesignVariable(name, values, spec=spec)
+        return _Spec(name, "list", values)
     # continuous
     parts = text.split(":")
     if len(parts) == 1:
-        values = tuple(parse_quantity(p, kind.unit, where) for p in text.split(","))
-        bounds = None
+        out = _Spec(name, "list", tuple(parse_quantity(p, kind.unit, where)
+                                        for p in text.split(",")))
     elif len(parts) == 2:
         lo, hi = (parse_quantity(p, kind.unit, where) for p in parts)
         if not lo < hi:
             raise InputError(where, f"interval {text!r} must have start < stop")
-        values, bounds = None, (lo, hi)
+        out = _Spec(name, "interval", start=lo, stop=hi)
     elif len(parts) == 3:
         lo, hi = (parse_quantity(p, kind.unit, where) for p in parts[:2])
         try:
@@ -210,14 +251,68 @@ def parse_variable(spec: str) -> DesignVariable:
         if n < 1 or not lo <= hi or (n == 1 and lo != hi):
             raise InputError(where, f"expected 'start:stop:count' with start <= stop and "
                              f"count >= 1, got {text!r}")
-        values = tuple(float(v) for v in np.linspace(lo, hi, n))
-        bounds = (lo, hi)
+        out = _Spec(name, "grid", start=lo, stop=hi, count=n)
     else:
         raise InputError(where, f"expected 'start:stop:count', 'start:stop' or a list, "
                          f"got {text!r}")
-    for v in values or bounds:
+    # the ends decide for a range: the values between them are between them
+    for v in out.items or (out.start, out.stop):
         check_range(where, v, low=0.0, low_inclusive=False, unit=kind.unit)
-    return DesignVariable(name, values, bounds, spec=spec)
+    return out
+
+
+def variable_size(spec: str) -> tuple[str, float]:
+    """``(name, number of values)`` of a specification (inf for an interval), every check of
+    the text made, nothing built: what a count implies is judged from it
+    (:func:`values_cost`) before :func:`parse_variable` builds the values.
+
+    >>> variable_size("particles=0:1000000000:1")
+    ('particles', 1000000001)
+    """
+    p = _parse(spec)
+    return p.name, p.size
+
+
+def values_cost(name: str, size: float):
+    """The memory the values of variable ``name`` take (a :class:`pdamper.resources.Cost`),
+    from their number."""
+    from pdamper import resources
+
+    field_ = variable_field(name)
+    return resources.count_cost(0.0 if math.isinf(size) else size, f"the values of {field_}",
+                                "values", bytes_each=resources.BYTES_PER_VALUE, field=field_,
+                                usual=USUAL_VALUES)
+
+
+def parse_variable(spec: str, force: bool = True) -> DesignVariable:
+    """A :class:`DesignVariable` from ``"name=..."`` (module docstring for the forms).
+
+    The number of values is judged by :mod:`pdamper.resources` before they are built
+    (``force``: only the hard limits, what this machine cannot hold; the command line
+    passes its ``--force``).
+
+    Examples
+    --------
+    >>> parse_variable("particles=16:176:16").values[:3]
+    (16, 32, 48)
+    >>> [round(v * 1e3, 3) for v in parse_variable("radius=3mm:6mm:4").values]
+    [3.0, 4.0, 5.0, 6.0]
+    >>> parse_variable("radius=3mm:6mm").bounds
+    (0.003, 0.006)
+    """
+    from pdamper import resources
+
+    p = _parse(spec)
+    resources.require(values_cost(p.name, p.size), force)
+    if p.form == "list":
+        return DesignVariable(p.name, p.items, spec=spec)
+    if p.form == "range":
+        return DesignVariable(p.name, tuple(range(int(p.start), int(p.stop) + 1, p.step)),
+                              spec=spec)
+    if p.form == "interval":
+        return DesignVariable(p.name, None, (p.start, p.stop), spec=spec)
+    values = tuple(float(v) for v in np.linspace(p.start, p.stop, p.count))
+    return DesignVariable(p.name, values, (p.start, p.stop), spec=spec)
 
 
 def apply_design(damper: ParticleDamper, design: dict[str, Any]) -> ParticleDamper:
@@ -229,7 +324,7 @@ def apply_design(damper: ParticleDamper, design: dict[str, Any]) -> ParticleDamp
     for name, value in design.items():
         kind = VARIABLES[name]
         if kind.kind == "categorical":
-            value = get_material(value, f"optimization.vary ({name})")
+            value = get_material(value, variable_field(name))
         changes[kind.attribute] = value
     return replace(damper, **changes)
 
@@ -431,17 +526,62 @@ class DesignEvaluator:
     model: Callable[[ParticleDamper], Any]
 
     def __call__(self, design: dict) -> tuple[float, dict]:
-        d = apply_design(self.damper, design)
-        res = Simulation(self.structure, self.model(d), self.initial_displacement).run(
-            self.objective.duration, sample_rate=_SAMPLE_RATE)
+        res = self.simulation(design).run(self.objective.duration, sample_rate=_SAMPLE_RATE)
         return self.objective.evaluate(res)
 
+    def simulation(self, design: dict) -> Simulation:
+        """The free vibration of ``design``, made but not run: making it judges the design
+        by the physics limits every run obeys (the model's and the release's,
+        :mod:`pdamper.resources`); raises InputError outside them."""
+        return Simulation(self.structure, self.model(apply_design(self.damper, design)),
+                          self.initial_displacement)
 
-def _feasibility(damper: ParticleDamper, design: dict) -> tuple[ParticleDamper | None, str]:
+    def check(self, design: dict) -> None:
+        """Raise InputError if ``design`` is outside the physical limits of a run."""
+        self.simulation(design)
+
+
+def _feasibility(damper: ParticleDamper, design: dict,
+                 check: Callable[[dict], None] | None = None
+                 ) -> tuple[ParticleDamper | None, str]:
     try:
-        return apply_design(damper, design), ""
+        full = apply_design(damper, design)
+        if check is not None:
+            check(design)
+        return full, ""
     except InputError as exc:
         return None, str(exc)
+
+
+def _show(v: DesignVariable, value) -> str:
+    return f"{value * 1e3:g} mm" if VARIABLES[v.name].unit == "m" else str(value)
+
+
+def check_ranges(damper: ParticleDamper, variables: Sequence[DesignVariable],
+                 check: Callable[[dict], None]) -> None:
+    """Refuse a variable whose given range reaches outside the physical limits of a run,
+    before any design is evaluated: each variable at each end of its range (every material
+    of a list), the others at ``damper``'s values, judged by ``check`` (e.g.
+    :meth:`DesignEvaluator.check`). The limits grow monotonically with each variable (the
+    sphere radius, the container height in the impact speed), so the ends decide. A value
+    that does not fit the container is left to its candidates (infeasible, listed)."""
+    for v in variables:
+        if v.kind == "categorical":
+            ends = v.values
+        else:
+            ends = v.bounds if v.values is None else (min(v.values), max(v.values))
+        for value in dict.fromkeys(ends):
+            design = {v.name: value}
+            try:
+                apply_design(damper, design)
+            except InputError:
+                continue
+            try:
+                check(design)
+            except InputError as exc:
+                raise InputError(variable_field(v.name), f"{v.spec!r} reaches {_show(v, value)}, "
+                                 f"outside the physical limits: {exc.field}: "
+                                 f"{exc.message}") from None
 
 
 def _canonical(design: dict) -> tuple:
@@ -454,6 +594,7 @@ class _Landscape:
 
     def __init__(self, damper, evaluate, workers, scheduler, progress):
         self.damper, self.evaluate = damper, evaluate
+        self.check = getattr(evaluate, "check", None)
         self.workers, self.scheduler, self.progress = workers, scheduler, progress
         self.candidates: list[DesignCandidate] = []
         self._seen: dict[tuple, DesignCandidate] = {}
@@ -469,7 +610,7 @@ class _Landscape:
             if key in self._seen or any(key == f for _, f in fresh):
                 continue
             fresh.append((k, key))
-            full, reason = _feasibility(self.damper, design)
+            full, reason = _feasibility(self.damper, design, self.check)
             values = _reported_values(self.damper, design)
             if full is None:
                 out[k] = DesignCandidate(values, values["particles"], None, None, "infeasible",
@@ -523,7 +664,9 @@ def run_design_study(
     ----------
     evaluate
         ``evaluate(design) -> (value, extras)`` for a feasible design (a dict of variable
-        values), e.g. a :class:`DesignEvaluator`; a synthetic function for tests.
+        values), e.g. a :class:`DesignEvaluator`; a synthetic function for tests. Its
+        ``check(design)`` method, where it has one, judges the physical limits: each
+        variable's range up front (:func:`check_ranges`), each candidate before it runs.
     damper
         The base design; unvaried variables keep its values.
     variables
@@ -545,6 +688,9 @@ def run_design_study(
         raise InputError("optimization.method", f"must be one of {', '.join(METHODS)}, "
                          f"got {method!r}")
     grid_size = math.prod(v.size for v in variables)
+    check = getattr(evaluate, "check", None)
+    if check is not None:  # a given range outside the physical limits: refused up front
+        check_ranges(damper, variables, check)
     if method == "auto":
         method = "grid" if grid_size <= max_grid else "optimize"
     land = _Landscape(damper, evaluate, workers, scheduler, progress)

@@ -38,6 +38,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
 from pdamper.contact.restitution import (
+    MAX_TABLE_VELOCITY,
     ConstantRestitution,
     ExponentialRestitution,
     LinearRestitution,
@@ -142,6 +143,10 @@ def read_cor_table(path: str | Path, field: str = "restitution.file") -> Measure
             if kind == "velocity":
                 if x < 0:
                     raise InputError(field, f"{where}: velocity must be >= 0, got {text}")
+                if x > MAX_TABLE_VELOCITY:
+                    raise InputError(field, f"{where}: velocity must be <= "
+                                     f"{MAX_TABLE_VELOCITY:g} m/s, got {x:.3g} m/s: faster "
+                                     "than sound in any solid (check the column's unit)")
                 if data["velocity"] and x <= data["velocity"][-1]:
                     raise InputError(field, f"{where}: velocities must increase strictly "
                                      f"({x:g} m/s after {data['velocity'][-1]:g} m/s); average "

@@ -17,6 +17,7 @@ defaults; nothing here restates a number.
 from __future__ import annotations
 
 import functools
+import math
 import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -36,7 +37,6 @@ from pdamper import resources
 from pdamper.analysis.stationarity import SteadyStateCriterion
 from pdamper.contact.law import DAMPING_MODELS, DEFAULT_MIN_IMPACT_VELOCITY
 from pdamper.dem.model import DEFAULT_SAFETY
-from pdamper.design.study import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
 from pdamper.errors import InputError
 from pdamper.io.restitution import MODELS as COR_MODELS
 from pdamper.io.restitution import RestitutionSpec, resolve_files
@@ -51,6 +51,7 @@ from pdamper.models.dem import (
     PAPER_CYCLES,
 )
 from pdamper.parameters import vertical_dampers_paper as paper
+from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
 from pdamper.units import format_quantity, parse_quantity, parse_range
 
 
@@ -168,10 +169,20 @@ class OptimizationSpec(_Section):
     seed: Annotated[int, Field(ge=0, strict=True)] = 0
 
     def variables(self):
-        """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary``."""
+        """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary`` (judge
+        their sizes first: :meth:`Scenario.check_resources` with ``"optimization"``)."""
+        if not self.vary:  # no import of Level III for the commands that do not optimise
+            return []
         from pdamper.design.study import parse_variable
 
         return [parse_variable(v) for v in self.vary]
+
+    def sizes(self) -> list[tuple[str, float]]:
+        """``(name, number of values)`` of each ``vary`` entry, every entry checked,
+        nothing built (:func:`pdamper.design.study.variable_size`)."""
+        from pdamper.design.study import variable_size
+
+        return [variable_size(v) for v in self.vary]
 
 
 def _range_text(spec: tuple[float, float, int], unit: str, scale: float) -> str:
@@ -550,17 +561,41 @@ class Scenario(_Section):
             what="the DEM free vibration"), force)
 
     def _check_optimization(self, damper, fidelity: str, default, force: bool) -> None:
-        """Cost of :func:`pdamper.design.optimize_particle_count`: one free vibration of
-        ``at`` plus two periods, sampled at 200 Hz, per candidate count."""
+        """Cost of the design study (:func:`pdamper.design.optimize_design`): one free
+        vibration of ``at`` plus two periods, sampled at 200 Hz, per candidate (the
+        particle counts of the paper's study, the grid of ``vary``, or the optimiser's
+        budget), and the values of each varied variable, judged from their numbers before
+        they are built."""
+        from pdamper.design.study import USUAL_VALUES, values_cost, variable_field
+
         structure = self.structure_model()
-        step = self.optimization.step or damper.per_layer
-        counts = range(0, damper.max_count, step)
-        at = self.optimization.at
+        o = self.optimization
+        at = o.at
         duration = at + 2.0 / structure.natural_frequency
         d0 = default.damper()
-        drivers = (("optimization.at", at / default.optimization.at),
-                   ("optimization.step", (d0.per_layer / step) * (damper.max_count
-                                                                  / d0.max_count), True))
+        step = o.step or damper.per_layer
+        counts = range(0, damper.max_count, step)
+        drivers: tuple = (("optimization.at", at / default.optimization.at),)
+        if o.vary:
+            sizes = o.sizes()
+            for name, size in sizes:
+                resources.require(values_cost(name, size), force)
+            grid = math.prod(size for _, size in sizes)
+            method = o.method
+            if method == "auto":
+                method = "grid" if grid <= o.max_grid else "optimize"
+            if method == "grid" and math.isfinite(grid):
+                candidates = grid
+                drivers += tuple((variable_field(name), size / USUAL_VALUES)
+                                 for name, size in sizes)
+            else:
+                candidates = o.max_evaluations
+                drivers += (("optimization.max_evaluations",
+                             candidates / default.optimization.max_evaluations),)
+        else:
+            candidates = len(counts)
+            drivers += (("optimization.step", (d0.per_layer / step)
+                         * (damper.max_count / d0.max_count), True),)
         if fidelity != "dem":
             one = resources.pseudo_force_cost(duration, 200.0, structure.natural_frequency)
         else:  # the DEM's time grows with the count: the mean count stands for all
@@ -571,9 +606,10 @@ class Scenario(_Section):
             one = resources.dem_cost(mean, duration, imp.speed, sample_rate=200.0,
                                      safety=self.dem.safety)
         resources.require(resources.Cost(
-            "the optimisation", one.seconds * len(counts), one.memory,
-            f"{len(counts)} candidates, each {one.detail}", drivers, runs=len(counts),
-            longest=one.seconds), force)
+            "the optimisation", one.seconds * candidates,
+            one.memory + candidates * resources.BYTES_PER_CANDIDATE,
+            f"{candidates:.3g} candidates, each {one.detail}", drivers,
+            runs=int(min(candidates, 2**62)), longest=one.seconds), force)
 
 
 def grid(text: str, unit: str, field: str):
@@ -687,7 +723,7 @@ def _validate(sc: Scenario) -> None:
     if counts is not None and counts.max() > damper.max_count:
         raise InputError("map.particles", f"counts must be in [1, {damper.max_count}] (n_max of "
                          f"this container), got {counts.max()}")
-    sc.optimization.variables()
+    sc.optimization.sizes()  # checked, not built: a range's size is judged by its run
     sc.map_model("dem", damper)
     sc.model(None, damper)
     sc.check_physics(damper)
@@ -882,11 +918,21 @@ transient_tolerance = {dem.transient_tolerance}  # Gear tolerance of the start f
 """
 
 
-#: A commented scenario file with every key and its default (``pdamper example-scenario``).
-EXAMPLE_SCENARIO = _example()
+@functools.cache
+def _example_text() -> str:
+    return _example()
+
+
+def __getattr__(name: str) -> Any:
+    # ``EXAMPLE_SCENARIO``: a commented scenario file with every key and its default
+    # (``pdamper example-scenario``), written when first asked for: it formats every
+    # quantity with its unit, which needs the unit registry, and most commands never print it
+    if name == "EXAMPLE_SCENARIO":
+        return _example_text()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 @functools.cache
 def example_scenario() -> Scenario:
     """The example scenario, parsed (it must equal the defaults)."""
-    return scenario_from_dict(tomllib.loads(EXAMPLE_SCENARIO))
+    return scenario_from_dict(tomllib.loads(_example_text()))

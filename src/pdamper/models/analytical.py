@@ -40,6 +40,7 @@ class AnalyticalDamper(DamperModel):
     def response(self, frequency, amplitude) -> DamperResponse:
         """Eqs. (5)-(22) at every (f [Hz], X [m]) point; ``details`` is the
         :class:`~pdamper.analysis.analytical.BedResponse`."""
+        self.check_excitation(frequency, amplitude)
         d = self.damper
         r = bed_response(frequency, amplitude, d.clearance, d.bed_mass, self.gravity)
         return DamperResponse(frequency=r.frequency, amplitude=r.amplitude, mode=r.mode,

@@ -9,6 +9,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from pdamper import resources
+from pdamper.constants import STANDARD_GRAVITY
 from pdamper.damper import ParticleDamper
 from pdamper.errors import InputError
 
@@ -88,11 +90,18 @@ class DamperModel(ABC):
     #: Whether one Level III run costs seconds or more (design studies then evaluate
     #: designs on parallel workers by default).
     expensive: ClassVar[bool] = False
+    #: Whether the model resolves the contacts with the contact law (Hertz): its runs must
+    #: also keep the Hertz contact radius below half the sphere radius
+    #: (:data:`pdamper.resources.MAX_CONTACT_RADIUS_RATIO`).
+    contact_law: ClassVar[bool] = False
 
     def __init__(self, damper: ParticleDamper):
         if not isinstance(damper, ParticleDamper):
             raise InputError("damper", f"must be a ParticleDamper (e.g. "
                              f"pdamper.parameters.PAPER_DAMPER), got {type(damper).__name__}")
+        # spheres below 0.1 mm are a cohesive powder in every model: refused wherever a
+        # model of any fidelity is made (a design study's candidate, the API)
+        resources.check_particles(damper)
         self.damper = damper
 
     @property
@@ -105,9 +114,26 @@ class DamperModel(ABC):
         ``model.with_damper(model.damper.with_count(64))`` for a particle-count sweep."""
         if not isinstance(damper, ParticleDamper):
             raise InputError("damper", f"must be a ParticleDamper, got {type(damper).__name__}")
+        resources.check_particles(damper)
         new = copy.copy(self)
         new.damper = damper
         return new
+
+    def check_excitation(self, frequency, amplitude) -> None:
+        """Refuse harmonic excitations ``X sin(2 pi f t)`` outside the physics limits of a
+        run of this model (:func:`pdamper.resources.check_grid`: strokes, impact speeds,
+        the contact frequency and, with :attr:`contact_law`, Hertz's law), judged at the
+        fastest frequency with the largest and smallest stroke of the arrays given; what is
+        not a positive finite number is left to the model's own checks."""
+        f = np.asarray(frequency, float).ravel()
+        x = np.abs(np.asarray(amplitude, float).ravel())
+        f, x = f[np.isfinite(f) & (f > 0)], x[np.isfinite(x) & (x > 0)]
+        if f.size and x.size:
+            resources.check_grid(self.damper, (float(f.min()), float(f.max())),
+                                 (float(x.min()), float(x.max())),
+                                 fields=("frequency", "amplitude"),
+                                 contact_law=self.contact_law,
+                                 gravity=getattr(self, "gravity", STANDARD_GRAVITY))
 
     @abstractmethod
     def response(self, frequency, amplitude) -> DamperResponse:

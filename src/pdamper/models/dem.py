@@ -296,6 +296,7 @@ class DEMDamper(DamperModel):
     fidelity = "dem"
     coupling = "co_simulation"
     expensive = True
+    contact_law = True
 
     def __init__(self, damper: ParticleDamper, integrator: str = "gear",
                  cycles: int | str = DEFAULT_CYCLES, skip_cycles: int = DEFAULT_SKIP_CYCLES,

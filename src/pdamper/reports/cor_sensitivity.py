@@ -58,17 +58,64 @@ class CORVariant:
         return f"{self.restitution_pp.describe()} / {self.restitution_pw.describe()}"
 
 
+def _model_reading(text: str, existing: bool) -> bool:
+    """Whether ``text`` reads as one COR model (a table only where its file exists, with
+    ``existing``)."""
+    from pathlib import Path
+
+    from pdamper.io.restitution import parse_model_text
+
+    text = text.strip()
+    if not text:
+        return False
+    try:
+        spec = parse_model_text(text)
+    except InputError:
+        return False
+    return not existing or spec["model"] != "table" or Path(spec["file"]).is_file()
+
+
+def split_variant(text: str, field: str = "variants") -> tuple[str, str]:
+    """The sphere-sphere and sphere-wall model texts of a variant ``text``: ``MODEL`` (both
+    pairs) or ``PP/PW``.
+
+    A COR table's path holds ``/`` too, so the text is read as one model for both pairs or
+    split at the one ``/`` that leaves a model on both sides. Readings whose tables all
+    exist are taken first; one reading must remain (else the error lists them).
+
+    >>> split_variant("0.6/0.85"), split_variant("paper*1.5")
+    (('0.6', '0.85'), ('paper*1.5', 'paper*1.5'))
+    >>> split_variant("thornton/0.9*0.5")
+    ('thornton', '0.9*0.5')
+    """
+    text = str(text).strip()
+    cuts = [k for k, c in enumerate(text) if c == "/"]
+    readings = [(text, text)] + [(text[:k].strip(), text[k + 1:].strip()) for k in cuts]
+
+    def listed(found):
+        return "; ".join(f"{a} / {b}" if a != b else f"{a} for both" for a, b in found)
+
+    found = [r for r in readings if all(_model_reading(part, True) for part in r)]
+    if len(found) > 1:
+        raise InputError(field, f"{text!r} reads as several variants ({listed(found)}); "
+                         "rename the tables so that one reading remains")
+    if not found:  # a table not found: the reading that names it, if only one does
+        found = [r for r in readings if all(_model_reading(part, False) for part in r)]
+        if len(found) > 1:
+            raise InputError(field, f"{text!r}: no such COR table (read as {listed(found)})")
+    if not found:
+        raise InputError(field, f"expected MODEL or PP/PW such as 0.6/0.85, paper*1.5 or "
+                         f"pp.csv/pw.csv, got {text!r}")
+    return found[0]
+
+
 def cor_variant(text: str, damper, field: str = "variants") -> CORVariant:
-    """The :class:`CORVariant` ``text`` (``"0.6/0.85"``, ``"paper*1.5"``, ...) for the
-    materials and radius of ``damper`` (a :class:`~pdamper.damper.ParticleDamper`)."""
+    """The :class:`CORVariant` ``text`` (``"0.6/0.85"``, ``"paper*1.5"``, ``"cor.csv"``,
+    ``"tables/pp.csv/tables/pw.csv"``: :func:`split_variant`) for the materials and radius
+    of ``damper`` (a :class:`~pdamper.damper.ParticleDamper`)."""
     from pdamper.io.restitution import build_curve, parse_model_text, validate_spec
 
-    parts = [p.strip() for p in str(text).split("/")]
-    if len(parts) == 1:
-        parts = parts * 2
-    if len(parts) != 2 or not all(parts):
-        raise InputError(field, f"expected MODEL or PP/PW such as 0.6/0.85 or paper*1.5, "
-                         f"got {text!r}")
+    parts = split_variant(text, field)
     sphere, wall, r = damper.particle_material, damper.wall_material, damper.particle_radius
     curves = []
     for part, pair, partner in zip(parts, ("particle_particle", "particle_wall"), (sphere, wall),
@@ -228,6 +275,10 @@ def run_cor_sensitivity(scenario=None, variants: Sequence[str | CORVariant] = DE
     pts = [(float(f), float(x)) for f, x in points]
     if not pts:
         raise InputError("points", "give at least one (frequency, amplitude) point")
+    from pdamper import resources
+
+    for f, x in pts:  # the DEM's physics limits, for every point before the first run
+        resources.check_motion(base, f, x, fields=("points", "points"), contact_law=True)
     t0 = time.perf_counter()
     shape = (len(vs), len(pts))
     out = {k: np.full(shape, np.nan) for k in (
@@ -333,5 +384,5 @@ def sensitivity_figure(study: CORSensitivity, structure_envelope=None):
 
 
 __all__ = ["CORSensitivity", "CORVariant", "DEFAULT_POINTS", "DEFAULT_VARIANTS",
-           "STATIONARITY_TOLERANCE", "STUDY_CYCLES", "STUDY_SKIP_CYCLES", "cor_variant",
+           "STATIONARITY_TOLERANCE", "STUDY_CYCLES", "STUDY_SKIP_CYCLES", "cor_variant", "split_variant",
            "run_cor_sensitivity", "sensitivity_figure", "study_scenario"]

@@ -36,7 +36,6 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.linalg
 
 from pdamper.errors import InputError, check_range
 
@@ -434,6 +433,8 @@ def modal_reduction(
     # Rotations scaled by L_e (all DOFs in metres) improve the conditioning; the returned
     # frequencies are the Rayleigh quotients of the eigenvectors, which are accurate to
     # second order in the eigenvector error and make sqrt(K_red / M_red) = frequencies[mode].
+    import scipy.linalg  # here: the paper's parameters import this module, scipy costs 0.2 s
+
     scale = np.ones(ndof)
     scale[ndof % 2 + 1::2] = 1.0 / beam.element_length
     if ndof % 2 == 1:

@@ -1,0 +1,109 @@
+"""The typer application of the ``pdamper`` command line: the group, its options
+(``--version``, ``--quiet``), help without type names, and the commands, registered
+explicitly in :func:`_register` (a missing module is an import error, not a silently absent
+command).
+
+Imported by :mod:`pdamper.cli` when a command runs, after its signal handlers are in
+place: a Ctrl-C during the import of typer, too, ends with ``interrupted``.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import typer
+from typer.core import TyperCommand, TyperGroup
+
+from pdamper.cli import _quiet
+
+
+def _untyped(params: list) -> list:
+    """Options without the column of type names (``<str>``, ``<bool>``) that typer's help
+    shows: an empty metavar is what that column prints (the help text says what a value
+    is; click's own error messages name the option, not the metavar)."""
+    for p in params:
+        if p.metavar is None:
+            p.metavar = ""
+    return params
+
+
+class _Group(TyperGroup):
+    """The ``pdamper`` group: help without type names."""
+
+    def get_params(self, ctx):
+        return _untyped(super().get_params(ctx))
+
+
+class _Command(TyperCommand):
+    """A command: help without type names, and the group's ``--quiet`` accepted after the
+    command name too (``pdamper map ... --quiet``), the one option declared once."""
+
+    def get_params(self, ctx):
+        params = super().get_params(ctx)
+        root = ctx.find_root().command
+        if root is not self:  # before --help, which click puts last
+            params = [*(p for p in params if p.name != "help"),
+                      *(p for p in root.params if p.name == "quiet"),
+                      *(p for p in params if p.name == "help")]
+        return _untyped(params)
+
+
+app = typer.Typer(
+    name="pdamper",
+    help="Design particle dampers for vertically vibrating structures.",
+    cls=_Group,
+    no_args_is_help=True,
+    add_completion=True,
+    pretty_exceptions_enable=False,
+)
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        from pdamper import __version__
+        from pdamper.files import write_stdout
+
+        write_stdout(f"pdamper {__version__}\n")
+        raise typer.Exit(0)
+
+
+@app.callback()
+def _options(
+    version: Annotated[bool, typer.Option(
+        "--version", callback=_print_version, is_eager=True, expose_value=False,
+        help="Print the version ('pdamper X.Y.Z') and exit.")] = False,
+    quiet: Annotated[bool, typer.Option(
+        "--quiet", "-q", callback=_quiet.set_quiet, is_eager=True, expose_value=False,
+        help="Nothing on stderr but errors: no progress display, notes or warnings "
+             "(results and --json output are unchanged). Before or after the command "
+             "name.")] = False,
+) -> None:
+    """Design particle dampers for vertically vibrating structures."""
+
+
+_registered = False
+
+
+def _register() -> None:
+    global _registered
+    if _registered:
+        return
+    from pdamper.cli import (
+        analytic,
+        cor,
+        cor_sensitivity,
+        dem,
+        map,
+        optimize,
+        paper,
+        scenario,
+        simulate,
+    )
+
+    for name, function in (("analytic", analytic.analytic), ("map", map.map_),
+                           ("simulate", simulate.simulate), ("optimize", optimize.optimize),
+                           ("dem", dem.dem), ("paper", paper.paper),
+                           ("example-scenario", scenario.example_scenario), ("cor", cor.cor),
+                           ("cor-sensitivity", cor_sensitivity.cor_sensitivity)):
+        app.command(name, cls=_Command)(function)
+    _registered = True
