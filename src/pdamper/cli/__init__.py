@@ -112,14 +112,15 @@ def _standard_streams() -> None:
 
 
 def _run(argv: list[str] | None, received: list[int] = ()) -> int:  # noqa: B006 - read only
-    from pdamper.cli import _app, _quiet
     from pdamper.errors import Interrupted, OutputError, PdamperError
     from pdamper.files import stdout_error
 
-    _app._register()
     was_null = _stdout_is_null()
     try:
         try:
+            from pdamper.cli import _app, _quiet  # typer and the commands: imported here
+
+            _app._register()
             with _quiet.scope():
                 status = _app.app(args=argv, standalone_mode=False)
         except (Interrupted, KeyboardInterrupt):
