@@ -1289,14 +1289,23 @@ class DEMEngine:
         return d
 
 
-def warmup() -> float:
-    """Compile (or load from the numba cache) the integrator kernels; returns seconds."""
+def warmup(integrators=INTEGRATORS) -> float:
+    """Compile (or load from the numba cache) the kernels of ``integrators`` (default: all
+    of :data:`~pdamper.dem.model.INTEGRATORS`); returns seconds.
+
+    Separate processes may warm different integrators at once ("gear" in one, "verlet" in
+    another): numba writes its cache files under temporary names and renames them. "auto"
+    adds only its hand-over to the kernels of the other two."""
     t0 = time.perf_counter()
+    for name in integrators:
+        if name not in INTEGRATORS:
+            raise InputError("integrator", f"must be one of {', '.join(INTEGRATORS)}, "
+                             f"got {name!r}")
     from pdamper.contact.restitution import ConstantRestitution
     from pdamper.materials import PVC, S235
 
     contact = ContactParameters(ConstantRestitution(0.8), ConstantRestitution(0.8), 0.1, 0.1)
-    for integ in INTEGRATORS:
+    for integ in integrators:
         parts = ParticleSet(np.array([[0.02, 0.02, 0.006], [0.02, 0.02, 0.03]]), 0.005, S235)
         for motion in (HarmonicMotion(0.001, 10.0), StructureMotion(1.0, 0.1, 100.0)):
             # "auto" made to hand over at its first judgement: the resume kernel too
