@@ -55,31 +55,24 @@ def _paper(tmp_path, *args, stderr_on_terminal: bool):
     return code, out.decode(), seen.decode(errors="replace")
 
 
-def test_a_terminal_sees_each_step_and_each_figure(tmp_path):
-    code, out, terminal = _paper(tmp_path, stderr_on_terminal=True)
+def test_a_terminal_sees_each_step_and_each_figure_and_the_json_output_none(tmp_path):
+    code, out, terminal = _paper(tmp_path, "--json", stderr_on_terminal=True)
     assert code == 0, terminal
     # each step is shown while it runs (the display refreshes 10 times a second: the
     # figures, each a fraction of a second or more, are all on it)
     assert "writing fig4_trajectories.png" in terminal
     assert "writing fig9_optimization.png" in terminal
     assert "\x1b[" in terminal  # drawn in place, and erased when done
-    # the results on stdout are the plain table, no display in them
+    # stdout: exactly one JSON document, nothing of the display
+    assert json.loads(out)["rows"] == 24
     assert "\x1b" not in out and "\r" not in out
-    assert "reported numbers agree" in out
-
-
-def test_json_output_carries_no_progress_even_on_a_terminal(tmp_path):
-    code, out, terminal = _paper(tmp_path, "--json", stderr_on_terminal=True)
-    assert code == 0, terminal
-    assert json.loads(out)["rows"] == 24  # stdout: exactly one JSON document
-    assert "writing fig4_trajectories.png" in terminal  # the display went to the terminal
 
 
 def test_no_progress_in_pipes(tmp_path):
-    code, out, err = _paper(tmp_path, "--json", stderr_on_terminal=False)
+    code, out, err = _paper(tmp_path, stderr_on_terminal=False)
     assert code == 0, err
     assert err == ""  # neither the display nor its control characters
-    assert json.loads(out)["rows"] == 24
+    assert "reported numbers agree" in out and "\x1b" not in out
 
 
 def test_display_shows_the_step_and_the_dem_map_points():

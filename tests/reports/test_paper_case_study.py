@@ -55,6 +55,7 @@ def test_short_runs_give_no_verdict_instead_of_a_wrong_one():
     assert row.agrees is None and row.ours.startswith("n/a")
 
 
+@pytest.mark.long
 def test_dem_rows_fig2_and_both_cor_runs(tmp_path):
     """With the DEM (reduced: 0.8 s, small grids, a one-point DEM map of 4 cycles in this
     process): the Fig. 2 single-impact check within 0.01, DEM model 1 with the scenario's
