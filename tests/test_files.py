@@ -81,3 +81,31 @@ def test_signals_deferred_restores_the_handlers_and_leaves_default_ones_alone():
     finally:
         for s, h in before.items():
             signal.signal(s, h)
+
+
+def test_an_interrupt_just_after_the_staging_directory_is_made_leaves_nothing(tmp_path,
+                                                                              monkeypatch):
+    """``atomic_directory``: a signal that arrives once the staging directory exists but
+    before the block runs (``pdamper paper`` interrupted at its start on a loaded machine)
+    used to leave the empty ``.results.*.tmp`` behind."""
+    import signal
+    import tempfile
+
+    from pdamper import files
+
+    made = tempfile.mkdtemp
+
+    def mkdtemp_then_signal(*args, **kw):
+        path = made(*args, **kw)
+        os.kill(os.getpid(), signal.SIGINT)  # the handler runs before mkdtemp returns
+        return path
+
+    monkeypatch.setattr(files.tempfile, "mkdtemp", mkdtemp_then_signal)
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with files.atomic_directory(tmp_path / "results"):
+                pytest.fail("the block ran despite the interrupt")
+    finally:
+        signal.signal(signal.SIGINT, old)
+    assert list(tmp_path.iterdir()) == []
