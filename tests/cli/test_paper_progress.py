@@ -16,6 +16,10 @@ from proc import command, env
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
 
+#: The figures of ``paper --no-dem``.
+FIGURES = ("fig2_materials_cor.png", "fig4_trajectories.png", "fig5a_motion_modes.png",
+           "fig5c_loss_factor.png", "fig7_trajectory.png", "fig8_damping_ratio.png",
+           "fig9_optimization.png")
 #: a small Fig. 5a/5c grid: a run takes a few seconds
 SCENARIO = '[map]\nfrequency = "2Hz:20Hz:5"\namplitude = "2mm:200mm:6"\n'
 
@@ -58,10 +62,10 @@ def _paper(tmp_path, *args, stderr_on_terminal: bool):
 def test_a_terminal_sees_each_step_and_each_figure_and_the_json_output_none(tmp_path):
     code, out, terminal = _paper(tmp_path, "--json", stderr_on_terminal=True)
     assert code == 0, terminal
-    # each step is shown while it runs (the display refreshes 10 times a second: the
-    # figures, each a fraction of a second or more, are all on it)
-    assert "writing fig4_trajectories.png" in terminal
-    assert "writing fig9_optimization.png" in terminal
+    # each step is drawn when it starts: the model runs, each figure, the files
+    for step in ("Fig. 4: bed trajectories", "Sect. 4.2.2: optimisation",
+                 *(f"writing {name}" for name in FIGURES), "writing report.html"):
+        assert step in terminal, step
     assert "\x1b[" in terminal  # drawn in place, and erased when done
     # stdout: exactly one JSON document, nothing of the display
     assert json.loads(out)["rows"] == 24
@@ -88,7 +92,6 @@ def test_display_shows_the_step_and_the_dem_map_points():
         prog.step("compiling the DEM kernels (gear; first run only, then cached)")
         prog.map_points(0, 35)
         prog.map_points(12, 35)
-        prog._progress.refresh()
         shown = buf.getvalue()
     assert "compiling the DEM kernels" in shown
     assert "DEM map points" in shown and "12/35" in shown

@@ -50,14 +50,15 @@ class _Progress:
         self._progress.__exit__(*exc)
 
     def step(self, message: str) -> None:
-        """A new step of the case study."""
-        self._progress.update(self._task, description=message)
+        """A new step of the case study, drawn at once (not at the next refresh: a step
+        shorter than a refresh is shown too)."""
+        self._progress.update(self._task, description=message, refresh=True)
 
     def map_points(self, done: int, total: int, _point=None) -> None:
         """The DEM map's points: ``done`` of ``total`` (finished or reused)."""
         if self._points is None:
             self._points = self._progress.add_task("DEM map points", total=total)
-        self._progress.update(self._points, completed=done, total=total)
+        self._progress.update(self._points, completed=done, total=total, refresh=True)
 
 
 def paper(
