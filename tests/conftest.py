@@ -34,7 +34,8 @@ def _kernels_cached() -> bool:
     sources = package / "dem" / "kernels"
     try:
         newest = max(p.stat().st_mtime for p in sources.glob("*.py"))
-        for kernel in ("gear.gear_advance", "verlet.verlet_advance", "verlet.verlet_resume"):
+        for kernel in ("gear.gear_advance", "gear.gear_resume", "verlet.verlet_advance",
+                       "verlet.verlet_resume"):
             index = list(cache.glob(f"{kernel}-*.nbi"))
             if not index or max(p.stat().st_mtime for p in index) < newest:
                 return False

@@ -1308,8 +1308,9 @@ def warmup(integrators=INTEGRATORS) -> float:
     for integ in integrators:
         parts = ParticleSet(np.array([[0.02, 0.02, 0.006], [0.02, 0.02, 0.03]]), 0.005, S235)
         for motion in (HarmonicMotion(0.001, 10.0), StructureMotion(1.0, 0.1, 100.0)):
-            # "auto" made to hand over at its first judgement: the resume kernel too
+            # "auto" made to hand over to Verlet at its first judgement (5 ms) and to probe
+            # Gear again one window later (10-15 ms): both resume kernels too
             DEMEngine(parts, Container((0.04, 0.04, 0.12), PVC), contact, motion,
                       integrator=integ, settle_time=0.0, auto_cost_ratio=math.inf).run(
-                2.0 * AUTO_WINDOW if integ == "auto" else 0.002, sample_rate=1000.0)
+                3.5 * AUTO_WINDOW if integ == "auto" else 0.002, sample_rate=1000.0)
     return time.perf_counter() - t0
