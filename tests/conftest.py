@@ -7,10 +7,66 @@ directory is on ``sys.path``), so that module-level helpers can use them too.
 from __future__ import annotations
 
 import os
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+
+#: The DEM kernels warmed before pytest-xdist's workers start, one group per process, the
+#: groups at once: "gear" and "verlet" compile apart; "auto" adds its hand-over to them.
+WARMUP_GROUPS = (("gear", "auto"), ("verlet",))
+
+
+def _kernels_cached() -> bool:
+    """numba's cache holds the integrators' kernels, newer than every kernel source (a
+    cheap look at the files; numba itself checks each source's stamp when it loads)."""
+    import pdamper  # drops kernels cached from older sources (pdamper._numba_cache)
+    from pdamper import _numba_cache
+
+    package = Path(pdamper.__file__).resolve().parent
+    root = _numba_cache._cache_root(package, os.environ)
+    cache = root / "dem" / "kernels"
+    if root == package:
+        cache = cache / "__pycache__"
+    sources = package / "dem" / "kernels"
+    try:
+        newest = max(p.stat().st_mtime for p in sources.glob("*.py"))
+        for kernel in ("gear.gear_advance", "gear.gear_resume", "verlet.verlet_advance",
+                       "verlet.verlet_resume"):
+            index = list(cache.glob(f"{kernel}-*.nbi"))
+            if not index or max(p.stat().st_mtime for p in index) < newest:
+                return False
+    except (OSError, ValueError):
+        return False
+    return True
+
+
+def pytest_sessionstart(session):
+    """With pytest-xdist's workers (``-n``): compile the DEM kernels into numba's cache
+    before the workers start, in parallel processes (one per group of
+    :data:`WARMUP_GROUPS`), so that the workers load them instead of each compiling all
+    of them at once (about 50 s of CPU per process on a fresh clone). Nothing to do in a
+    worker, without workers (the first test compiles what it needs) or when they are
+    cached already."""
+    config = session.config
+    if hasattr(config, "workerinput") or not config.pluginmanager.hasplugin("dsession"):
+        return
+    if _kernels_cached():
+        return
+    from proc import env
+
+    code = "import sys; from pdamper.dem import warmup; warmup(tuple(sys.argv[1:]))"
+    procs = [subprocess.Popen([sys.executable, "-c", code, *group], env=env(),
+                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+             for group in WARMUP_GROUPS]
+    for group, p in zip(WARMUP_GROUPS, procs, strict=True):
+        _, err = p.communicate()
+        if p.returncode != 0:  # the tests that need the kernels will say why
+            print(f"warning: warming the DEM kernels {group} failed:\n{err[-2000:]}",
+                  file=sys.stderr)
 
 
 @pytest.fixture

@@ -134,3 +134,31 @@ def test_netcdf_made_in_memory_reads_back(tmp_path):
     p = atomic_write_netcdf(tmp_path / "a.nc", ds)
     back = xr.load_dataset(p, engine="h5netcdf")
     xr.testing.assert_identical(back, ds)
+
+
+def test_an_interrupt_just_after_the_staging_directory_is_made_leaves_nothing(tmp_path,
+                                                                              monkeypatch):
+    """``atomic_directory``: a signal that arrives once the staging directory exists but
+    before the block runs (``pdamper paper`` interrupted at its start on a loaded machine)
+    used to leave the empty ``.results.*.tmp`` behind."""
+    import signal
+    import tempfile
+
+    from pdamper import files
+
+    made = tempfile.mkdtemp
+
+    def mkdtemp_then_signal(*args, **kw):
+        path = made(*args, **kw)
+        os.kill(os.getpid(), signal.SIGINT)  # the handler runs before mkdtemp returns
+        return path
+
+    monkeypatch.setattr(files.tempfile, "mkdtemp", mkdtemp_then_signal)
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with files.atomic_directory(tmp_path / "results"):
+                pytest.fail("the block ran despite the interrupt")
+    finally:
+        signal.signal(signal.SIGINT, old)
+    assert list(tmp_path.iterdir()) == []

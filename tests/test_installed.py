@@ -112,7 +112,7 @@ def _run(cmd, **kw):
     return p
 
 
-@pytest.mark.slow
+@pytest.mark.long
 def test_wheel_installed_read_only_runs_the_dem_as_an_unprivileged_user():
     """Non-editable install (a wheel, ``pip install --target``), every file read-only, run
     by an unprivileged user whose home is not writable: ``pdamper dem`` and ``simulate

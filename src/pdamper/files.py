@@ -405,12 +405,16 @@ def atomic_directory(path: str | os.PathLike[str], field: str = "out") -> Iterat
     (['results'], '| a |')
     """
     target = Path(path)
+    stage = None
     try:
-        stage = Path(tempfile.mkdtemp(dir=target.absolute().parent, prefix=f".{target.name}.",
-                                      suffix=".tmp"))
-    except OSError as exc:
-        raise OutputError(field, f"cannot write {target}: {_reason(exc)}") from None
-    try:
+        try:
+            # an interrupt between the directory's creation and ``stage`` being set would
+            # leave it behind: it is held until ``stage`` is known, then raised in here
+            with signals_deferred():
+                stage = Path(tempfile.mkdtemp(dir=target.absolute().parent,
+                                              prefix=f".{target.name}.", suffix=".tmp"))
+        except OSError as exc:
+            raise OutputError(field, f"cannot write {target}: {_reason(exc)}") from None
         try:
             yield stage
             os.chmod(stage, 0o777 & ~_umask())
@@ -422,7 +426,8 @@ def atomic_directory(path: str | os.PathLike[str], field: str = "out") -> Iterat
         except OSError as exc:
             raise OutputError(field, f"cannot write {target}: {_reason(exc)}") from None
     finally:
-        shutil.rmtree(stage, ignore_errors=True)
+        if stage is not None:
+            shutil.rmtree(stage, ignore_errors=True)
 
 
 def _quiet_stdout() -> None:

@@ -117,7 +117,7 @@ def test_failed_map_leaves_no_file(tmp_path, capsys, run):
     assert code == 2 and not path.exists()
 
 
-@pytest.mark.slow
+@pytest.mark.long
 @pytest.mark.filterwarnings("error:constrained_layout not applied:UserWarning")
 def test_paper_main_job_writes_figures_and_table(tmp_path, capsys, run):
     """`pdamper paper --out DIR`: Figs. 3, 4, 5, 7, 8, 9, the maps and the table; the DEM

@@ -72,6 +72,7 @@ def test_dem_map_on_a_local_cluster(tmp_path, cli, fast_dem):
         assert ds.attrs["map_key"]
 
 
+@pytest.mark.long
 def test_dem_map_spans_16_to_192_spheres(tmp_path, cli):
     """Issue 7, item 1: a DEM map over the particle count of the benchmark damper runs at
     every count with the map's default packing ("auto": random up to where random addition

@@ -25,7 +25,7 @@ seed = 3
 """
 
 
-@pytest.mark.slow
+@pytest.mark.long
 def test_paper_honours_the_scenario(tmp_path, cli):
     scenario = tmp_path / "s.toml"
     scenario.write_text(SCENARIO)

@@ -27,7 +27,7 @@ def test_featherweight_bed_leaves_the_closed_form_oscillator_unchanged():
     np.testing.assert_allclose(res.displacement, exact, atol=2e-6)
     assert res.details.steps == res.inputs["steps"]  # the DEM run travels with the result
 
-@pytest.mark.slow
+@pytest.mark.long
 def test_paper_level3_dem_model_1_against_analytical_model(paper_model1_ensemble):
     """Sect. 4.2.1 / Fig. 7, 32 spheres from -58 mm, two fidelities compared: the DEM
     (model 1, constant COR 0.6 / 0.85) and the analytical model (model 3) agree within

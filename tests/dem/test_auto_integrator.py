@@ -67,7 +67,7 @@ def test_auto_stays_gear_where_gear_is_cheaper():
     assert auto.steps == gear.steps
 
 
-@pytest.mark.slow
+@pytest.mark.long
 def test_auto_hands_the_jammed_full_container_to_verlet():
     """The full container (192 spheres, no clearance) at 20 Hz / 32 mm: Gear is held by its
     stability limit (mean step ~0.16 us against Verlet's ~0.39 us), so "auto" hands over at

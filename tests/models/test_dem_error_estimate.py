@@ -67,6 +67,7 @@ def test_a_run_missing_the_target_is_redone_refined():
     assert run.result.steps == plain.result.steps
 
 
+@pytest.mark.long
 def test_verlet_refines_its_safety_factor_and_diagnostics_carry_the_estimate():
     model = DEMDamper(SMALL, integrator="verlet", cycles=2, skip_cycles=1, error_estimate=True)
     r = model.response(20.0, 0.032)
@@ -122,6 +123,7 @@ def test_estimate_bounds_the_deviation_from_a_converged_run():
     assert d_mass <= max(acc.effective_mass_ratio_error, 1e-3 * run.power.effective_mass_ratio)
 
 
+@pytest.mark.long
 def test_auto_refines_the_integrator_that_ran_the_excitation():
     """"auto" handed over to Verlet at 5 ms: the companion halves the safety factor; where
     it stays Gear, the companion divides the tolerance."""

@@ -343,7 +343,7 @@ def test_scenario_fields_section(tmp_path):
         load_scenario(sc_file)
 
 
-@pytest.mark.slow
+@pytest.mark.long
 def test_model2_from_a_dem_map_within_20_percent_of_model1(paper_model1_ensemble):
     """Sect. 4.2.1, 32 spheres: model 2 built from a DEM map (a small map around the
     trajectory's (f, X): 5.0-5.6 Hz x 8-60 mm, 2 x 4 points, run until steady) against

@@ -55,6 +55,7 @@ def test_short_runs_give_no_verdict_instead_of_a_wrong_one():
     assert row.agrees is None and row.ours.startswith("n/a")
 
 
+@pytest.mark.long
 def test_dem_rows_fig2_and_both_cor_runs(tmp_path):
     """With the DEM (reduced: 0.8 s, small grids, a one-point DEM map of 4 cycles in this
     process): the Fig. 2 single-impact check within 0.01, DEM model 1 with the scenario's
@@ -64,8 +65,14 @@ def test_dem_rows_fig2_and_both_cor_runs(tmp_path):
                               "map.amplitude": "10mm:50mm:2", "map.dem_frequency": "10Hz",
                               "map.dem_amplitude": "32mm", "dem.cycles": 4,
                               "dem.skip_cycles": 1})
-    cs = run_case_study(sc, dem=True, serial=True)
+    said, points = [], []
+    cs = run_case_study(sc, said.append, dem=True, serial=True,
+                        map_progress=lambda done, total, _p: points.append((done, total)))
     assert cs.dem_map["loss_factor"].shape == (1, 1)
+    # what the progress display shows: the kernels compiled before the map, its points
+    first = next(i for i, m in enumerate(said) if m.startswith("Fig. 5b/5d: DEM map 1 x 1"))
+    assert said[first - 1].startswith("compiling the DEM kernels (gear")
+    assert points[-1] == (1, 1) and cs.timings["DEM kernels"] > 0
     rows = {r.quantity: r for r in cs.rows}
     cal = rows["Fig. 2 COR curves in single DEM impacts, 0.01-2 m/s (max |e_DEM - e|)"]
     assert cal.agrees and all(c.max_deviation < 0.01 for c in cs.cor_checks)
@@ -76,8 +83,9 @@ def test_dem_rows_fig2_and_both_cor_runs(tmp_path):
     assert keys.index("dem_curves_amplitude_32_0p75s") == keys.index("dem_amplitude_32_0p75s") + 1
     assert cs.run_dem is not cs.run_dem_curves
     assert cs.run_dem.inputs["steps"] != cs.run_dem_curves.inputs["steps"]
-    files = write_case_study(cs, tmp_path)
+    files = write_case_study(cs, tmp_path, said.append)
     assert (tmp_path / "fig2_materials_cor.png") in files
+    assert {f"writing {p.name}" for p in files if p.suffix == ".png"} <= set(said)
     data = json.loads((tmp_path / "results.json").read_text())
     assert data["restitution"]["scenario"]["particle_wall"] == "constant 0.85"
     assert "dem_paper_cor_curves" in data["level3_runs"]

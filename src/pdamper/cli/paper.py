@@ -10,6 +10,58 @@ from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, check_output_dir
 from pdamper.cli._quiet import quiet
 
 
+class _Progress:
+    """What ``pdamper paper`` is doing, live on a terminal (stderr), gone when done: the
+    step (compiling the DEM kernels, each figure, ...), the DEM map's points done of
+    total, the time elapsed. Nothing at all where stderr is no terminal (a pipe, a file, a
+    test's capture): the output and error lines stay as they are."""
+
+    def __init__(self, console) -> None:
+        from rich.progress import (
+            BarColumn,
+            Progress,
+            ProgressColumn,
+            SpinnerColumn,
+            TextColumn,
+            TimeElapsedColumn,
+        )
+        from rich.text import Text
+
+        class Count(ProgressColumn):
+            """``done/total`` where there is a total (the map's points), else nothing."""
+
+            def render(self, task):
+                return Text("" if task.total is None else
+                            f"{int(task.completed)}/{int(task.total)}")
+
+        self._progress = Progress(SpinnerColumn(), TextColumn("{task.description}"),
+                                  BarColumn(bar_width=20), Count(), TimeElapsedColumn(),
+                                  console=console, transient=True,
+                                  disable=not console.is_terminal or quiet())
+        self._points = None
+        self._task = None
+
+    def __enter__(self):
+        self._progress.__enter__()
+        # no total: the steps depend on the scenario; the bar of this line only pulses
+        self._task = self._progress.add_task("pdamper paper: the case study", total=None)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._progress.__exit__(*exc)
+
+    def step(self, message: str) -> None:
+        """A new step of the case study, drawn at once (not at the next refresh: a step
+        shorter than a refresh is shown too)."""
+        self._progress.update(self._task, description=message, refresh=True)
+
+    def map_points(self, done: int, total: int, _point=None) -> None:
+        """The DEM map's points: ``done`` of ``total`` (finished or reused)."""
+        if self._points is None:
+            self._points = self._progress.add_task("DEM map points", total=total)
+        self._progress.update(self._points, completed=done, total=total, refresh=True)
+
+
 def paper(
     out: Annotated[str, typer.Option(help="Directory for figures and tables (created if "
                                      "missing; its parent must exist).")] = "paper-results",
@@ -37,7 +89,6 @@ def paper(
     import time
 
     from rich.console import Console
-    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
     from pdamper.errors import InputError
     from pdamper.files import atomic_directory
@@ -53,30 +104,12 @@ def paper(
         check_scheduler(scheduler)
     options = {k: v for k, v in (("workers", workers), ("scheduler", scheduler)) if v is not None}
     t0 = time.perf_counter()
-    console = Console(file=sys.stderr)
-    # a progress display for a terminal only, gone when done: errors stay one line
-    with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(),
-                  console=console, transient=True,
-                  disable=not console.is_terminal or quiet()) as prog:
-        steps = 10 if dem else 8
-        task = prog.add_task("case study", total=steps)
-        points = None
-
-        def step(msg: str) -> None:
-            prog.update(task, description=msg, advance=1)
-
-        def map_points(done: int, total: int, _point) -> None:
-            nonlocal points
-            if points is None:
-                points = prog.add_task("DEM map points", total=total)
-            prog.update(points, completed=done)
-
+    with _Progress(Console(file=sys.stderr)) as prog:
         with atomic_directory(target) as stage:
             cache = target if target.is_dir() else stage
-            cs = study.run_case_study(sc, step, dem, out=cache, map_progress=map_points,
-                                      **options)
-            written = study.write_case_study(cs, stage, step)
-        prog.update(task, description="done", completed=steps)
+            cs = study.run_case_study(sc, prog.step, dem, out=cache,
+                                      map_progress=prog.map_points, **options)
+            written = study.write_case_study(cs, stage, prog.step)
     files = [target / p.relative_to(stage) for p in written]
     agree = sum(r.agrees is True for r in cs.rows)
     payload = {"out": str(target), "files": [str(p) for p in files],

@@ -1341,14 +1341,18 @@ class DEMEngine:
 
 def warmup(integrators: tuple[str, ...] = INTEGRATORS,
            motions: tuple[str, ...] = ("harmonic", "structure")) -> float:
-    """Compile (or load from the numba cache) the kernels of ``integrators`` (default all)
-    for the container ``motions`` (``"harmonic"``, ``"structure"``; default both); returns
-    seconds.
+    """Compile (or load from the numba cache) the kernels of ``integrators`` (default all
+    of :data:`~pdamper.dem.model.INTEGRATORS`) for the container ``motions``
+    (``"harmonic"``, ``"structure"``; default both); returns seconds.
 
     A run loads only the kernels it calls, when it first calls them; this loads them ahead
     (all of them: to fill the cache, or to leave compilation out of a timing). Loading every
     variant costs several times what one run's start-up loads (the variable-step kernels
-    of Gear, the fixed-step ones of Verlet, ``auto``'s resume, each per motion)."""
+    of Gear, the fixed-step ones of Verlet, ``auto``'s resume, each per motion).
+
+    Separate processes may warm different integrators at once ("gear" in one, "verlet" in
+    another): numba writes its cache files under temporary names and renames them. "auto"
+    adds only its hand-over to the kernels of the other two."""
     t0 = time.perf_counter()
     from pdamper.contact.restitution import ConstantRestitution
     from pdamper.materials import PVC, S235
@@ -1364,8 +1368,9 @@ def warmup(integrators: tuple[str, ...] = INTEGRATORS,
     for integ in integrators:
         parts = ParticleSet(np.array([[0.02, 0.02, 0.006], [0.02, 0.02, 0.03]]), 0.005, S235)
         for motion in (kinds[m] for m in motions):
-            # "auto" made to hand over at its first judgement: the resume kernel too
+            # "auto" made to hand over to Verlet at its first judgement (5 ms) and to probe
+            # Gear again one window later (10-15 ms): both resume kernels too
             DEMEngine(parts, Container((0.04, 0.04, 0.12), PVC), contact, motion,
                       integrator=integ, settle_time=0.0, auto_cost_ratio=math.inf).run(
-                2.0 * AUTO_WINDOW if integ == "auto" else 0.002, sample_rate=1000.0)
+                3.5 * AUTO_WINDOW if integ == "auto" else 0.002, sample_rate=1000.0)
     return time.perf_counter() - t0

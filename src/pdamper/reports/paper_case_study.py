@@ -311,8 +311,14 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
 
 def _dem_map(cs: CaseStudy, sc, damper, say, out, map_progress, sweep_options) -> None:
     """Fig. 5b/5d from the DEM, its agreement rows, and the Fig. 3 snapshots."""
+    from pdamper.dem import warmup
     from pdamper.reports.maps import run_map
 
+    # the kernels once here, before the map's workers start: each worker then loads them
+    # from numba's cache instead of compiling them again (a fresh installation: ~30 s of
+    # CPU per process); Fig. 3 and model 1 below run them in this process anyway
+    say(f"compiling the DEM kernels ({sc.dem.integrator}; first run only, then cached)")
+    cs.timings["DEM kernels"] = warmup((sc.dem.integrator,))
     fd, xd = sc.dem_map_grid()
     grid = f"{len(fd)} x {len(xd)}"
     say(f"Fig. 5b/5d: DEM map {grid} (cached in the output directory)")
@@ -579,6 +585,7 @@ def write_case_study(cs: CaseStudy, out: Path,
     say("writing figures")
     report_figures = []
     for name, fig in _figures(cs):
+        say(f"writing {name}")
         buf = io.BytesIO()
         fig.savefig(buf, dpi=120, format="png")
         png = buf.getvalue()
