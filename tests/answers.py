@@ -104,3 +104,19 @@ def memory_headroom(nbytes: float | None):
         yield
     finally:
         resource.setrlimit(resource.RLIMIT_AS, old)
+
+
+def refused(fn, field: str, *words: str):
+    """``fn()`` raises an :class:`~pdamper.errors.InputError` of one line naming ``field``
+    whose message holds every one of ``words``; returns the error."""
+    import pytest
+
+    from pdamper.errors import InputError
+
+    with pytest.raises(InputError) as info:
+        fn()
+    assert info.value.field == field, str(info.value)
+    for w in words:
+        assert w in info.value.message, str(info.value)
+    assert "\n" not in str(info.value)
+    return info.value

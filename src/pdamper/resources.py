@@ -237,14 +237,15 @@ def check_impacts(spheres: Sequence[tuple[float, Material]], wall: Material | No
                   speed: float, *, speed_field: str, frequency: float | None = None,
                   frequency_field: str = "frequency", radius_field: str = "particles.radius",
                   contact_law: bool = True, between_spheres: bool = True,
-                  remedy: str = "lower the impact speed") -> Impact:
+                  remedy: str = "lower the impact speed", cause: str = "") -> Impact:
     """Refuse impacts that have no physical meaning: spheres ``(radius [m], material)``
     hitting each other and ``wall`` at up to ``speed`` [m/s] (the fastest impact a run
     implies), under an excitation of ``frequency`` [Hz] (None: none). The limits of the
     module's documentation (the sphere radius, the speed, the contact frequency and, for
     the contact law, the contact radius), in terms of the impacts themselves: every DEM run
     is judged by them when its engine is built (:class:`pdamper.dem.DEMEngine`), and the
-    single impacts of ``pdamper cor`` before the first runs."""
+    single impacts of ``pdamper cor`` before the first runs, and every harmonic motion
+    (:func:`check_motion`); ``cause`` says where the speed comes from in the messages."""
     spheres = list(spheres)
     r_min = min(float(r) for r, _ in spheres)
     if r_min < MIN_PARTICLE_RADIUS:
@@ -253,7 +254,7 @@ def check_impacts(spheres: Sequence[tuple[float, Material]], wall: Material | No
     slowest = min(materials, key=bar_wave_speed)
     v_max = MAX_SPEED_FRACTION * bar_wave_speed(slowest)
     if not speed <= v_max:
-        raise InputError(speed_field, f"impacts at up to {speed:.3g} m/s are above "
+        raise InputError(speed_field, f"impacts at up to {speed:.3g} m/s{cause} are above "
                          f"{MAX_SPEED_FRACTION:g} of the bar wave speed of {slowest.name} "
                          f"({v_max:.3g} m/s): not a quasi-static impact (Hertz's law and "
                          f"the rigid-body model do not hold); {remedy}")
@@ -263,7 +264,7 @@ def check_impacts(spheres: Sequence[tuple[float, Material]], wall: Material | No
                          f"{1.0 / imp.longest_contact:.3g} Hz of these spheres at the implied "
                          f"impact speed {speed:.3g} m/s: impacts would last longer than a period")
     if contact_law and imp.contact_radius_ratio > MAX_CONTACT_RADIUS_RATIO:
-        raise InputError(speed_field, f"impacts at up to {speed:.3g} m/s give a Hertz contact "
+        raise InputError(speed_field, f"impacts at up to {speed:.3g} m/s{cause} give a Hertz contact "
                          f"radius of {imp.contact_radius_ratio:.2f} of the sphere radius "
                          f"(Hertz's law holds below {MAX_CONTACT_RADIUS_RATIO:g}); {remedy}")
     return imp
@@ -349,23 +350,11 @@ def check_motion(damper: ParticleDamper, frequency: float, amplitude: float, *,
                          f"would last longer than a period")
     v = impact_speed(amplitude, frequency, damper.length, gravity)
     blame = _blame([(f_field, _ratio(frequency, usual[0])), (x_field, _ratio(amplitude, usual[1]))])
-    if v > v_max:
-        raise InputError(blame, f"f = {frequency:.3g} Hz with X = {amplitude:.3g} m implies "
-                         f"impacts at up to {v:.3g} m/s, above {MAX_SPEED_FRACTION:g} of the "
-                         f"bar wave speed of {slowest.name} ({v_max:.3g} m/s): not a "
-                         f"quasi-static impact; lower the frequency or the amplitude")
-    imp = hertz_impact(damper, v)
-    if frequency * imp.longest_contact > 1.0:
-        raise InputError(f_field, f"{frequency:.3g} Hz is above the contact frequency "
-                         f"{1.0 / imp.longest_contact:.3g} Hz of these spheres at the implied "
-                         f"impact speed {v:.3g} m/s: impacts would last longer than a period")
-    if contact_law and imp.contact_radius_ratio > MAX_CONTACT_RADIUS_RATIO:
-        raise InputError(blame, f"f = {frequency:.3g} Hz with X = {amplitude:.3g} m implies "
-                         f"impacts at up to {v:.3g} m/s, whose Hertz contact radius would be "
-                         f"{imp.contact_radius_ratio:.2f} of the sphere radius (Hertz's law "
-                         f"holds below {MAX_CONTACT_RADIUS_RATIO:g}); lower the frequency or "
-                         f"the amplitude")
-    return imp
+    return check_impacts([(damper.particle_radius, damper.particle_material)],
+                         damper.wall_material, v, speed_field=blame, frequency=frequency,
+                         frequency_field=f_field, contact_law=contact_law,
+                         cause=f" (implied by f = {frequency:.3g} Hz, X = {amplitude:.3g} m)",
+                         remedy="lower the frequency or the amplitude")
 
 
 def check_grid(damper: ParticleDamper, frequency: tuple[float, float],
