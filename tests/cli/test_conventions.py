@@ -75,6 +75,16 @@ def test_main_help_offers_version_quiet_and_completion(cli, monkeypatch):
         assert option in out
 
 
+def test_main_help_lists_each_command_with_its_first_paragraph_on_one_line(cli, monkeypatch):
+    """At 200 columns each command's summary fits its line: the docstring's own line breaks
+    used to cut the list's column mid-sentence ('under harmonic excitation' / 'and apply')."""
+    monkeypatch.setenv("COLUMNS", "200")
+    code, out, _ = cli("--help")
+    assert code == 0
+    line = next(x for x in out.splitlines() if " dem " in x)
+    assert "under harmonic excitation and apply the complex power method (Eqs. 1-4)." in line
+
+
 def _as_pdamper(*args, **extra_env):
     """The console script's process: the program name is ``pdamper`` (shell completion keys
     its environment variable on it)."""

@@ -105,5 +105,12 @@ def _register() -> None:
                            ("dem", dem.dem), ("paper", paper.paper),
                            ("example-scenario", scenario.example_scenario), ("cor", cor.cor),
                            ("cor-sensitivity", cor_sensitivity.cor_sensitivity)):
-        app.command(name, cls=_Command)(function)
+        app.command(name, cls=_Command, short_help=_summary(function))(function)
     _registered = True
+
+
+def _summary(function) -> str:
+    """The first paragraph of a command's docstring on one line: the main help's list of
+    commands (typer keeps the docstring's line breaks, which then break the list's column
+    at random places)."""
+    return " ".join((function.__doc__ or "").split("\n\n")[0].split())
