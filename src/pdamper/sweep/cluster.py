@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import multiprocessing
 import os
 from collections.abc import Iterator
 
@@ -86,11 +87,21 @@ def _stop_workers(cluster) -> None:
         cluster.sync(stop)
 
 
+def _kill(processes) -> None:
+    """SIGKILL ``processes`` (``multiprocessing`` children) and reap them."""
+    for p in processes:
+        with contextlib.suppress(Exception):
+            p.kill()
+    for p in processes:
+        with contextlib.suppress(Exception):
+            p.join(REAP_WAIT)
+
+
 def _abandon(cluster, instances) -> None:
     """Let a cluster whose start was interrupted close in the background, without dask's
     exit handler waiting for it (it waits for every worker to finish starting, then for it
-    to stop: 1-1.6 s, up to its 10 s limit). Its worker processes end with this process
-    at the latest: distributed's child processes exit when their parent is gone."""
+    to stop: 1-1.6 s, up to its 10 s limit). Its worker processes were killed before
+    (:func:`open_client`)."""
     import threading
 
     with contextlib.suppress(Exception):
@@ -165,11 +176,16 @@ def open_client(workers: int | None = None, scheduler: str | None = None) -> Ite
     # the clusters of this process (dask's own record, which its exit handler closes, slowly)
     instances = getattr(SpecCluster, "_instances", ())
     before = set(instances)
+    children = set(multiprocessing.active_children())
     try:
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                host="127.0.0.1", dashboard_address="127.0.0.1:0",
                                silence_logs=logging.ERROR)
     except BaseException:
+        # worker processes still reading their start-up data from this one would print
+        # the traceback of its loss once this process has ended (its exit handlers unlink
+        # the semaphores they unpickle): they are killed first, silently
+        _kill(set(multiprocessing.active_children()) - children)
         for half in set(instances) - before:
             _abandon(half, instances)
         raise
@@ -180,4 +196,5 @@ def open_client(workers: int | None = None, scheduler: str | None = None) -> Ite
         except BaseException:
             quiet.enter_context(_quiet_logs())  # until the cluster is closed
             _stop_workers(cluster)
+            _kill(set(multiprocessing.active_children()) - children)  # any still starting
             raise
