@@ -158,3 +158,18 @@ def test_landscape_plot_marks_the_front_and_the_lightest_within():
         labels = ax.get_legend_handles_labels()[1]
         assert any(lab.startswith("Pareto front") for lab in labels)
         assert any(lab.startswith(f"lightest within {res.tolerance * 100:g} %") for lab in labels)
+
+
+def test_papers_case_lightest_within_five_percent_is_80_spheres_and_64_at_eight():
+    """docs/structure.md: the best is 112 spheres; within 5 % the lightest is 80, the paper's
+    64 is 7.7 % above the best (picked from a tolerance of 8 %); the front ends at 112."""
+    from pdamper.design import optimize_design
+
+    counts = "particles=0:176:16"
+    res = optimize_design(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, [counts], at=0.8)
+    assert res.best.particles == 112
+    assert [c.particles for c in res.front] == list(range(0, 113, 16))
+    assert res.lightest_within.particles == 80
+    at8 = optimize_design(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, [counts], at=0.8,
+                          tolerance="8%")
+    assert at8.lightest_within.particles == 64
