@@ -173,3 +173,21 @@ def test_papers_case_lightest_within_five_percent_is_80_spheres_and_64_at_eight(
     at8 = optimize_design(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, [counts], at=0.8,
                           tolerance="8%")
     assert at8.lightest_within.particles == 64
+
+
+def test_the_paper_study_and_the_scenario_key():
+    """The paper's one-variable study (its candidates carry no status) gives the same rule's
+    80 spheres, as the `paper` report's optimal-count row shows; the scenario's
+    ``[optimization] tolerance`` takes a percentage and is judged at load time."""
+    from pdamper.design import optimize_particle_count
+    from pdamper.io.scenario import load_scenario
+
+    res = optimize_particle_count(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, 0.8)
+    assert res.best.particles == 112
+    assert lightest_within(res.candidates, res.best, 0.05).particles == 80
+    assert [c.particles for c in pareto_front(res.candidates)] == list(range(0, 113, 16))
+    assert load_scenario(None, {"optimization.tolerance": "10%"}).optimization.tolerance == 0.1
+    assert load_scenario(None).optimization.tolerance == DEFAULT_TOLERANCE
+    with pytest.raises(InputError) as exc:
+        load_scenario(None, {"optimization.tolerance": "120%"})
+    assert exc.value.field == "optimization.tolerance"

@@ -569,10 +569,12 @@ def parse_tolerance(value: Any) -> float:
 
 
 def _ranked(candidates, sense: str) -> list[tuple[float, float, DesignCandidate]]:
-    """``(mass, signed objective, candidate)`` of the evaluated designs: both minimised."""
+    """``(mass, signed objective, candidate)`` of the evaluated designs: both minimised
+    (a candidate without ``status``, the paper study's, counts as evaluated)."""
     sign = 1.0 if sense == "min" else -1.0
     return [(c.mass, sign * c.objective, c) for c in candidates
-            if c.status == "ok" and c.mass is not None and c.objective is not None]
+            if getattr(c, "status", "ok") == "ok" and c.mass is not None
+            and c.objective is not None]
 
 
 def pareto_front(candidates: Sequence[DesignCandidate],
