@@ -103,6 +103,9 @@ FORCE_TIME_LIMIT = 30 * 86400.0
 #: (here, not in the study, so that the scenario reader does not import Level III).
 DEFAULT_MAX_GRID = 400
 DEFAULT_MAX_EVALUATIONS = 200
+#: Relative tolerance on the objective of the lightest design reported as nearly as good
+#: as the best (:func:`pdamper.design.study.lightest_within`).
+DEFAULT_TOLERANCE = 0.05
 
 # ---------------------------------------------------------------- per-unit costs
 #: DEM: seconds per particle and time step (README: 29-34 ns, Verlet).

@@ -63,6 +63,7 @@ def test_paper_count_off_the_step_is_still_compared():
     assert counts == [0, 48, 96, 144] and 64 not in counts
     opt = next(r for r in cs.rows if r.quantity.startswith("optimal particle count"))
     assert "64 within" in opt.ours
+    assert "; lightest within 5 %: " in opt.ours  # the mass-aware rule, the scenario's tolerance
 
 
 def test_dem_scenario_equals_command_line(tmp_path, cli):

@@ -42,6 +42,10 @@ def optimize(
     max_evaluations: Annotated[int | None, typer.Option(
         "--max-evaluations", help="Evaluation budget of the optimiser.")] = None,
     seed: Annotated[int | None, typer.Option(help="Seed of the optimiser.")] = None,
+    tolerance: Annotated[str | None, typer.Option(
+        help="Relative tolerance on the objective: the lightest design within it of the best "
+             "is reported with the Pareto front of added (bed) mass against the objective, "
+             "e.g. '5%' or 0.05; in [0 %, 100 %) (default 5 %).")] = None,
     plot: plot_option("the design landscape") = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
@@ -65,7 +69,8 @@ def optimize(
               optimization__vary=vary or None, optimization__objective=objective,
               optimization__threshold=threshold, optimization__method=method,
               optimization__workers=workers, optimization__scheduler=scheduler,
-              optimization__max_evaluations=max_evaluations, optimization__seed=seed)
+              optimization__max_evaluations=max_evaluations, optimization__seed=seed,
+              optimization__tolerance=tolerance)
     plot = check_plot(plot)
     o = sc.optimization
     damper = sc.damper()
@@ -86,7 +91,7 @@ def optimize(
                           variables, o.objective, o.at, model=functools.partial(sc.model, None),
                           threshold=o.threshold, method=o.method, max_grid=o.max_grid,
                           max_evaluations=o.max_evaluations, seed=o.seed,
-                          workers=n_workers, scheduler=o.scheduler)
+                          workers=n_workers, scheduler=o.scheduler, tolerance=o.tolerance)
     if plot is not None:
         from matplotlib.figure import Figure
 
@@ -108,6 +113,7 @@ def optimize(
         else f"settling-time (to {res.objective.threshold * 1e3:g} mm"
     lines = [f"{head}, {sc.simulation.model} model, {res.method}: {len(res.candidates)} designs)",
              "  " + "  ".join(f"{n:>17s}" for n in names) + f"  mass [g]  {shown[1]}"]
+    light = res.lightest_within
     for c in res.candidates:
         cells = []
         for n in names:
@@ -117,5 +123,18 @@ def optimize(
                  else f"{c.status:>12s}")
         mass = f"{c.mass * 1e3:8.1f}" if c.mass is not None else "       -"
         mark = "  <- best" if c is res.best else ""
+        if c is light and c is not res.best:
+            mark = f"  <- lightest within {res.tolerance * 100:g} %"
         lines.append("  " + "  ".join(cells) + f"  {mass}  {value}{mark}")
+
+    def brief(c) -> str:
+        design = ", ".join(f"{n} {c.design[n] * 1e3:g} mm" if isinstance(c.design[n], float)
+                           else f"{n} {c.design[n]}" for n in names)
+        return f"{design} ({c.mass * 1e3:.1f} g, {c.objective * shown[0]:.4g})"
+
+    front = res.front
+    lines.append(f"Pareto front of added mass vs {shown[1]} ({len(front)}, lightest first): "
+                 + ("; ".join(brief(c) for c in front) if front else "none"))
+    lines.append(f"lightest within {res.tolerance * 100:g} % of the best: "
+                 + (brief(light) if light is not None else "none"))
     emit(payload, as_json, "\n".join(lines))

@@ -37,6 +37,18 @@ together (found by the optimiser, say) is an infeasible candidate with the reaso
 The number of values of a variable is judged before they are built (:func:`values_cost`;
 the scenario judges the whole study, :meth:`pdamper.io.scenario.Scenario.check_resources`).
 
+Added mass
+----------
+Added mass is a cost of every real damper, and landscapes are often flat near the optimum
+(the paper's particle count: 64 to 112 spheres within 8 %). The result therefore also
+carries the Pareto front of added mass against the objective (:func:`pareto_front`: both
+minimised, a maximised objective taken with its sign turned) and the lightest design whose
+objective is within a relative ``tolerance`` of the best (:func:`lightest_within`;
+default :data:`DEFAULT_TOLERANCE`, 5 %). The added mass is the bed's, m_bed: the
+container's mass is a fixed input of the scenario (``container.mass``), not a function of
+its dimensions, so it is the same for every design and moves no design on or off the front.
+Infeasible and failed designs have no objective and are never on the front.
+
 Variable specifications (CLI ``--vary``, scenario ``[optimization] vary``)
 -------------------------------------------------------------------------
 ``particles=16:176:16``
@@ -63,7 +75,11 @@ from pdamper.coupling.simulation import Simulation
 from pdamper.damper import ParticleDamper
 from pdamper.design.parallel import Outcome, evaluate_parallel
 from pdamper.errors import InputError, check_range
-from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID  # noqa: F401 - the study's defaults
+from pdamper.resources import (  # noqa: F401 - the study's defaults
+    DEFAULT_MAX_EVALUATIONS,
+    DEFAULT_MAX_GRID,
+    DEFAULT_TOLERANCE,
+)
 
 logger = logging.getLogger(__name__)
 
@@ -486,15 +502,32 @@ class DesignStudyResult:
     objective: Objective
     method: str
     seed: int | None = None
+    tolerance: float = DEFAULT_TOLERANCE
 
     @property
     def at(self) -> float:
         return self.objective.at
 
+    @property
+    def front(self) -> tuple[DesignCandidate, ...]:
+        """Pareto front of added mass against the objective, lightest first
+        (:func:`pareto_front`)."""
+        return pareto_front(self.candidates, self.objective.sense)
+
+    @property
+    def lightest_within(self) -> DesignCandidate | None:
+        """The lightest design within ``tolerance`` of the best (:func:`lightest_within`)."""
+        return lightest_within(self.candidates, self.best, self.tolerance,
+                               self.objective.sense)
+
     def as_dict(self) -> dict:
         return {
             "best": None if self.best is None else self.best.as_dict(),
             "candidates": [c.as_dict() for c in self.candidates],
+            "front": [c.as_dict() for c in self.front],
+            "lightest_within": None if (light := self.lightest_within) is None
+            else {**light.as_dict(), "tolerance": self.tolerance},
+            "tolerance": self.tolerance,
             "at": self.objective.at,
             "objective_name": self.objective.name,
             "sense": self.objective.sense,
@@ -509,6 +542,87 @@ class DesignStudyResult:
                            "bounds": None if v.bounds is None else list(v.bounds)}
                           for v in self.variables],
         }
+
+
+# ----------------------------------------------------------------------------- added mass
+def parse_tolerance(value: Any) -> float:
+    """A relative tolerance: ``"5%"`` or a fraction (``0.05``); 0 <= tolerance < 100 %.
+
+    >>> parse_tolerance("5%"), parse_tolerance(0.1), parse_tolerance("0.02")
+    (0.05, 0.1, 0.02)
+    """
+    text = value.strip() if isinstance(value, str) else value
+    try:
+        if isinstance(text, bool):
+            raise ValueError
+        if isinstance(text, str) and text.endswith("%"):
+            tol = float(text[:-1].strip()) / 100.0
+        else:
+            tol = float(text)
+    except (TypeError, ValueError):
+        raise InputError("optimization.tolerance", f"must be a relative tolerance in "
+                         f"[0 %, 100 %) such as '5%' or 0.05, got {value!r}") from None
+    if not (math.isfinite(tol) and 0.0 <= tol < 1.0):
+        raise InputError("optimization.tolerance", f"must be in [0 %, 100 %) (a relative "
+                         f"tolerance on the objective, e.g. '5%'), got {value!r}")
+    return tol
+
+
+def _ranked(candidates, sense: str) -> list[tuple[float, float, DesignCandidate]]:
+    """``(mass, signed objective, candidate)`` of the evaluated designs: both minimised
+    (a candidate without ``status``, the paper study's, counts as evaluated)."""
+    sign = 1.0 if sense == "min" else -1.0
+    return [(c.mass, sign * c.objective, c) for c in candidates
+            if getattr(c, "status", "ok") == "ok" and c.mass is not None
+            and c.objective is not None]
+
+
+def pareto_front(candidates: Sequence[DesignCandidate],
+                 sense: str = "min") -> tuple[DesignCandidate, ...]:
+    """The designs no other design beats in both added mass and objective, lightest first.
+
+    A design is dominated when another is at most as heavy and at least as good, and
+    strictly lighter or strictly better; designs equal in both are all kept (in landscape
+    order). ``sense`` is the objective's (``"min"`` or ``"max"``, :data:`OBJECTIVES`);
+    infeasible and failed designs are never on the front.
+    """
+    ranked = _ranked(candidates, sense)
+    order = sorted(range(len(ranked)), key=lambda k: (ranked[k][0], ranked[k][1], k))
+    front: list[DesignCandidate] = []
+    best_so_far = math.inf  # best signed objective of every strictly lighter design
+    i = 0
+    while i < len(order):
+        j = i
+        mass = ranked[order[i]][0]
+        while j < len(order) and ranked[order[j]][0] == mass:
+            j += 1
+        group = [ranked[k] for k in order[i:j]]  # equal mass, best objective first
+        top = group[0][1]
+        if top < best_so_far:
+            front.extend(c for _, o, c in group if o == top)
+            best_so_far = top
+        i = j
+    return tuple(front)
+
+
+def lightest_within(candidates: Sequence[DesignCandidate], best: DesignCandidate | None,
+                    tolerance: float = DEFAULT_TOLERANCE,
+                    sense: str = "min") -> DesignCandidate | None:
+    """The lightest design whose objective is within ``tolerance`` (relative, of |best|)
+    of ``best``'s: at most ``best * (1 + tol)`` for a minimised objective, at least
+    ``best * (1 - tol)`` for a maximised one (for a positive best). Of equally light ones,
+    the better objective, then the first in the landscape. None without a best.
+    It is on the Pareto front (:func:`pareto_front`)."""
+    tolerance = parse_tolerance(tolerance)
+    if best is None or best.objective is None:
+        return None
+    sign = 1.0 if sense == "min" else -1.0
+    limit = sign * best.objective + tolerance * abs(best.objective)
+    within = [(m, o, k, c) for k, (m, o, c) in enumerate(_ranked(candidates, sense))
+              if o <= limit]
+    if not within:
+        return best
+    return min(within, key=lambda t: t[:3])[3]
 
 
 # ----------------------------------------------------------------------------- evaluation
@@ -657,6 +771,7 @@ def run_design_study(
     workers: int | None = None,
     scheduler: str | None = None,
     progress: Callable[[int, int], None] | None = None,
+    tolerance: float | str = DEFAULT_TOLERANCE,
 ) -> DesignStudyResult:
     """Evaluate designs of ``damper`` over ``variables`` and rank them by ``objective``.
 
@@ -677,7 +792,11 @@ def run_design_study(
         Search (module docstring); the optimiser is seeded.
     workers, scheduler
         Parallel evaluation (:func:`pdamper.design.parallel.evaluate_parallel`).
+    tolerance
+        Relative tolerance of the lightest design nearly as good as the best
+        (:func:`lightest_within`; ``"5%"`` or 0.05).
     """
+    tolerance = parse_tolerance(tolerance)
     variables = tuple(variables)
     if not variables:
         raise InputError("optimization.vary", "needs at least one design variable")
@@ -714,7 +833,7 @@ def run_design_study(
     ok = [c for c in land.candidates if c.status == "ok"]
     best = min(ok, key=lambda c: sign * c.objective) if ok else None
     return DesignStudyResult(best, tuple(land.candidates), variables, objective, method,
-                             seed if method == "optimize" else None)
+                             seed if method == "optimize" else None, tolerance)
 
 
 def _differential_evolution(land: _Landscape, variables, objective, max_evaluations, seed):
@@ -790,7 +909,7 @@ def optimize_design(
         Damper model factory taking a :class:`ParticleDamper` (default: the analytical model).
     options
         ``method``, ``max_grid``, ``max_evaluations``, ``seed``, ``workers``, ``scheduler``,
-        ``progress`` of :func:`run_design_study`.
+        ``progress``, ``tolerance`` of :func:`run_design_study`.
 
     Examples
     --------

@@ -51,7 +51,7 @@ from pdamper.models.dem import (
     PAPER_CYCLES,
 )
 from pdamper.parameters import vertical_dampers_paper as paper
-from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID
+from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID, DEFAULT_TOLERANCE
 from pdamper.units import format_quantity, parse_quantity, parse_range
 
 
@@ -152,6 +152,15 @@ def _scheduler(v: str) -> str:
         raise ValueError(exc.message) from None
 
 
+def _tolerance(v: Any) -> float:
+    from pdamper.design.study import parse_tolerance
+
+    try:
+        return parse_tolerance(v)
+    except InputError as exc:  # pydantic adds the location
+        raise ValueError(exc.message) from None
+
+
 class OptimizationSpec(_Section):
     """The design study (:mod:`pdamper.design.study`); without ``vary``, the paper's
     particle-count study (Sect. 4.2.2)."""
@@ -167,6 +176,7 @@ class OptimizationSpec(_Section):
     max_evaluations: Annotated[int, Field(ge=4, strict=True)] = DEFAULT_MAX_EVALUATIONS
     max_grid: Annotated[int, Field(ge=1, strict=True)] = DEFAULT_MAX_GRID
     seed: Annotated[int, Field(ge=0, strict=True)] = 0
+    tolerance: Annotated[float, BeforeValidator(_tolerance)] = DEFAULT_TOLERANCE
 
     def variables(self):
         """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary`` (judge
@@ -854,6 +864,7 @@ workers = "{s.optimization.workers}"            # dask workers; "auto": 0 (in-pr
 max_evaluations = {s.optimization.max_evaluations}     # budget of the optimiser
 max_grid = {s.optimization.max_grid}            # largest grid "auto" evaluates by brute force
 seed = {s.optimization.seed}                    # seed of the optimiser
+tolerance = "{s.optimization.tolerance * 100:g}%"              # lightest design this close to the best
 
 [fields]                    # options of the effective-field model ("--model fields")
 # file = "map.nc"           # map from `pdamper map` (relative to this file)

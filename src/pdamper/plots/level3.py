@@ -89,7 +89,9 @@ def plot_phase_drift(comparisons: dict, ax=None):
 def plot_design_landscape(study, ax=None):
     """Objective over the design variables of a design study
     (:class:`~pdamper.design.DesignStudyResult`); infeasible designs as grey crosses,
-    failed ones as red crosses, the best as a star.
+    failed ones as red crosses, the best as a star, the designs on the Pareto front of
+    added mass against the objective ringed, the lightest design within the study's
+    tolerance of the best as a green diamond.
 
     One variable: objective against it. Two or more: the first two variables as axes,
     the objective as colour (categorical variables by index).
@@ -131,6 +133,14 @@ def plot_design_landscape(study, ax=None):
         if study.best is not None:
             ax.plot([coord(v0, study.best)], [study.best.objective * unit], "r*", ms=14,
                     label=f"best: {_describe(study.best, names)}")
+        front, light = study.front, study.lightest_within
+        if front:
+            ax.plot([coord(v0, c) for c in front], [c.objective * unit for c in front], "o",
+                    ms=11, mfc="none", mec="k", label="Pareto front (mass vs objective)")
+        if light is not None:
+            ax.plot([coord(v0, light)], [light.objective * unit], "gD", ms=9,
+                    label=f"lightest within {study.tolerance * 100:g} %: "
+                          f"{_describe(light, names)}")
         ax.set_xlabel(axis_label(v0))
         ax.set_ylabel(ylabel)
     else:
@@ -149,6 +159,14 @@ def plot_design_landscape(study, ax=None):
         if study.best is not None:
             ax.plot([coord(v0, study.best)], [coord(v1, study.best)], "r*", ms=16,
                     label=f"best: {_describe(study.best, names)}")
+        front, light = study.front, study.lightest_within
+        if front:
+            ax.plot([coord(v0, c) for c in front], [coord(v1, c) for c in front], "o", ms=13,
+                    mfc="none", mec="k", label="Pareto front (mass vs objective)")
+        if light is not None:
+            ax.plot([coord(v0, light)], [coord(v1, light)], "gD", ms=9,
+                    label=f"lightest within {study.tolerance * 100:g} %: "
+                          f"{_describe(light, names)}")
         for v, setter in ((v0, ax.set_xticks), (v1, ax.set_yticks)):
             if v.kind == "categorical":
                 setter(range(len(v.values)), list(v.values))

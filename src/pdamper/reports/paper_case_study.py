@@ -39,6 +39,7 @@ from pdamper.analysis.modes import PAPER_MODES, MotionMode
 from pdamper.contact.restitution import ConstantRestitution
 from pdamper.coupling import FreeVibrationResult, Simulation
 from pdamper.design.optimize import OptimizationResult, optimize_particle_count
+from pdamper.design.study import lightest_within
 from pdamper.errors import InputError, SimulationError
 from pdamper.files import atomic_write_bytes, atomic_write_netcdf, atomic_write_text
 from pdamper.models import AnalyticalDamper, EffectiveFieldDamper
@@ -299,6 +300,9 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
         ref = optimize_particle_count(structure, damper, x0, at, counts=[n_paper]).best
     within = ("" if ref is None else
               f"; {n_paper} within {(ref.objective / opt.best.objective - 1) * 100:.0f} %")
+    tol = sc.optimization.tolerance  # the mass-aware rule of `pdamper optimize`
+    light = lightest_within(opt.candidates, opt.best, tol)
+    within += f"; lightest within {tol * 100:g} %: {light.particles} ({light.mass * 1e3:.0f} g)"
     rows.append(_row("optimal_count", f"{opt.best.particles} ({opt.best.mass * 1e3:.0f} g)"
                      + within, opt.best.particles, at=f"{at:g}"))
     best = damper.with_count(min(n_paper, damper.max_count))
