@@ -1,4 +1,4 @@
-"""COR sensitivity of the paper's damper (issue 8): DEM Level II points and the Level III
+"""COR sensitivity of the paper's damper: DEM Level II points and the Level III
 model-1 run under several COR models; prints the tables of docs/restitution.md and writes
 its figure. Also times the Level I calibration check (``pdamper cor``) over a grid of pairs.
 

@@ -4,8 +4,8 @@ damper, their cycle loss factors, and where the criterion stops.
 Run ``python benchmarks/bench_stationarity.py`` (``--cycles 60``, ``--points`` to choose;
 ``--windows 3x4,3x3,2x4,2x3 --cycles 40`` compares window lengths instead, the table of
 docs/fields.md; a window ``3x4q2`` is three windows of 4 cycles with the rule for quiet
-beds on windows of 2, ``3x4q2w3s2`` on three of them after two skipped cycles (the rule of
-issue 9's stop 19), ``3x4q0`` without it, plain ``3x4`` the model's default quiet rule;
+beds on windows of 2, ``3x4q2w3s2`` on three of them after two skipped cycles (the earlier
+rule, kept for comparison), ``3x4q0`` without it, plain ``3x4`` the model's default quiet rule;
 ``--points grid`` the 9 x 5 points of its table, ``--particles N``, ``--jobs 2``).
 For every point and both packings (the paper's lattice, a random one) it runs ``--cycles``
 cycles once and prints
@@ -106,8 +106,8 @@ def main(argv=None) -> None:
 
 def _variant(spec: str) -> tuple[int, int, dict | None]:
     """``"3x4"`` -> (3, 4, None: the default quiet rule); ``"3x4q2"`` -> (3, 4, quiet
-    windows of 2 cycles); ``"3x4q2w3s2"``: three of them after two cycles (the rule of
-    issue 9's stop 19)."""
+    windows of 2 cycles); ``"3x4q2w3s2"``: three of them after two cycles (the earlier
+    rule, kept for comparison)."""
     body, _, quiet = spec.partition("q")
     k, m = (int(v) for v in body.split("x"))
     if not quiet:

@@ -1,4 +1,4 @@
-"""What every ``pdamper`` invocation must answer (issue 11), shared by the corpus and the
+"""What every ``pdamper`` invocation must answer, shared by the corpus and the
 fuzz suite: exit 0 with finite JSON, or exit 2 with exactly one line on stderr that names a
 field (``error: <field>: <what is wrong and what is allowed>``); never a traceback, never a
 hang (:func:`time_bound`).

@@ -1,5 +1,5 @@
-"""Public constructors and functions check their arguments and say what they expected
-(issue 11): an :class:`~pdamper.errors.InputError` naming the argument, never an
+"""Public constructors and functions check their arguments and say what they expected:
+an :class:`~pdamper.errors.InputError` naming the argument, never an
 AttributeError from deep inside."""
 
 from __future__ import annotations

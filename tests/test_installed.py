@@ -1,4 +1,4 @@
-"""pdamper installed for real (issue 11): a wheel installed read-only and run by an
+"""pdamper installed for real: a wheel installed read-only and run by an
 unprivileged user without a writable home runs the DEM (numba's cache falls back to a
 per-user directory, :mod:`pdamper._numba_cache`)."""
 

@@ -1,6 +1,6 @@
 """The resource and physics model (:mod:`pdamper.resources`): what a run implies is judged
 before it starts; physically meaningless inputs are refused with the reason, costly ones
-above documented limits unless forced (issue 11)."""
+above documented limits unless forced."""
 
 from __future__ import annotations
 

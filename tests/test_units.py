@@ -52,7 +52,7 @@ def test_format_echoes_units():
     "600 rpm", "62.8 rad/s", "10 turn/s", "10 %", "0x10 Hz", "1.7e306 kHz",
 ])
 def test_a_quantity_is_a_number_and_a_unit_and_nothing_else(bad):
-    """Issue 11: ``"Hz"`` was read as 1 Hz, ``"10Hz🙂"`` as 10 Hz and ``"600 rpm"`` as
+    """``"Hz"`` was once read as 1 Hz, ``"10Hz🙂"`` as 10 Hz and ``"600 rpm"`` as
     62.8 Hz (pint's radian is dimensionless)."""
     with pytest.raises(InputError) as info:
         parse_quantity(bad, "Hz", "excitation.frequency")
@@ -81,7 +81,7 @@ def test_dimensionless_quantities_take_bare_text_and_percent():
                                  "2Hz:20Hz:1", "20Hz:2Hz:5", "2Hz:2Hz:5", "2Hz:20Hz:-3",
                                  "2Hz:20Hz:1e3", "2Hz:20Hz:5.0", "2:20Hz:5", "::", 5])
 def test_ranges_must_be_well_formed(bad):
-    """Issue 11: ``'2Hz::5'`` was read as one quantity, 10 Hz."""
+    """``'2Hz::5'`` was once read as one quantity, 10 Hz."""
     with pytest.raises(InputError) as info:
         parse_range(bad, "Hz", "map.frequency")
     assert info.value.field == "map.frequency"

@@ -38,7 +38,7 @@ that are off by orders of magnitude, not to tune runs).
 - :data:`TIME_LIMIT`: one hour of estimated run time on one core for one run (a DEM run,
   a free vibration, an analytical map); :data:`SWEEP_TIME_LIMIT`, a day, for a sweep of
   runs the user listed one by one (the points of a DEM map, the candidates of an
-  optimisation, which issue 9 runs in parallel), each of them within :data:`TIME_LIMIT`.
+  optimisation, which run in parallel), each of them within :data:`TIME_LIMIT`.
   Never above :data:`FORCE_TIME_LIMIT` (30 days), even with ``--force``.
 
 **Where.** The edges (scenario, command line) judge what their inputs imply, naming their

@@ -210,7 +210,7 @@ def test_bad_input_names_the_field(kwargs, field):
 @pytest.mark.parametrize(("f", "x"), [(1e300, 0.032), (10.0, 1e300), (1e7, 0.032),
                                       (5.56, 1e300), (1e-300, 1e-300), (5.0, 5e-324)])
 def test_extremes_answer_at_once(f, x):
-    """Issue 11: the phase scan is bounded (``MAX_FLIGHT_CYCLES``); ``1e300 Hz`` used to run
+    """The phase scan is bounded (``MAX_FLIGHT_CYCLES``); ``1e300 Hz`` used to run
     for minutes. Far outside a damper's range the answer is an error naming the input."""
     import time
 

@@ -1,4 +1,4 @@
-"""Motion modes from recorded bed motion (paper Sect. 3, Figs. 3-4; issue 9): the
+"""Motion modes from recorded bed motion (paper Sect. 3, Figs. 3-4): the
 classifier on synthetic trajectories of every mode, and on DEM runs at the six example
 points of Fig. 4."""
 
@@ -67,7 +67,7 @@ def test_dem_runs_at_the_fig4_points(case):
     packing) run until steady at the six Fig. 4 points, and classified.
 
     Where the DEM bed moves as the paper's block (1, 2i, 3i, 3iii) the classifier names
-    the paper's mode (3i runs since the large-overlap regime of issue 7). At 2ii the
+    the paper's mode (3i runs in the large-overlap regime too). At 2ii the
     constant-COR bed does not repeat its motion (the cycle loss factors scatter,
     independent of the classifier): it is scattering, where the paper's DEM
     (velocity-dependent COR) shows subharmonic impacts. The independent evidence: the loss

@@ -1,4 +1,4 @@
-"""Stationarity of the averaged window (issue 9): the steady-state criterion on cycle loss
+"""Stationarity of the averaged window: the steady-state criterion on cycle loss
 factors, and the cycle loss factors themselves against Eq. (3) over a window."""
 
 from __future__ import annotations
@@ -59,8 +59,8 @@ def test_the_paper_transient_at_14hz_is_not_taken_for_a_steady_value():
 
 
 def test_the_relaxation_after_a_symmetric_state_is_not_taken_for_a_steady_value():
-    """The cycle loss factors of a DEM run of the benchmark lattice at 14 Hz / 15 mm (issue
-    9's stop 22, 45 cycles): the mirror symmetry breaks in cycle 9, the bed relaxes (0.82,
+    """The cycle loss factors of a DEM run of the benchmark lattice at 14 Hz / 15 mm (a
+    measured run, 45 cycles): the mirror symmetry breaks in cycle 9, the bed relaxes (0.82,
     0.53, then a period-3 pattern) and settles at 0.16-0.17 (cycles 22-45). A window right
     after the break (cycles 10-21) passes tests 1 and 2 by the scatter allowance at 0.263;
     it may not start within window_cycles (4) cycles of the last symmetric one."""

@@ -1,4 +1,4 @@
-"""The issue-11 corpus (``tests/issue11_corpus.py``) as ordinary tests: every hostile input
+"""The hostile-input corpus (``tests/hostile_corpus.py``) as ordinary tests: every hostile input
 gets its promised answer, in process, within a time bound."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import os
 import pytest
 
 from answers import check_answer, memory_headroom, time_bound
-from issue11_corpus import CASES, FILES, HEADROOM, OK, SCENARIOS
+from hostile_corpus import CASES, FILES, HEADROOM, OK, SCENARIOS
 
 #: Seconds one invocation may take here (the slowest valid case runs a small map).
 BOUND = 60.0

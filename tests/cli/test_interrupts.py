@@ -1,4 +1,4 @@
-"""Ctrl-C and SIGTERM (issue 11): every command ends within a second with one line,
+"""Ctrl-C and SIGTERM: every command ends within a second with one line,
 ``interrupted``, status 130 (SIGINT) or 143 (SIGTERM), no traceback, no temporary file, an
 earlier complete result intact and no empty output directory."""
 

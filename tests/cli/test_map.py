@@ -1,5 +1,5 @@
 """``pdamper map``: grids with units and log spacing, a particle-count axis, the DEM on
-dask.distributed, resume from <out>.partial/, failed points in ``status`` (issue 9)."""
+dask.distributed, resume from <out>.partial/, failed points in ``status``."""
 
 from __future__ import annotations
 
@@ -74,7 +74,7 @@ def test_dem_map_on_a_local_cluster(tmp_path, cli, fast_dem):
 
 @pytest.mark.long
 def test_dem_map_spans_16_to_192_spheres(tmp_path, cli):
-    """Issue 7, item 1: a DEM map over the particle count of the benchmark damper runs at
+    """A DEM map over the particle count of the benchmark damper runs at
     every count with the map's default packing ("auto": random up to where random addition
     jams, about 103 spheres here; the full container of 192 from the lattice)."""
     out = tmp_path / "n.nc"

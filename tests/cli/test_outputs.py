@@ -1,4 +1,4 @@
-"""Output files and streams of the command line (issue 11): every result file goes through
+"""Output files and streams of the command line: every result file goes through
 the one writer (:mod:`pdamper.files`), checked before any computation; stdout failures end
 with one line and status 1; the same policy in every command."""
 

@@ -139,7 +139,7 @@ def test_simulation_checks_its_arguments():
 
 
 def test_the_cycle_loop_is_bounded():
-    """Issue 11: every loop has a bound valid inputs cannot reach. A model whose effective
+    """Every loop has a bound valid inputs cannot reach. A model whose effective
     mass is negative (no damper's) shortens the period below the bare structure's: the
     loop ends with an error, at once, instead of running on."""
     import time

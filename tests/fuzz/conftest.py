@@ -5,7 +5,7 @@ and fast. ``long``: a randomised run with many examples, on demand::
 
     HYPOTHESIS_PROFILE=long python3 -m pytest tests/fuzz
 
-What a long run finds goes into the corpus (``tests/issue11_corpus.py``).
+What a long run finds goes into the corpus (``tests/hostile_corpus.py``).
 """
 
 from __future__ import annotations

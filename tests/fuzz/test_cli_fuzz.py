@@ -1,4 +1,4 @@
-"""Fuzzing the command line (issue 11): for every generated invocation of ``analytic``,
+"""Fuzzing the command line: for every generated invocation of ``analytic``,
 ``map``, ``simulate`` and ``optimize``, either exit 0 with finite JSON, or exit 2 with
 exactly one line on stderr naming a field, within a time bound; never a traceback.
 

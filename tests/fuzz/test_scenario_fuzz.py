@@ -1,4 +1,4 @@
-"""Fuzzing the scenario reader (issue 11): every generated TOML document (and every
+"""Fuzzing the scenario reader: every generated TOML document (and every
 corrupted one) is either a scenario or one InputError naming a field, at once; a scenario
 then answers every run's resource check the same way, and ``pdamper analytic --scenario``
 answers as the command line must."""

@@ -80,7 +80,7 @@ def test_missing_scenario_file():
     ("[particles]\nmaterial = 5", "particles.material"),
 ], ids=["poisson", "density", "unknown-key", "missing-key", "not-a-table"])
 def test_errors_inside_an_inline_material_name_the_sub_key(tmp_path, text, field):
-    """Issue 11: every such error read "particles.material: Input should be a valid
+    """Every such error once read "particles.material: Input should be a valid
     string"."""
     p = tmp_path / "bad.toml"
     p.write_text(text)

@@ -173,7 +173,7 @@ def test_steady_options_are_checked():
 
 @pytest.mark.slow
 def test_stationarity_evidence_at_14hz_15mm():
-    """Issue 9: the paper's damper at 14 Hz / 15 mm (32 spheres, lattice, constant COR):
+    """The paper's damper at 14 Hz / 15 mm (32 spheres, lattice, constant COR):
     over cycles 3-8 eta = 2.56, the locked lattice rattling in exact mirror symmetry, a
     transient the record must call one; run until steady, eta drops to the ~0.17 a random
     packing shows from its third cycle (docs/fields.md)."""

@@ -1,5 +1,5 @@
-"""The DEM error estimate (issue 7, item 2: "the Gear controller gets an error estimate that
-actually bounds this"): a refined companion run over the same cycles bounds the integration
+"""The DEM error estimate (the Gear controller's error estimate
+actually bounds the error): a refined companion run over the same cycles bounds the integration
 error of the loss factor and effective mass; a run that misses the target is redone refined.
 The check against converged runs over the whole grid is ``benchmarks/bench_dem_accuracy.py``
 (table in docs/dem.md); here it is pinned at one reproducible point."""

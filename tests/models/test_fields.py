@@ -106,7 +106,7 @@ def _with_status(ds, status, stationary=None):
 
 @pytest.mark.parametrize("encoding", ["int", "flags", "text"])
 def test_failed_cells_are_holes(encoding):
-    """A failed cell (``status``, as issue #9 writes it) is left out: the query uses the
+    """A failed cell (``status``, as ``pdamper map`` writes it) is left out: the query uses the
     valid corners of its cell with renormalised bilinear weights; four failed corners are
     an error naming the cell."""
     ds = _linear_map()
@@ -369,8 +369,8 @@ def test_model2_from_a_dem_map_within_20_percent_of_model1(paper_model1_ensemble
     assert a2 == pytest.approx(np.mean(a1), rel=0.2)
 
 
-def test_issue9_flag_encoding_of_status_and_stationary():
-    """The map variables as issue #9's ``pdamper map`` writes them: ``status`` flags
+def test_map_flag_encoding_of_status_and_stationary():
+    """The map variables as ``pdamper map`` writes them: ``status`` flags
     ``0 ok, 1 failed``; ``stationary`` flags ``-1 no_result, 0 transient, 1 steady``. Only
     'transient' counts as non-stationary ('no_result': the analytical model does not assess
     stationarity)."""

@@ -22,7 +22,7 @@ def test_model2_prefers_the_scenario_file_then_the_dem_map_then_the_analytical_m
     m, source = _fields_model(sc, cs, PAPER_DAMPER)
     assert isinstance(m, EffectiveFieldDamper) and source.startswith("analytical Fig. 5 map")
     assert m.extrapolation == "clamp"
-    cs.dem_map = _map((4.5, 6.5, 3))  # as issue #9's case study stores its DEM map
+    cs.dem_map = _map((4.5, 6.5, 3))  # as the case study stores its DEM map
     m, source = _fields_model(sc, cs, PAPER_DAMPER)
     assert source.startswith("DEM map") and m.frequency_range == (4.5, 6.5)
     path = tmp_path / "mine.nc"

@@ -1,6 +1,6 @@
 """Resume on dask.distributed: a sweep killed half-way (the whole process, and separately
 one worker) computes only the missing points when started again and ends identical to an
-uninterrupted one (issue 9)."""
+uninterrupted one."""
 
 from __future__ import annotations
 

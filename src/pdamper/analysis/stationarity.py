@@ -29,7 +29,8 @@ window_cycles`` cycles after at least ``skip_cycles`` cycles:
    within ``window_cycles`` cycles of the last symmetric cycle: the bed relaxes from the
    broken symmetry for some cycles (14 Hz / 15 mm: 0.82, 0.53, then a period-3 pattern of
    0.04-0.38 for a dozen cycles, against 0.16-0.17 after), and a window that holds the
-   first of them passes tests 1 and 2 by the scatter allowance (issue 9's stop 22: 0.263
+   first of them passes tests 1 and 2 by the scatter allowance (a measured
+   run: 0.263
    reported as steady over cycles 10-21).
 
 A window of fewer than ``MIN_JUDGED_CYCLES`` (4) cycles is never steady. The tolerances

@@ -59,7 +59,7 @@ DEFAULT_SAMPLE_RATE = 4000.0
 PACKINGS = ("lattice", "random", "auto")
 
 #: Accuracy the error estimate is held to by default: 1 % of the loss factor (relative to
-#: ``max(|eta|, LOSS_FACTOR_FLOOR)``) and of the effective mass ratio (issue 7, item 2).
+#: ``max(|eta|, LOSS_FACTOR_FLOOR)``) and of the effective mass ratio.
 DEFAULT_ACCURACY = 0.01
 #: Loss factor below which the accuracy is absolute: solid-like points have eta ~ 0 [-].
 LOSS_FACTOR_FLOOR = 0.05

@@ -87,7 +87,7 @@ NONSTATIONARY = ("mask", "use")
 #: Where a looked-up value came from (``FieldLookup.source``).
 SOURCE_MAP, SOURCE_CLAMPED, SOURCE_ANALYTIC = 0, 1, 2
 
-#: Names of a map's particle-count dimension (issue #9 writes ``particles``).
+#: Names of a map's particle-count dimension (``pdamper map`` writes ``particles``).
 _COUNT_DIMS = ("particles", "particle_count")
 #: Status flag meanings that mark a computed cell.
 _OK_MEANINGS = ("ok", "done", "success", "computed", "valid")
@@ -527,7 +527,7 @@ def _computed(ds) -> np.ndarray:
 def _validity(ds, label: str) -> tuple[np.ndarray, np.ndarray]:
     """(valid, transient): computed and stationary cells, and computed transient cells.
 
-    ``stationary`` is read through its CF flags when it has them (issue #9 writes
+    ``stationary`` is read through its CF flags when it has them (``pdamper map`` writes
     ``-1 no_result, 0 transient, 1 steady``): only ``transient`` cells count as
     non-stationary; ``no_result`` (a model that does not assess stationarity, such as the
     analytical formulas, or a failed point, which ``status`` already excludes) does not.

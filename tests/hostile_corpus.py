@@ -1,4 +1,4 @@
-"""The hostile-but-realistic inputs of issue 11, and the ones found since, as data.
+"""Hostile-but-realistic inputs, including the ones the fuzzers found, as data.
 
 Each case is one ``pdamper`` invocation and what it must answer: ``OK`` (exit 0, finite
 JSON when ``--json`` is given) or ``Error(field)`` (exit 2, exactly one line on stderr,
