@@ -136,7 +136,7 @@ def test_scenario_files_that_are_no_scenarios(tmp_path, kind):
     assert len(str(info.value)) < 300
 
 
-def test_level2_keys_of_issue_9(tmp_path):
+def test_level2_stationarity_and_map_keys(tmp_path):
     """[dem] cycles = "auto" (default) or a number, the steady-state options; [map] log
     grids, a particle-count axis, the case study's DEM grid and the maps' packing."""
     s = load_scenario(None)
