@@ -153,6 +153,7 @@ def test_quiet_lasts_one_command_line(cli):
 
     from pdamper.cli import _quiet
 
+    cli("example-scenario")  # modules that add warning filters when imported are imported
     level = logging.getLogger("pdamper").level
     filters = list(warnings.filters)
     code, out, _ = cli("-q", "example-scenario")
