@@ -6,8 +6,11 @@ Example::
 
 prints a summary (``--json``: ``steps``, ``wall_seconds``, ``loss_factor``,
 ``effective_mass_ratio``, ``energy_balance_error`` and more, with the inputs, the pdamper
-version and the seed). Every option can also come from the scenario's ``[dem]`` section;
-the command line overrides the file.
+version and the seed). Every run option can also come from the scenario's ``[dem]``
+section; the command line overrides the file. ``--realisations N`` runs N random packings
+(seeds ``--seed`` + 0..N-1) on the sweep engine (``--workers``, ``--serial``): the loss
+factor and effective mass ratio are then their means, the spread under ``realisations``
+(:mod:`pdamper.reports.realisations`).
 """
 
 from __future__ import annotations
