@@ -9,7 +9,7 @@ is the single run of that seed, and every realisation can be run again on its ow
 
 Example::
 
-    from pdamper.io import load_scenario
+    from pdamper.io.scenario import load_scenario
     from pdamper.reports.realisations import run_realisations
 
     sc = load_scenario(None, {"dem.packing": "random", "particles.count": 16})
