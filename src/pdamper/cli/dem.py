@@ -228,9 +228,9 @@ def _realisations(sc, n: int, *, workers, serial: bool, force: bool, as_json: bo
     human = (
         f"DEM, {damper.count} spheres, f = {sc.excitation.frequency:g} Hz, "
         f"X = {sc.excitation.amplitude * 1e3:g} mm, {n} realisations (seeds "
-        f"{result.seeds[0]}-{result.seeds[-1]}) in {result.seconds:.3g} s wall on "
-        f"{result.workers} worker(s)\n"
-        f"  effective loss factor        mean {eta['mean']:.4g}, std {eta['std']:.2g}, "
+        f"{result.seeds[0]}-{result.seeds[-1]}) in {result.seconds:.3g} s wall "
+        + ("in this process\n" if serial else f"on {result.workers} workers\n")
+        + f"  effective loss factor        mean {eta['mean']:.4g}, std {eta['std']:.2g}, "
         f"range {eta['min']:.4g} - {eta['max']:.4g}\n"
         f"  effective mass ratio         mean {mass['mean']:.4g}, std {mass['std']:.2g}, "
         f"range {mass['min']:.4g} - {mass['max']:.4g}")
