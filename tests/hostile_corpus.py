@@ -284,6 +284,18 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
      Error("optimization.scheduler")),
     ("scheduler-empty-paper", ["paper", "--no-dem", "--scheduler", "", "--out", "{tmp}/p"],
      Error("scheduler")),
+    # -- dem --realisations: a whole number >= 1 within the cost limits, random packings only
+    ("dem-realisations-0", ["dem", "--realisations", "0"], Error("realisations")),
+    ("dem-realisations-negative", ["dem", "--realisations=-3"], Error("realisations")),
+    ("dem-realisations-fraction", ["dem", "--realisations", "1.5"], Error("realisations")),
+    ("dem-realisations-nan", ["dem", "--realisations", "nan"], Error("realisations")),
+    ("dem-realisations-1e12", ["dem", "--packing", "random", "--particles", "16",
+                               "--realisations", "1000000000000", "--force"],
+     Error("realisations")),
+    ("dem-realisations-lattice", ["dem", "--packing", "lattice", "--realisations", "2"],
+     Error("realisations")),
+    ("dem-realisations-workers-0", ["dem", "--packing", "random", "--particles", "16",
+                                    "--realisations", "2", "--workers", "0"], Error("workers")),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

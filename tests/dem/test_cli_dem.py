@@ -126,3 +126,71 @@ def test_dem_runs_with_a_cor_table_in_the_scenario(tmp_path, cli):
     default = _dem_json(cli)
     assert flat["loss_factor"] == constant["loss_factor"] and flat["steps"] == constant["steps"]
     assert flat["loss_factor"] != default["loss_factor"]  # 0.6 / 0.85 without the table
+
+
+_SHORT = ["dem", "--particles", "16", "--cycles", "3", "--skip-cycles", "1", "--packing",
+          "random", "--json"]
+
+
+def _run(capsys, *args):
+    assert main([*_SHORT, *args]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_dem_realisations_equal_separately_run_seeds(capsys):
+    """``--realisations 3`` from seed 5: the mean and spread of three separate runs of seeds
+    5, 6, 7 (to round-off); the top-level loss factor and mass ratio are the mean."""
+    import numpy as np
+
+    data = _run(capsys, "--seed", "5", "--realisations", "3", "--serial")
+    rec = data["realisations"]
+    assert rec["count"] == 3 and rec["seeds"] == [5, 6, 7]
+    assert data["seed"] == 5 and data["statistic"] == "mean"
+    single = [_run(capsys, "--seed", str(k)) for k in (5, 6, 7)]
+    for key in ("loss_factor", "effective_mass_ratio"):
+        v = np.array([s[key] for s in single])
+        assert len(set(v.tolist())) == 3  # three different packings, three answers
+        st = rec[key]
+        assert np.allclose(st["values"], v, rtol=1e-12, atol=0)
+        assert math.isclose(st["mean"], v.mean(), rel_tol=1e-12)
+        assert math.isclose(st["std"], v.std(ddof=1), rel_tol=1e-9)
+        assert (st["min"], st["max"]) == (v.min(), v.max())
+        assert st["min"] <= st["mean"] <= st["max"]
+        assert math.isclose(data[key], v.mean(), rel_tol=1e-12)
+    # the other run keys are those of the first realisation
+    assert data["steps"] == single[0]["steps"]
+
+
+def test_dem_realisations_on_workers_equal_serial(capsys):
+    """The dask workers give the same numbers as the serial path."""
+    serial = _run(capsys, "--realisations", "2", "--serial")["realisations"]
+    parallel = _run(capsys, "--realisations", "2", "--workers", "2")["realisations"]
+    assert parallel["workers"] == 2
+    for key in ("loss_factor", "effective_mass_ratio"):
+        assert parallel[key]["values"] == serial[key]["values"]
+        assert parallel[key]["std"] == serial[key]["std"]
+
+
+def test_dem_one_realisation_is_the_single_run(capsys):
+    """``--realisations 1`` is the run without the option, key for key."""
+    plain = _run(capsys)
+    one = _run(capsys, "--realisations", "1")
+    for d in (plain, one):
+        d.pop("wall_seconds")
+    assert one == plain and "realisations" not in one
+
+
+def test_dem_realisations_input_errors(capsys):
+    """Bad counts, the lattice and one-run outputs: one line naming realisations."""
+    base = ["dem", "--particles", "16", "--cycles", "3", "--skip-cycles", "1"]
+    for bad, words in ((["--realisations", "0"], ">= 1"), (["--realisations=-2"], ">= 1"),
+                       (["--realisations", "2.5"], "whole number"),
+                       (["--realisations", "many"], "whole number"),
+                       (["--realisations", "100000000", "--packing", "random"], "fewer"),
+                       (["--realisations", "3", "--packing", "lattice"], "lattice"),
+                       (["--realisations", "2", "--packing", "random", "--out", "x.nc"],
+                        "--out")):
+        assert main([*base, *bad]) == 2, bad
+        err = capsys.readouterr().err
+        assert err.startswith("error: realisations:") and err.count("\n") == 1, err
+        assert words in err, err

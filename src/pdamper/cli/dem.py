@@ -6,8 +6,11 @@ Example::
 
 prints a summary (``--json``: ``steps``, ``wall_seconds``, ``loss_factor``,
 ``effective_mass_ratio``, ``energy_balance_error`` and more, with the inputs, the pdamper
-version and the seed). Every option can also come from the scenario's ``[dem]`` section;
-the command line overrides the file.
+version and the seed). Every run option can also come from the scenario's ``[dem]``
+section; the command line overrides the file. ``--realisations N`` runs N random packings
+(seeds ``--seed`` + 0..N-1) on the sweep engine (``--workers``, ``--serial``): the loss
+factor and effective mass ratio are then their means, the spread under ``realisations``
+(:mod:`pdamper.reports.realisations`).
 """
 
 from __future__ import annotations
@@ -83,6 +86,16 @@ def dem(
                    "exist.")] = None,
     snapshot_rate: Annotated[str | None, typer.Option("--snapshot-rate",
                              help="Snapshots per second for --vtk.")] = None,
+    realisations: Annotated[str | None, typer.Option(
+        "--realisations",
+        help="Independent random packings (seeds --seed, --seed + 1, ...) run in parallel; "
+             "the loss factor and effective mass ratio become their mean, with the spread "
+             "under 'realisations' (default 1: one run).")] = None,
+    workers: Annotated[int | None, typer.Option(
+        help="Worker processes of the local cluster for --realisations (default: every "
+             "core).")] = None,
+    serial: Annotated[bool, typer.Option(
+        "--serial", help="Run the realisations in this process, without dask.")] = False,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -111,6 +124,25 @@ def dem(
               dem__sample_rate=sample_rate, dem__safety=safety, dem__snapshot_rate=snapshot_rate,
               dem__error_estimate=error_estimate, dem__accuracy=accuracy,
               dem__gear_free_flight=free_flight)
+    n_real = 1
+    if realisations is not None:
+        from pdamper.reports.realisations import check_realisations
+
+        try:
+            n_real = int(realisations)
+        except ValueError:
+            raise InputError("realisations", f"must be a whole number >= 1, "
+                             f"got {realisations!r}") from None
+        n_real = check_realisations(n_real, sc, force=force)
+    if workers is not None and workers < 1:
+        raise InputError("workers", f"must be a whole number >= 1, got {workers}")
+    if n_real > 1:
+        for name, value in (("out", out), ("vtk", vtk)):
+            if value is not None:
+                raise InputError("realisations", f"must be 1 with --{name} (the time series "
+                                 f"and snapshots are of one run), got {n_real}")
+        return _realisations(sc, n_real, workers=workers, serial=serial, force=force,
+                             as_json=as_json)
     target = check_output(out)
     vtk_dir = check_output_directory(vtk, "vtk")
     if vtk is not None and sc.dem.snapshot_rate is None:  # option > scenario > VTK default
@@ -125,45 +157,17 @@ def dem(
     model = sc.model("dem", damper)
     f, x = sc.excitation.frequency, sc.excitation.amplitude
     r = model.response(f, x)
-    res = r.details.item()
+    from pdamper.reports.realisations import run_summary
+
     st = r.diagnostics["stationarity"].item()
     motion = r.diagnostics["motion"].item()
-    skip, span = st.first_cycle - 1, st.last_cycle - st.first_cycle + 1
+    res = r.details.item()
     meta = metadata(sc, seed=model.seed)
-    payload = {
-        "steps": res.steps,
-        "wall_seconds": res.wall_seconds,
-        "loss_factor": float(r.loss_factor),
-        "effective_mass_ratio": float(r.effective_mass_ratio),
-        "energy_balance_error": res.energy_balance_error(),
-        "dissipated_energy_per_cycle": float(r.dissipated_energy_per_cycle),
-        "ledger_per_cycle": res.ledger_per_cycle(skip, span),
-        "stationary": bool(st.stationary),
-        "steady_reason": st.reason,
-        "cycles": st.cycles,
-        "averaged_cycles": [st.first_cycle, st.last_cycle],
-        "quiet_window": bool(st.quiet),
-        "loss_factor_stderr": st.stderr,
-        "motion_mode": motion.mode.label,
-        "subharmonic_order": motion.subharmonic_order,
-        "mode_reason": motion.reason,
-        "settle_steps": res.settle_steps,
-        "time_step": res.time_step,
-        "contact_time": res.contact_time,
-        "max_overlap_ratio": res.max_overlap_ratio,
-        "max_impact_velocity": res.max_impact_velocity,
-        "stepped_fraction": res.stepped_fraction,
-        "units": {"wall_seconds": "s", "dissipated_energy_per_cycle": "J", "time_step": "s",
-                  "contact_time": "s", "ledger_per_cycle": "J", "max_impact_velocity": "m/s"},
-        **meta,
-    }
+    summary = run_summary(model, r)
+    accuracy = {k: summary.pop(k) for k in ACCURACY_KEYS if k in summary}
+    payload = {**summary, "units": UNITS, **meta, **accuracy}
     accuracy_line = ""
     if model.error_estimate:
-        d = r.diagnostics
-        payload.update(loss_factor_error=float(d["loss_factor_error"].item()),
-                       effective_mass_ratio_error=float(d["effective_mass_ratio_error"].item()),
-                       accuracy_met=bool(d["accuracy_met"].item()),
-                       accuracy_refinements=int(d["accuracy_refinements"].item()))
         accuracy_line = (
             f"  integration error (estimate) eta +- {payload['loss_factor_error']:.2g}, "
             f"m_eff/m_bed +- {payload['effective_mass_ratio_error']:.2g}: "
@@ -193,4 +197,41 @@ def dem(
         f"  {res.steps} steps in {res.wall_seconds:.3g} s wall"
         + (f"\n  time series written to {payload['out']}" if out is not None else "")
         + (f"\n  snapshots written to {payload['vtk']}" if vtk is not None else ""))
+    emit(payload, as_json, human)
+
+
+#: Keys of the integration error estimate (``--error-estimate``), last in the JSON.
+ACCURACY_KEYS = ("loss_factor_error", "effective_mass_ratio_error", "accuracy_met",
+                 "accuracy_refinements")
+
+#: Units of the dimensional keys of ``pdamper dem --json``.
+UNITS = {"wall_seconds": "s", "dissipated_energy_per_cycle": "J", "time_step": "s",
+         "contact_time": "s", "ledger_per_cycle": "J", "max_impact_velocity": "m/s"}
+
+
+def _realisations(sc, n: int, *, workers, serial: bool, force: bool, as_json: bool) -> None:
+    """``--realisations N`` (N > 1): the runs on the sweep engine; the top-level
+    ``loss_factor``, ``effective_mass_ratio`` and ``dissipated_energy_per_cycle`` are the
+    means over the realisations, the other run keys those of the first (seed ``--seed``)."""
+    from pdamper.reports.realisations import run_realisations
+
+    result = run_realisations(sc, n, workers=workers, serial=serial, force=force)
+    first = dict(result.runs[0])
+    first.pop("packing", None)
+    rec = result.as_dict()
+    mean_keys = ("loss_factor", "effective_mass_ratio", "dissipated_energy_per_cycle")
+    means = {k: float(sum(r[k] for r in result.runs) / n) for k in mean_keys}
+    payload = {**first, **means, "statistic": "mean", "realisations": rec, "units": UNITS,
+               **metadata(sc, seed=int(sc.dem.seed))}
+    damper = sc.damper()
+    eta, mass = rec["loss_factor"], rec["effective_mass_ratio"]
+    human = (
+        f"DEM, {damper.count} spheres, f = {sc.excitation.frequency:g} Hz, "
+        f"X = {sc.excitation.amplitude * 1e3:g} mm, {n} realisations (seeds "
+        f"{result.seeds[0]}-{result.seeds[-1]}) in {result.seconds:.3g} s wall "
+        + ("in this process\n" if serial else f"on {result.workers} workers\n")
+        + f"  effective loss factor        mean {eta['mean']:.4g}, std {eta['std']:.2g}, "
+        f"range {eta['min']:.4g} - {eta['max']:.4g}\n"
+        f"  effective mass ratio         mean {mass['mean']:.4g}, std {mass['std']:.2g}, "
+        f"range {mass['min']:.4g} - {mass['max']:.4g}")
     emit(payload, as_json, human)
