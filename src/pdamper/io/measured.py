@@ -123,7 +123,8 @@ def read_unit_table(path: str | Path, field: str = FIELD,
                     kinds: str = "time, length, velocity or acceleration") -> UnitTable:
     """The CSV file ``path`` with a unit header (module docstring): its header checked
     (every column ``name [unit]``, each unit one of ``dimensions``), its rows split into
-    cells (:meth:`UnitTable.values` converts them); errors are :class:`~pdamper.errors.InputError` of ``field``."""
+    cells (:meth:`UnitTable.values` converts them); errors are
+    :class:`~pdamper.errors.InputError` of ``field``."""
     p = Path(path)
     if not p.is_file():
         raise InputError(field, f"file not found: {p}")
