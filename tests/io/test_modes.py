@@ -219,3 +219,19 @@ def test_bad_modes_file_on_the_command_line(tmp_path, cli):
     code, out, err = cli("simulate", "--modes", p)
     assert code != 0 and out == ""
     assert f"structure.modes: {p}, row 2, column 'damper [kg^-0.5]': not a number" in err
+
+
+def test_example_scenario_beam_entry_is_valid(tmp_path):
+    """The commented ``beam`` entry of ``pdamper example-scenario``, uncommented in place of
+    the 1-DOF keys, loads: the paper's beam with three modes."""
+    from pdamper.io.scenario import EXAMPLE_SCENARIO
+
+    lines = []
+    for line in EXAMPLE_SCENARIO.splitlines():
+        if line.startswith(("stiffness =", "damping =")):
+            continue
+        lines.append(line[2:] if line.startswith("# beam = {") else line)
+    (tmp_path / "s.toml").write_text("\n".join(lines) + "\n")
+    s = load_scenario(tmp_path / "s.toml").structure_model()
+    assert s.modes == 3
+    assert 5.5 < s.frequencies[0] < 6.5   # the paper's first bending mode (docs/beam.md)

@@ -955,7 +955,19 @@ amplitude = "{q(x.amplitude, 'mm')}"         # stroke X
 the printed {paper.PAPER_PRINTED_MASS} kg is inconsistent
 stiffness = "{q(st.stiffness, 'N/m')}"
 damping = "{q(st.damping, 'kg/s')}"
-initial_displacement = "{q(st.initial_displacement, 'mm')}"
+initial_displacement = "{q(st.initial_displacement, 'mm')}"   # at the damper's point
+# Instead of mass, stiffness and damping (leave those out), N modes (docs/structure.md):
+# modes = "modes.csv"       # one row per mode, unit headers (relative to this file):
+#                           # frequency [Hz], damping ratio [1], damper [kg^-0.5](, observation [kg^-0.5])
+# or the Timoshenko cantilever of Sect. 4.1 (every key optional; defaults: the paper's beam):
+# beam = {{ length = "{q(_BEAM.length, 'mm')}", width = "{q(_BEAM.width, 'mm')}", \
+height = "{q(_BEAM.height, 'mm')}", youngs_modulus = "{q(_BEAM.youngs_modulus, 'GPa')}", \
+poisson_ratio = {_BEAM.poisson_ratio}, density = "{q(_BEAM.density, 'kg/m^3')}", \
+elements = {_BEAM.elements}, tip_mass = "{q(_TIP.mass, 'kg')}", modes = 3, \
+damper_position = "{q(_BEAM.length, 'mm')}", observation_position = "{q(_BEAM.length, 'mm')}", \
+damping_ratio = {BeamSpec().damping_ratio:.4g} }}
+#   (material = "S235" instead of youngs_modulus, poisson_ratio, density; damping_ratio: one
+#   for all modes or a list, one per mode; positions from the clamp, default the tip)
 
 [simulation]
 model = "{s.simulation.model}"          # damper fidelity: "analytic" (model 3), "fields" (2), "dem" (1)
