@@ -329,6 +329,9 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
                               "{scenario:beam_three_modes}"], Error("structure")),
     ("ok-simulate-modes-scenario", ["simulate", "--duration", "0.5s", "--scenario",
                                     "{scenario:modes_one}", "--json"], OK()),
+    ("paper-beam-three-modes", ["paper", "--no-dem", "--scenario",
+                                "{scenario:beam_three_modes}", "--out", "{tmp}/p"],
+     Error("structure")),
     ("ok-simulate-beam-three-modes", ["simulate", "--duration", "0.5s", "--scenario",
                                       "{scenario:beam_three_modes}", "--json"], OK()),
 ]
