@@ -62,6 +62,14 @@ SCENARIOS = {
     # -- counts judged before they are built; physics limits on every run
     "vary_particles_huge": '[optimization]\nvary = ["particles=0:1000000000:1"]\n',
     "count_16": "[particles]\ncount = 16\n",
+    # -- the user's structure: [structure] modes (CSV) and beam
+    "modes_one": '[structure]\nmodes = "modes_one.csv"\n',
+    "modes_and_beam": '[structure]\nmodes = "modes_one.csv"\nbeam = { modes = 2 }\n',
+    "modes_and_stiffness": '[structure]\nmodes = "modes_one.csv"\nstiffness = "1000 N/m"\n',
+    "beam_damper_beyond_tip": '[structure]\nbeam = { damper_position = "2 m" }\n',
+    "beam_elements_huge": "[structure]\nbeam = { elements = 100000000 }\n",
+    "beam_modes_too_many": "[structure]\nbeam = { elements = 3, modes = 50 }\n",
+    "beam_three_modes": "[structure]\nbeam = { modes = 3, elements = 20 }\n",
 }
 
 
@@ -82,6 +90,14 @@ FILES = {
     "cor_1e305.csv": "velocity [m/s], cor [-]\n0.2, 0.89\n1e300, 0.85\n1e305, 0.80\n",
     "decay_mm.csv": _free_decay("mm"),
     "decay_furlong.csv": _free_decay("furlong"),
+    # -- the user's structure: modes files
+    "modes_one.csv": "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n5.56, 0.0052, 0.81\n",
+    "modes_no_unit.csv": "frequency, damping ratio [1], damper [kg^-0.5]\n5.56, 0.0052, 0.81\n",
+    "modes_nan.csv": "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n5.56, nan, 0.81\n",
+    "modes_negative_frequency.csv": "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n"
+                                    "-5.56, 0.0052, 0.81\n",
+    "modes_shape_in_metres.csv": "frequency [Hz], damping ratio [1], damper [m]\n5.56, 0.0052, 0.81\n",
+    "modes_header_only.csv": "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n",
 }
 
 _MAP = ["map", "--frequency", "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2"]
@@ -296,6 +312,40 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
      Error("realisations")),
     ("dem-realisations-workers-0", ["dem", "--packing", "random", "--particles", "16",
                                     "--realisations", "2", "--workers", "0"], Error("workers")),
+    # -- the user's structure: [structure] modes and beam, --modes
+    ("modes-missing-file", ["simulate", "--modes", "{tmp}/none.csv"], Error("structure.modes")),
+    ("modes-is-directory", ["simulate", "--modes", "{tmp}/dir"], Error("structure.modes")),
+    ("modes-no-unit", ["simulate", "--modes", "{tmp}/modes_no_unit.csv"],
+     Error("structure.modes")),
+    ("modes-nan", ["simulate", "--modes", "{tmp}/modes_nan.csv"], Error("structure.modes")),
+    ("modes-negative-frequency", ["optimize", "--modes", "{tmp}/modes_negative_frequency.csv"],
+     Error("structure.modes")),
+    ("modes-shape-in-metres", ["simulate", "--modes", "{tmp}/modes_shape_in_metres.csv"],
+     Error("structure.modes")),
+    ("modes-header-only", ["simulate", "--modes", "{tmp}/modes_header_only.csv"],
+     Error("structure.modes")),
+    ("modes-and-beam", ["simulate", "--scenario", "{scenario:modes_and_beam}"],
+     Error("structure")),
+    ("modes-and-stiffness", ["simulate", "--scenario", "{scenario:modes_and_stiffness}"],
+     Error("structure")),
+    ("modes-option-and-beam-scenario", ["simulate", "--modes", "{tmp}/modes_one.csv",
+                                        "--scenario", "{scenario:beam_three_modes}"],
+     Error("structure")),
+    ("beam-damper-beyond-tip", ["simulate", "--scenario", "{scenario:beam_damper_beyond_tip}"],
+     Error("structure.beam.damper_position")),
+    ("beam-elements-huge", ["simulate", "--scenario", "{scenario:beam_elements_huge}"],
+     Error("structure.beam.elements")),
+    ("beam-modes-too-many", ["simulate", "--scenario", "{scenario:beam_modes_too_many}"],
+     Error("structure.beam.modes")),
+    ("beam-three-modes-dem", ["simulate", "--model", "dem", "--scenario",
+                              "{scenario:beam_three_modes}"], Error("structure")),
+    ("ok-simulate-modes-scenario", ["simulate", "--duration", "0.5s", "--scenario",
+                                    "{scenario:modes_one}", "--json"], OK()),
+    ("paper-beam-three-modes", ["paper", "--no-dem", "--scenario",
+                                "{scenario:beam_three_modes}", "--out", "{tmp}/p"],
+     Error("structure")),
+    ("ok-simulate-beam-three-modes", ["simulate", "--duration", "0.5s", "--scenario",
+                                      "{scenario:beam_three_modes}", "--json"], OK()),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

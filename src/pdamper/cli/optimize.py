@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Annotated
 
 import typer
@@ -47,6 +48,9 @@ def optimize(
              "is reported with the Pareto front of added (bed) mass against the objective, "
              "e.g. '5%' or 0.05; in [0 %, 100 %) (default 5 %).")] = None,
     plot: plot_option("the design landscape") = None,
+    modes: Annotated[Path | None, typer.Option(
+        help="The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
+             "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF.")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -70,7 +74,8 @@ def optimize(
               optimization__threshold=threshold, optimization__method=method,
               optimization__workers=workers, optimization__scheduler=scheduler,
               optimization__max_evaluations=max_evaluations, optimization__seed=seed,
-              optimization__tolerance=tolerance)
+              optimization__tolerance=tolerance,
+              structure__modes=None if modes is None else str(modes))
     plot = check_plot(plot)
     o = sc.optimization
     damper = sc.damper()

@@ -67,6 +67,9 @@ def simulate(
              "displacement [mm]'; or velocity, acceleration).")] = None,
     plot: plot_option("the trajectories and damping ratios (and the phase drift)") = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file for the trajectory.")] = None,
+    modes: Annotated[Path | None, typer.Option(
+        help="The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
+             "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF.")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -80,7 +83,8 @@ def simulate(
     sc = load(scenario, runs=("simulation",), force=force, simulation__model=model,
               particles__count=particles, simulation__duration=duration,
               structure__initial_displacement=initial_displacement,
-              fields__file=None if fields is None else str(fields))
+              fields__file=None if fields is None else str(fields),
+              structure__modes=None if modes is None else str(modes))
     out = check_output(out)
     plot = check_plot(plot)
     names = [sc.simulation.model]
@@ -145,8 +149,12 @@ def simulate(
     payload.update(meta)
     if plot is not None:
         _figure(plot, runs, aligned, comparisons)
-    lines = [f"on M={structure.mass:.4g} kg, K={structure.stiffness:g} N/m; "
-             f"x0 = {x0 * 1e3:g} mm"]
+    if hasattr(structure, "mass"):  # the 1-DOF of Eq. (23)
+        on = f"M={structure.mass:.4g} kg, K={structure.stiffness:g} N/m"
+    else:
+        on = f"{structure.modes} mode(s) at " + ", ".join(f"{f:.4g}" for f in
+                                                          structure.frequencies) + " Hz"
+    lines = [f"on {on}; x0 = {x0 * 1e3:g} mm"]
     for n, r in runs.items():
         lines += _table(f"{models[n]!r} ({seconds[n]:.2f} s)", r)
     if aligned is not None:

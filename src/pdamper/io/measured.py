@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -39,24 +40,118 @@ MIN_ROWS = 10
 FIELD = "measured"
 
 
-def _err(path: Path, row: int, column: str | None, msg: str) -> InputError:
+def _err(path: Path, row: int, column: str | None, msg: str,
+         field: str = FIELD) -> InputError:
     where = f"{path}, row {row}" + (f", column {column!r}" if column else "")
-    return InputError(FIELD, f"{where}: {msg}")
+    return InputError(field, f"{where}: {msg}")
 
 
-def _unit_of(path: Path, row: int, header: str, unit: str) -> tuple[str, float]:
-    """(quantity, factor to SI) of a column unit."""
+def _unit_of(path: Path, row: int, header: str, unit: str,
+             dimensions: tuple[tuple[str, str], ...] = _DIMENSIONS,
+             field: str = FIELD,
+             kinds: str = "time, length, velocity or acceleration") -> tuple[str, float]:
+    """(quantity, factor to SI) of a column unit: the first of ``dimensions``
+    (``(quantity, SI unit)`` pairs) that ``unit`` converts to."""
     from pdamper.units import parse_quantity
 
-    for quantity, si in _DIMENSIONS:
+    for quantity, si in dimensions:
         try:
             return quantity, parse_quantity(f"1 {unit}", si, "unit")
         except InputError as exc:
             if "unknown unit" in exc.message:
-                raise _err(path, row, header, f"unknown unit {unit!r}") from None
+                raise _err(path, row, header, f"unknown unit {unit!r}", field) from None
             continue
-    raise _err(path, row, header, f"unit {unit!r} is not a time, length, velocity or "
-               "acceleration")
+    raise _err(path, row, header, f"unit {unit!r} is not a {kinds}", field)
+
+
+@dataclass(frozen=True)
+class UnitTable:
+    """A CSV file with a unit header, read but not yet converted (:func:`read_unit_table`).
+
+    Attributes
+    ----------
+    path
+        The file.
+    header_row
+        Line number of the header in the file.
+    names
+        The column headers as written (``"time [ms]"``).
+    units
+        ``(quantity, factor to SI)`` of each column.
+    rows
+        ``(line number, cells)`` of each data row (:meth:`values` checks their count).
+    field
+        Name of the input in error messages.
+    """
+
+    path: Path
+    header_row: int
+    names: list[str]
+    units: list[tuple[str, float]]
+    rows: list[tuple[int, list[str]]]
+    field: str
+
+    def error(self, row: int, column: int | None, msg: str) -> InputError:
+        """One-line error naming the file, ``row`` (line number) and ``column`` (index)."""
+        return _err(self.path, row, None if column is None else self.names[column], msg,
+                    self.field)
+
+    def values(self, columns: list[int]) -> np.ndarray:
+        """``columns`` (indices) of every data row, shape (rows, columns), in SI units; a
+        cell that is not a finite number is an error naming its row and column (the first
+        such cell, row by row)."""
+        out = np.empty((len(self.rows), len(columns)))
+        for r, (row, cells) in enumerate(self.rows):
+            if len(cells) != len(self.names):
+                raise self.error(row, None, f"{len(cells)} values, the header has "
+                                 f"{len(self.names)} columns")
+            for c, col in enumerate(columns):
+                text = cells[col].strip()
+                try:
+                    v = float(text)
+                except ValueError:
+                    raise self.error(row, col, f"not a number: {text!r}") from None
+                if not math.isfinite(v):
+                    raise self.error(row, col, f"{text} is not a finite number")
+                out[r, c] = v * self.units[col][1]
+        return out
+
+
+def read_unit_table(path: str | Path, field: str = FIELD,
+                    dimensions: tuple[tuple[str, str], ...] = _DIMENSIONS,
+                    example: str = "'time [ms], displacement [mm]'",
+                    kinds: str = "time, length, velocity or acceleration") -> UnitTable:
+    """The CSV file ``path`` with a unit header (module docstring): its header checked
+    (every column ``name [unit]``, each unit one of ``dimensions``), its rows split into
+    cells (:meth:`UnitTable.values` converts them); errors are
+    :class:`~pdamper.errors.InputError` of ``field``."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(field, f"file not found: {p}")
+    try:
+        lines = p.read_text(encoding="utf-8-sig").splitlines()
+    except UnicodeDecodeError:
+        raise InputError(field, f"{p} is not UTF-8 text") from None
+    rows = [(k + 1, ln) for k, ln in enumerate(lines)
+            if ln.strip() and not ln.lstrip().startswith("#")]
+    if not rows:
+        raise InputError(field, f"{p}: no data (empty file)")
+    row0, head = rows[0]
+    sep = ";" if ";" in head else ("\t" if "\t" in head else ",")
+    names = [c.strip() for c in head.split(sep)]
+    units = []
+    for name in names:
+        mt = _HEADER.match(name)
+        if mt is None:
+            if _is_number(name):
+                raise _err(p, row0, None, "no header: the first row must name the columns "
+                           f"with units, e.g. {example}", field)
+            raise _err(p, row0, name, "no unit: write the column as 'name [unit]', e.g. "
+                       f"{example.split(',')[0]}'", field)
+        units.append(_unit_of(p, row0, name, mt["unit"].strip(), dimensions, field,
+                              kinds))
+    return UnitTable(p, row0, names, units, [(row, line.split(sep)) for row, line in rows[1:]],
+                     field)
 
 
 def read_measured(path: str | Path) -> MeasuredTrajectory:
@@ -73,31 +168,9 @@ def read_measured(path: str | Path) -> MeasuredTrajectory:
     >>> m.quantity, float(m.time[1]), round(float(m.displacement[0]), 4)
     ('displacement', 0.0005, -0.058)
     """
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(FIELD, f"file not found: {p}")
-    try:
-        lines = p.read_text(encoding="utf-8-sig").splitlines()
-    except UnicodeDecodeError:
-        raise InputError(FIELD, f"{p} is not UTF-8 text") from None
-    rows = [(k + 1, ln) for k, ln in enumerate(lines)
-            if ln.strip() and not ln.lstrip().startswith("#")]
-    if not rows:
-        raise InputError(FIELD, f"{p}: no data (empty file)")
-    row0, head = rows[0]
-    sep = ";" if ";" in head else ("\t" if "\t" in head else ",")
-    names = [c.strip() for c in head.split(sep)]
-    units = []
-    for name in names:
-        mt = _HEADER.match(name)
-        if mt is None:
-            if _is_number(name):
-                raise _err(p, row0, None, "no header: the first row must name the columns "
-                           "with units, e.g. 'time [ms], displacement [mm]'")
-            raise _err(p, row0, name, "no unit: write the column as 'name [unit]', e.g. "
-                       "'time [ms]'")
-        units.append(_unit_of(p, row0, name, mt["unit"].strip()))
-    kinds = [q for q, _ in units]
+    table = read_unit_table(path)
+    p, row0, names, rows = table.path, table.header_row, table.names, table.rows
+    kinds = [q for q, _ in table.units]
     time_col = next((k for k, q in enumerate(kinds) if q == "time"), None)
     if time_col is None:
         raise _err(p, row0, None, "no time column (a column with a unit of time, e.g. "
@@ -106,28 +179,15 @@ def read_measured(path: str | Path) -> MeasuredTrajectory:
                        for k, kk in enumerate(kinds) if kk == q), None)
     if signal_col is None:
         raise _err(p, row0, None, "no displacement, velocity or acceleration column")
-    data = np.empty((len(rows) - 1, 2))
-    for r, (row, line) in enumerate(rows[1:]):
-        cells = line.split(sep)
-        if len(cells) != len(names):
-            raise _err(p, row, None, f"{len(cells)} values, the header has {len(names)} "
-                       "columns")
-        for c, col in enumerate((time_col, signal_col)):
-            text = cells[col].strip()
-            try:
-                v = float(text)
-            except ValueError:
-                raise _err(p, row, names[col], f"not a number: {text!r}") from None
-            if not math.isfinite(v):
-                raise _err(p, row, names[col], f"{text} is not a finite number")
-            data[r, c] = v * units[col][1]
+    data = table.values([time_col, signal_col])
     if data.shape[0] < MIN_ROWS:
-        raise _err(p, rows[-1][0], None, f"needs at least {MIN_ROWS} samples, got "
-                   f"{data.shape[0]}")
+        raise _err(p, (rows[-1][0] if rows else row0), None, f"needs at least {MIN_ROWS} "
+                   f"samples, got {data.shape[0]}")
+    units = table.units
     bad = np.flatnonzero(np.diff(data[:, 0]) <= 0)
     if bad.size:
         k = int(bad[0]) + 1
-        raise _err(p, rows[k + 1][0], names[time_col], "time must increase from row to row "
+        raise _err(p, rows[k][0], names[time_col], "time must increase from row to row "
                    f"({data[k, 0] / units[time_col][1]:g} after "
                    f"{data[k - 1, 0] / units[time_col][1]:g})")
     return MeasuredTrajectory.from_signal(data[:, 0], data[:, 1], kinds[signal_col],

@@ -31,6 +31,7 @@ from pydantic import (
     Field,
     ValidationError,
     field_validator,
+    model_validator,
 )
 
 from pdamper import resources
@@ -129,11 +130,107 @@ class ExcitationSpec(_Section):
     amplitude: PositiveLength = paper.BENCHMARK_EXCITATION[1]
 
 
+_BEAM, _TIP = paper.paper_beam()
+#: Most Timoshenko elements of ``[structure] beam``: the dense eigenproblem of 2 x 1000 DOFs
+#: takes seconds; the paper's 100 elements converge its first modes to < 0.1 %.
+MAX_BEAM_ELEMENTS = 1000
+
+
+class BeamSpec(_Section):
+    """The Timoshenko FE cantilever of Sect. 4.1 (:class:`~pdamper.structure.beam.
+    TimoshenkoBeam`) with a tip mass, reduced to its first ``modes`` bending modes
+    (:meth:`~pdamper.structure.modal.ModalStructure.from_beam`); defaults: the paper's beam."""
+
+    length: PositiveLength = _BEAM.length
+    width: PositiveLength = _BEAM.width
+    height: PositiveLength = _BEAM.height
+    material: str | MaterialSpec | None = None
+    youngs_modulus: Modulus | None = None
+    poisson_ratio: Annotated[float, Field(gt=-1, lt=0.5)] | None = None
+    density: Density | None = None
+    shear_coefficient: Annotated[float, Field(gt=0, le=1)] = _BEAM.shear_coefficient
+    elements: Annotated[int, Field(ge=1, le=MAX_BEAM_ELEMENTS, strict=True)] \
+        = _BEAM.elements
+    tip_mass: Mass = _TIP.mass
+    modes: Annotated[int, Field(ge=1, strict=True)] = 1
+    damper_position: PositiveLength | None = None
+    observation_position: PositiveLength | None = None
+    damping_ratio: (Annotated[float, Field(ge=0)]
+                    | list[Annotated[float, Field(ge=0)]]) = paper.PAPER_STRUCTURE.damping_ratio
+
+    @model_validator(mode="after")
+    def _one_material(self):
+        given = [k for k in ("youngs_modulus", "poisson_ratio", "density")
+                 if getattr(self, k) is not None]
+        if self.material is not None and given:
+            raise ValueError(f"give the beam's material as material or as its constants "
+                             f"({', '.join(given)}), not both")
+        return self
+
+    def structure(self):
+        """The :class:`~pdamper.structure.modal.ModalStructure`: damper and release at
+        ``damper_position``, results at ``observation_position`` (both default the tip)."""
+        from pdamper.structure.beam import TimoshenkoBeam, TipMass
+        from pdamper.structure.modal import ModalStructure
+
+        if self.material is not None:
+            m = _material(self.material, "structure.beam.material")
+            e, nu, rho = m.youngs_modulus, m.poisson_ratio, m.density
+        else:
+            e, nu, rho = (_BEAM.youngs_modulus if self.youngs_modulus is None
+                          else self.youngs_modulus,
+                          _BEAM.poisson_ratio if self.poisson_ratio is None
+                          else self.poisson_ratio,
+                          _BEAM.density if self.density is None else self.density)
+        zeta = self.damping_ratio
+        if isinstance(zeta, list) and len(zeta) != self.modes:
+            raise InputError("structure.beam.damping_ratio", f"must be one ratio or one per "
+                             f"mode ({self.modes}), got {len(zeta)}")
+        pos = {}
+        for key in ("damper_position", "observation_position"):
+            v = getattr(self, key)
+            if v is not None and v > self.length * (1.0 + 1e-12):
+                raise InputError(f"structure.beam.{key}", f"must be in (0, {self.length:g}] m "
+                                 f"(the beam's length), got {v:g} m")
+            # "700 mm" is 0.7000000000000001 m: the tip of a 0.7 m beam, not beyond it
+            pos[key] = None if v is None else min(v, self.length)
+        try:
+            beam = TimoshenkoBeam(length=self.length, width=self.width, height=self.height,
+                                  youngs_modulus=e, poisson_ratio=nu, density=rho,
+                                  shear_coefficient=self.shear_coefficient,
+                                  elements=self.elements)
+            return ModalStructure.from_beam(
+                beam, TipMass(self.tip_mass), self.modes,
+                damper_position=pos["damper_position"],
+                output_position=pos["observation_position"],
+                release_position=pos["damper_position"], damping_ratio=zeta)
+        except InputError as exc:
+            field = exc.field.removeprefix("beam.").removeprefix("structure.")
+            raise InputError(f"structure.beam.{field}", exc.message) from None
+
+
 class StructureSpec(_Section):
+    """The structure: the 1-DOF of Eq. (23) (``mass``, ``stiffness``, ``damping``; default
+    the paper's), or N modes from a CSV file (``modes``, :mod:`pdamper.io.modes`; a relative
+    path is taken relative to the scenario file) or from a Timoshenko beam (``beam``)."""
+
     mass: PositiveMass | None = None
     stiffness: Stiffness = paper.PAPER_STIFFNESS
     damping: Damping = paper.PAPER_DAMPING
     initial_displacement: Annotated[float, _q("m"), Field(lt=0)] = paper.PAPER_INITIAL_DISPLACEMENT
+    modes: str | None = None
+    beam: BeamSpec | None = None
+
+    @model_validator(mode="after")
+    def _one_structure(self):
+        given = [k for k in ("modes", "beam") if getattr(self, k) is not None]
+        if len(given) == 2:
+            raise ValueError("give the structure as modes (a CSV file) or as a beam, not both")
+        single = sorted({"mass", "stiffness", "damping"} & self.model_fields_set)
+        if given and single:
+            raise ValueError(f"{given[0]} describes the whole structure: leave out "
+                             f"{', '.join(single)} (the 1-DOF of Eq. 23)")
+        return self
 
 
 class SimulationSpec(_Section):
@@ -357,11 +454,19 @@ class Scenario(_Section):
         return tuple(curves)
 
     def structure_model(self):
-        """The :class:`~pdamper.structure.SingleDOFStructure`; M defaults to the paper's
-        (see :mod:`pdamper.parameters.vertical_dampers_paper`)."""
+        """The :class:`~pdamper.structure.SingleDOFStructure` of Eq. (23) (M defaults to the
+        paper's, see :mod:`pdamper.parameters.vertical_dampers_paper`), or the
+        :class:`~pdamper.structure.modal.ModalStructure` of ``[structure] modes`` or
+        ``beam``."""
         from pdamper.structure import SingleDOFStructure
 
         s = self.structure
+        if s.modes is not None:
+            from pdamper.io.modes import read_modes
+
+            return read_modes(s.modes)
+        if s.beam is not None:
+            return s.beam.structure()
         return SingleDOFStructure(mass=paper.PAPER_MASS if s.mass is None else s.mass,
                                   damping=s.damping, stiffness=s.stiffness)
 
@@ -796,6 +901,10 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
         if isinstance(fields, dict) and isinstance(fields.get("file"), str) \
                 and not Path(fields["file"]).expanduser().is_absolute():
             fields["file"] = str((p.parent / fields["file"]).resolve())
+        structure = data.get("structure")  # the modes file, relative to the scenario file
+        if isinstance(structure, dict) and isinstance(structure.get("modes"), str) \
+                and not Path(structure["modes"]).expanduser().is_absolute():
+            structure["modes"] = str((p.parent / structure["modes"]).resolve())
     for key, value in (overrides or {}).items():
         if value is None:
             continue
@@ -846,7 +955,19 @@ amplitude = "{q(x.amplitude, 'mm')}"         # stroke X
 the printed {paper.PAPER_PRINTED_MASS} kg is inconsistent
 stiffness = "{q(st.stiffness, 'N/m')}"
 damping = "{q(st.damping, 'kg/s')}"
-initial_displacement = "{q(st.initial_displacement, 'mm')}"
+initial_displacement = "{q(st.initial_displacement, 'mm')}"   # at the damper's point
+# Instead of mass, stiffness and damping (leave those out), N modes (docs/structure.md):
+# modes = "modes.csv"       # one row per mode, unit headers (relative to this file):
+#                           # frequency [Hz], damping ratio [1], damper [kg^-0.5](, observation [kg^-0.5])
+# or the Timoshenko cantilever of Sect. 4.1 (every key optional; defaults: the paper's beam):
+# beam = {{ length = "{q(_BEAM.length, 'mm')}", width = "{q(_BEAM.width, 'mm')}", \
+height = "{q(_BEAM.height, 'mm')}", youngs_modulus = "{q(_BEAM.youngs_modulus, 'GPa')}", \
+poisson_ratio = {_BEAM.poisson_ratio}, density = "{q(_BEAM.density, 'kg/m^3')}", \
+elements = {_BEAM.elements}, tip_mass = "{q(_TIP.mass, 'kg')}", modes = 3, \
+damper_position = "{q(_BEAM.length, 'mm')}", observation_position = "{q(_BEAM.length, 'mm')}", \
+damping_ratio = {BeamSpec().damping_ratio:.4g} }}
+#   (material = "S235" instead of youngs_modulus, poisson_ratio, density; damping_ratio: one
+#   for all modes or a list, one per mode; positions from the clamp, default the tip)
 
 [simulation]
 model = "{s.simulation.model}"          # damper fidelity: "analytic" (model 3), "fields" (2), "dem" (1)

@@ -198,6 +198,12 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     sc = Scenario() if scenario is None else scenario
     say = progress or (lambda _msg: None)
     damper, structure = sc.damper(), sc.structure_model()
+    if hasattr(structure, "equivalent_single_dof"):  # [structure] modes or beam
+        if structure.modes != 1 or not structure.coincident:
+            raise InputError("structure", f"the paper's case study is on a 1-DOF structure "
+                             f"(Eq. 23); this one has {structure.modes} mode(s) (use "
+                             "`pdamper simulate` or `optimize` for N modes)")
+        structure = structure.equivalent_single_dof()
     x0, duration, at = sc.structure.initial_displacement, sc.simulation.duration, sc.optimization.at
     cs = CaseStudy(inputs=sc.model_dump(mode="json"), damper=damper)
     rows = cs.rows

@@ -1,0 +1,91 @@
+"""Read a structure's modes from CSV (a few modes of the user's own FE model).
+
+Same format as the measured records (:mod:`pdamper.io.measured`): a header row naming each
+column with its unit in brackets, then one row per mode; ``#`` starts a comment line; the
+separator is ``,``, ``;`` or a tab. ::
+
+    # first two bending modes of the FE model, mass-normalised
+    frequency [Hz], damping ratio [1], damper [kg^-0.5], observation [kg^-0.5]
+    5.56, 0.0052, 0.8127, 0.8127
+    46.3, 0.01, -0.911, -0.911
+
+Columns are found by their units: the natural frequency f_i (a frequency: ``Hz``,
+``1/min`` ...), the modal damping ratio zeta_i (dimensionless: ``1`` or ``%``), and one or
+two mass-normalised mode-shape values (unit ``kg^-0.5``): the first at the damper's point,
+the second (optional) at the observation point whose displacement the results report
+(default: the damper's point). The structure is released from a static deflection at the
+damper's point. Rows are sorted by frequency.
+
+Problems (no header, a column without a unit, an unknown unit, a missing or repeated
+column, a value that is not a finite number, a frequency <= 0, a damping ratio < 0, a
+damper point that does not move in any mode) are one-line
+:class:`~pdamper.errors.InputError` naming the file, the row (line number in the file) and
+the column.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from pdamper.io.measured import _err, read_unit_table
+
+FIELD = "structure.modes"
+#: SI unit of each recognised column quantity.
+_DIMENSIONS = (("frequency", "Hz"), ("damping ratio", ""), ("mode shape", "kg^-0.5"))
+_KINDS = "frequency, damping ratio (1 or %) or mass-normalised mode shape (kg^-0.5)"
+_EXAMPLE = "'frequency [Hz], damping ratio [1], damper [kg^-0.5]'"
+
+
+def read_modes(path: str | Path):
+    """The :class:`~pdamper.structure.modal.ModalStructure` in ``path`` (module docstring).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "modes.csv"
+    >>> _ = p.write_text("frequency [Hz], damping ratio [%], damper [kg^-0.5]\\n"
+    ...                  "5.5, 0.5, 0.8\\n")
+    >>> s = read_modes(p)
+    >>> s.modes, float(s.damping_ratios[0]), s.coincident
+    (1, 0.005, True)
+    """
+    from pdamper.errors import InputError
+    from pdamper.structure.modal import ModalStructure
+
+    t = read_unit_table(path, FIELD, _DIMENSIONS, _EXAMPLE, _KINDS)
+    kinds = [q for q, _ in t.units]
+    cols = {}
+    for kind in ("frequency", "damping ratio"):
+        found = [k for k, q in enumerate(kinds) if q == kind]
+        if not found:
+            raise _err(t.path, t.header_row, None, f"no {kind} column, e.g. {_EXAMPLE}", FIELD)
+        if len(found) > 1:
+            raise t.error(t.header_row, found[1], f"a second {kind} column")
+        cols[kind] = found[0]
+    shapes = [k for k, q in enumerate(kinds) if q == "mode shape"]
+    if not shapes:
+        raise _err(t.path, t.header_row, None, "no mode-shape column (mass-normalised, unit "
+                   f"kg^-0.5), e.g. {_EXAMPLE}", FIELD)
+    if len(shapes) > 2:
+        raise t.error(t.header_row, shapes[2], "at most two mode-shape columns: the damper's "
+                      "point, then the observation point")
+    if not t.rows:
+        raise _err(t.path, t.header_row, None, "no modes: one row per mode after the header",
+                   FIELD)
+    order = [cols["frequency"], cols["damping ratio"], *shapes]
+    data = t.values(order)
+    for c, (ok, msg) in enumerate(((data[:, 0] > 0, "the frequency must be > 0"),
+                                   (data[:, 1] >= 0, "the damping ratio must be >= 0"))):
+        bad = np.flatnonzero(~ok)
+        if bad.size:
+            raise t.error(t.rows[bad[0]][0], order[c], msg)
+    if not np.any(data[:, 2] != 0):
+        raise t.error(t.rows[-1][0], shapes[0], "the damper's point does not move in any mode")
+    data = data[np.argsort(data[:, 0], kind="stable")]
+    try:
+        return ModalStructure(data[:, 0], data[:, 1], data[:, 2],
+                              data[:, 3] if len(shapes) == 2 else None)
+    except InputError as exc:  # not reached for a file that passed the checks above
+        raise InputError(FIELD, f"{t.path}: {exc.message}") from None
