@@ -11,6 +11,7 @@ its results; what their inputs imply is judged before they run
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import sys
 
@@ -199,6 +200,17 @@ def entry() -> None:  # pragma: no cover - run as a process by the tests
     if sys.stdout is not None:  # Python's own stream took a short write for a complete one
         sys.stdout = checked_stdout(sys.stdout)
     status = main()
+    # the command's outcome is decided: a further signal (a second Ctrl-C, or the copy of
+    # the first that the relay of pdamper.cli._signals hands to the main thread) must not
+    # cut the exit handlers short, or multiprocessing's would leave a semaphore unlinked
+    # but registered, which its resource tracker then reports on stderr
+    import signal
+
+    from pdamper.files import DEFERRED_SIGNALS
+
+    for s in DEFERRED_SIGNALS:
+        with contextlib.suppress(OSError, ValueError):
+            signal.signal(s, signal.SIG_IGN)
     atexit._run_exitfuncs()
     try:  # what click printed (help, usage) may still sit in the buffer
         sys.stdout.flush()
