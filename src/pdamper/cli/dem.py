@@ -83,6 +83,9 @@ def dem(
                    "exist.")] = None,
     snapshot_rate: Annotated[str | None, typer.Option("--snapshot-rate",
                              help="Snapshots per second for --vtk.")] = None,
+    gravity: Annotated[str | None, typer.Option(
+        "--gravity", help="g, e.g. '9.81 m/s^2' (default); '0 m/s^2' for a structure in "
+                          "orbit.")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -110,7 +113,7 @@ def dem(
               dem__damping_model=damping_model, dem__seed=seed, dem__packing=packing,
               dem__sample_rate=sample_rate, dem__safety=safety, dem__snapshot_rate=snapshot_rate,
               dem__error_estimate=error_estimate, dem__accuracy=accuracy,
-              dem__gear_free_flight=free_flight)
+              dem__gear_free_flight=free_flight, excitation__gravity=gravity)
     target = check_output(out)
     vtk_dir = check_output_directory(vtk, "vtk")
     if vtk is not None and sc.dem.snapshot_rate is None:  # option > scenario > VTK default
