@@ -62,6 +62,8 @@ SCENARIOS = {
     # -- counts judged before they are built; physics limits on every run
     "vary_particles_huge": '[optimization]\nvary = ["particles=0:1000000000:1"]\n',
     "count_16": "[particles]\ncount = 16\n",
+    # -- gravity
+    "gravity_inf": "[excitation]\ngravity = inf\n",
 }
 
 
@@ -284,6 +286,13 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
      Error("optimization.scheduler")),
     ("scheduler-empty-paper", ["paper", "--no-dem", "--scheduler", "", "--out", "{tmp}/p"],
      Error("scheduler")),
+    # -- gravity: >= 0 m/s^2 and finite; 0 (orbit) is an input like any other
+    ("gravity-negative", ["analytic", "--gravity", "-9.81 m/s^2"], Error("excitation.gravity")),
+    ("gravity-infinite-scenario", ["analytic", "--scenario", "{scenario:gravity_inf}"],
+     Error("excitation.gravity")),
+    ("gravity-not-an-acceleration", ["dem", "--gravity", "9.81 m/s"],
+     Error("excitation.gravity")),
+    ("ok-analytic-gravity-zero", ["analytic", "--gravity", "0 m/s^2", "--json"], OK()),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds
