@@ -183,13 +183,19 @@ def _validate(name: str, arr: np.ndarray, low: float, unit: str, strict: bool = 
 
 def _flight_span(y0, c, low, high, gam):
     """Phase span [rad] after which a free flight ``y0 + c s - s^2 / (2 Gamma)`` (positions
-    in strokes) has left the band ``[low, high]`` the container's walls sweep: its fall
-    below ``low`` under gravity; without gravity (``Gamma = inf``) the straight line's exit
-    through ``low`` or ``high`` (inf for a bed at rest in the container's frame mean)."""
+    in strokes) has left the band ``[low, high]`` the container's walls sweep: the first of
+    its fall below ``low`` and its rise above ``high`` (inf where it does neither; a bed at
+    rest in the container's mean frame without gravity). The roots are written without
+    cancellation, so that ``Gamma -> inf`` (weak gravity) tends to the straight flight of
+    ``Gamma = inf`` (none)."""
+    d, e = y0 - low, high - y0
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        fall = gam * (c + np.sqrt(c**2 + 2.0 * (y0 - low) / gam))
-        straight = np.where(c > 0, (high - y0) / c, np.where(c < 0, (y0 - low) / -c, np.inf))
-    return np.where(np.isinf(gam), straight, fall)
+        root = np.sqrt(c**2 + 2.0 * d / gam)
+        fall = np.where(c < 0, 2.0 * d / (root - c), gam * (c + root))
+        disc = c**2 - 2.0 * e / gam
+        rise = np.where((c > 0) & (disc >= 0), 2.0 * e / (c + np.sqrt(np.maximum(disc, 0.0))),
+                        np.inf)
+    return np.fmin(np.where(np.isnan(fall), np.inf, fall), rise)
 
 
 def _first_crossing(gap, phi_start, active, max_phase, rising: bool):
@@ -384,7 +390,11 @@ def bed_response(
     eta[scattering] = SOLID_LOSS_FACTOR  # Eq. (8)
     ns[scattering] = -1
     v = x * w
-    e_tilde = eta * math.pi * m * v**2  # E~ = 2 pi * eta * (1/2 m V^2)
+    with np.errstate(over="ignore"):
+        e_tilde = eta * math.pi * m * v**2  # E~ = 2 pi * eta * (1/2 m V^2)
+    if not np.all(np.isfinite(e_tilde)):
+        raise _out_of_range(int(np.flatnonzero(~np.isfinite(e_tilde))[0]), f, x, gam,
+                            "the container's kinetic energy overflows")
     ratio = np.vectorize(lambda c: EFFECTIVE_MASS_RATIO[MotionMode(c)], otypes=[float])(mode)
     phi_tt[~double] = np.nan
 
