@@ -70,6 +70,8 @@ SCENARIOS = {
     "beam_elements_huge": "[structure]\nbeam = { elements = 100000000 }\n",
     "beam_modes_too_many": "[structure]\nbeam = { elements = 3, modes = 50 }\n",
     "beam_three_modes": "[structure]\nbeam = { modes = 3, elements = 20 }\n",
+    # -- gravity
+    "gravity_inf": "[excitation]\ngravity = inf\n",
 }
 
 
@@ -346,6 +348,13 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
      Error("structure")),
     ("ok-simulate-beam-three-modes", ["simulate", "--duration", "0.5s", "--scenario",
                                       "{scenario:beam_three_modes}", "--json"], OK()),
+    # -- gravity: >= 0 m/s^2 and finite; 0 (orbit) is an input like any other
+    ("gravity-negative", ["analytic", "--gravity", "-9.81 m/s^2"], Error("excitation.gravity")),
+    ("gravity-infinite-scenario", ["analytic", "--scenario", "{scenario:gravity_inf}"],
+     Error("excitation.gravity")),
+    ("gravity-not-an-acceleration", ["dem", "--gravity", "9.81 m/s"],
+     Error("excitation.gravity")),
+    ("ok-analytic-gravity-zero", ["analytic", "--gravity", "0 m/s^2", "--json"], OK()),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

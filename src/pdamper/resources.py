@@ -476,7 +476,8 @@ def dem_cost(damper: ParticleDamper, duration: float, speed: float, *, sample_ra
     ``speed`` [m/s]; with a harmonic ``frequency`` the samples per cycle are whole, as the
     engine makes them."""
     dt = safety * hertz_impact(damper, speed).shortest_contact
-    settle = math.sqrt(2.0 * damper.length / gravity) + 0.05
+    # no settling without gravity (the DEM's free_fall_settling)
+    settle = math.sqrt(2.0 * damper.length / gravity) + 0.05 if gravity > 0 else 0.0
     if frequency is not None and frequency > 0:
         per_cycle = max(4.0, round(sample_rate / frequency))
         samples = duration * frequency * per_cycle + 1

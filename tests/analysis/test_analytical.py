@@ -64,6 +64,87 @@ def test_zero_gravity_limit_at_optimal_stroke_gives_4_over_pi(gamma):
     assert float(r.dissipated_energy_per_cycle) == pytest.approx(4 * M_BED * v**2, rel=5.0 / gamma)
 
 
+def _zero_g_cac(x, h):
+    """Zero-gravity collect-and-collide, closed form (Eqs. 13-17 with Gamma = inf).
+
+    Eq. (5) gives take-off at phi_0 = 0 with the container's peak speed V; the bed flies
+    straight (Eq. 7 without the parabola) and meets the lid where ``phi - sin(phi) = h/X``
+    (phi_st <= pi for X >= h/pi), adopts the lid's speed ``-V cos(phi_st)`` and stays on it
+    until phi = pi (Eq. 13: the lid decelerates faster than g = 0), leaves at -V and meets
+    the bottom half a period later, mirror-symmetric. Eq. (16)/(17): Delta v = V (1 - cos
+    phi_st) at each wall; Eq. (15): eta = 2 Delta v^2 / (2 pi V^2) = (1 - cos phi_st)^2 / pi,
+    which is 4/pi at X = h/pi (Eqs. 19-21)."""
+    phi = brentq(lambda p: p - math.sin(p) - h / x, 1e-12, math.pi + 1e-12)
+    return phi, (1.0 - math.cos(phi)) ** 2 / math.pi
+
+
+@pytest.mark.parametrize("f", [2.0, 10.0, 30.0])
+@pytest.mark.parametrize("ratio", [1.0, 1.05, 1.25, 1.6, 2.0, 3.0, 6.0])
+def test_zero_gravity_follows_the_collect_and_collide_closed_form(f, ratio):
+    """g = 0: X >= h/pi is harmonic double collect-and-collide at every frequency, with
+    the loss factor of the closed form (optimum 4/pi at X = h/pi)."""
+    x = ratio * optimal_stroke(H)
+    phi_st, eta = _zero_g_cac(x, H)
+    r = bed_response(f, x, H, M_BED, gravity=0.0)
+    assert MotionMode(int(r.mode)) is MotionMode.DOUBLE_CAC_HARMONIC
+    assert float(r.takeoff_phase) == 0.0
+    assert float(r.top_impact_phase) == pytest.approx(phi_st, abs=1e-9)
+    assert float(r.top_release_phase) == pytest.approx(math.pi, abs=1e-9)
+    assert float(r.bottom_impact_phase) == pytest.approx(phi_st + math.pi, abs=1e-9)
+    assert float(r.loss_factor) == pytest.approx(eta, rel=1e-9)
+    v = x * 2 * math.pi * f
+    assert float(r.relative_velocity_top) == pytest.approx(v * (1 - math.cos(phi_st)), rel=1e-9)
+    if ratio == 1.0:
+        assert float(r.loss_factor) == pytest.approx(ETA_MAX, rel=1e-12)
+
+
+def test_zero_gravity_is_the_limit_of_large_accelerations():
+    """The g = 0 branch continues the g > 0 model: at Gamma = 1e4 the two agree to ~1/Gamma
+    over the collect-and-collide range, and the optimum sits at X = h/pi."""
+    x = optimal_stroke(H) * np.array([1.0, 1.25, 2.0, 4.0])
+    f = math.sqrt(1e4 * G / x[0]) / (2 * math.pi)
+    zero = bed_response(f, x, H, M_BED, gravity=0.0).loss_factor
+    small = bed_response(f, x, H, M_BED, gravity=G).loss_factor
+    np.testing.assert_allclose(zero, small, rtol=1e-3)
+    # weak gravity (a microgravity platform) answers at once and tends to g = 0
+    xs = optimal_stroke(H) * np.array([0.2, 1.0, 1.6, 6.0])
+    for g in (1e-3, 1e-6, 1e-9):
+        np.testing.assert_allclose(bed_response(10.0, xs, H, M_BED, gravity=g).loss_factor,
+                                   bed_response(10.0, xs, H, M_BED, gravity=0.0).loss_factor,
+                                   rtol=1e-4)
+    xs = optimal_stroke(H) * np.linspace(0.5, 4.0, 141)
+    eta = bed_response(10.0, xs, H, M_BED, gravity=0.0).loss_factor
+    assert np.all(eta <= ETA_MAX + 1e-9)
+    assert xs[np.argmax(eta)] == pytest.approx(optimal_stroke(H), rel=0.03)
+
+
+def test_zero_gravity_below_the_optimal_stroke_is_no_collect_and_collide():
+    """g = 0, X < h/pi: the bed launched at phi = 0 meets the lid after it has turned
+    (phi_st > pi) and the trajectory does not repeat: scattering or subharmonic, far below
+    4/pi (the collect-and-collide regime starts at X = h/pi)."""
+    x = optimal_stroke(H) * np.array([0.3, 0.5, 0.7, 0.9, 0.99])
+    r = bed_response(10.0, x, H, M_BED, gravity=0.0)
+    assert not np.any(r.mode == int(MotionMode.DOUBLE_CAC_HARMONIC))
+    assert np.all(r.loss_factor < 0.5 * ETA_MAX)
+
+
+@pytest.mark.parametrize("g", [-1.0, -1e-12, math.nan, math.inf])
+def test_gravity_outside_its_range_is_refused(g):
+    with pytest.raises(InputError) as e:
+        bed_response(10.0, 0.032, H, M_BED, gravity=g)
+    assert e.value.field == "gravity"
+
+
+def test_trajectory_without_gravity_flies_straight():
+    tr = bed_trajectory(10.0, optimal_stroke(H), H, gravity=0.0)
+    assert tr.mode is MotionMode.DOUBLE_CAC_HARMONIC
+    w = 2 * math.pi * 10.0
+    up = tr.time * w <= math.pi * 0.999  # first flight: y = X phi from the bottom's centre
+    np.testing.assert_allclose(tr.bed[up][tr.time[up] * w < 0.9 * math.pi],
+                               optimal_stroke(H) * tr.time[up][tr.time[up] * w < 0.9 * math.pi]
+                               * w, atol=1e-12)
+
+
 def test_eta_never_exceeds_the_collect_and_collide_maximum():
     """Eq. (21): 4/pi bounds every mode on the paper's 2-20 Hz x 1-200 mm range."""
     f = np.linspace(2, 20, 60)[:, None]

@@ -172,3 +172,38 @@ def test_bad_level2_keys_name_the_field(tmp_path, text, field):
     with pytest.raises(InputError) as info:
         load_scenario(p)
     assert info.value.field == field
+
+
+def test_gravity_is_a_quantity_of_the_excitation_and_reaches_the_models():
+    """``[excitation] gravity``: default 9.81 m/s^2, with units, 0 allowed (orbit); the
+    analytical and DEM models of the scenario get it."""
+    from pdamper.analysis.analytical import ETA_MAX
+    from pdamper.constants import STANDARD_GRAVITY
+    from pdamper.models import AnalyticalDamper
+    from pdamper.parameters import PAPER_DAMPER
+
+    assert Scenario().excitation.gravity == STANDARD_GRAVITY
+    default = Scenario().model("analytic").response(10.0, 0.032)
+    paper = AnalyticalDamper(PAPER_DAMPER).response(10.0, 0.032)
+    assert float(default.loss_factor) == float(paper.loss_factor)
+    assert load_scenario(None, {"excitation.gravity": "1.62 m/s^2"}).excitation.gravity \
+        == pytest.approx(1.62)
+    assert load_scenario(None, {"excitation.gravity": "1 cm/s^2"}).excitation.gravity \
+        == pytest.approx(0.01)
+    s = load_scenario(None, {"excitation.gravity": "0 m/s^2"})
+    assert s.excitation.gravity == 0.0
+    assert s.model("dem").gravity == 0.0
+    assert s.model("dem").options["gravity"] == 0.0
+    h = s.damper().clearance
+    r = s.model("analytic").response(10.0, h / np.pi)
+    assert float(r.loss_factor) == pytest.approx(ETA_MAX, rel=1e-9)
+    s.check_resources("excitation", "dem")  # the cost model copes without settling
+
+
+@pytest.mark.parametrize("value", ["-1 m/s^2", "-0.001 m/s^2", float("inf"), float("nan"),
+                                   "3 m", "fast"])
+def test_gravity_outside_its_range_is_one_line_naming_the_field(value):
+    with pytest.raises(InputError) as e:
+        load_scenario(None, {"excitation.gravity": value})
+    assert e.value.field == "excitation.gravity"
+    assert "\n" not in str(e.value)

@@ -52,6 +52,8 @@ ETA_MAX = 4.0 / math.pi
 
 _SAMPLES_PER_CYCLE = 256
 _BISECTIONS = 60
+#: Phase tolerance [rad] of comparisons of two impact phases found by bisection.
+_PHASE_TOL = 1e-9
 #: Longest flight [excitation cycles] the phase scan follows. Inputs a damper can have stay
 #: far below (the physics checks of pdamper.resources bound the acceleration ratio to
 #: ~1e6, a flight to ~3e5 cycles); beyond, the answer is an error, not minutes of scanning.
@@ -179,6 +181,23 @@ def _validate(name: str, arr: np.ndarray, low: float, unit: str, strict: bool = 
         raise InputError(name, f"must be {op} {low:g} {unit}, got {arr[bad].ravel()[0]:g} {unit}")
 
 
+def _flight_span(y0, c, low, high, gam):
+    """Phase span [rad] after which a free flight ``y0 + c s - s^2 / (2 Gamma)`` (positions
+    in strokes) has left the band ``[low, high]`` the container's walls sweep: the first of
+    its fall below ``low`` and its rise above ``high`` (inf where it does neither; a bed at
+    rest in the container's mean frame without gravity). The roots are written without
+    cancellation, so that ``Gamma -> inf`` (weak gravity) tends to the straight flight of
+    ``Gamma = inf`` (none)."""
+    d, e = y0 - low, high - y0
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        root = np.sqrt(c**2 + 2.0 * d / gam)
+        fall = np.where(c < 0, 2.0 * d / (root - c), gam * (c + root))
+        disc = c**2 - 2.0 * e / gam
+        rise = np.where((c > 0) & (disc >= 0), 2.0 * e / (c + np.sqrt(np.maximum(disc, 0.0))),
+                        np.inf)
+    return np.fmin(np.where(np.isnan(fall), np.inf, fall), rise)
+
+
 def _first_crossing(gap, phi_start, active, max_phase, rising: bool):
     """First phase > phi_start where ``gap(phi, idx)`` crosses zero.
 
@@ -271,13 +290,15 @@ def bed_response(
     _validate("amplitude", x, 0.0, "m")
     _validate("clearance", h, 0.0, "m", strict=False)
     _validate("bed_mass", m, 0.0, "kg", strict=False)
-    check_range("gravity", gravity, low=0.0, low_inclusive=False, unit="m/s^2")
+    gravity = check_range("gravity", gravity, low=0.0, unit="m/s^2")
     shape = f.shape
     f, x, h, m = (a.ravel() for a in (f, x, h, m))
     with np.errstate(over="ignore"):
         w = 2.0 * math.pi * f
-        gam = x * w**2 / gravity  # Gamma = A / g
-    if not np.all(np.isfinite(gam)):
+        # Gamma = A / g; without gravity Gamma = inf: take-off at phi_0 = 0 (Eq. 5), straight
+        # flights (Eqs. 7, 9, 14) and release from the lid at phi = pi (Eq. 13)
+        gam = x * w**2 / gravity if gravity > 0 else np.full_like(x, math.inf)
+    if gravity > 0 and not np.all(np.isfinite(gam)):
         raise _out_of_range(int(np.flatnonzero(~np.isfinite(gam))[0]), f, x, gam,
                             "the container acceleration overflows")
     with np.errstate(over="ignore"):  # a vanishing stroke: the lid is out of reach
@@ -299,9 +320,9 @@ def bed_response(
         s = phi - phi0[idx, None]
         return s0[idx, None] + c0[idx, None] * s - s**2 / (2.0 * gam[idx, None])
 
-    # The bed must hit a wall before its parabola falls below the container's lowest point.
-    with np.errstate(invalid="ignore", divide="ignore"):
-        s_max = gam * (c0 + np.sqrt(c0**2 + 2.0 * (1.0 + s0) / gam))
+    # The bed must hit a wall before its parabola falls below the container's lowest point
+    # (without gravity: before its straight flight rises above the lid's highest point).
+    s_max = _flight_span(s0, c0, -1.0, ht + 1.0, gam)
     max_phase = phi0 + s_max + 2.0 * math.pi
     _check_flight(phi0, max_phase, flying, f, x, gam)
 
@@ -339,8 +360,7 @@ def bed_response(
 
     act = np.zeros(n, bool)
     act[i] = True
-    with np.errstate(invalid="ignore"):
-        max2 = phi_tt + gam * (ct + np.sqrt(ct**2 + 2.0 * (1.0 + st + ht) / gam)) + 2 * math.pi
+    max2 = phi_tt + _flight_span(st + ht, ct, -1.0, ht + 1.0, gam) + 2 * math.pi
     _check_flight(phi_tt, max2, act, f, x, gam)
     bot2 = _first_crossing(lambda p, k: y_bed2(p, k) - np.sin(p), phi_tt, act, max2,
                            rising=False)
@@ -356,7 +376,9 @@ def bed_response(
     # corrected Eq. (18): a harmonic bottom impact after the next take-off is scattering;
     # for n_s >= 1 the bed re-launches at almost the regular take-off state (Fig. 4-3ii,
     # "conditionally repetitive"), so the whole cycle counts as subharmonic.
-    late = (k == 0) & (bot2[i] > phi0[i] + 2.0 * math.pi)
+    # (up to the bisection's round-off: without gravity the optimum X = h / pi lands its
+    # bottom impact exactly on the next take-off, phi = 2 pi, Eq. 19)
+    late = (k == 0) & (bot2[i] > phi0[i] + 2.0 * math.pi + _PHASE_TOL)
     mode[i[late]] = int(MotionMode.SCATTERING)
     i, k = i[~late], k[~late].astype(int)
     ns[i] = k
@@ -368,7 +390,11 @@ def bed_response(
     eta[scattering] = SOLID_LOSS_FACTOR  # Eq. (8)
     ns[scattering] = -1
     v = x * w
-    e_tilde = eta * math.pi * m * v**2  # E~ = 2 pi * eta * (1/2 m V^2)
+    with np.errstate(over="ignore"):
+        e_tilde = eta * math.pi * m * v**2  # E~ = 2 pi * eta * (1/2 m V^2)
+    if not np.all(np.isfinite(e_tilde)):
+        raise _out_of_range(int(np.flatnonzero(~np.isfinite(e_tilde))[0]), f, x, gam,
+                            "the container's kinetic energy overflows")
     ratio = np.vectorize(lambda c: EFFECTIVE_MASS_RATIO[MotionMode(c)], otypes=[float])(mode)
     phi_tt[~double] = np.nan
 
@@ -435,7 +461,7 @@ def bed_trajectory(frequency: float, amplitude: float, clearance: float,
     yc = np.sin(phi)
     y = yc.copy()  # resting on the bottom until take-off
     hx = clearance / amplitude
-    gam = amplitude * w**2 / gravity
+    gam = amplitude * w**2 / gravity if gravity > 0 else math.inf
     if mode is not MotionMode.SOLID:
         fl = phi >= phi0
         s = phi[fl] - phi0

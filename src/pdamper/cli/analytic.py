@@ -13,6 +13,9 @@ def analytic(
     frequency: Annotated[str | None, typer.Option(help="Excitation frequency, e.g. '10Hz'.")] = None,
     amplitude: Annotated[str | None, typer.Option(help="Container stroke X, e.g. '32mm'.")] = None,
     particles: Annotated[int | None, typer.Option(help="Number of spheres.")] = None,
+    gravity: Annotated[str | None, typer.Option(
+        "--gravity", help="g, e.g. '9.81 m/s^2' (default); '0 m/s^2' for a structure in "
+                          "orbit.")] = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -25,7 +28,7 @@ def analytic(
 
     sc = load(scenario, runs=("excitation",), model="analytic",
               excitation__frequency=frequency, excitation__amplitude=amplitude,
-              particles__count=particles)
+              particles__count=particles, excitation__gravity=gravity)
     damper = sc.damper()
     f, x = sc.excitation.frequency, sc.excitation.amplitude
     r = sc.model("analytic", damper).response(f, x)
@@ -40,10 +43,13 @@ def analytic(
         "optimal_stroke": damper.optimal_stroke,
         "subharmonic_order": int(bed.subharmonic_order),
         "bed_mass": damper.bed_mass,
-        "acceleration_ratio": x * (2 * math.pi * f) ** 2 / bed.gravity,
+        # without gravity the ratio is unbounded: null in JSON
+        "acceleration_ratio": (x * (2 * math.pi * f) ** 2 / bed.gravity if bed.gravity > 0
+                               else None),
+        "gravity": bed.gravity,
         "eta_max": ETA_MAX,
-        "units": {"dissipated_energy_per_cycle": "J", "clearance": "m", "optimal_stroke": "m",
-                  "bed_mass": "kg", "loss_factor": "1", "effective_mass_ratio": "1"},
+        "units": {"gravity": "m/s^2", "dissipated_energy_per_cycle": "J", "clearance": "m",
+                  "optimal_stroke": "m", "bed_mass": "kg", "loss_factor": "1", "effective_mass_ratio": "1"},
         **metadata(sc),
     }
     human = (

@@ -96,6 +96,9 @@ def dem(
              "core).")] = None,
     serial: Annotated[bool, typer.Option(
         "--serial", help="Run the realisations in this process, without dask.")] = False,
+    gravity: Annotated[str | None, typer.Option(
+        "--gravity", help="g, e.g. '9.81 m/s^2' (default); '0 m/s^2' for a structure in "
+                          "orbit.")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -123,7 +126,7 @@ def dem(
               dem__damping_model=damping_model, dem__seed=seed, dem__packing=packing,
               dem__sample_rate=sample_rate, dem__safety=safety, dem__snapshot_rate=snapshot_rate,
               dem__error_estimate=error_estimate, dem__accuracy=accuracy,
-              dem__gear_free_flight=free_flight)
+              dem__gear_free_flight=free_flight, excitation__gravity=gravity)
     n_real = 1
     if realisations is not None:
         from pdamper.reports.realisations import check_realisations

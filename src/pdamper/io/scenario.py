@@ -36,6 +36,7 @@ from pydantic import (
 
 from pdamper import resources
 from pdamper.analysis.stationarity import SteadyStateCriterion
+from pdamper.constants import STANDARD_GRAVITY
 from pdamper.contact.law import DAMPING_MODELS, DEFAULT_MIN_IMPACT_VELOCITY
 from pdamper.dem.model import DEFAULT_SAFETY
 from pdamper.errors import InputError
@@ -77,6 +78,7 @@ Damping = Annotated[float, _q("kg/s"), Field(ge=0)]
 Density = Annotated[float, _q("kg/m^3"), Field(gt=0)]
 Modulus = Annotated[float, _q("Pa"), Field(gt=0)]
 Restitution = Annotated[float, Field(gt=0, le=1)]
+Gravity = Annotated[float, _q("m/s^2"), Field(ge=0, allow_inf_nan=False)]
 Count = Annotated[int, Field(strict=True)]
 
 
@@ -128,6 +130,8 @@ class ParticlesSpec(_Section):
 class ExcitationSpec(_Section):
     frequency: Frequency = paper.BENCHMARK_EXCITATION[0]
     amplitude: PositiveLength = paper.BENCHMARK_EXCITATION[1]
+    #: g [m/s^2] along -z; 0 for a structure in orbit (docs/analytical.md)
+    gravity: Gravity = STANDARD_GRAVITY
 
 
 _BEAM, _TIP = paper.paper_beam()
@@ -479,6 +483,8 @@ class Scenario(_Section):
         cls = get_damper_model(self.simulation.model if name is None else name, field)
         section = getattr(self, cls.fidelity, None)
         options = section.options() if hasattr(section, "options") else {}
+        if cls.takes_gravity:
+            options["gravity"] = self.excitation.gravity
         return cls(self.damper() if damper is None else damper, **options)
 
     def for_map(self) -> Scenario:
@@ -530,12 +536,13 @@ class Scenario(_Section):
         contact, in ``[particles]``, ``[excitation]``, ``[structure]`` and ``[map]``."""
         d = self.damper() if damper is None else damper
         resources.check_particles(d)
+        g = self.excitation.gravity
         resources.check_motion(d, self.excitation.frequency, self.excitation.amplitude,
-                               usual=_USUAL_EXCITATION)
+                               usual=_USUAL_EXCITATION, gravity=g)
         resources.check_release(d, self.structure_model().natural_frequency,
-                                self.structure.initial_displacement)
+                                self.structure.initial_displacement, gravity=g)
         (f0, f1, _), (x0, x1, _) = self.map_ranges()
-        resources.check_grid(d, (f0, f1), (x0, x1), usual=_USUAL_EXCITATION)
+        resources.check_grid(d, (f0, f1), (x0, x1), usual=_USUAL_EXCITATION, gravity=g)
 
     def check_resources(self, run: str, model: str | None = None, force: bool = False) -> None:
         """Refuse a run whose implied memory or time is above the limits of
@@ -609,7 +616,8 @@ class Scenario(_Section):
     def _dem_level2_cost(self, damper, frequency: float, amplitude: float, default,
                          fields=("excitation.frequency", "excitation.amplitude")):
         imp = resources.check_motion(damper, frequency, amplitude, fields=fields,
-                                     usual=_USUAL_EXCITATION, contact_law=True)
+                                     usual=_USUAL_EXCITATION, contact_law=True,
+                                     gravity=self.excitation.gravity)
         dem = self.dem
 
         def bound(spec):  # a run until steady lasts at most max_cycles
@@ -620,7 +628,7 @@ class Scenario(_Section):
         return resources.dem_cost(
             damper, cycles / frequency, imp.speed, sample_rate=dem.sample_rate,
             safety=dem.safety, snapshot_rate=dem.snapshot_rate, frequency=frequency,
-            drivers=[(field, cycles / bound(default.dem)[0]),
+            gravity=self.excitation.gravity, drivers=[(field, cycles / bound(default.dem)[0]),
                      (fields[0], default.excitation.frequency / frequency, True),
                      *self._dem_drivers(damper, default)])
 
@@ -643,7 +651,7 @@ class Scenario(_Section):
             resources.require(resources.analytic_map_cost(points, axes), force)
             return
         resources.check_grid(damper, (f0, f1), (x0, x1), usual=_USUAL_EXCITATION,
-                             contact_law=True)
+                             contact_law=True, gravity=self.excitation.gravity)
         # a DEM point costs more at low frequency (more time per cycle): a sample, scaled
         fs, xs = np.linspace(f0, f1, min(nf, 8)), np.linspace(x0, x1, min(nx, 8))
         costs = [self._dem_level2_cost(damper, f, x, default, ("map.frequency", "map.amplitude"))
@@ -949,6 +957,7 @@ friction = {p.friction}              # sliding friction coefficient mu of every 
 [excitation]                # Level II: x_c = X sin(2 pi f t)
 frequency = "{q(x.frequency, 'Hz')}"
 amplitude = "{q(x.amplitude, 'mm')}"         # stroke X
+gravity = "{q(x.gravity, 'm/s^2')}"        # g; "0 m/s^2" for a structure in orbit (analytic and DEM)
 
 [structure]                 # Level III: M x'' + D x' + K x = F (Eq. 23)
 # mass = "{q(paper.PAPER_MASS, 'kg')}"       # default K / (2 pi {paper.PAPER_EIGENFREQUENCY} Hz)^2: \

@@ -19,7 +19,8 @@ class AnalyticalDamper(DamperModel):
     damper
         The physical damper; only its clearance and bed mass enter.
     gravity
-        g [m/s^2].
+        g [m/s^2], >= 0 (0: a structure in orbit, the collect-and-collide limit of
+        Eqs. 19-21).
 
     Examples
     --------
@@ -30,12 +31,12 @@ class AnalyticalDamper(DamperModel):
     """
 
     fidelity = "analytic"
+    takes_gravity = True
     vectorised = True
 
     def __init__(self, damper: ParticleDamper, gravity: float = STANDARD_GRAVITY):
         super().__init__(damper)
-        self.gravity = check_range("gravity", gravity, low=0.0, low_inclusive=False,
-                                   unit="m/s^2")
+        self.gravity = check_range("gravity", gravity, low=0.0, unit="m/s^2")
 
     def response(self, frequency, amplitude) -> DamperResponse:
         """Eqs. (5)-(22) at every (f [Hz], X [m]) point; ``details`` is the

@@ -95,6 +95,10 @@ class DamperModel(ABC):
     #: (:data:`pdamper.resources.MAX_CONTACT_RADIUS_RATIO`).
     contact_law: ClassVar[bool] = False
 
+    #: Whether the model takes ``gravity`` [m/s^2] as a keyword (a scenario passes its
+    #: ``[excitation] gravity``).
+    takes_gravity: ClassVar[bool] = False
+
     def __init__(self, damper: ParticleDamper):
         if not isinstance(damper, ParticleDamper):
             raise InputError("damper", f"must be a ParticleDamper (e.g. "

@@ -294,6 +294,7 @@ class DEMDamper(DamperModel):
     """
 
     fidelity = "dem"
+    takes_gravity = True
     coupling = "co_simulation"
     expensive = True
     contact_law = True
@@ -382,6 +383,9 @@ class DEMDamper(DamperModel):
                                     check_range("dem.transient_tolerance", transient_tolerance,
                                                 low=0.0, low_inclusive=False))
         self.options = options
+        # g [m/s^2] of the engine (its own check refuses what is not >= 0), for the
+        # physics checks of the excitation and the settling
+        self.gravity = float(options.get("gravity", STANDARD_GRAVITY))
 
     @property
     def run_until_steady(self) -> bool:
