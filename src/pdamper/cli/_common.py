@@ -131,10 +131,3 @@ def write_figure(fig, path: Path, dpi: int = 110, field: str = "plot") -> Path:
     buf = io.BytesIO()
     fig.savefig(buf, format=PLOT_FORMATS[path.suffix.lower()], dpi=dpi)
     return atomic_write_bytes(path, buf.getbuffer(), field)
-
-
-def write_atomic(path: Path, writer, field: str = "out") -> Path:
-    """Write an output file through the one atomic writer (:mod:`pdamper.files`)."""
-    from pdamper.files import atomic_write
-
-    return atomic_write(path, writer, field)
