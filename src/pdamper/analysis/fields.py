@@ -130,7 +130,7 @@ def _coords(frequency, amplitude, particles):
         "amplitude": ("amplitude", amplitude, {"long_name": "container stroke amplitude X",
                                                "units": "m"}),
     }
-    dims = ("frequency", "amplitude")
+    dims: tuple[str, ...] = ("frequency", "amplitude")
     if particles is not None:
         coords["particles"] = ("particles", np.asarray(particles, int),
                                {"long_name": "number of particles", "units": "1"})
@@ -399,10 +399,11 @@ def field_agreement(ds, reference) -> dict:
            "mode_agreement": float(agree[ok].mean()) if ok.any() else math.nan,
            "median_abs_delta_eta": float(np.median(delta[ok])) if ok.any() else math.nan,
            "by_mode": {}}
+    by_mode: dict[str, dict] = out["by_mode"]  # type: ignore[assignment]
     for mode in MotionMode:
         sel = ok & (ref_mode == int(mode))
         if sel.any():
-            out["by_mode"][mode.label] = {"cells": int(sel.sum()),
+            by_mode[mode.label] = {"cells": int(sel.sum()),
                                           "mode_agreement": float(agree[sel].mean()),
                                           "median_abs_delta_eta": float(np.median(delta[sel]))}
     return out

@@ -99,12 +99,18 @@ PLOT_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg", ".jpg": "jpeg", ".j
 
 
 
-def plot_option(what: str):
+def plot_param(what: str) -> Any:
     """The ``--plot`` option of a command whose figure shows ``what`` (checked by
-    :func:`check_plot`, written by :func:`write_figure`)."""
-    return Annotated[str | None, typer.Option(
-        "--plot", help=f"Figure file of {what}; its suffix names the format "
-                       f"({', '.join(PLOT_FORMATS)}).")]
+    :func:`check_plot`, written by :func:`write_figure`), as the metadata of
+    ``Annotated[str | None, plot_param(what)]`` (an annotation a type checker reads)."""
+    return typer.Option("--plot", help=f"Figure file of {what}; its suffix names the format "
+                                       f"({', '.join(PLOT_FORMATS)}).")
+
+
+def plot_option(what: str) -> Any:
+    """``Annotated[str | None, plot_param(what)]``, built at run time (type checkers cannot
+    read it: prefer the spelled-out form)."""
+    return Annotated[str | None, plot_param(what)]
 
 
 def check_plot(path: str | None, field: str = "plot") -> Path | None:

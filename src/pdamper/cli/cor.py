@@ -27,7 +27,7 @@ from pdamper.cli._common import (
     emit,
     load,
     metadata,
-    plot_option,
+    plot_param,
 )
 
 #: Default velocity grid of ``--velocity``.
@@ -52,7 +52,7 @@ def cor(
         "--integrator", help="gear (default) or verlet.")] = None,
     radius: Annotated[str | None, typer.Option(
         "--radius", help="Sphere radius, e.g. '5mm' (default: the scenario's).")] = None,
-    plot: plot_option("the target and simulated COR") = None,
+    plot: Annotated[str | None, plot_param("the target and simulated COR")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -70,7 +70,7 @@ def cor(
 
     sc = load(scenario, particles__radius=radius, dem__damping_model=damping_model,
               dem__integrator=integrator)
-    plot = check_plot(plot)
+    plot_path = check_plot(plot)
     v0, v1, n = parse_range(velocity, "m/s", "velocity")
     if min(v0, v1) <= 0:
         raise InputError("velocity", f"impact speeds must be > 0 m/s, got {min(v0, v1):g} m/s")
@@ -103,7 +103,7 @@ def cor(
     check = check_restitution(v, curve, sphere, partner, r, sphere_sphere,
                               sc.dem.damping_model, sc.dem.integrator)
     payload = {**check.as_dict(), **metadata(sc, model=model)}
-    if plot is not None:
+    if plot_path is not None:
         from matplotlib.figure import Figure
 
         from pdamper.cli._common import write_figure
@@ -111,7 +111,7 @@ def cor(
 
         fig = Figure(figsize=(7, 4.5), layout="constrained")
         plot_cor_check(check, ax=fig.subplots(), curve=curve)
-        payload["plot"] = str(write_figure(fig, plot, dpi=120))
+        payload["plot"] = str(write_figure(fig, plot_path, dpi=120))
     kind_text = "sphere-sphere" if sphere_sphere else "sphere-wall"
     lines = [f"{check.pair} ({kind_text}, r = {r * 1e3:g} mm): target {check.curve}",
              f"DEM single impacts: {check.damping_model} COR-damping relation, "
@@ -121,5 +121,5 @@ def cor(
               for a, b, c in zip(check.velocity, check.cor_target, check.cor_simulated,
                                  strict=True)]
     lines.append(f"max |deviation| {check.max_deviation:.2e}"
-                 + (f"; figure written to {payload['plot']}" if plot is not None else ""))
+                 + (f"; figure written to {payload['plot']}" if plot_path is not None else ""))
     emit(payload, as_json, "\n".join(lines))

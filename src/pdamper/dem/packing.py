@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 import operator
 from collections.abc import Sequence
+from typing import Any
 
 import numba
 import numpy as np
@@ -83,7 +84,7 @@ def _as_radius(radius: float) -> float:
     return check_range(_RADIUS_FIELD, radius, low=0.0, low_inclusive=False, unit="m")
 
 
-def _as_count(n: int) -> int:
+def _as_count(n: Any) -> int:  # checked here: whatever the caller passed
     if isinstance(n, bool):
         raise InputError(_COUNT_FIELD, f"must be a whole number >= 0, got {n!r}")
     try:
@@ -109,7 +110,7 @@ def _as_radii(radius: float | Sequence[float] | np.ndarray, n: int) -> np.ndarra
                 _RADIUS_FIELD, f"must be one number or one radius per particle, got {radius!r}"
             ) from None
     if arr is None or arr.ndim == 0:
-        r = _as_radius(radius if arr is None else float(arr))
+        r = _as_radius(radius if arr is None else float(arr))  # type: ignore[arg-type]
         return np.full(n, r)
     if arr.shape != (n,):
         raise InputError(

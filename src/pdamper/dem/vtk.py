@@ -40,7 +40,7 @@ _RESERVED = ("radius", "velocity", "speed", "angular_velocity")
 DEFAULT_SNAPSHOT_RATE = 200.0
 
 _NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
-_VTK_TYPES = {"Float64": np.dtype("<f8"), "Int64": np.dtype("<i8"), "Float32": np.dtype("<f4"),
+_VTK_TYPES: dict[str, np.dtype] = {"Float64": np.dtype("<f8"), "Int64": np.dtype("<i8"), "Float32": np.dtype("<f4"),
               "Int32": np.dtype("<i4"), "UInt8": np.dtype("u1")}
 
 
@@ -306,9 +306,12 @@ def read_vtp(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
     piece = root.find("PolyData/Piece")
     if piece is None:
         raise InputError("vtk.path", f"{os.fspath(path)!r} is not a VTK PolyData file")
-    out = {"Points": _decode(piece.find("Points/DataArray")).reshape(-1, 3)}
+    points = piece.find("Points/DataArray")
+    if points is None:
+        raise InputError("vtk.path", f"{os.fspath(path)!r} has no points")
+    out = {"Points": _decode(points).reshape(-1, 3)}
     for da in piece.findall("PointData/DataArray"):
-        out[da.get("Name")] = _decode(da)
+        out[da.get("Name", "")] = _decode(da)
     return out
 
 
@@ -316,5 +319,11 @@ def read_pvd(path: str | os.PathLike[str]) -> list[tuple[float, Path]]:
     """Read a ``.pvd`` collection: ``(time [s], dataset path)`` in file order."""
     root = ET.parse(path).getroot()
     base = Path(path).parent
-    return [(float(ds.get("timestep")), base / ds.get("file"))
-            for ds in root.iter("DataSet")]
+    out = []
+    for ds in root.iter("DataSet"):
+        timestep, file = ds.get("timestep"), ds.get("file")
+        if timestep is None or file is None:
+            raise InputError("vtk.path", f"{os.fspath(path)!r}: a DataSet lacks its timestep "
+                             "or file")
+        out.append((float(timestep), base / file))
+    return out

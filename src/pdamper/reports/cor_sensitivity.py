@@ -19,11 +19,17 @@ import logging
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from pdamper.contact.restitution import RestitutionCurve
 from pdamper.errors import InputError
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from pdamper.coupling import FreeVibrationResult
 
 logger = logging.getLogger(__name__)
 
@@ -149,23 +155,25 @@ class CORSensitivity:
         The variants, in order.
     """
 
-    level2: object
-    level3: object = None
-    runs: dict = field(default_factory=dict)
-    analytical_run: object = None
+    level2: xr.Dataset
+    level3: xr.Dataset | None = None
+    runs: dict[str, FreeVibrationResult] = field(default_factory=dict)
+    analytical_run: FreeVibrationResult | None = None
     variants: list = field(default_factory=list)
     wall_seconds: float = 0.0
     inputs: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         """JSON-ready summary."""
-        out = {"variants": [{"name": v.name, "cor": v.describe()} for v in self.variants],
-               "level2": [], "wall_seconds": self.wall_seconds}
+        level2: list[dict] = []
+        out: dict[str, Any] = {"variants": [{"name": v.name, "cor": v.describe()}
+                                            for v in self.variants],
+                               "level2": level2, "wall_seconds": self.wall_seconds}
         ds = self.level2
         for v in ds["variant"].values:
             for p in range(ds.sizes["point"]):
                 sel = ds.sel(variant=v).isel(point=p)
-                out["level2"].append({"variant": str(v), **{
+                level2.append({"variant": str(v), **{
                     k: (bool(sel[k]) if k == "stationary" else float(sel[k]))
                     for k in ("frequency", "amplitude", "loss_factor", "effective_mass_ratio",
                               "loss_factor_first_half", "loss_factor_second_half",
@@ -284,7 +292,7 @@ def run_cor_sensitivity(scenario=None, variants: Sequence[str | CORVariant] = DE
     out = {k: np.full(shape, np.nan) for k in (
         "loss_factor", "effective_mass_ratio", "dissipated_energy_per_cycle",
         "loss_factor_first_half", "loss_factor_second_half", "energy_balance_error")}
-    model = None
+    model: Any = None
     for i, v in enumerate(vs):
         damper = base.with_restitution(v.restitution_pp, v.restitution_pw)
         model = sc.model("dem", damper)
