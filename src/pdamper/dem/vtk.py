@@ -40,8 +40,9 @@ _RESERVED = ("radius", "velocity", "speed", "angular_velocity")
 DEFAULT_SNAPSHOT_RATE = 200.0
 
 _NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
-_VTK_TYPES: dict[str, np.dtype] = {"Float64": np.dtype("<f8"), "Int64": np.dtype("<i8"), "Float32": np.dtype("<f4"),
-              "Int32": np.dtype("<i4"), "UInt8": np.dtype("u1")}
+_VTK_TYPES: dict[str, np.dtype] = {
+    "Float64": np.dtype("<f8"), "Int64": np.dtype("<i8"), "Float32": np.dtype("<f4"),
+    "Int32": np.dtype("<i4"), "UInt8": np.dtype("u1")}
 
 
 # ------------------------------------------------------------------------------ helpers
