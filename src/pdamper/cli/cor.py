@@ -65,7 +65,6 @@ def cor(
     from pdamper.dem.impacts import check_restitution, impacts_cost
     from pdamper.errors import InputError
     from pdamper.io.restitution import build_curve, parse_model_text, validate_spec
-    from pdamper.materials import get_material
     from pdamper.units import parse_range
 
     sc = load(scenario, particles__radius=radius, dem__damping_model=damping_model,
@@ -78,19 +77,7 @@ def cor(
     v = np.linspace(v0, v1, n)
 
     damper = sc.damper()
-    own = {m.name.lower(): m for m in (damper.particle_material, damper.wall_material)}
-
-    def material(name: str):
-        return own.get(name.strip().lower()) or get_material(name.strip(), "pair")
-
-    if pair is None:
-        sphere, partner = damper.particle_material, damper.wall_material
-    else:
-        names = pair.split(":")
-        if len(names) != 2 or not all(x.strip() for x in names):
-            raise InputError("pair", f"expected SPHERE:PARTNER such as S235:PVC or S235:S235, "
-                             f"got {pair!r}")
-        sphere, partner = material(names[0]), material(names[1])
+    sphere, partner = _pair(damper, pair)
     sphere_sphere = sphere.name == partner.name
     kind = "particle_particle" if sphere_sphere else "particle_wall"
     r = damper.particle_radius
@@ -112,6 +99,26 @@ def cor(
         fig = Figure(figsize=(7, 4.5), layout="constrained")
         plot_cor_check(check, ax=fig.subplots(), curve=curve)
         payload["plot"] = str(write_figure(fig, plot_path, dpi=120))
+    emit(payload, as_json, _table(check, r, sphere_sphere, payload.get("plot")))
+
+
+def _pair(damper, pair: str | None) -> tuple:
+    """The (sphere, partner) materials of ``--pair``; the damper's own materials first."""
+    from pdamper.errors import InputError
+    from pdamper.materials import get_material
+
+    if pair is None:
+        return damper.particle_material, damper.wall_material
+    own = {m.name.lower(): m for m in (damper.particle_material, damper.wall_material)}
+    names = pair.split(":")
+    if len(names) != 2 or not all(x.strip() for x in names):
+        raise InputError("pair", f"expected SPHERE:PARTNER such as S235:PVC or S235:S235, "
+                         f"got {pair!r}")
+    return tuple(own.get(x.strip().lower()) or get_material(x.strip(), "pair") for x in names)
+
+
+def _table(check, r: float, sphere_sphere: bool, plot: str | None) -> str:
+    """The command's text: target and simulated COR per impact speed."""
     kind_text = "sphere-sphere" if sphere_sphere else "sphere-wall"
     lines = [f"{check.pair} ({kind_text}, r = {r * 1e3:g} mm): target {check.curve}",
              f"DEM single impacts: {check.damping_model} COR-damping relation, "
@@ -121,5 +128,5 @@ def cor(
               for a, b, c in zip(check.velocity, check.cor_target, check.cor_simulated,
                                  strict=True)]
     lines.append(f"max |deviation| {check.max_deviation:.2e}"
-                 + (f"; figure written to {payload['plot']}" if plot_path is not None else ""))
-    emit(payload, as_json, "\n".join(lines))
+                 + (f"; figure written to {plot}" if plot is not None else ""))
+    return "\n".join(lines)

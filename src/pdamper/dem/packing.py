@@ -99,6 +99,30 @@ def _as_count(n: Any) -> int:  # checked here: whatever the caller passed
     return count
 
 
+def _whole_at_least(field: str, value: Any, low: int) -> int:
+    """``value`` as an int >= ``low`` (a bool is refused), else InputError naming ``field``."""
+    try:
+        if isinstance(value, bool):
+            raise TypeError
+        number = operator.index(value)
+    except TypeError:
+        raise InputError(field, f"must be a whole number >= {low}, got {value!r}") from None
+    if number < low:
+        raise InputError(field, f"must be a whole number >= {low}, got {number}")
+    return number
+
+
+def _cell_counts(lbox: tuple[float, float, float], reach: float, cap: int) -> np.ndarray:
+    """Cells per side of the search grid: at least one contact distance ``reach`` wide,
+    but no more than ``cap`` cells (a huge, nearly empty box would otherwise cost memory)."""
+    cell = reach
+    while True:
+        ncell = np.array([max(1, int(length / cell)) for length in lbox], dtype=np.int64)
+        if int(np.prod(ncell)) <= cap:
+            return ncell
+        cell *= 1.25
+
+
 def _as_radii(radius: float | Sequence[float] | np.ndarray, n: int) -> np.ndarray:
     """Validate a scalar radius or one radius per particle; return an (n,) array [m]."""
     arr = None
@@ -325,22 +349,8 @@ def random_packing(
     count = _as_count(n)
     radii = _as_radii(radius, count)
     lbox = _as_box(box)
-    if isinstance(seed, bool):
-        raise InputError("particles.seed", f"must be a whole number >= 0, got {seed!r}")
-    try:
-        seed_int = operator.index(seed)
-    except TypeError:
-        raise InputError("particles.seed", f"must be a whole number >= 0, got {seed!r}") from None
-    if seed_int < 0:
-        raise InputError("particles.seed", f"must be a whole number >= 0, got {seed_int}")
-    try:
-        attempts_max = operator.index(max_attempts)
-    except TypeError:
-        attempts_max = -1
-    if attempts_max < 1:
-        raise InputError(
-            "particles.max_attempts", f"must be a whole number >= 1, got {max_attempts!r}"
-        )
+    seed_int = _whole_at_least("particles.seed", seed, 0)
+    attempts_max = _whole_at_least("particles.max_attempts", max_attempts, 1)
     m = check_range("particles.margin", margin, low=0.0, high=1.0, high_inclusive=False)
     if count == 0:
         return np.empty((0, 3))
@@ -361,14 +371,7 @@ def random_packing(
 
     # Cell grid: cells at least one contact distance wide, but not vastly more cells than
     # particles (a huge, nearly empty box would otherwise cost memory).
-    reach = 2.0 * r_max * (1.0 + m)
-    cell = reach
-    cap = max(64, 8 * count)
-    while True:
-        ncell = np.array([max(1, int(length / cell)) for length in lbox], dtype=np.int64)
-        if int(np.prod(ncell)) <= cap:
-            break
-        cell *= 1.25
+    ncell = _cell_counts(lbox, 2.0 * r_max * (1.0 + m), max(64, 8 * count))
     csize = np.array(lbox) / ncell
     head = np.full(int(np.prod(ncell)), -1, dtype=np.int64)
     nxt = np.full(count, -1, dtype=np.int64)
