@@ -1,4 +1,4 @@
-"""Accuracy of the DEM defaults over the design map: the verification table of docs/dem.md.
+"""Accuracy of the DEM defaults over the design map: the verification table of docs/verification.md.
 
 Run ``python benchmarks/bench_dem_accuracy.py`` (``--quick``: five points; ``--jobs 2``:
 two processes). At each point of a grid that spans the paper's envelope (2-20 Hz x
