@@ -43,7 +43,7 @@ LIGGGHTS_WALL_PER_SIMULATED_SECOND = 4.69
 #: The step LIGGGHTS users take for the benchmark spheres (0.19 Rayleigh times) [s].
 LIGGGHTS_USERS_STEP = 1e-6
 #: LIGGGHTS 3.8, benchmark damper of 32 spheres, CPU seconds per step: 11-14 us over the
-#: kinds of point of ``benchmarks/liggghts/compare.py`` (README, Performance); the middle.
+#: kinds of point of ``benchmarks/liggghts/compare.py`` (docs/performance.md, "Summary"); the middle.
 LIGGGHTS_CPU_PER_STEP_32 = 12.5e-6
 
 
