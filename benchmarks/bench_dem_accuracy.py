@@ -1,4 +1,4 @@
-"""Accuracy of the DEM defaults over the design map: the verification table of docs/dem.md.
+"""Accuracy of the DEM defaults over the design map: the verification table of docs/verification.md.
 
 Run ``python benchmarks/bench_dem_accuracy.py`` (``--quick``: five points; ``--jobs 2``:
 two processes). At each point of a grid that spans the paper's envelope (2-20 Hz x
@@ -55,7 +55,7 @@ def run(f: float, x_mm: float, n: int, kind: str, jitter: int) -> dict:
     """One run of the paper's procedure (``kind``: default, converged or refined); the loss
     factor, mass ratio and diagnostics."""
     from pdamper.dem import Container, DEMEngine, HarmonicMotion, ParticleSet
-    from pdamper.dem.model import DEFAULT_GEAR_TOLERANCE
+    from pdamper.dem.inputs import DEFAULT_GEAR_TOLERANCE
     from pdamper.models import DEMDamper
     from pdamper.models.dem import PAPER_CYCLES, REFINEMENT
     from pdamper.parameters import PAPER_DAMPER

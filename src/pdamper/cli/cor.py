@@ -7,7 +7,7 @@ Example::
 ``--pair SPHERE:PARTNER`` names the sphere material and its partner: the same material twice
 (``S235:S235``) is a sphere-sphere impact of two equal spheres, otherwise a sphere hits a
 wall of the partner material. The target curve is ``--model`` (``0.6``, ``paper``,
-``thornton``, ``cor.csv``, each optionally ``*scale``) or else the scenario's model of that
+``thornton``, ``cor.csv``, each optionally ``*scale``) or else the scenario's COR curve of that
 pair type (``[restitution]``, or the ``[dem]`` constants). Each velocity is one DEM run of
 the real engine without gravity. ``--json``: ``velocity``, ``cor_target``,
 ``cor_simulated``, ``max_deviation`` and what was simulated.
@@ -44,10 +44,10 @@ def cor(
         "--velocity", help="Impact speeds 'start:stop:count', e.g. '0.01m/s:2m/s:40'.")
     ] = DEFAULT_VELOCITY,
     model: Annotated[str | None, typer.Option(
-        "--model", help="Target COR model: 0.6, paper, thornton or a CSV table, optionally "
-                        "*scale (default: the scenario's model of this pair).")] = None,
+        "--model", help="Target COR curve: 0.6, paper, thornton or a CSV table, optionally "
+                        "*scale (default: the scenario's COR curve of this pair).")] = None,
     damping_model: Annotated[str | None, typer.Option(
-        "--damping-model", help="COR-damping relation: exact (default) or gonthier.")] = None,
+        "--damping-model", help="Damping law: exact (default) or gonthier.")] = None,
     integrator: Annotated[str | None, typer.Option(
         "--integrator", help="gear (default) or verlet.")] = None,
     radius: Annotated[str | None, typer.Option(

@@ -2,7 +2,7 @@
 
 A curve is a callable ``e(v_impact)`` [-] of the normal impact speed [m/s]. The paper's DEM
 sets the damping of each contact from the curve of its material pair at its impact speed
-(Sect. 2-3); the curve models here are
+(Sect. 2-3); the kinds of COR curve here are
 
 * :class:`ConstantRestitution`: one value;
 * :class:`TabulatedRestitution`: points interpolated linearly (what the kernels evaluate);
