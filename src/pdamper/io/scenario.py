@@ -29,6 +29,7 @@ from pydantic import (
     BeforeValidator,
     ConfigDict,
     Field,
+    PrivateAttr,
     ValidationError,
     field_validator,
     model_validator,
@@ -417,6 +418,13 @@ class Scenario(_Section):
     fields: FieldsSpec = FieldsSpec()
     dem: DEMSpec = DEMSpec()
     restitution: RestitutionSpec = RestitutionSpec()
+    #: inputs given as "value +- sd" (field -> UncertainInput; pdamper.io.uncertain)
+    _uncertain: dict = PrivateAttr(default_factory=dict)
+
+    def uncertain_inputs(self) -> tuple:
+        """The :class:`~pdamper.design.uncertainty.UncertainInput` of every value given
+        as ``"value +- sd"`` (:mod:`pdamper.io.uncertain`), in the file's order."""
+        return tuple(self._uncertain.values())
 
     # -- builders of the domain objects ------------------------------------------------
     def damper(self):
@@ -921,7 +929,11 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
         if not isinstance(node, dict):
             raise InputError(section, "must be a table")
         node[name] = value
+    from pdamper.io.uncertain import extract_uncertain
+
+    uncertain = extract_uncertain(data)  # "value +- sd": the nominal value validated
     sc = scenario_from_dict(data)
+    sc._uncertain = uncertain
     for run in runs:
         sc.check_resources(run, model, force)
     return sc

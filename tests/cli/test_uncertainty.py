@@ -1,0 +1,64 @@
+"""``--uncertainty N``: the spread of the Level II and III answers under "value +- sd"."""
+
+import json
+
+import pytest
+
+
+def _scenario(tmp_path, text):
+    p = tmp_path / "s.toml"
+    p.write_text(text)
+    return p
+
+
+def test_friction_alone_moves_no_analytic_answer(tmp_path, cli):
+    # the analytical model (Eqs. 5-22) has no friction: zero spread, no driver
+    p = _scenario(tmp_path, '[particles]\nfriction = "0.1 +- 0.03"\n')
+    code, out, err = cli("analytic", "--scenario", p, "--uncertainty", "16", "--json")
+    assert code == 0, err
+    u = json.loads(out)["uncertainty"]
+    assert u["seed"] == 0 and u["points"] == 16 and u["runs"] == 16 * 3 + 1
+    assert u["inputs"][0]["field"] == "particles.friction"
+    assert u["inputs"][0]["sd"] == 0.03 and u["inputs"][0]["low"] == 0.0
+    eta = u["answers"]["loss_factor"]
+    assert eta["std"] == 0.0 and eta["driver"] is None
+    assert eta["mean"] == pytest.approx(eta["nominal"])
+
+
+def test_simulate_friction_and_length_tolerance(tmp_path, cli):
+    p = _scenario(tmp_path, '[particles]\nfriction = "0.1 +- 0.03"\n'
+                  '[container]\nlength = "120 mm +- 0.5 mm"\n'
+                  '[simulation]\nduration = "1 s"\n')
+    code, out, err = cli("simulate", "--scenario", p, "--uncertainty", "16",
+                         "--uncertainty-seed", "3", "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    u = d["uncertainty"]
+    assert u["seed"] == 3 and d["inputs"]["particles"]["friction"] == 0.1
+    amp = u["answers"]["amplitude_at"]
+    assert set(amp["percentiles"]) == {"p5", "p25", "p50", "p75", "p95"}
+    assert amp["std"] > 0 and amp["min"] <= amp["percentiles"]["p5"] <= amp["mean"] \
+        <= amp["percentiles"]["p95"] <= amp["max"]
+    # the clearance (container length) drives; friction does not enter model 3
+    for name in ("amplitude_at", "final_amplitude", "mean_damping_ratio"):
+        a = u["answers"][name]
+        assert a["driver"] == "container.length" and a["ranking"][0] == "container.length"
+        assert a["total_order"]["particles.friction"] == 0.0
+    assert u["driver"] == "container.length"
+
+
+def test_cli_uncertain_option_is_the_scenario_syntax(cli):
+    code, out, err = cli("analytic", "--uncertain", "particles.friction=0.1 +- 0.03",
+                         "--uncertain", "excitation.amplitude=32mm+-1mm",
+                         "--uncertainty", "8", "--json")
+    assert code == 0, err
+    u = json.loads(out)["uncertainty"]
+    assert sorted(i["field"] for i in u["inputs"]) == ["excitation.amplitude",
+                                                       "particles.friction"]
+    assert u["answers"]["loss_factor"]["driver"] == "excitation.amplitude"
+
+
+def test_human_output_names_the_driver(tmp_path, cli):
+    code, out, _ = cli("analytic", "--uncertain", "container.length=120mm+-1mm",
+                       "--uncertainty", "8")
+    assert code == 0 and "driver container.length" in out
