@@ -393,6 +393,12 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
                                        "{scenario:uncertain_friction}", "--json"], OK()),
     ("ok-analytic-uncertainty", ["analytic", "--scenario", "{scenario:uncertain_friction}",
                                  "--uncertainty", "4", "--json"], OK()),
+    # -- pdamper report: its output directory and options, judged before any run
+    ("report-out-no-parent", ["report", "--out", "{tmp}/no/such/dir"], Error("out")),
+    ("report-out-is-a-file", ["report", "--out", "{tmp}/file"], Error("out")),
+    ("report-uncertainty-odd", ["report", "--scenario", "{scenario:uncertain_friction}",
+                                "--out", "{tmp}/r", "--uncertainty", "6"], Error("uncertainty")),
+    ("report-workers-zero", ["report", "--out", "{tmp}/r", "--workers", "0"], Error("workers")),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

@@ -62,3 +62,15 @@ def test_human_output_names_the_driver(tmp_path, cli):
     code, out, _ = cli("analytic", "--uncertain", "container.length=120mm+-1mm",
                        "--uncertainty", "8")
     assert code == 0 and "driver container.length" in out
+
+
+def test_a_map_of_the_nominal_geometry_refuses_a_sampled_length(tmp_path, cli):
+    # model 2's map is a property of one geometry: a sampled container length is another
+    m = tmp_path / "map.nc"
+    code, _, err = cli("map", "--model", "analytic", "--particles", "32", "--frequency",
+                       "2Hz:20Hz:6", "--amplitude", "1mm:200mm:8", "--out", m)
+    assert code == 0, err
+    code, _, err = cli("simulate", "--model", "fields", "--fields", m, "--particles", "32",
+                       "--uncertain", "container.length=120mm+-0.2mm", "--uncertainty", "4")
+    assert code == 2 and err.startswith("error: fields.file: at the uncertainty sample "
+                                        "container.length") and err.count("\n") == 1

@@ -202,8 +202,9 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
             return evaluate(values)
         except InputError as exc:
             shown = ", ".join(f"{k} = {v:.6g}" for k, v in values.items())
-            raise InputError(exc.field, f"at the uncertainty sample {shown}: {exc.message} "
-                             "(narrow the standard deviations)") from None
+            hint = " (narrow the standard deviations)" if exc.field in values else ""
+            raise InputError(exc.field, f"at the uncertainty sample {shown}: "
+                             f"{exc.message}{hint}") from None
 
     return propagate(checked, inputs, n, seed, units=units, progress=progress)
 
