@@ -77,6 +77,8 @@ SCENARIOS = {
     "uncertain_friction_negative_sd": '[particles]\nfriction = "0.1 +- -0.03"\n',
     "uncertain_length_no_unit_sd": '[container]\nlength = "120 mm +- 0.1"\n',
     "uncertain_count": '[particles]\ncount = "64 +- 2"\n',
+    "uncertain_short_run": '[particles]\nfriction = "0.1 +- 0.03"\n[simulation]\n'
+                           'duration = "0.5 s"\n',
 }
 
 
@@ -399,6 +401,12 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("report-uncertainty-odd", ["report", "--scenario", "{scenario:uncertain_friction}",
                                 "--out", "{tmp}/r", "--uncertainty", "6"], Error("uncertainty")),
     ("report-workers-zero", ["report", "--out", "{tmp}/r", "--workers", "0"], Error("workers")),
+    ("report-uncertain-amplitude-after-the-run", ["report", "--scenario",
+                                                  "{scenario:uncertain_short_run}", "--out",
+                                                  "{tmp}/r"], Error("optimization.at")),
+    ("simulate-uncertain-amplitude-after-the-run", [
+        "simulate", "--scenario", "{scenario:uncertain_short_run}", "--uncertainty", "4"],
+     Error("optimization.at")),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

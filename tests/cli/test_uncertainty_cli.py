@@ -74,3 +74,14 @@ def test_a_map_of_the_nominal_geometry_refuses_a_sampled_length(tmp_path, cli):
                        "--uncertain", "container.length=120mm+-0.2mm", "--uncertainty", "4")
     assert code == 2 and err.startswith("error: fields.file: at the uncertainty sample "
                                         "container.length") and err.count("\n") == 1
+
+
+def test_without_uncertainty_the_nominal_value_runs_and_the_sd_is_recorded(tmp_path, cli):
+    p = _scenario(tmp_path, '[container]\nlength = "120 mm +- 0.2 mm"\n')
+    code, out, err = cli("analytic", "--scenario", p, "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    assert "uncertainty" not in d and d["inputs"]["container"]["length"] == pytest.approx(0.12)
+    (u,) = d["uncertain_inputs"]
+    assert u["field"] == "container.length" and u["sd"] == pytest.approx(2e-4)
+    assert u["distribution"] == "normal truncated to the valid range"

@@ -59,6 +59,10 @@ def report(
         from pdamper.io.uncertain import check_cost
 
         check_cost(sc, "level3", damper_report.DEFAULT_UNCERTAINTY_POINTS, force)
+    if sc.uncertain_inputs():  # its Level III answers (the time of the amplitude) judged
+        from pdamper.io.uncertain import level3_answers
+
+        level3_answers(sc, "analytic")
     options = {} if workers is None else {"workers": workers}
     t0 = time.perf_counter()
     console = Console(file=sys.stderr)
