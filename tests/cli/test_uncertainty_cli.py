@@ -45,6 +45,10 @@ def test_simulate_friction_and_length_tolerance(tmp_path, cli):
         assert a["driver"] == "container.length" and a["ranking"][0] == "container.length"
         assert a["total_order"]["particles.friction"] == 0.0
     assert u["driver"] == "container.length"
+    env = u["bands"]["envelope"]
+    assert env["time"][0] == 0.0 and env["time"][-1] == pytest.approx(1.0)
+    assert env["nominal"][0] == pytest.approx(0.058)  # the release, |x0|
+    assert "envelope" not in u["answers"]
 
 
 def test_cli_uncertain_option_is_the_scenario_syntax(cli):

@@ -97,3 +97,17 @@ def test_bad_standard_deviation(sd):
 def test_non_finite_answers_are_an_error():
     with pytest.raises(InputError):
         propagate(lambda p: {"y": np.inf}, [UncertainInput("x", 0.0, 1.0)], 8)
+
+
+def test_array_answers_get_a_band():
+    t = np.linspace(0.0, 1.0, 5)
+    r = propagate(lambda p: {"y": p["k"], "curve": np.exp(-p["k"] * t)},
+                  [UncertainInput("k", 1.0, 0.1)], 512, 2)
+    b = r.bands["curve"]
+    assert set(r.answers) == {"y"}
+    assert np.allclose(b["nominal"], np.exp(-t))
+    # exp(-k t) is monotone in k: its percentiles are those of k mapped through it (up to
+    # the interpolation between neighbouring samples)
+    k = r.answers["y"].percentiles
+    assert np.allclose(b["p5"], np.exp(-k[95.0] * t), rtol=1e-3)
+    assert np.allclose(b["p95"], np.exp(-k[5.0] * t), rtol=1e-3)

@@ -158,6 +158,12 @@ def test_the_user_scenario_is_what_the_report_shows(reports):
     assert amp["driver"] == "container.length"  # friction does not enter the analytic model
     assert amp["total_order"]["particles.friction"] == 0.0
     assert d["at"] == 0.6 and d["version"] == __version__
+    band = u["bands"]["envelope"]  # the band of the free decay's envelope
+    assert len(band["time"]) == len(band["p5"]) == len(band["p95"]) > 10
+    assert band["time"][-1] == pytest.approx(1.2)
+    assert all(lo <= m <= hi for lo, m, hi in zip(band["p5"], band["p50"], band["p95"]))
+    assert band["nominal"][0] == pytest.approx(0.04)  # released from -40 mm
+    assert max(h - lo for lo, h in zip(band["p5"], band["p95"])) > 0
 
 
 def test_example_report_has_the_papers_landscape(reports):

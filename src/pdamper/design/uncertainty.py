@@ -147,6 +147,10 @@ class UncertaintyResult:
     #: the 2 n input points of A and B (d, 2 n) and the answers there (name -> (2 n,))
     samples: np.ndarray = field(repr=False, compare=False, default=None)
     values: dict[str, np.ndarray] = field(repr=False, compare=False, default_factory=dict)
+    #: answers that are arrays (e.g. an envelope over time): name -> {"nominal", "mean",
+    #: "std", "p5", ..., "p95"} per element over the 2 n points of A and B (no indices)
+    bands: dict[str, dict[str, np.ndarray]] = field(repr=False, compare=False,
+                                                    default_factory=dict)
 
     @property
     def driver(self) -> str | None:
@@ -162,6 +166,8 @@ class UncertaintyResult:
                 "percentiles": list(PERCENTILES),
                 "inputs": [u.as_dict() for u in self.inputs],
                 "answers": {k: a.as_dict() for k, a in self.answers.items()},
+                "bands": {k: {q: np.asarray(v).tolist() for q, v in b.items()}
+                          for k, b in self.bands.items()},
                 "driver": self.driver}
 
 
@@ -244,8 +250,10 @@ def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
     Parameters
     ----------
     evaluate
-        ``evaluate({field: value}) -> {answer: value}``: the answers (floats) at one
-        point; the same answer names at every point.
+        ``evaluate({field: value}) -> {answer: value}``: the answers at one point; the
+        same answer names at every point. A float answer gets its statistics and Sobol'
+        indices; an array answer (same shape at every point) its band: the mean, std and
+        percentiles of each element over A and B (:attr:`UncertaintyResult.bands`).
     inputs
         The uncertain inputs (distinct fields).
     n
@@ -277,22 +285,27 @@ def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
     a, b = design_matrices(inputs, n, seed)
     d = len(inputs)
     nominal = evaluate({u.field: u.value for u in inputs})
-    answers = list(nominal)
+    answers = [k for k, v in nominal.items() if np.ndim(v) == 0]
+    arrays = {k: np.asarray(v, float) for k, v in nominal.items() if np.ndim(v) > 0}
+    series: dict[str, list] = {k: [] for k in arrays}
     total = n * (d + 2)
     done = 0
 
-    def run(x: np.ndarray) -> np.ndarray:  # (d, m) -> (s, m)
+    def run(x: np.ndarray, keep: bool = False) -> np.ndarray:  # (d, m) -> (s, m)
         nonlocal done
         out = np.empty((len(answers), x.shape[1]))
         for j in range(x.shape[1]):
             res = evaluate({u.field: float(x[i, j]) for i, u in enumerate(inputs)})
             out[:, j] = [float(res[k]) for k in answers]
+            if keep:
+                for k in arrays:
+                    series[k].append(np.asarray(res[k], float))
             done += 1
             if progress is not None:
                 progress(done, total)
         return out
 
-    f_a, f_b = run(a), run(b)
+    f_a, f_b = run(a, True), run(b, True)
     f_ab = np.empty((d, len(answers), n))
     for i in range(d):
         ab = a.copy()
@@ -325,9 +338,15 @@ def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
              for i, u in enumerate(names)},
             {u: (0.0, 0.0) if flat else (float(ci_t[0][s, i]), float(ci_t[1][s, i]))
              for i, u in enumerate(names)})
+    bands = {}
+    for k, rows in series.items():
+        v = np.stack(rows)
+        q = np.percentile(v, PERCENTILES, axis=0)
+        bands[k] = {"nominal": arrays[k], "mean": v.mean(axis=0), "std": v.std(axis=0, ddof=1),
+                    **{f"p{p:g}": q[i] for i, p in enumerate(PERCENTILES)}}
     return UncertaintyResult(inputs, out, n, int(seed), total + 1,
                              time.perf_counter() - t0, np.concatenate([a, b], axis=1),
-                             {k: both[s] for s, k in enumerate(answers)})
+                             {k: both[s] for s, k in enumerate(answers)}, bands)
 
 
 __all__ = ["PERCENTILES", "AnswerSpread", "UncertainInput", "UncertaintyResult",

@@ -45,7 +45,10 @@ _SPLIT = re.compile(r"\s*(?:\+-|\+/-|±)\s*")
 _SAMPLE_RATE = 200.0
 LEVEL2_UNITS = {"loss_factor": "1", "effective_mass_ratio": "1", "effective_mass": "kg",
                 "dissipated_energy_per_cycle": "J"}
-LEVEL3_UNITS = {"amplitude_at": "m", "final_amplitude": "m", "mean_damping_ratio": "1"}
+LEVEL3_UNITS = {"amplitude_at": "m", "final_amplitude": "m", "mean_damping_ratio": "1",
+                "envelope": "m"}
+#: Times of the Level III envelope band (from release to the end of the run).
+ENVELOPE_POINTS = 101
 
 
 def is_uncertain(value: Any) -> bool:
@@ -142,7 +145,8 @@ def level2_answers(scenario, model: str | None = None):
 def level3_answers(scenario, model: str | None = None):
     """``evaluate(values) -> answers`` of the free decay of ``[simulation]``: amplitude
     envelope at ``[optimization] at``, final amplitude, mean damping ratio of the cycles
-    that end by then (Eqs. 24-25; :data:`LEVEL3_UNITS`)."""
+    that end by then (Eqs. 24-25; :data:`LEVEL3_UNITS`), and the envelope at
+    :data:`ENVELOPE_POINTS` times from 0 to the duration (``envelope``: its band)."""
     from pdamper.coupling import Simulation
     from pdamper.design.study import make_objective
 
@@ -152,7 +156,11 @@ def level3_answers(scenario, model: str | None = None):
         raise InputError("optimization.at", f"the time of the amplitude ({at:g} s) must be "
                          f"within the simulated {duration:g} s (simulation.duration)")
 
-    def evaluate(values: dict[str, float]) -> dict[str, float]:
+    import numpy as np
+
+    times = np.linspace(0.0, duration, ENVELOPE_POINTS)
+
+    def evaluate(values: dict[str, float]) -> dict:
         sc = with_values(scenario, values)
         structure = sc.structure_model()
         x0 = sc.structure.initial_displacement
@@ -160,7 +168,8 @@ def level3_answers(scenario, model: str | None = None):
                                                                            _SAMPLE_RATE)
         zeta, _ = make_objective("mean-damping", at, x0, structure).evaluate(res)
         return {"amplitude_at": float(res.amplitude_at(at)),
-                "final_amplitude": float(res.final_amplitude), "mean_damping_ratio": zeta}
+                "final_amplitude": float(res.final_amplitude), "mean_damping_ratio": zeta,
+                "envelope": np.array([res.amplitude_at(t) for t in times])}
 
     return evaluate
 
@@ -206,7 +215,13 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
             raise InputError(exc.field, f"at the uncertainty sample {shown}: "
                              f"{exc.message}{hint}") from None
 
-    return propagate(checked, inputs, n, seed, units=units, progress=progress)
+    result = propagate(checked, inputs, n, seed, units=units, progress=progress)
+    if "envelope" in result.bands:  # its times: release to the end of the run [s]
+        import numpy as np
+
+        result.bands["envelope"]["time"] = np.linspace(0.0, scenario.simulation.duration,
+                                                       ENVELOPE_POINTS)
+    return result
 
 
 __all__ = ["UNCERTAIN_FIELDS", "check_cost", "extract_uncertain", "is_uncertain",

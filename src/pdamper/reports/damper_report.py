@@ -262,18 +262,34 @@ def figures(rep: DamperReport) -> list[ReportFigure]:
                             "Pareto front of added mass against the objective", _png(fig)))
     if "level3" in rep.uncertainty:
         out.append(ReportFigure("uncertainty", "spread of the answers under the uncertain "
-                                "inputs and the inputs' total Sobol' indices",
+                                "inputs (histograms, the envelope's 5-95 % band) and the "
+                                "inputs' total Sobol' indices",
                                 _png(uncertainty_figure(rep.uncertainty))))
     return out
 
 
 def uncertainty_figure(results: dict):
     """Histograms of the Level III amplitude at t and the Level II loss factor with their
-    5-95 % band, and the total Sobol' index of each input per answer."""
+    5-95 % band, the band of the Level III envelope over time, and the total Sobol' index
+    of each input per answer."""
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(15, 4.4), layout="constrained")
-    ax = fig.subplots(1, 3)
+    fig = Figure(figsize=(15, 8.8), layout="constrained")
+    grid = fig.subplots(2, 2)
+    ax = [grid[0, 0], grid[0, 1], grid[1, 1]]
+    band = results["level3"].bands.get("envelope") if "level3" in results else None
+    if band is not None:
+        a, t = grid[1, 0], band["time"]
+        a.fill_between(t, band["p5"] * 1e3, band["p95"] * 1e3, color="C1", alpha=0.3,
+                       label="5-95 %")
+        a.plot(t, band["mean"] * 1e3, "k", lw=1, label="mean")
+        a.plot(t, band["nominal"] * 1e3, "C3--", lw=1, label="nominal inputs")
+        a.set_xlabel("time t [s]")
+        a.set_ylabel("amplitude envelope [mm]")
+        a.set_title("free decay under the uncertain inputs (analytical model)")
+        a.legend(fontsize="x-small")
+    else:
+        grid[1, 0].set_axis_off()
     for a, (level, name, k, unit) in zip(ax[:2], (("level3", "amplitude_at", 1e3, "mm"),
                                                   ("level2", "loss_factor", 1.0, "-")),
                                          strict=True):
