@@ -76,14 +76,6 @@ _MODES = ("frequency [Hz], damping ratio [1], damper [kg^-0.5]\n"
           "6.0, 0.005, 0.9\n17.5, 0.008, 0.5\n")
 
 
-def _write_example(tmp, cli):
-    code, out, _ = cli("example-scenario")
-    assert code == 0
-    p = tmp / "example.toml"
-    p.write_text(out)
-    return p
-
-
 @pytest.fixture(scope="module")
 def reports(tmp_path_factory):
     """The example scenario (as `pdamper example-scenario` prints it) and the user's."""
@@ -161,9 +153,10 @@ def test_the_user_scenario_is_what_the_report_shows(reports):
     band = u["bands"]["envelope"]  # the band of the free decay's envelope
     assert len(band["time"]) == len(band["p5"]) == len(band["p95"]) > 10
     assert band["time"][-1] == pytest.approx(1.2)
-    assert all(lo <= m <= hi for lo, m, hi in zip(band["p5"], band["p50"], band["p95"]))
+    assert all(lo <= m <= hi for lo, m, hi in zip(band["p5"], band["p50"], band["p95"],
+                                                  strict=True))
     assert band["nominal"][0] == pytest.approx(0.04)  # released from -40 mm
-    assert max(h - lo for lo, h in zip(band["p5"], band["p95"])) > 0
+    assert max(h - lo for lo, h in zip(band["p5"], band["p95"], strict=True)) > 0
 
 
 def test_example_report_has_the_papers_landscape(reports):
