@@ -89,3 +89,26 @@ def test_without_uncertainty_the_nominal_value_runs_and_the_sd_is_recorded(tmp_p
     (u,) = d["uncertain_inputs"]
     assert u["field"] == "container.length" and u["sd"] == pytest.approx(2e-4)
     assert u["distribution"] == "normal truncated to the valid range"
+
+
+def test_map_carries_the_spread_of_every_cell(tmp_path, cli):
+    import numpy as np
+    import xarray as xr
+
+    m = tmp_path / "map.nc"
+    code, out, err = cli("map", "--particles", "32", "--frequency", "4Hz:20Hz:5",
+                         "--amplitude", "log:2mm:128mm:7", "--out", m, "--uncertain",
+                         "container.length=120mm+-1mm", "--uncertain",
+                         "particles.friction=0.1+-0.03", "--uncertainty", "8", "--json")
+    assert code == 0, err
+    u = json.loads(out)["uncertainty"]
+    assert u["answers"]["mean_loss_factor"]["driver"] == "container.length"
+    assert u["answers"]["mean_loss_factor"]["total_order"]["particles.friction"] == 0.0
+    with xr.open_dataset(m) as ds:
+        assert set(u["variables"]) <= set(ds.data_vars)
+        p5, p50, p95 = (ds[f"loss_factor_{q}"].values for q in ("p5", "p50", "p95"))
+        assert p5.shape == ds["loss_factor"].shape == (5, 7)
+        ok = np.isfinite(p5)
+        assert np.all(p5[ok] <= p50[ok]) and np.all(p50[ok] <= p95[ok])
+        assert np.nanmax(ds["loss_factor_std"].values) > 0  # the clearance moves some cells
+        assert ds["loss_factor_std"].attrs["uncertainty_points"] == 8

@@ -85,3 +85,30 @@ def lines(result, scale: dict[str, tuple[float, str]]) -> list[str]:
                    + ("" if a.driver is None else
                       f" (total index {a.total_order[a.driver]:.2f})"))
     return out
+
+
+def map_spread(sc, model: str, n: int, seed: int, ds, out):
+    """The map's spread under the uncertain inputs: ``<answer>_mean``, ``_std``, ``_p5``
+    ... ``_p95`` variables added to ``ds`` (and to the NetCDF file ``out``, written
+    again), and the result's JSON without the per-cell bands (they are in the file)."""
+    from pdamper.io.uncertain import MAP_BANDS, propagate_scenario
+
+    spread = propagate_scenario(sc, "map", n, seed, model=model)
+    dims = ds["loss_factor"].dims
+    new = {}
+    for name in MAP_BANDS:
+        for stat, values in spread.bands[name].items():
+            if stat == "nominal":
+                continue
+            new[f"{name}_{stat}"] = (dims, values, {
+                "long_name": f"{stat} of {name} under the uncertain inputs",
+                "units": "1", "uncertainty_seed": seed, "uncertainty_points": n})
+    ds = ds.assign(new)
+    if out is not None:
+        from pdamper.files import atomic_write_netcdf
+
+        atomic_write_netcdf(out, ds)
+    d = spread.as_dict()
+    d["bands"] = {k: sorted(v) for k, v in d["bands"].items()}  # names only: in the file
+    d["variables"] = sorted(new)
+    return spread, d

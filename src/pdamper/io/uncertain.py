@@ -5,7 +5,7 @@ A scenario value (or a command-line ``--uncertain FIELD=VALUE+-SD``) written as
 *standard deviation*, both with the field's unit; the input is then normal with that mean
 and standard deviation, truncated to the field's valid range
 (:class:`pdamper.design.uncertainty.UncertainInput`). Every command uses the nominal value;
-``--uncertainty N`` (``pdamper analytic``, ``pdamper simulate``, ``pdamper report``)
+``--uncertainty N`` (``pdamper analytic``, ``map``, ``simulate``, ``report``)
 samples the inputs (:func:`pdamper.design.uncertainty.propagate`) and reports the spread of
 the answers and which input drives it.
 
@@ -174,6 +174,35 @@ def level3_answers(scenario, model: str | None = None):
     return evaluate
 
 
+def map_answers(scenario, model: str = "analytic"):
+    """``evaluate(values) -> answers`` of the Level II map of ``[map]``: the largest and
+    the mean loss factor over the grid (scalars), and the loss factor and effective mass
+    ratio of every cell (arrays: their bands, :data:`MAP_BANDS`)."""
+    _model_class(scenario, model)
+    f, x = scenario.map_grid()
+    counts = scenario.map_particles()
+
+    def evaluate(values: dict[str, float]) -> dict:
+        import numpy as np
+
+        from pdamper.analysis.fields import effective_field
+
+        sc = with_values(scenario, values)
+        ds = effective_field(sc.map_model(model, sc.damper()), f, x, particles=counts)
+        eta = np.asarray(ds["loss_factor"].values, float)
+        return {"max_loss_factor": float(np.nanmax(eta)),
+                "mean_loss_factor": float(np.nanmean(eta)), "loss_factor": eta,
+                "effective_mass_ratio": np.asarray(ds["effective_mass_ratio"].values, float)}
+
+    return evaluate
+
+
+#: The map's answers whose bands become variables of its NetCDF file.
+MAP_BANDS = ("loss_factor", "effective_mass_ratio")
+MAP_UNITS = {"max_loss_factor": "1", "mean_loss_factor": "1", "loss_factor": "1",
+             "effective_mass_ratio": "1"}
+
+
 def check_cost(scenario, level: str, n: int, force: bool = False) -> None:
     """Refuse a propagation whose ``n (d + 2) + 1`` runs exceed the limits of
     :mod:`pdamper.resources`."""
@@ -181,7 +210,12 @@ def check_cost(scenario, level: str, n: int, force: bool = False) -> None:
 
     d = len(scenario.uncertain_inputs())
     runs = n * (d + 2) + 1
-    if level == "level3":
+    if level == "map":
+        (_, _, nf), (_, _, nx) = scenario.map_ranges()
+        counts = scenario.map_particles()
+        one = resources.analytic_map_cost(float(nf) * nx * (1 if counts is None
+                                                            else counts.size))
+    elif level == "level3":
         one = resources.pseudo_force_cost(scenario.simulation.duration, _SAMPLE_RATE,
                                           scenario.structure_model().natural_frequency)
     else:
@@ -194,8 +228,8 @@ def check_cost(scenario, level: str, n: int, force: bool = False) -> None:
 
 def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str | None = None,
                        progress=None):
-    """Propagate the scenario's uncertain inputs to its ``"level2"`` or ``"level3"``
-    answers with ``n`` base points (:func:`pdamper.design.uncertainty.propagate`). A
+    """Propagate the scenario's uncertain inputs to its ``"level2"``, ``"map"`` or
+    ``"level3"`` answers with ``n`` base points (:func:`pdamper.design.uncertainty.propagate`). A
     sample the models refuse is an error naming its field and the sample."""
     from pdamper.design.uncertainty import check_points, propagate
 
@@ -203,6 +237,8 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
     inputs = scenario.uncertain_inputs()
     if level == "level2":
         evaluate, units = level2_answers(scenario, model), LEVEL2_UNITS
+    elif level == "map":
+        evaluate, units = map_answers(scenario, model or "analytic"), MAP_UNITS
     else:
         evaluate, units = level3_answers(scenario, model), LEVEL3_UNITS
 
@@ -224,6 +260,6 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
     return result
 
 
-__all__ = ["UNCERTAIN_FIELDS", "check_cost", "extract_uncertain", "is_uncertain",
-           "level2_answers", "level3_answers", "parse_uncertain", "propagate_scenario",
+__all__ = ["MAP_BANDS", "UNCERTAIN_FIELDS", "check_cost", "extract_uncertain",
+           "is_uncertain", "level2_answers", "level3_answers", "map_answers", "parse_uncertain", "propagate_scenario",
            "with_values"]
