@@ -261,5 +261,5 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
 
 
 __all__ = ["MAP_BANDS", "UNCERTAIN_FIELDS", "check_cost", "extract_uncertain",
-           "is_uncertain", "level2_answers", "level3_answers", "map_answers", "parse_uncertain", "propagate_scenario",
-           "with_values"]
+           "is_uncertain", "level2_answers", "level3_answers", "map_answers",
+           "parse_uncertain", "propagate_scenario", "with_values"]
