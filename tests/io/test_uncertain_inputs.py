@@ -38,3 +38,12 @@ def test_scenario_takes_the_nominal_value_and_keeps_the_input(tmp_path):
     assert [u.field for u in sc.uncertain_inputs()] == ["particles.friction",
                                                         "container.length"]
     assert load_scenario(None).uncertain_inputs() == ()
+
+
+def test_a_dict_scenario_takes_the_same_syntax_and_stays_as_given():
+    from pdamper.io.scenario import scenario_from_dict
+
+    data = {"particles": {"friction": "0.2 ± 0.01"}}
+    sc = scenario_from_dict(data)
+    assert sc.particles.friction == 0.2 and sc.uncertain_inputs()[0].sd == 0.01
+    assert data == {"particles": {"friction": "0.2 ± 0.01"}}

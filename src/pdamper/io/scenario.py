@@ -861,11 +861,20 @@ def _validate(sc: Scenario) -> None:
 
 
 def scenario_from_dict(data: dict) -> Scenario:
-    """Validate a dict (parsed TOML) into a :class:`Scenario`."""
+    """Validate a dict (parsed TOML) into a :class:`Scenario`; a value ``"value +- sd"``
+    is validated as its nominal value and kept as an uncertain input
+    (:meth:`Scenario.uncertain_inputs`, :mod:`pdamper.io.uncertain`)."""
+    import copy
+
+    from pdamper.io.uncertain import extract_uncertain
+
+    data = copy.deepcopy(data)  # the caller's dict stays as given
+    uncertain = extract_uncertain(data)
     try:
         sc = Scenario.model_validate(data)
     except ValidationError as exc:
         raise _first_error(exc) from None
+    sc._uncertain = uncertain
     _validate(sc)
     return sc
 
@@ -929,11 +938,7 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
         if not isinstance(node, dict):
             raise InputError(section, "must be a table")
         node[name] = value
-    from pdamper.io.uncertain import extract_uncertain
-
-    uncertain = extract_uncertain(data)  # "value +- sd": the nominal value validated
     sc = scenario_from_dict(data)
-    sc._uncertain = uncertain
     for run in runs:
         sc.check_resources(run, model, force)
     return sc
