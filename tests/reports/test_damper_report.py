@@ -138,6 +138,7 @@ def test_the_user_scenario_is_what_the_report_shows(reports):
     text = " ".join(_page(out).text)
     d = json.loads((out / "results.json").read_text())
     assert "my steel" in text and "my PMMA" in text
+    assert "particles.friction = 0.1 +- 0.03" in text  # the inputs table keeps the sd
     assert "2 mode(s) at 6, 17.5 Hz" in text
     st = d["design_study"]
     assert [c["particles"] for c in st["candidates"]] == [0, 12, 24, 36, 48, 60]

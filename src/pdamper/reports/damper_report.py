@@ -60,6 +60,7 @@ class DamperReport:
     seeds: dict = field(default_factory=dict)
     at: float = 0.0
     figures: list = field(default_factory=list)
+    uncertain: tuple = ()  # the scenario's "value +- sd" inputs
 
     def models(self) -> list[dict]:
         """One row per Level III run: label, model, source, amplitude at ``at``, final
@@ -136,6 +137,7 @@ def run_damper_report(scenario, *, dem: bool = False, uncertainty: int | None = 
     rep = DamperReport(sc.title, __version__, sc.model_dump(mode="json"), damper, structure,
                        at=min(sc.optimization.at, duration))
     rep.seeds = {"dem.seed": sc.dem.seed, "optimization.seed": sc.optimization.seed}
+    rep.uncertain = sc.uncertain_inputs()
 
     say("Level II: analytical map")
     rep.level2_map = _timed(rep, "Level II: analytical map",
@@ -382,9 +384,16 @@ def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:
         ["clearance h, optimal stroke h/pi", f"{d.clearance * 1e3:.2f} mm, "
                                              f"{d.optimal_stroke * 1e3:.2f} mm"],
         ["friction mu", f"{d.friction:g}"],
+        ["excitation (Level II answers)", f"f = {rep.inputs['excitation']['frequency']:g} Hz, "
+                                          f"X = {rep.inputs['excitation']['amplitude'] * 1e3:g}"
+                                          f" mm, g = {rep.inputs['excitation']['gravity']:g} "
+                                          "m/s^2"],
         ["structure", _structure_text(rep.structure)],
         ["release x0, duration", f"{rep.inputs['structure']['initial_displacement'] * 1e3:g} "
-                                 f"mm, {rep.inputs['simulation']['duration']:g} s"]],
+                                 f"mm, {rep.inputs['simulation']['duration']:g} s"],
+        *([["uncertain inputs (standard deviations)", "; ".join(
+            f"{u.field} = {u.value:.6g} +- {u.sd:.3g} {u.unit}".rstrip()
+            for u in rep.uncertain)]] if rep.uncertain else [])],
         "inputs")
     models = rep.models()
     model_table = _table(["run", "model", "damper data", f"amplitude at {rep.at:g} s [mm]",
