@@ -970,6 +970,8 @@ count = {p.count}                  # n_p; at most n_max (16 per layer x 12 layer
 radius = "{q(p.radius, 'mm')}"
 material = "{p.material}"
 friction = {p.friction}              # sliding friction coefficient mu of every contact (DEM)
+# friction = "0.1 +- 0.03"  # a value with its standard deviation (also lengths, masses, ...):
+#                           # --uncertainty N samples it (docs/design.md)
 
 [excitation]                # Level II: x_c = X sin(2 pi f t)
 frequency = "{q(x.frequency, 'Hz')}"
