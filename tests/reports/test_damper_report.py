@@ -92,7 +92,7 @@ def reports(tmp_path_factory):
     (tmp / "user.toml").write_text(_USER)
     (tmp / "modes.csv").write_text(_MODES)
     out = {}
-    for name, extra in (("example", []), ("user", ["--uncertainty", "16"])):
+    for name, extra in (("example", []), ("user", ["--uncertainty", "8"])):
         buf = io.StringIO()
         with contextlib.redirect_stdout(buf):
             code = main(["report", "--scenario", str(tmp / f"{name}.toml"), "--out",
@@ -145,7 +145,7 @@ def test_the_user_scenario_is_what_the_report_shows(reports):
     assert st["front"] and st["best"] and st["lightest_within"]
     assert _page(out).rows["landscape"] == 1 + 6
     u = d["uncertainty"]["level3"]
-    assert u["points"] == 16 and u["seed"] == 0
+    assert u["points"] == 8 and u["seed"] == 0
     assert {i["field"] for i in u["inputs"]} == {"container.length", "particles.friction"}
     amp = u["answers"]["amplitude_at"]
     assert amp["driver"] == "container.length"  # friction does not enter the analytic model
