@@ -72,6 +72,13 @@ SCENARIOS = {
     "beam_three_modes": "[structure]\nbeam = { modes = 3, elements = 20 }\n",
     # -- gravity
     "gravity_inf": "[excitation]\ngravity = inf\n",
+    # -- input uncertainty: "value +- sd" in a scenario
+    "uncertain_friction": '[particles]\nfriction = "0.1 +- 0.03"\n',
+    "uncertain_friction_negative_sd": '[particles]\nfriction = "0.1 +- -0.03"\n',
+    "uncertain_length_no_unit_sd": '[container]\nlength = "120 mm +- 0.1"\n',
+    "uncertain_count": '[particles]\ncount = "64 +- 2"\n',
+    "uncertain_short_run": '[particles]\nfriction = "0.1 +- 0.03"\n[simulation]\n'
+                           'duration = "0.5 s"\n',
 }
 
 
@@ -355,6 +362,51 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("gravity-not-an-acceleration", ["dem", "--gravity", "9.81 m/s"],
      Error("excitation.gravity")),
     ("ok-analytic-gravity-zero", ["analytic", "--gravity", "0 m/s^2", "--json"], OK()),
+    # -- input uncertainty: "value +- sd" (scenario, --uncertain) and --uncertainty N
+    ("uncertain-negative-sd", ["analytic", "--scenario",
+                               "{scenario:uncertain_friction_negative_sd}"],
+     Error("particles.friction")),
+    ("uncertain-sd-without-unit", ["analytic", "--scenario",
+                                   "{scenario:uncertain_length_no_unit_sd}"],
+     Error("container.length")),
+    ("uncertain-count", ["analytic", "--scenario", "{scenario:uncertain_count}"],
+     Error("particles.count")),
+    ("uncertain-cli-no-equals", ["analytic", "--uncertain", "0.1+-0.03", "--uncertainty", "8"],
+     Error("uncertain")),
+    ("uncertain-cli-no-sd", ["analytic", "--uncertain", "particles.friction=0.1",
+                             "--uncertainty", "8"], Error("particles.friction")),
+    ("uncertain-cli-two-signs", ["analytic", "--uncertain", "particles.friction=0.1+-0.03+-1"],
+     Error("particles.friction")),
+    ("uncertain-cli-zero-sd", ["simulate", "--uncertain", "particles.friction=0.1+-0"],
+     Error("particles.friction")),
+    ("uncertain-cli-unknown-field", ["analytic", "--uncertain", "particles.colour=1+-0.1"],
+     Error("particles.colour")),
+    ("uncertainty-not-power-of-two", ["analytic", "--scenario", "{scenario:uncertain_friction}",
+                                      "--uncertainty", "10"], Error("uncertainty")),
+    ("uncertainty-without-uncertain-input", ["analytic", "--uncertainty", "8"],
+     Error("uncertainty")),
+    ("uncertainty-dem", ["simulate", "--model", "dem", "--scenario",
+                         "{scenario:uncertain_friction}", "--uncertainty", "8"],
+     Error("uncertainty")),
+    ("uncertain-twice", ["analytic", "--particles", "32", "--uncertain",
+                         "excitation.frequency=10Hz+-1Hz", "--frequency", "10Hz"],
+     Error("excitation.frequency")),
+    ("ok-analytic-uncertain-nominal", ["analytic", "--scenario",
+                                       "{scenario:uncertain_friction}", "--json"], OK()),
+    ("ok-analytic-uncertainty", ["analytic", "--scenario", "{scenario:uncertain_friction}",
+                                 "--uncertainty", "4", "--json"], OK()),
+    # -- pdamper report: its output directory and options, judged before any run
+    ("report-out-no-parent", ["report", "--out", "{tmp}/no/such/dir"], Error("out")),
+    ("report-out-is-a-file", ["report", "--out", "{tmp}/file"], Error("out")),
+    ("report-uncertainty-odd", ["report", "--scenario", "{scenario:uncertain_friction}",
+                                "--out", "{tmp}/r", "--uncertainty", "6"], Error("uncertainty")),
+    ("report-workers-zero", ["report", "--out", "{tmp}/r", "--workers", "0"], Error("workers")),
+    ("report-uncertain-amplitude-after-the-run", ["report", "--scenario",
+                                                  "{scenario:uncertain_short_run}", "--out",
+                                                  "{tmp}/r"], Error("optimization.at")),
+    ("simulate-uncertain-amplitude-after-the-run", [
+        "simulate", "--scenario", "{scenario:uncertain_short_run}", "--uncertainty", "4"],
+     Error("optimization.at")),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

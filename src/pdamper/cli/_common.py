@@ -76,7 +76,11 @@ def metadata(scenario, **extra) -> dict:
     """Inputs, version (and seed etc. in ``extra``) recorded with every result."""
     from pdamper import __version__
 
-    return {"inputs": scenario.model_dump(mode="json"), "version": __version__, **extra}
+    out = {"inputs": scenario.model_dump(mode="json"), "version": __version__, **extra}
+    uncertain = getattr(scenario, "uncertain_inputs", tuple)()
+    if uncertain:  # "value +- sd": the inputs hold the nominal value, this the rest
+        out["uncertain_inputs"] = [u.as_dict() for u in uncertain]
+    return out
 
 
 def check_output(path: str | None, field: str = "out") -> Path | None:

@@ -7,6 +7,7 @@ from typing import Annotated
 
 import typer
 
+from pdamper.cli import _uncertainty
 from pdamper.cli._common import (
     ForceOpt,
     JsonOpt,
@@ -70,6 +71,9 @@ def simulate(
     modes: Annotated[Path | None, typer.Option(
         help="The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
              "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF.")] = None,
+    uncertainty: _uncertainty.UncertaintyOpt = None,
+    uncertain: _uncertainty.UncertainOpt = None,
+    uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -80,11 +84,16 @@ def simulate(
     from pdamper.coupling import Simulation
     from pdamper.errors import InputError
 
-    sc = load(scenario, runs=("simulation",), force=force, simulation__model=model,
-              particles__count=particles, simulation__duration=duration,
-              structure__initial_displacement=initial_displacement,
-              fields__file=None if fields is None else str(fields),
-              structure__modes=None if modes is None else str(modes))
+    sc = load(scenario, runs=("simulation",), force=force, **_uncertainty.merged(dict(
+        simulation__model=model, particles__count=particles, simulation__duration=duration,
+        structure__initial_displacement=initial_displacement,
+        fields__file=None if fields is None else str(fields),
+        structure__modes=None if modes is None else str(modes)), uncertain))
+    _uncertainty.check(sc, "level3", uncertainty, force)
+    if uncertainty is not None:  # the sampled model refused before any run
+        from pdamper.io.uncertain import level3_answers
+
+        level3_answers(sc)
     out = check_output(out)
     plot = check_plot(plot)
     names = [sc.simulation.model]
@@ -146,6 +155,12 @@ def simulate(
             "units": {"peak_rms_error": "m", "peak_rms_relative": "1", "time_drift": "s",
                       "phase_drift": "rad", "zeta": "1"},
         }
+    spread = None
+    if uncertainty is not None:
+        from pdamper.io.uncertain import propagate_scenario
+
+        spread = propagate_scenario(sc, "level3", uncertainty, uncertainty_seed)
+        payload["uncertainty"] = spread.as_dict()
     payload.update(meta)
     if plot is not None:
         _figure(plot, runs, aligned, comparisons)
@@ -165,6 +180,9 @@ def simulate(
                          f"({c.peak_rms_relative * 100:.2f} %), zeta RMS error "
                          f"{c.zeta_rms_error:.4f}, phase drift {c.final_phase_drift:+.3f} rad "
                          f"after {c.peaks} peaks")
+    if spread is not None:
+        lines += _uncertainty.lines(spread, {"amplitude_at": (1e3, "mm"),
+                                             "final_amplitude": (1e3, "mm")})
     emit(payload, as_json, "\n".join(lines))
 
 

@@ -29,6 +29,7 @@ from pydantic import (
     BeforeValidator,
     ConfigDict,
     Field,
+    PrivateAttr,
     ValidationError,
     field_validator,
     model_validator,
@@ -417,6 +418,13 @@ class Scenario(_Section):
     fields: FieldsSpec = FieldsSpec()
     dem: DEMSpec = DEMSpec()
     restitution: RestitutionSpec = RestitutionSpec()
+    #: inputs given as "value +- sd" (field -> UncertainInput; pdamper.io.uncertain)
+    _uncertain: dict = PrivateAttr(default_factory=dict)
+
+    def uncertain_inputs(self) -> tuple:
+        """The :class:`~pdamper.design.uncertainty.UncertainInput` of every value given
+        as ``"value +- sd"`` (:mod:`pdamper.io.uncertain`), in the file's order."""
+        return tuple(self._uncertain.values())
 
     # -- builders of the domain objects ------------------------------------------------
     def damper(self):
@@ -853,11 +861,20 @@ def _validate(sc: Scenario) -> None:
 
 
 def scenario_from_dict(data: dict) -> Scenario:
-    """Validate a dict (parsed TOML) into a :class:`Scenario`."""
+    """Validate a dict (parsed TOML) into a :class:`Scenario`; a value ``"value +- sd"``
+    is validated as its nominal value and kept as an uncertain input
+    (:meth:`Scenario.uncertain_inputs`, :mod:`pdamper.io.uncertain`)."""
+    import copy
+
+    from pdamper.io.uncertain import extract_uncertain
+
+    data = copy.deepcopy(data)  # the caller's dict stays as given
+    uncertain = extract_uncertain(data)
     try:
         sc = Scenario.model_validate(data)
     except ValidationError as exc:
         raise _first_error(exc) from None
+    sc._uncertain = uncertain
     _validate(sc)
     return sc
 
@@ -953,6 +970,8 @@ count = {p.count}                  # n_p; at most n_max (16 per layer x 12 layer
 radius = "{q(p.radius, 'mm')}"
 material = "{p.material}"
 friction = {p.friction}              # sliding friction coefficient mu of every contact (DEM)
+# friction = "0.1 +- 0.03"  # a value with its standard deviation (also lengths, masses, ...):
+#                           # --uncertainty N samples it (docs/design.md)
 
 [excitation]                # Level II: x_c = X sin(2 pi f t)
 frequency = "{q(x.frequency, 'Hz')}"
