@@ -20,6 +20,7 @@ import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -37,9 +38,6 @@ from pdamper.dem.kernels import gear as _gear
 from pdamper.dem.kernels import state as K
 from pdamper.dem.kernels import verlet as _verlet
 from pdamper.dem.model import (
-    DEFAULT_GEAR_TOLERANCE,
-    DEFAULT_GEAR_VELOCITY_SCALE,
-    DEFAULT_SAFETY,
     INTEGRATORS,
     OVERLAP_WARNING_LIMIT,
     Container,
@@ -50,6 +48,9 @@ from pdamper.dem.model import (
     StructureMotion,
 )
 from pdamper.errors import InputError, SimulationError, check_range, check_whole
+
+if TYPE_CHECKING:
+    from pdamper.dem.settings import EngineSettings
 
 log = logging.getLogger(__name__)
 
@@ -566,70 +567,26 @@ class DEMEngine:
     motion
         :class:`HarmonicMotion` (default: at rest), :class:`PrescribedMotion` or
         :class:`StructureMotion`.
-    integrator
-        ``"verlet"`` (fixed-step velocity Verlet), ``"gear"`` (variable-step fifth-order
-        Gear predictor-corrector, the paper's) or ``"auto"`` (Gear, handing the excitation
-        over to Verlet where Gear's steps fall below :data:`AUTO_COST_RATIO` x Verlet's).
-    safety
-        Time step = ``safety`` x Hertz contact duration at the reference speed (the Gear
-        integrator uses it as the step at a contact onset) [-].
-    gravity
-        g [m/s^2], acting along -z.
-    gear_tolerance, gear_velocity_scale
-        Error tolerance [-] and velocity scale [m/s] of the Gear step control.
-    gear_adaptive
-        False keeps the Gear step fixed (for convergence studies).
-    max_step
-        Upper bound of the Gear step [s] (default: 1e-4 s).
-    skin
-        Verlet-list skin [m] (default 0.2 x smallest radius).
-    settle_time
-        Settling under gravity in the resting container before the excitation [s]
-        (default sqrt(2 Lz / g) + 0.05 s; 0 to skip).
-    max_overlap
-        Overlap / radius at which the run stops [-] (default None: never; large overlaps
-        are a regime of fast impacts, reported as ``max_overlap_ratio`` and warned about
-        above ``OVERLAP_WARNING_LIMIT``).
-    reference_velocity
-        Impact speed at which the contact duration is evaluated [m/s] (default from the
-        excitation and the free fall over the container height).
-    gear_contact_bound
-        Bound the Gear step by the time to the next contact (never below
-        ``GEAR_ONSET_FACTOR`` x the Verlet step). Off by default: in a dense bed some pair
-        is always about to touch, and the bound doubled the steps at unchanged accuracy;
-        the error control with rejection resolves onsets (docs/dem.md).
-    seed
-        Recorded in the results (the engine itself is deterministic).
-    auto_cost_ratio
-        ``integrator="auto"`` hands over to Verlet when Gear's mean step falls below this
-        times Verlet's [-] (default :data:`AUTO_COST_RATIO`; ``inf``: at the first
-        judgement, 0: never).
-    gear_free_flight
-        Take the spheres that cannot touch anything before a horizon out of the Gear step
-        (multiple time stepping; their free flight is an exact parabola): the same physics
-        at a lower cost per step where few spheres are in contact (default True;
-        :mod:`pdamper.dem.kernels.flights`, docs/dem.md).
-    transient_cycles, gear_transient_tolerance
-        The first ``transient_cycles`` cycles of a harmonic excitation (the start from rest,
-        which the averaged window of a Level II run skips) run at the Gear tolerance
-        ``gear_transient_tolerance`` [-] instead of ``gear_tolerance`` (default 0: none;
-        the tolerance defaults to ``gear_tolerance``). The averaged window sees only the
-        motion after them, which for a chaotic bed starts another realisation
-        (docs/fields.md, section 1).
+    settings
+        :class:`~pdamper.dem.settings.EngineSettings`: integrator, step control, settling,
+        stops (default: ``EngineSettings()``). Each setting is also an attribute of the
+        engine (``engine.gear_tolerance``); the defaults left as None are resolved here
+        (``skin``, ``settle_time``, ``max_overlap``, ``reference_velocity``,
+        ``gear_transient_tolerance``).
+
+    Examples
+    --------
+    >>> from pdamper.dem.settings import EngineSettings
+    >>> EngineSettings(integrator="gear", gear_tolerance=1e-4).clone(safety=0.01).safety
+    0.01
     """
 
     def __init__(self, particles: ParticleSet, container: Container,
                  contact: ContactParameters,
                  motion: HarmonicMotion | PrescribedMotion | StructureMotion | None = None,
-                 integrator: str = "verlet", safety: float = DEFAULT_SAFETY,
-                 gravity: float = STANDARD_GRAVITY, gear_tolerance: float = DEFAULT_GEAR_TOLERANCE,
-                 gear_velocity_scale: float = DEFAULT_GEAR_VELOCITY_SCALE,
-                 gear_adaptive: bool = True, max_step: float = 1e-4,
-                 skin: float | None = None, settle_time: float | None = None,
-                 max_overlap: float | None = None, reference_velocity: float | None = None,
-                 gear_contact_bound: bool = False, seed: int | None = None,
-                 auto_cost_ratio: float = AUTO_COST_RATIO, gear_free_flight: bool = True,
-                 transient_cycles: int = 0, gear_transient_tolerance: float | None = None):
+                 settings: EngineSettings | None = None):
+        from pdamper.dem.settings import EngineSettings
+
         for name, value, cls in (("particles", particles, ParticleSet),
                                  ("container", container, Container),
                                  ("contact", contact, ContactParameters)):
@@ -643,38 +600,23 @@ class DEMEngine:
             raise InputError("motion", f"must be one of {', '.join(m.__name__ for m in motions)} "
                              f"or None (at rest), got {motion!r}")
         self.motion = motion or HarmonicMotion()
-        if integrator not in INTEGRATORS:
-            raise InputError("integrator", f"must be one of {', '.join(INTEGRATORS)}, "
-                             f"got {integrator!r}")
-        self.integrator = integrator
-        self.safety = check_range("safety", safety, low=0.0, high=1.0, low_inclusive=False)
-        self.gravity = check_range("gravity", gravity, low=0.0, unit="m/s^2")
-        self.gear_tolerance = check_range("gear_tolerance", gear_tolerance, low=0.0,
-                                          low_inclusive=False)
-        self.gear_velocity_scale = check_range("gear_velocity_scale", gear_velocity_scale,
-                                               low=0.0, low_inclusive=False, unit="m/s")
-        self.gear_adaptive = bool(gear_adaptive)
-        self.max_step = check_range("max_step", max_step, low=0.0, low_inclusive=False, unit="s")
-        self.max_overlap = (math.inf if max_overlap is None else
-                            check_range("max_overlap", max_overlap, low=0.0, high=1.0,
-                                        low_inclusive=False))
-        self.gear_contact_bound = bool(gear_contact_bound)
-        self.gear_free_flight = bool(gear_free_flight)
-        self.transient_cycles = check_whole("transient_cycles", transient_cycles, low=0)
-        self.gear_transient_tolerance = (
-            self.gear_tolerance if gear_transient_tolerance is None else
-            check_range("gear_transient_tolerance", gear_transient_tolerance, low=0.0,
-                        low_inclusive=False))
-        self.auto_cost_ratio = (math.inf if auto_cost_ratio == math.inf else
-                                check_range("auto_cost_ratio", auto_cost_ratio, low=0.0))
-        self.seed = seed
+        if settings is None:
+            settings = EngineSettings()
+        if not isinstance(settings, EngineSettings):
+            raise InputError("settings", f"must be an EngineSettings, got "
+                             f"{type(settings).__name__}")
+        #: The settings (checked on their construction); the engine reads them as its
+        #: attributes (:meth:`__getattr__`), the resolved defaults below shadow them.
+        self.settings = settings
+        s = settings
+        self.max_overlap = math.inf if s.max_overlap is None else s.max_overlap
+        self.gear_transient_tolerance = (self.gear_tolerance if s.gear_transient_tolerance
+                                         is None else s.gear_transient_tolerance)
         r = particles.radius
-        self.skin = (0.2 * float(r.min()) if skin is None
-                     else check_range("skin", skin, low=0.0, low_inclusive=False, unit="m"))
+        self.skin = 0.2 * float(r.min()) if s.skin is None else s.skin
         lx, ly, lz = self.container.box
-        if settle_time is None:
-            settle_time = free_fall_settling(lz, self.gravity)
-        self.settle_time = check_range("settle_time", settle_time, low=0.0, unit="s")
+        self.settle_time = (free_fall_settling(lz, self.gravity) if s.settle_time is None
+                            else s.settle_time)
         pos = particles.positions
         tol = min(self.max_overlap, OVERLAP_WARNING_LIMIT) * r  # initial wall overlaps up to it
         lo = pos - r[:, None] + tol[:, None]
@@ -685,9 +627,9 @@ class DEMEngine:
         if 2 * r.max() > min(lx, ly, lz):
             raise InputError("particles.radius", "the spheres must fit into the container")
         self._build_tables()
+        reference_velocity = s.reference_velocity
         self.reference_velocity = (self._default_reference_velocity() if reference_velocity is None
-                                   else check_range("reference_velocity", reference_velocity,
-                                                    low=0.0, low_inclusive=False, unit="m/s"))
+                                   else reference_velocity)
         #: Speed that sets the settling step [m/s]: the given reference speed, else the free
         #: fall over the container height (not the motion: one settled bed serves all).
         self.settle_reference_velocity = (self._fall_velocity() if reference_velocity is None
@@ -697,6 +639,13 @@ class DEMEngine:
         self.rayleigh_time = min(rayleigh_time(float(ri), m)
                                  for ri, m in zip(r, particles.material, strict=True))
         self.time_step = self.safety * self.contact_time
+
+    def __getattr__(self, name: str):
+        # the settings as attributes (engine.integrator, engine.gear_tolerance, ...)
+        settings = self.__dict__.get("settings")
+        if settings is not None and name in type(settings).model_fields:
+            return getattr(settings, name)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     # ------------------------------------------------------------------ set-up
     def _check_physics(self, given_speed: bool) -> None:
@@ -1355,6 +1304,7 @@ def warmup(integrators: tuple[str, ...] = INTEGRATORS,
     adds only its hand-over to the kernels of the other two."""
     t0 = time.perf_counter()
     from pdamper.contact.restitution import ConstantRestitution
+    from pdamper.dem.settings import EngineSettings
     from pdamper.materials import PVC, S235
 
     for name in integrators:
@@ -1371,6 +1321,7 @@ def warmup(integrators: tuple[str, ...] = INTEGRATORS,
             # "auto" made to hand over to Verlet at its first judgement (5 ms) and to probe
             # Gear again one window later (10-15 ms): both resume kernels too
             DEMEngine(parts, Container((0.04, 0.04, 0.12), PVC), contact, motion,
-                      integrator=integ, settle_time=0.0, auto_cost_ratio=math.inf).run(
+                      EngineSettings(integrator=integ, settle_time=0.0,
+                                     auto_cost_ratio=math.inf)).run(
                 3.5 * AUTO_WINDOW if integ == "auto" else 0.002, sample_rate=1000.0)
     return time.perf_counter() - t0
