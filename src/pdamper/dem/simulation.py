@@ -25,7 +25,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pdamper import resources
-from pdamper.constants import STANDARD_GRAVITY
 from pdamper.contact.forces import DAMPING_CODES
 from pdamper.contact.hertz import (
     contact_duration,
