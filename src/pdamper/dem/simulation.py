@@ -46,6 +46,7 @@ from pdamper.dem.model import (
     PrescribedMotion,
     StructureMotion,
 )
+from pdamper.dem.settings import AUTO_COST_RATIO  # noqa: F401 - importable from here too
 from pdamper.errors import InputError, SimulationError, check_range, check_whole
 
 if TYPE_CHECKING:
@@ -82,17 +83,6 @@ def free_fall_settling(height: float, gravity: float, extra: float = SETTLE_EXTR
 
 #: Target wall time of one kernel call [s]: Ctrl-C and ``stop`` take effect within it.
 DEFAULT_CHUNK_SECONDS = 0.25
-#: ``integrator="auto"`` runs Gear and hands over to velocity Verlet while Gear's mean step
-#: over a judgement window of the excitation is below AUTO_COST_RATIO x the step Verlet would
-#: take. At 1 the rule needs no cost model: Verlet then takes fewer steps, and each is
-#: cheaper (a variable Gear step costs 1.6-2.4 Verlet steps: 2.4 at 32 spheres, 1.6 at 176,
-#: where the force evaluation dominates). Gear's step falls below Verlet's where its
-#: stability limit holds it, whatever its tolerance: a jammed bed (the full container,
-#: 0.16 us against Verlet's 0.39 us). A ratio of 2.4 handed a Level III run of 176 spheres
-#: (impacts and flights alternating within each structure period) to Verlet for 0.7 of its
-#: 2 s and made it 14-80 % slower than Gear. Both integrators meet the verification table
-#: of docs/dem.md.
-AUTO_COST_RATIO = 1.0
 #: The judgement window of "auto" [s of simulated time] (a whole number of landings: the
 #: decisions do not depend on the chunking).
 AUTO_WINDOW = 5e-3
