@@ -212,7 +212,9 @@ class EngineSettings(Settings):
         none="the free fall over the container height + 0.05 s (a Level II run of the DEM "
         "damper: + 1 s)")
     max_overlap: float | None = setting(
-        None, "Overlap / radius at which the run stops.", low=0.0, high=1.0,
+        None, "Overlap / radius at which the run stops (large overlaps are a regime of fast "
+        "impacts, reported as ``max_overlap_ratio`` and warned about above "
+        "``OVERLAP_WARNING_LIMIT``).", low=0.0, high=1.0,
         low_inclusive=False, kind="number",
         none="never: large overlaps are reported as max_overlap_ratio and warned about")
     reference_velocity: float | None = setting(
@@ -221,7 +223,9 @@ class EngineSettings(Settings):
         none="from the excitation and the free fall over the container height")
     gear_contact_bound: bool = setting(
         False, "Bound the Gear step by the time to the next contact (never below 6 x the "
-        "Verlet step); off: the error control with rejection resolves onsets (docs/dem.md).")
+        "Verlet step). Off by default: in a dense bed some pair is always about to touch, "
+        "and the bound doubled the steps at unchanged accuracy; the error control with "
+        "rejection resolves onsets (docs/dem.md).")
     seed: int | None = setting(None, "Recorded in the results (the engine itself is "
                                "deterministic).", low=0, kind="whole", none="none recorded")
     auto_cost_ratio: float = setting(
@@ -233,8 +237,11 @@ class EngineSettings(Settings):
         "step (their free flight is an exact parabola): the same physics at a lower cost "
         "per step where few spheres are in contact (pdamper.dem.kernels.flights).")
     transient_cycles: int = setting(
-        0, "The first cycles of a harmonic excitation (the start from rest) that run at "
-        "``gear_transient_tolerance``.", low=0)
+        0, "The first cycles of a harmonic excitation (the start from rest, which the "
+        "averaged window of a Level II run skips) that run at ``gear_transient_tolerance`` "
+        "instead of ``gear_tolerance``: the averaged window sees only the motion after "
+        "them, which for a chaotic bed starts another realisation (docs/fields.md, "
+        "section 1).", low=0)
     gear_transient_tolerance: float | None = setting(
         None, "Gear tolerance of the first ``transient_cycles`` cycles.", low=0.0,
         low_inclusive=False, kind="number", none="gear_tolerance")

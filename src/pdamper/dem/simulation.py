@@ -20,7 +20,6 @@ import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -46,11 +45,8 @@ from pdamper.dem.model import (
     PrescribedMotion,
     StructureMotion,
 )
-from pdamper.dem.settings import AUTO_COST_RATIO  # noqa: F401 - importable from here too
+from pdamper.dem.settings import AUTO_COST_RATIO, EngineSettings  # noqa: F401
 from pdamper.errors import InputError, SimulationError, check_range, check_whole
-
-if TYPE_CHECKING:
-    from pdamper.dem.settings import EngineSettings
 
 log = logging.getLogger(__name__)
 
@@ -574,8 +570,6 @@ class DEMEngine:
                  contact: ContactParameters,
                  motion: HarmonicMotion | PrescribedMotion | StructureMotion | None = None,
                  settings: EngineSettings | None = None):
-        from pdamper.dem.settings import EngineSettings
-
         for name, value, cls in (("particles", particles, ParticleSet),
                                  ("container", container, Container),
                                  ("contact", contact, ContactParameters)):
@@ -1293,7 +1287,6 @@ def warmup(integrators: tuple[str, ...] = INTEGRATORS,
     adds only its hand-over to the kernels of the other two."""
     t0 = time.perf_counter()
     from pdamper.contact.restitution import ConstantRestitution
-    from pdamper.dem.settings import EngineSettings
     from pdamper.materials import PVC, S235
 
     for name in integrators:
