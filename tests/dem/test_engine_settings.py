@@ -10,9 +10,9 @@ import math
 from pathlib import Path
 
 import pytest
-from dem_inputs import container, contact, lattice
 
 import pdamper
+from dem_inputs import contact, container, lattice
 from pdamper.dem import DEMEngine, EngineSettings
 from pdamper.dem.settings import KINDS, Settings, declaration
 from pdamper.errors import InputError
