@@ -141,3 +141,39 @@ def write_figure(fig, path: Path, dpi: int = 110, field: str = "plot") -> Path:
     buf = io.BytesIO()
     fig.savefig(buf, format=PLOT_FORMATS[path.suffix.lower()], dpi=dpi)
     return atomic_write_bytes(path, buf.getbuffer(), field)
+
+
+def flag_name(flag: str) -> str:
+    """The parameter of a flag: ``"--free-flight/--no-free-flight"`` -> ``"free_flight"``."""
+    return flag.split("/")[0].removeprefix("--").replace("-", "_")
+
+
+def with_flags(rows: tuple[tuple[str, str, type, str], ...]):
+    """Give a command one option per row ``(flag, scenario key, type, help)`` and hand their
+    values to it as ``flags`` (``{"dem.safety": 0.01, ...}``, None: not given): the flags of
+    scenario keys are declared in one table, not as parameters one by one. The command's
+    own parameters follow them."""
+    import functools
+    import inspect
+
+    def wrap(func):
+        own = [p for p in inspect.signature(func, eval_str=True).parameters.values()
+               if p.name != "flags"]
+        made = [inspect.Parameter(flag_name(flag), inspect.Parameter.KEYWORD_ONLY,
+                                  default=None, annotation=Annotated[
+                                      kind | None, typer.Option(flag, help=text)])
+                for flag, _, kind, text in rows]
+        keys = {flag_name(flag): key for flag, key, _, _ in rows}
+
+        @functools.wraps(func)
+        def command(**kwargs):
+            flags = {key: kwargs.pop(name) for name, key in keys.items()}
+            return func(flags=flags, **kwargs)
+
+        params = [*made, *(p.replace(kind=inspect.Parameter.KEYWORD_ONLY) for p in own)]
+        command.__signature__ = inspect.Signature(params)
+        command.__annotations__ = {p.name: p.annotation for p in params}
+        del command.__wrapped__  # typer reads __signature__, not the wrapped function's
+        return command
+
+    return wrap

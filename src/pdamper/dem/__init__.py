@@ -27,6 +27,7 @@ _EXPORTS = {
     "PrescribedMotion": "pdamper.dem.inputs",
     "StructureMotion": "pdamper.dem.inputs",
     "DEMEngine": "pdamper.dem.simulation",
+    "EngineSettings": "pdamper.dem.settings",
     "DEMResult": "pdamper.dem.simulation",
     "SettledBed": "pdamper.dem.simulation",
     "warmup": "pdamper.dem.simulation",
@@ -37,6 +38,7 @@ __all__ = [
     "Container",
     "DEMEngine",
     "DEMResult",
+    "EngineSettings",
     "HarmonicMotion",
     "ParticleSet",
     "PrescribedMotion",
@@ -54,6 +56,7 @@ if TYPE_CHECKING:  # pragma: no cover
         PrescribedMotion,
         StructureMotion,
     )
+    from pdamper.dem.settings import EngineSettings
     from pdamper.dem.simulation import DEMEngine, DEMResult, SettledBed, warmup
 
 

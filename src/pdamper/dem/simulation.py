@@ -24,7 +24,6 @@ from pathlib import Path
 import numpy as np
 
 from pdamper import resources
-from pdamper.constants import STANDARD_GRAVITY
 from pdamper.contact.forces import DAMPING_CODES
 from pdamper.contact.hertz import (
     contact_duration,
@@ -37,9 +36,6 @@ from pdamper.dem.kernels import gear as _gear
 from pdamper.dem.kernels import state as K
 from pdamper.dem.kernels import verlet as _verlet
 from pdamper.dem.model import (
-    DEFAULT_GEAR_TOLERANCE,
-    DEFAULT_GEAR_VELOCITY_SCALE,
-    DEFAULT_SAFETY,
     INTEGRATORS,
     OVERLAP_WARNING_LIMIT,
     Container,
@@ -49,6 +45,7 @@ from pdamper.dem.model import (
     PrescribedMotion,
     StructureMotion,
 )
+from pdamper.dem.settings import AUTO_COST_RATIO, EngineSettings  # noqa: F401
 from pdamper.errors import InputError, SimulationError, check_range, check_whole
 
 log = logging.getLogger(__name__)
@@ -82,17 +79,6 @@ def free_fall_settling(height: float, gravity: float, extra: float = SETTLE_EXTR
 
 #: Target wall time of one kernel call [s]: Ctrl-C and ``stop`` take effect within it.
 DEFAULT_CHUNK_SECONDS = 0.25
-#: ``integrator="auto"`` runs Gear and hands over to velocity Verlet while Gear's mean step
-#: over a judgement window of the excitation is below AUTO_COST_RATIO x the step Verlet would
-#: take. At 1 the rule needs no cost model: Verlet then takes fewer steps, and each is
-#: cheaper (a variable Gear step costs 1.6-2.4 Verlet steps: 2.4 at 32 spheres, 1.6 at 176,
-#: where the force evaluation dominates). Gear's step falls below Verlet's where its
-#: stability limit holds it, whatever its tolerance: a jammed bed (the full container,
-#: 0.16 us against Verlet's 0.39 us). A ratio of 2.4 handed a Level III run of 176 spheres
-#: (impacts and flights alternating within each structure period) to Verlet for 0.7 of its
-#: 2 s and made it 14-80 % slower than Gear. Both integrators meet the verification table
-#: of docs/dem.md.
-AUTO_COST_RATIO = 1.0
 #: The judgement window of "auto" [s of simulated time] (a whole number of landings: the
 #: decisions do not depend on the chunking).
 AUTO_WINDOW = 5e-3
@@ -566,70 +552,24 @@ class DEMEngine:
     motion
         :class:`HarmonicMotion` (default: at rest), :class:`PrescribedMotion` or
         :class:`StructureMotion`.
-    integrator
-        ``"verlet"`` (fixed-step velocity Verlet), ``"gear"`` (variable-step fifth-order
-        Gear predictor-corrector, the paper's) or ``"auto"`` (Gear, handing the excitation
-        over to Verlet where Gear's steps fall below :data:`AUTO_COST_RATIO` x Verlet's).
-    safety
-        Time step = ``safety`` x Hertz contact duration at the reference speed (the Gear
-        integrator uses it as the step at a contact onset) [-].
-    gravity
-        g [m/s^2], acting along -z.
-    gear_tolerance, gear_velocity_scale
-        Error tolerance [-] and velocity scale [m/s] of the Gear step control.
-    gear_adaptive
-        False keeps the Gear step fixed (for convergence studies).
-    max_step
-        Upper bound of the Gear step [s] (default: 1e-4 s).
-    skin
-        Verlet-list skin [m] (default 0.2 x smallest radius).
-    settle_time
-        Settling under gravity in the resting container before the excitation [s]
-        (default sqrt(2 Lz / g) + 0.05 s; 0 to skip).
-    max_overlap
-        Overlap / radius at which the run stops [-] (default None: never; large overlaps
-        are a regime of fast impacts, reported as ``max_overlap_ratio`` and warned about
-        above ``OVERLAP_WARNING_LIMIT``).
-    reference_velocity
-        Impact speed at which the contact duration is evaluated [m/s] (default from the
-        excitation and the free fall over the container height).
-    gear_contact_bound
-        Bound the Gear step by the time to the next contact (never below
-        ``GEAR_ONSET_FACTOR`` x the Verlet step). Off by default: in a dense bed some pair
-        is always about to touch, and the bound doubled the steps at unchanged accuracy;
-        the error control with rejection resolves onsets (docs/dem.md).
-    seed
-        Recorded in the results (the engine itself is deterministic).
-    auto_cost_ratio
-        ``integrator="auto"`` hands over to Verlet when Gear's mean step falls below this
-        times Verlet's [-] (default :data:`AUTO_COST_RATIO`; ``inf``: at the first
-        judgement, 0: never).
-    gear_free_flight
-        Take the spheres that cannot touch anything before a horizon out of the Gear step
-        (multiple time stepping; their free flight is an exact parabola): the same physics
-        at a lower cost per step where few spheres are in contact (default True;
-        :mod:`pdamper.dem.kernels.flights`, docs/dem.md).
-    transient_cycles, gear_transient_tolerance
-        The first ``transient_cycles`` cycles of a harmonic excitation (the start from rest,
-        which the averaged window of a Level II run skips) run at the Gear tolerance
-        ``gear_transient_tolerance`` [-] instead of ``gear_tolerance`` (default 0: none;
-        the tolerance defaults to ``gear_tolerance``). The averaged window sees only the
-        motion after them, which for a chaotic bed starts another realisation
-        (docs/fields.md, section 1).
+    settings
+        :class:`~pdamper.dem.settings.EngineSettings`: integrator, step control, settling,
+        stops (default: ``EngineSettings()``). Each setting is also an attribute of the
+        engine (``engine.gear_tolerance``); the defaults left as None are resolved here
+        (``skin``, ``settle_time``, ``max_overlap``, ``reference_velocity``,
+        ``gear_transient_tolerance``).
+
+    Examples
+    --------
+    >>> from pdamper.dem.settings import EngineSettings
+    >>> EngineSettings(integrator="gear", gear_tolerance=1e-4).clone(safety=0.01).safety
+    0.01
     """
 
     def __init__(self, particles: ParticleSet, container: Container,
                  contact: ContactParameters,
                  motion: HarmonicMotion | PrescribedMotion | StructureMotion | None = None,
-                 integrator: str = "verlet", safety: float = DEFAULT_SAFETY,
-                 gravity: float = STANDARD_GRAVITY, gear_tolerance: float = DEFAULT_GEAR_TOLERANCE,
-                 gear_velocity_scale: float = DEFAULT_GEAR_VELOCITY_SCALE,
-                 gear_adaptive: bool = True, max_step: float = 1e-4,
-                 skin: float | None = None, settle_time: float | None = None,
-                 max_overlap: float | None = None, reference_velocity: float | None = None,
-                 gear_contact_bound: bool = False, seed: int | None = None,
-                 auto_cost_ratio: float = AUTO_COST_RATIO, gear_free_flight: bool = True,
-                 transient_cycles: int = 0, gear_transient_tolerance: float | None = None):
+                 settings: EngineSettings | None = None):
         for name, value, cls in (("particles", particles, ParticleSet),
                                  ("container", container, Container),
                                  ("contact", contact, ContactParameters)):
@@ -643,38 +583,23 @@ class DEMEngine:
             raise InputError("motion", f"must be one of {', '.join(m.__name__ for m in motions)} "
                              f"or None (at rest), got {motion!r}")
         self.motion = motion or HarmonicMotion()
-        if integrator not in INTEGRATORS:
-            raise InputError("integrator", f"must be one of {', '.join(INTEGRATORS)}, "
-                             f"got {integrator!r}")
-        self.integrator = integrator
-        self.safety = check_range("safety", safety, low=0.0, high=1.0, low_inclusive=False)
-        self.gravity = check_range("gravity", gravity, low=0.0, unit="m/s^2")
-        self.gear_tolerance = check_range("gear_tolerance", gear_tolerance, low=0.0,
-                                          low_inclusive=False)
-        self.gear_velocity_scale = check_range("gear_velocity_scale", gear_velocity_scale,
-                                               low=0.0, low_inclusive=False, unit="m/s")
-        self.gear_adaptive = bool(gear_adaptive)
-        self.max_step = check_range("max_step", max_step, low=0.0, low_inclusive=False, unit="s")
-        self.max_overlap = (math.inf if max_overlap is None else
-                            check_range("max_overlap", max_overlap, low=0.0, high=1.0,
-                                        low_inclusive=False))
-        self.gear_contact_bound = bool(gear_contact_bound)
-        self.gear_free_flight = bool(gear_free_flight)
-        self.transient_cycles = check_whole("transient_cycles", transient_cycles, low=0)
-        self.gear_transient_tolerance = (
-            self.gear_tolerance if gear_transient_tolerance is None else
-            check_range("gear_transient_tolerance", gear_transient_tolerance, low=0.0,
-                        low_inclusive=False))
-        self.auto_cost_ratio = (math.inf if auto_cost_ratio == math.inf else
-                                check_range("auto_cost_ratio", auto_cost_ratio, low=0.0))
-        self.seed = seed
+        if settings is None:
+            settings = EngineSettings()
+        if not isinstance(settings, EngineSettings):
+            raise InputError("settings", f"must be an EngineSettings, got "
+                             f"{type(settings).__name__}")
+        #: The settings (checked on their construction); the engine reads them as its
+        #: attributes (:meth:`__getattr__`), the resolved defaults below shadow them.
+        self.settings = settings
+        s = settings
+        self.max_overlap = math.inf if s.max_overlap is None else s.max_overlap
+        self.gear_transient_tolerance = (self.gear_tolerance if s.gear_transient_tolerance
+                                         is None else s.gear_transient_tolerance)
         r = particles.radius
-        self.skin = (0.2 * float(r.min()) if skin is None
-                     else check_range("skin", skin, low=0.0, low_inclusive=False, unit="m"))
+        self.skin = 0.2 * float(r.min()) if s.skin is None else s.skin
         lx, ly, lz = self.container.box
-        if settle_time is None:
-            settle_time = free_fall_settling(lz, self.gravity)
-        self.settle_time = check_range("settle_time", settle_time, low=0.0, unit="s")
+        self.settle_time = (free_fall_settling(lz, self.gravity) if s.settle_time is None
+                            else s.settle_time)
         pos = particles.positions
         tol = min(self.max_overlap, OVERLAP_WARNING_LIMIT) * r  # initial wall overlaps up to it
         lo = pos - r[:, None] + tol[:, None]
@@ -685,9 +610,9 @@ class DEMEngine:
         if 2 * r.max() > min(lx, ly, lz):
             raise InputError("particles.radius", "the spheres must fit into the container")
         self._build_tables()
+        reference_velocity = s.reference_velocity
         self.reference_velocity = (self._default_reference_velocity() if reference_velocity is None
-                                   else check_range("reference_velocity", reference_velocity,
-                                                    low=0.0, low_inclusive=False, unit="m/s"))
+                                   else reference_velocity)
         #: Speed that sets the settling step [m/s]: the given reference speed, else the free
         #: fall over the container height (not the motion: one settled bed serves all).
         self.settle_reference_velocity = (self._fall_velocity() if reference_velocity is None
@@ -697,6 +622,13 @@ class DEMEngine:
         self.rayleigh_time = min(rayleigh_time(float(ri), m)
                                  for ri, m in zip(r, particles.material, strict=True))
         self.time_step = self.safety * self.contact_time
+
+    def __getattr__(self, name: str):
+        # the settings as attributes (engine.integrator, engine.gear_tolerance, ...)
+        settings = self.__dict__.get("settings")
+        if settings is not None and name in type(settings).model_fields:
+            return getattr(settings, name)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     # ------------------------------------------------------------------ set-up
     def _check_physics(self, given_speed: bool) -> None:
@@ -1371,6 +1303,7 @@ def warmup(integrators: tuple[str, ...] = INTEGRATORS,
             # "auto" made to hand over to Verlet at its first judgement (5 ms) and to probe
             # Gear again one window later (10-15 ms): both resume kernels too
             DEMEngine(parts, Container((0.04, 0.04, 0.12), PVC), contact, motion,
-                      integrator=integ, settle_time=0.0, auto_cost_ratio=math.inf).run(
+                      EngineSettings(integrator=integ, settle_time=0.0,
+                                     auto_cost_ratio=math.inf)).run(
                 3.5 * AUTO_WINDOW if integ == "auto" else 0.002, sample_rate=1000.0)
     return time.perf_counter() - t0

@@ -115,8 +115,7 @@ def check_realisations(count, scenario=None, *, force: bool = False) -> int:
     if n == 1 or scenario is None:
         return n
     # the count is judged before any run: N runs of one DEM run's cost each
-    one = scenario._dem_level2_cost(scenario.damper(), scenario.excitation.frequency,
-                                    scenario.excitation.amplitude, type(scenario)())
+    one = scenario.excitation_cost("dem")
     resources.require(resources.Cost(
         "the realisations", one.seconds * n, one.memory,
         f"{n:.3g} DEM runs, each {one.detail}",
