@@ -27,7 +27,7 @@ _EXPORTS = {
     "PrescribedMotion": "pdamper.dem.model",
     "StructureMotion": "pdamper.dem.model",
     "DEMEngine": "pdamper.dem.simulation",
-    "DEMResult": "pdamper.dem.simulation",
+    "DEMResult": "pdamper.dem.result",
     "SettledBed": "pdamper.dem.simulation",
     "warmup": "pdamper.dem.simulation",
 }
@@ -54,7 +54,8 @@ if TYPE_CHECKING:  # pragma: no cover
         PrescribedMotion,
         StructureMotion,
     )
-    from pdamper.dem.simulation import DEMEngine, DEMResult, SettledBed, warmup
+    from pdamper.dem.result import DEMResult
+    from pdamper.dem.simulation import DEMEngine, SettledBed, warmup
 
 
 def __getattr__(name: str):
