@@ -28,7 +28,7 @@ _EXPORTS = {
     "StructureMotion": "pdamper.dem.model",
     "DEMEngine": "pdamper.dem.simulation",
     "DEMResult": "pdamper.dem.result",
-    "SettledBed": "pdamper.dem.simulation",
+    "SettledBed": "pdamper.dem.driver",
     "warmup": "pdamper.dem.simulation",
 }
 
@@ -47,6 +47,7 @@ __all__ = [
 
 if TYPE_CHECKING:  # pragma: no cover
     from pdamper.contact.law import ContactParameters
+    from pdamper.dem.driver import SettledBed
     from pdamper.dem.model import (
         Container,
         HarmonicMotion,
@@ -55,7 +56,7 @@ if TYPE_CHECKING:  # pragma: no cover
         StructureMotion,
     )
     from pdamper.dem.result import DEMResult
-    from pdamper.dem.simulation import DEMEngine, SettledBed, warmup
+    from pdamper.dem.simulation import DEMEngine, warmup
 
 
 def __getattr__(name: str):

@@ -104,6 +104,45 @@ class Phase:
     kernel_landings: dict = field(default_factory=dict)
 
 
+@dataclass(frozen=True)
+class SettledBed:
+    """Particles settled under gravity in the resting container (:meth:`DEMEngine.settle`).
+
+    The settling does not depend on the excitation (the container rests at its start
+    position, the step is set by the free fall over the container height, not by the
+    motion), so one bed serves every run of the same particles, container, contact law and
+    step settings, whatever its frequency and amplitude: a map settles once instead of at
+    every point. A run started from it (``DEMEngine.run(start=bed)``) is bit-identical to a
+    run that settles by itself.
+
+    Attributes
+    ----------
+    key
+        Digest of everything the settling depended on; :meth:`DEMEngine.run` refuses a bed
+        whose key differs from its own.
+    steps
+        Steps the settling took [-].
+    seconds
+        Wall time the settling took [s].
+    """
+
+    key: str
+    steps: int
+    seconds: float
+    state: Run = field(repr=False, compare=False)
+
+    @property
+    def kinetic_energy(self) -> float:
+        """Kinetic energy left in the bed, translational and rotational [J]: how far from
+        rest the settling brought it."""
+        st = self.state
+        m = np.asarray(st.part.mass)
+        r = np.asarray(st.part.rad)
+        return float(0.5 * np.sum(m * np.sum(st.vel**2, axis=1))
+                     + 0.2 * np.sum(m * r**2 * np.sum(st.omg**2, axis=1)))
+
+
+
 # ------------------------------------------------------------------ the kernels
 class VerletKernels:
     """The entry points of velocity Verlet (:mod:`pdamper.dem.kernels.verlet`)."""
@@ -420,3 +459,36 @@ def collect_result(engine: DEMEngine, run: Run, phase: Phase, grid, k: int, wall
             "stepped_per_sample": profile[1, :ns].astype(np.int64),
             "rejected_per_sample": profile[2, :ns].astype(np.int64),
             "kernel_seconds_per_sample": profile[3, :ns].copy()}))
+
+
+def failure_message(engine: DEMEngine, phase: Phase, name: str) -> str:
+    """The one-line explanation of the kernel error recorded in ``phase`` (``stats.error``,
+    the ``ERR_*`` codes of :mod:`pdamper.dem.kernels.state`) of the phase ``name``, with
+    the setting to change."""
+    st = phase.stats[0]
+    err, t, val = int(st["error"]), float(st["t_error"]), float(st["error_value"])
+    dt = phase.stepping.dt
+    tc = engine.contact_time
+    hint = (f"time step {dt:.3g} s too large for the contact time {tc:.3g} s; lower the "
+            f"safety factor (now {engine.safety:g})" if phase.kernel == "verlet" else
+            f"lower the Gear tolerance (now {engine.gear_tolerance:g}) or the safety factor "
+            f"(now {engine.safety:g}, contact time {tc:.3g} s)")
+    where = f"{name} at t = {t:.6g} s"
+    if err == K.ERR_NAN:
+        return f"unstable DEM run: non-finite state ({where}); {hint}"
+    if err == K.ERR_OVERLAP:
+        return (f"DEM run stopped: overlap {100 * val:.3g} % of the radius exceeds the "
+                f"requested max_overlap {100 * engine.max_overlap:g} % ({where}); large "
+                "overlaps are a regime of fast impacts (max_overlap=None runs on)")
+    if err == K.ERR_ESCAPE:
+        return f"unstable DEM run: a particle left the container ({where}); {hint}"
+    if err == K.ERR_SPEED:
+        return (f"unstable DEM run: particle speed {val:.3g} m/s beyond any physical value "
+                f"(energy blow-up, {where}); {hint}")
+    if err == K.ERR_ENERGY:
+        return (f"unstable DEM run: the energy ledger no longer closes (energy blow-up, "
+                f"{where}); {hint}")
+    if err == K.ERR_LIST:
+        return (f"unstable DEM run: neighbour list overflow, particles interpenetrate "
+                f"({where}); {hint}")
+    return f"DEM run failed with code {err} ({where})"

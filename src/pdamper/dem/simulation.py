@@ -18,20 +18,17 @@ import pickle
 import time
 import warnings
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from pdamper import resources
 from pdamper.constants import STANDARD_GRAVITY
-from pdamper.contact.forces import DAMPING_CODES
 from pdamper.contact.hertz import (
-    contact_duration,
-    effective_modulus,
-    hertz_stiffness,
     rayleigh_time,
 )
 from pdamper.contact.law import ContactParameters
+from pdamper.dem.arrays import allocate, contact_time, material_tables
 from pdamper.dem.driver import (  # noqa: F401 (AUTO_*: their home before the driver's)
     AUTO_COST_RATIO,
     AUTO_FIRST_SPAN,
@@ -44,11 +41,13 @@ from pdamper.dem.driver import (  # noqa: F401 (AUTO_*: their home before the dr
     ErrorCheck,
     Phase,
     Run,
+    SettledBed,
     StepProfile,
     StopRule,
     TransientTolerance,
     advance,
     collect_result,
+    failure_message,
 )
 from pdamper.dem.kernels import state as K
 from pdamper.dem.model import (
@@ -111,44 +110,6 @@ class _SampleGrid:
     per_cycle: int            # samples per excitation cycle (harmonic motion), else 0
     frequency: float | None
     snapshots_requested: bool
-
-
-@dataclass(frozen=True)
-class SettledBed:
-    """Particles settled under gravity in the resting container (:meth:`DEMEngine.settle`).
-
-    The settling does not depend on the excitation (the container rests at its start
-    position, the step is set by the free fall over the container height, not by the
-    motion), so one bed serves every run of the same particles, container, contact law and
-    step settings, whatever its frequency and amplitude: a map settles once instead of at
-    every point. A run started from it (``DEMEngine.run(start=bed)``) is bit-identical to a
-    run that settles by itself.
-
-    Attributes
-    ----------
-    key
-        Digest of everything the settling depended on; :meth:`DEMEngine.run` refuses a bed
-        whose key differs from its own.
-    steps
-        Steps the settling took [-].
-    seconds
-        Wall time the settling took [s].
-    """
-
-    key: str
-    steps: int
-    seconds: float
-    state: Run = field(repr=False, compare=False)
-
-    @property
-    def kinetic_energy(self) -> float:
-        """Kinetic energy left in the bed, translational and rotational [J]: how far from
-        rest the settling brought it."""
-        st = self.state
-        m = np.asarray(st.part.mass)
-        r = np.asarray(st.part.rad)
-        return float(0.5 * np.sum(m * np.sum(st.vel**2, axis=1))
-                     + 0.2 * np.sum(m * r**2 * np.sum(st.omg**2, axis=1)))
 
 
 _EMPTY = np.zeros(2)
@@ -339,47 +300,16 @@ class DEMEngine:
                                 between_spheres=p.count > 1, remedy=remedy)
 
     def _build_tables(self) -> None:
-        p = self.particles
-        names: list[str] = []
-        mats = []
-        for m in p.material:
-            if m.name not in names:
-                names.append(m.name)
-                mats.append(m)
-        nm = len(mats)
-        self._pmat = np.array([names.index(m.name) for m in p.material], dtype=np.int64)
-        npair = nm * nm + nm
-        wall = self.container.material
-        c = self.contact
-        curves = []
-        estar = np.zeros(npair)
-        mu = np.zeros(npair)
-        for a in range(nm):
-            for b in range(nm):
-                q = a * nm + b
-                estar[q] = effective_modulus(mats[a], mats[b])
-                mu[q] = c.friction_pp
-                curves.append(c.curve(mats[a].name, mats[b].name, wall=False))
-        for a in range(nm):
-            q = nm * nm + a
-            estar[q] = effective_modulus(mats[a], wall)
-            mu[q] = c.friction_pw
-            curves.append(c.curve(mats[a].name, wall.name, wall=True))
-        tabs = [cv.tabulate() for cv in curves]
-        nmax = max(len(v) for v, _ in tabs)
-        cor_v = np.zeros((npair, nmax))
-        cor_e = np.ones((npair, nmax))
-        cor_n = np.zeros(npair, dtype=np.int64)
-        for q, (v, e) in enumerate(tabs):
-            cor_v[q, :len(v)] = v
-            cor_e[q, :len(e)] = e
-            cor_n[q] = len(v)
-        self._mats_list = mats
-        # last entry: memo (COR, damping factor) per pair type for the kernels, emptied (-1)
-        # at the start of every run (run()), so that no state carries over between runs
-        self._pair_types = K.PairTypes(estar, mu, cor_v, cor_e, cor_n, np.full((npair, 2), -1.0))
-        self._kwall = np.array([hertz_stiffness(estar[nm * nm + a], float(ri))
-                                for a, ri in zip(self._pmat, p.radius, strict=True)])
+        self._tables = material_tables(self.particles, self.container, self.contact)
+
+    def _contact_time(self, v: float) -> float:
+        """Shortest elastic Hertz contact duration of the pair types at speed v [s]."""
+        return contact_time(self.particles, self._tables, v)
+
+    def _allocate(self, grid: _SampleGrid) -> Run:
+        """Every array of a run, once: particles, contact lists, histories, work."""
+        return allocate(self.particles, self.container, self.contact, self._tables,
+                        self.gravity, self.skin, self._start_position())
 
     def _fall_velocity(self) -> float:
         """Reference speed without the motion: free fall over the container height, the
@@ -398,23 +328,6 @@ class DEMEngine:
             _, _, vv, _ = m.table(0.5)
             v += 2.0 * float(np.max(np.abs(vv)))
         return max(v, self._fall_velocity())
-
-    def _contact_time(self, v: float) -> float:
-        """Shortest elastic Hertz contact duration of the pair types at speed v [s]."""
-        p = self.particles
-        estar = self._pair_types.estar
-        nm = len(self._mats_list)
-        masses = p.masses
-        tc = math.inf
-        i_small = int(np.argmin(masses))
-        for i in {i_small, int(np.argmin(p.radius))}:
-            m, r, a = float(masses[i]), float(p.radius[i]), int(self._pmat[i])
-            for b in range(nm):
-                k = hertz_stiffness(estar[a * nm + b], 0.5 * r)
-                tc = min(tc, contact_duration(0.5 * m, k, v))
-            k = hertz_stiffness(estar[nm * nm + a], r)
-            tc = min(tc, contact_duration(m, k, v))
-        return tc
 
     # ------------------------------------------------------------------ run
     def run(self, duration: float, sample_rate: float = 2000.0,
@@ -537,42 +450,6 @@ class DEMEngine:
                                 ("sample_rate", grid.nsamp / grid.duration / 2000.0),
                                 ("snapshot_rate", snapshots / grid.duration / 2000.0))),
             force=True)
-
-    def _allocate(self, grid: _SampleGrid) -> Run:
-        """Every array of a run, once: particles, contact lists, histories, work."""
-        p = self.particles
-        n = p.count
-        self._pair_types.memo[:] = -1.0  # the onset-damping memo starts empty in every run
-        lx, ly, lz = self.container.box
-        rmax = float(p.radius.max())
-        rmin = float(p.radius.min())
-        cell = 2.0 * rmax + self.skin
-        ncx, ncy, ncz = (max(1, int(lx // cell)), max(1, int(ly // cell)), max(1, int(lz // cell)))
-        bound = ((2 * rmax + self.skin + rmin) / rmin) ** 3
-        cap = int(n * math.ceil(min(bound, n)) + 16)
-        world = K.World(float(lx), float(ly), float(lz), float(self.gravity), float(self.skin),
-                        float(cell), ncx, ncy, ncz)
-        c = self.contact
-        law = K.Law(DAMPING_CODES[c.damping_model], len(self._mats_list),
-                    float(c.regularisation_velocity), float(c.min_impact_velocity),
-                    float(c.reimpact_factor))
-        part = K.Particles(p.radius.copy(), p.masses, p.inertia, self._kwall, self._pmat,
-                           1.0 / p.masses, 1.0 / p.inertia)
-        nbrs = K.Neighbours(K.empty_pair_contacts(n, cap), K.empty_pair_contacts(n, cap),
-                            np.zeros(ncx * ncy * ncz, np.int64), np.zeros(n, np.int64),
-                            np.zeros((n, 3)))
-        walls = K.WallContacts(np.zeros((n, 6), np.int64), np.zeros((n, 6)), np.zeros((n, 6)),
-                               np.zeros(4 * n + 64, np.int64))
-        work = K.Work(np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
-        nord = K.Nordsieck(np.zeros((6, n, 3)), np.zeros((5, n, 3)), np.zeros(6), np.zeros(6))
-        flights = K.empty_flights(n)
-        z_start = self._start_position()
-        pos = p.positions.copy()
-        pos[:, 2] += z_start
-        return Run(pos=pos, vel=p.velocities.copy(), omg=p.angular_velocities.copy(),
-                    world=world, law=law, part=part, nbrs=nbrs, walls=walls, work=work,
-                    nord=nord, flights=flights, z_start=z_start,
-                    pair_types=self._pair_types)
 
     def _start_position(self) -> float:
         """Container position at the start of the excitation [m]."""
@@ -700,40 +577,9 @@ class DEMEngine:
         return lambda phase: self._check(phase, name)
 
     def _check(self, phase: Phase, name: str) -> None:
-        st = phase.stats[0]
-        err = int(st["error"])
-        if err != K.ERR_NONE:
-            raise SimulationError(self._explain(err, float(st["t_error"]),
-                                                float(st["error_value"]), phase.stepping, name,
-                                                phase.kernel))
-
-    def _explain(self, err: int, t: float, val: float, stp: K.Stepping, phase: str,
-                 kernel: str) -> str:
-        dt = stp.dt
-        tc = self.contact_time
-        hint = (f"time step {dt:.3g} s too large for the contact time {tc:.3g} s; lower the "
-                f"safety factor (now {self.safety:g})" if kernel == "verlet" else
-                f"lower the Gear tolerance (now {self.gear_tolerance:g}) or the safety factor "
-                f"(now {self.safety:g}, contact time {tc:.3g} s)")
-        where = f"{phase} at t = {t:.6g} s"
-        if err == K.ERR_NAN:
-            return f"unstable DEM run: non-finite state ({where}); {hint}"
-        if err == K.ERR_OVERLAP:
-            return (f"DEM run stopped: overlap {100 * val:.3g} % of the radius exceeds the "
-                    f"requested max_overlap {100 * self.max_overlap:g} % ({where}); large "
-                    "overlaps are a regime of fast impacts (max_overlap=None runs on)")
-        if err == K.ERR_ESCAPE:
-            return f"unstable DEM run: a particle left the container ({where}); {hint}"
-        if err == K.ERR_SPEED:
-            return (f"unstable DEM run: particle speed {val:.3g} m/s beyond any physical value "
-                    f"(energy blow-up, {where}); {hint}")
-        if err == K.ERR_ENERGY:
-            return (f"unstable DEM run: the energy ledger no longer closes (energy blow-up, "
-                    f"{where}); {hint}")
-        if err == K.ERR_LIST:
-            return (f"unstable DEM run: neighbour list overflow, particles interpenetrate "
-                    f"({where}); {hint}")
-        return f"DEM run failed with code {err} ({where})"
+        """Raise the kernel's error of phase ``name`` (:func:`failure_message`), if any."""
+        if int(phase.stats[0]["error"]) != K.ERR_NONE:
+            raise SimulationError(failure_message(self, phase, name))
 
     def describe(self) -> dict:
         """Inputs of the run as plain values (recorded in the results)."""
