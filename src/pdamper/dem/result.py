@@ -17,6 +17,11 @@ import numpy as np
 
 from pdamper.errors import InputError, check_whole
 
+#: The wall-time keys of :meth:`DEMResult.summary` [s]: the only ones that differ between
+#: two runs of the same inputs.
+WALL_TIME_KEYS = ("wall_seconds", "excitation_wall_seconds", "settle_seconds",
+                  "total_wall_seconds")
+
 
 @dataclass
 class DEMResult:
