@@ -142,7 +142,6 @@ class SettledBed:
                      + 0.2 * np.sum(m * r**2 * np.sum(st.omg**2, axis=1)))
 
 
-
 # ------------------------------------------------------------------ the kernels
 class VerletKernels:
     """The entry points of velocity Verlet (:mod:`pdamper.dem.kernels.verlet`)."""

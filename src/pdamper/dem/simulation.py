@@ -3,9 +3,11 @@
 :class:`DEMEngine` turns the inputs of :mod:`pdamper.dem.model` into the named bundles of
 :mod:`pdamper.dem.kernels.state`, picks the time step from the contact time scale, settles
 the particles under gravity in the resting container, then runs the excitation and returns
-a :class:`DEMResult`. Both phases call the numba kernels of :mod:`pdamper.dem.kernels` in
+a :class:`~pdamper.dem.result.DEMResult`. Both phases run the chunk loop of
+:mod:`pdamper.dem.driver`, which calls the numba kernels of :mod:`pdamper.dem.kernels` in
 chunks of a fraction of a second of wall time (signals and early stops are handled between
-chunks; the chunking does not change a single bit of the result).
+chunks; the chunking does not change a single bit of the result); the arrays of a run are
+built by :mod:`pdamper.dem.arrays`.
 """
 
 from __future__ import annotations
@@ -24,12 +26,10 @@ import numpy as np
 
 from pdamper import resources
 from pdamper.constants import STANDARD_GRAVITY
-from pdamper.contact.hertz import (
-    rayleigh_time,
-)
+from pdamper.contact.hertz import rayleigh_time
 from pdamper.contact.law import ContactParameters
 from pdamper.dem.arrays import allocate, contact_time, material_tables
-from pdamper.dem.driver import (  # noqa: F401 (AUTO_*: their home before the driver's)
+from pdamper.dem.driver import (  # noqa: F401 (AUTO_*, SettledBed: importable from here too)
     AUTO_COST_RATIO,
     AUTO_FIRST_SPAN,
     AUTO_MAX_SPAN,
