@@ -4,12 +4,15 @@ Example::
 
     pdamper dem --frequency 10Hz --amplitude 32mm --particles 32 --cycles 8 --out run.nc
 
-prints a summary (``--json``: ``steps``, ``wall_seconds``, ``loss_factor``,
-``effective_mass_ratio``, ``energy_balance_error`` and more, with the inputs, the pdamper
-version and the seed). Every run option can also come from the scenario's ``[dem]``
-section; the command line overrides the file. ``--realisations N`` runs N random packings
-(seeds ``--seed`` + 0..N-1) on the sweep engine (``--workers``, ``--serial``): the loss
-factor and effective mass ratio are then their means, the spread under ``realisations``
+prints a summary (``--json``: ``loss_factor``, ``effective_mass_ratio``,
+``energy_balance_error`` and more, with the inputs, the pdamper version and the seed; the
+run's own keys are those of :meth:`pdamper.dem.DEMResult.summary`: ``steps`` and
+``wall_seconds`` of the excitation, ``settle_steps`` and ``settle_seconds`` of the
+settling before it, ``total_steps`` and ``total_wall_seconds`` of both). Every run option
+can also come from the scenario's ``[dem]`` section; the command line overrides the file.
+``--realisations N`` runs N random packings (seeds ``--seed`` + 0..N-1) on the sweep
+engine (``--workers``, ``--serial``): the loss factor and effective mass ratio are then
+their means, the spread under ``realisations``
 (:mod:`pdamper.reports.realisations`).
 """
 
@@ -182,7 +185,9 @@ def dem(
         + f"  energy ledger closes to      {res.energy_balance_error():.2e}\n"
         f"  largest overlap / radius     {res.max_overlap_ratio:.3g}\n"
         f"  fastest impact               {res.max_impact_velocity:.3g} m/s\n"
-        f"  {res.steps} steps in {res.wall_seconds:.3g} s wall"
+        f"  {res.steps} steps in {res.wall_seconds:.3g} s wall (settling: "
+        + (f"{res.settle_steps} steps in {res.settle_seconds:.3g} s)" if not res.settle_reused
+           else "a bed settled earlier)")
         + (f"\n  time series written to {payload['out']}" if out is not None else "")
         + (f"\n  snapshots written to {payload['vtk']}" if vtk is not None else ""))
     emit(payload, as_json, human)
@@ -194,7 +199,9 @@ ACCURACY_KEYS = ("loss_factor_error", "effective_mass_ratio_error", "accuracy_me
 
 #: Units of the dimensional keys of ``pdamper dem --json``.
 UNITS = {"wall_seconds": "s", "dissipated_energy_per_cycle": "J", "time_step": "s",
-         "contact_time": "s", "ledger_per_cycle": "J", "max_impact_velocity": "m/s"}
+         "contact_time": "s", "ledger_per_cycle": "J", "max_impact_velocity": "m/s",
+         "excitation_wall_seconds": "s", "settle_seconds": "s", "total_wall_seconds": "s",
+         "simulated_time": "s", "min_step": "s", "max_step": "s", "verlet_time": "s"}
 
 
 def _realisations(sc, n: int, *, workers, serial: bool, force: bool, as_json: bool) -> None:

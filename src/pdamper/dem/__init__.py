@@ -28,8 +28,8 @@ _EXPORTS = {
     "StructureMotion": "pdamper.dem.inputs",
     "DEMEngine": "pdamper.dem.simulation",
     "EngineSettings": "pdamper.dem.settings",
-    "DEMResult": "pdamper.dem.simulation",
-    "SettledBed": "pdamper.dem.simulation",
+    "DEMResult": "pdamper.dem.result",
+    "SettledBed": "pdamper.dem.driver",
     "warmup": "pdamper.dem.simulation",
 }
 
@@ -49,6 +49,7 @@ __all__ = [
 
 if TYPE_CHECKING:  # pragma: no cover
     from pdamper.contact.law import ContactParameters
+    from pdamper.dem.driver import SettledBed
     from pdamper.dem.inputs import (
         Container,
         HarmonicMotion,
@@ -56,8 +57,9 @@ if TYPE_CHECKING:  # pragma: no cover
         PrescribedMotion,
         StructureMotion,
     )
+    from pdamper.dem.result import DEMResult
     from pdamper.dem.settings import EngineSettings
-    from pdamper.dem.simulation import DEMEngine, DEMResult, SettledBed, warmup
+    from pdamper.dem.simulation import DEMEngine, warmup
 
 
 def __getattr__(name: str):

@@ -27,7 +27,6 @@ from __future__ import annotations
 import math
 import operator
 from collections.abc import Sequence
-from typing import Any
 
 import numba
 import numpy as np
@@ -84,7 +83,7 @@ def _as_radius(radius: float) -> float:
     return check_range(_RADIUS_FIELD, radius, low=0.0, low_inclusive=False, unit="m")
 
 
-def _as_count(n: Any) -> int:  # checked here: whatever the caller passed
+def _as_count(n: int) -> int:
     if isinstance(n, bool):
         raise InputError(_COUNT_FIELD, f"must be a whole number >= 0, got {n!r}")
     try:
@@ -99,30 +98,6 @@ def _as_count(n: Any) -> int:  # checked here: whatever the caller passed
     return count
 
 
-def _whole_at_least(field: str, value: Any, low: int) -> int:
-    """``value`` as an int >= ``low`` (a bool is refused), else InputError naming ``field``."""
-    try:
-        if isinstance(value, bool):
-            raise TypeError
-        number = operator.index(value)
-    except TypeError:
-        raise InputError(field, f"must be a whole number >= {low}, got {value!r}") from None
-    if number < low:
-        raise InputError(field, f"must be a whole number >= {low}, got {number}")
-    return number
-
-
-def _cell_counts(lbox: tuple[float, float, float], reach: float, cap: int) -> np.ndarray:
-    """Cells per side of the search grid: at least one contact distance ``reach`` wide,
-    but no more than ``cap`` cells (a huge, nearly empty box would otherwise cost memory)."""
-    cell = reach
-    while True:
-        ncell = np.array([max(1, int(length / cell)) for length in lbox], dtype=np.int64)
-        if int(np.prod(ncell)) <= cap:
-            return ncell
-        cell *= 1.25
-
-
 def _as_radii(radius: float | Sequence[float] | np.ndarray, n: int) -> np.ndarray:
     """Validate a scalar radius or one radius per particle; return an (n,) array [m]."""
     arr = None
@@ -134,7 +109,7 @@ def _as_radii(radius: float | Sequence[float] | np.ndarray, n: int) -> np.ndarra
                 _RADIUS_FIELD, f"must be one number or one radius per particle, got {radius!r}"
             ) from None
     if arr is None or arr.ndim == 0:
-        r = _as_radius(radius if arr is None else float(arr))  # type: ignore[arg-type]
+        r = _as_radius(radius if arr is None else float(arr))
         return np.full(n, r)
     if arr.shape != (n,):
         raise InputError(
@@ -300,6 +275,59 @@ def _rsa_kernel(  # pragma: no cover - compiled
     return k, attempts, False
 
 
+def _seed_and_attempts(seed, max_attempts) -> tuple[int, int]:
+    """The checked seed (a whole number >= 0) and attempt limit (>= 1) of a packing."""
+    if isinstance(seed, bool):
+        raise InputError("particles.seed", f"must be a whole number >= 0, got {seed!r}")
+    try:
+        seed_int = operator.index(seed)
+    except TypeError:
+        raise InputError("particles.seed", f"must be a whole number >= 0, got {seed!r}") from None
+    if seed_int < 0:
+        raise InputError("particles.seed", f"must be a whole number >= 0, got {seed_int}")
+    try:
+        attempts_max = operator.index(max_attempts)
+    except TypeError:
+        attempts_max = -1
+    if attempts_max < 1:
+        raise InputError(
+            "particles.max_attempts", f"must be a whole number >= 1, got {max_attempts!r}"
+        )
+    return seed_int, attempts_max
+
+
+def _check_fill(count: int, radii: np.ndarray, lbox) -> tuple[float, str, str]:
+    """The volume fraction the spheres would fill [-] (refused above
+    :data:`RANDOM_FILL_LIMIT`), and the radius and box as the messages name them."""
+    r_max = float(radii.max())
+    volume = lbox[0] * lbox[1] * lbox[2]
+    fill = float(np.sum(4.0 / 3.0 * math.pi * radii**3)) / volume
+    r_text = f"r = {r_max * 1e3:g} mm" if np.all(radii == r_max) else f"r <= {r_max * 1e3:g} mm"
+    box_text = f"{lbox[0] * 1e3:g}x{lbox[1] * 1e3:g}x{lbox[2] * 1e3:g} mm box"
+    if fill > RANDOM_FILL_LIMIT:
+        raise InputError(
+            _COUNT_FIELD,
+            f"{count} spheres ({r_text}) would fill {fill:.2f} of the {box_text}; random "
+            f"placement is limited to {RANDOM_FILL_LIMIT:g} of the volume; use fewer "
+            "spheres, a larger box or lattice_layers",
+        )
+    return fill, r_text, box_text
+
+
+def _cell_grid(lbox, reach: float, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Cells (number per axis, size [m]) at least one contact distance ``reach`` [m] wide,
+    but not vastly more cells than particles (a huge, nearly empty box would otherwise
+    cost memory)."""
+    cell = reach
+    cap = max(64, 8 * count)
+    while True:
+        ncell = np.array([max(1, int(length / cell)) for length in lbox], dtype=np.int64)
+        if int(np.prod(ncell)) <= cap:
+            break
+        cell *= 1.25
+    return ncell, np.array(lbox) / ncell
+
+
 def random_packing(
     n: int,
     radius: float | Sequence[float] | np.ndarray,
@@ -349,36 +377,19 @@ def random_packing(
     count = _as_count(n)
     radii = _as_radii(radius, count)
     lbox = _as_box(box)
-    seed_int = _whole_at_least("particles.seed", seed, 0)
-    attempts_max = _whole_at_least("particles.max_attempts", max_attempts, 1)
+    seed_int, attempts_max = _seed_and_attempts(seed, max_attempts)
     m = check_range("particles.margin", margin, low=0.0, high=1.0, high_inclusive=False)
     if count == 0:
         return np.empty((0, 3))
     r_max = float(radii.max())
     _check_fits(lbox, 2.0 * r_max)
-
-    volume = lbox[0] * lbox[1] * lbox[2]
-    fill = float(np.sum(4.0 / 3.0 * math.pi * radii**3)) / volume
-    r_text = f"r = {r_max * 1e3:g} mm" if np.all(radii == r_max) else f"r <= {r_max * 1e3:g} mm"
-    box_text = f"{lbox[0] * 1e3:g}x{lbox[1] * 1e3:g}x{lbox[2] * 1e3:g} mm box"
-    if fill > RANDOM_FILL_LIMIT:
-        raise InputError(
-            _COUNT_FIELD,
-            f"{count} spheres ({r_text}) would fill {fill:.2f} of the {box_text}; random "
-            f"placement is limited to {RANDOM_FILL_LIMIT:g} of the volume; use fewer "
-            "spheres, a larger box or lattice_layers",
-        )
-
-    # Cell grid: cells at least one contact distance wide, but not vastly more cells than
-    # particles (a huge, nearly empty box would otherwise cost memory).
-    ncell = _cell_counts(lbox, 2.0 * r_max * (1.0 + m), max(64, 8 * count))
-    csize = np.array(lbox) / ncell
+    fill, r_text, box_text = _check_fill(count, radii, lbox)
+    ncell, csize = _cell_grid(lbox, 2.0 * r_max * (1.0 + m), count)
     head = np.full(int(np.prod(ncell)), -1, dtype=np.int64)
     nxt = np.full(count, -1, dtype=np.int64)
     pos = np.zeros((count, 3))
     order = np.argsort(-radii, kind="stable").astype(np.int64)
     box_arr = np.array(lbox)
-
     rng = np.random.default_rng(seed_int)
     chunk = 8192
     k, attempts = 0, 0

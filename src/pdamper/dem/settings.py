@@ -23,7 +23,7 @@ from typing import Any, ClassVar
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from pdamper.constants import STANDARD_GRAVITY
-from pdamper.dem.model import (
+from pdamper.dem.inputs import (
     DEFAULT_GEAR_TOLERANCE,
     DEFAULT_GEAR_VELOCITY_SCALE,
     DEFAULT_SAFETY,
