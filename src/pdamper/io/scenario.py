@@ -237,6 +237,37 @@ class StructureSpec(_Section):
         return self
 
 
+class LoadSpec(_Section):
+    """A load history on the structure (:mod:`pdamper.io.loads`, docs/forced.md): a force
+    (``force``, a CSV file) or a base acceleration (``base_acceleration``), not both; a
+    relative path is taken relative to the scenario file. The run lasts the record plus
+    ``tail`` of free vibration."""
+
+    force: str | None = None
+    base_acceleration: str | None = None
+    tail: Annotated[float, _q("s"), Field(ge=0, allow_inf_nan=False)] = 0.0
+
+    @model_validator(mode="after")
+    def _one_load(self):
+        if self.force is not None and self.base_acceleration is not None:
+            raise ValueError("give the load as force or as base_acceleration, not both")
+        return self
+
+    @property
+    def given(self) -> bool:
+        return self.force is not None or self.base_acceleration is not None
+
+    def history(self):
+        """The :class:`~pdamper.coupling.loads.LoadHistory` (None: no load given)."""
+        from pdamper.io.loads import read_load
+
+        if self.force is not None:
+            return read_load(self.force, "force")
+        if self.base_acceleration is not None:
+            return read_load(self.base_acceleration, "base_acceleration")
+        return None
+
+
 class SimulationSpec(_Section):
     model: str = Field("analytic", validation_alias=AliasChoices("model", "damper"))
     duration: Duration = paper.PAPER_DURATION
@@ -417,6 +448,7 @@ class Scenario(_Section):
     fields: FieldsSpec = FieldsSpec()
     dem: DEMSpec = DEMSpec()
     restitution: RestitutionSpec = RestitutionSpec()
+    load: LoadSpec = LoadSpec()
 
     # -- builders of the domain objects ------------------------------------------------
     def damper(self):
@@ -913,6 +945,12 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
         if isinstance(structure, dict) and isinstance(structure.get("modes"), str) \
                 and not Path(structure["modes"]).expanduser().is_absolute():
             structure["modes"] = str((p.parent / structure["modes"]).resolve())
+        loads = data.get("load")  # the load history, relative to the scenario file
+        if isinstance(loads, dict):
+            for key in ("force", "base_acceleration"):
+                if isinstance(loads.get(key), str) \
+                        and not Path(loads[key]).expanduser().is_absolute():
+                    loads[key] = str((p.parent / loads[key]).resolve())
     for key, value in (overrides or {}).items():
         if value is None:
             continue
