@@ -420,6 +420,17 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("ok-simulate-load-three-modes", ["simulate", "--load", "{tmp}/load_force.csv",
                                       "--scenario", "{scenario:beam_three_modes}", "--json"],
      OK()),
+    ("optimize-peak-without-load", ["optimize", "--objective", "peak"],
+     Error("optimization.objective")),
+    ("optimize-load-free-decay-objective", ["optimize", "--load", "{tmp}/load_force.csv"],
+     Error("optimization.objective")),
+    ("optimize-peak-load-nan", ["optimize", "--objective", "peak", "--load",
+                                "{tmp}/load_nan.csv"], Error("load")),
+    ("ok-optimize-peak", ["optimize", "--objective", "peak", "--load", "{tmp}/load_force.csv",
+                          "--vary", "particles=0:32:32", "--json"], OK()),
+    ("ok-optimize-rms-base-acceleration", ["optimize", "--objective", "rms",
+                                           "--base-acceleration", "{tmp}/load_acc.csv",
+                                           "--vary", "particles=0:32:32", "--json"], OK()),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

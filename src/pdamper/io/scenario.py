@@ -299,7 +299,8 @@ class OptimizationSpec(_Section):
 
     at: Duration = paper.PAPER_OBJECTIVE_TIME
     step: Annotated[int, Field(ge=1, strict=True)] | None = None
-    objective: Literal["amplitude-at", "settling-time", "mean-damping"] = "amplitude-at"
+    objective: Literal["amplitude-at", "settling-time", "mean-damping",
+                       "peak", "rms"] = "amplitude-at"
     vary: list[str] = []
     method: Literal["auto", "grid", "optimize"] = "auto"
     threshold: PositiveLength | None = None
