@@ -121,6 +121,7 @@ FILES = {
     "load_two_forces.csv": "time [s], force [N], force2 [N]\n0, 0, 0\n1, 1, 1\n",
     "load_ragged.csv": "time [s], force [N]\n0, 0\n1, 1, 2\n",
     "load_no_time.csv": "force [N], force2 [kN]\n0, 0\n1, 1\n",
+    "load_years.csv": "time [year], force [N]\n0, 0\n1, 1\n",
 }
 
 _MAP = ["map", "--frequency", "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2"]
@@ -411,6 +412,10 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
                                        "{tmp}/load_acc.csv", "--scenario",
                                        "{scenario:beam_three_modes}"],
      Error("base_acceleration")),
+    ("load-record-of-a-year", ["simulate", "--load", "{tmp}/load_years.csv"],
+     Error("simulation.sample_rate")),
+    ("load-tail-a-billion-seconds", ["simulate", "--load", "{tmp}/load_force.csv", "--tail",
+                                     "1e9 s"], Error("simulation.sample_rate")),
     ("ok-simulate-load", ["simulate", "--load", "{tmp}/load_force.csv", "--json"], OK()),
     ("ok-simulate-load-scenario", ["simulate", "--scenario", "{scenario:load_force}",
                                    "--json"], OK()),

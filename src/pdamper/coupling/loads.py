@@ -52,8 +52,8 @@ from pdamper.errors import InputError, check_range
 
 #: Kinds of load history and the SI unit of their values.
 LOAD_KINDS = {"force": "N", "base_acceleration": "m/s^2"}
-#: Most integration steps of one run (a few hundred MB of state history).
-MAX_STEPS = 20_000_000
+#: Most memory [bytes] of the state history one run holds (every integration step).
+MAX_BYTES = 2e9
 #: Swings below this [m] do not update the damper (numerical rest, as in the free decay).
 _REST = 1e-12
 
@@ -352,12 +352,16 @@ def simulate_load(model, structure, load: LoadHistory, sample_rate: float = 2000
     fine = float(np.median(np.diff(load.time)))
     sub = max(1, math.ceil(h_out / fine * (1.0 - 1e-9)))
     h = h_out / sub
-    steps = math.ceil(duration / h * (1.0 - 1e-12))
-    if steps > MAX_STEPS:
+    steps = duration / h
+    n_modes = sys_.phi.size
+    need = (steps + 1) * 8.0 * (4 * n_modes + 12)  # z, z', inputs, d, m_eff, outputs
+    if not need <= MAX_BYTES:
         raise InputError("simulation.sample_rate", f"the run needs {steps:.3g} steps "
                          f"({duration:g} s at {1.0 / h:.4g} Hz, the finer of the sample rate "
-                         f"and the record's), more than {MAX_STEPS:.3g}: lower the sample "
-                         "rate or shorten the record")
+                         f"and the record's) and {need / 2**30:.3g} GiB, more than "
+                         f"{MAX_BYTES / 2**30:.3g} GiB: lower the sample rate, shorten the "
+                         "record or its tail")
+    steps = math.ceil(steps * (1.0 - 1e-12))
     t = np.arange(steps + 1) * h
     u = np.zeros((t.size, 3))
     lv = load.at(t)
