@@ -122,6 +122,8 @@ FILES = {
     "load_ragged.csv": "time [s], force [N]\n0, 0\n1, 1, 2\n",
     "load_no_time.csv": "force [N], force2 [kN]\n0, 0\n1, 1\n",
     "load_years.csv": "time [year], force [N]\n0, 0\n1, 1\n",
+    "load_modes_two.csv": "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n"
+                          "5.56, 0.0052, 0.81\n46.3, 0.01, -0.9\n",
 }
 
 _MAP = ["map", "--frequency", "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2"]
@@ -408,10 +410,14 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
      Error("duration")),
     ("load-dem", ["simulate", "--model", "dem", "--load", "{tmp}/load_force.csv"],
      Error("simulation.model")),
-    ("base-acceleration-three-modes", ["simulate", "--base-acceleration",
-                                       "{tmp}/load_acc.csv", "--scenario",
-                                       "{scenario:beam_three_modes}"],
+    ("base-acceleration-two-modes-file", ["simulate", "--base-acceleration",
+                                          "{tmp}/load_acc.csv", "--modes",
+                                          "{tmp}/load_modes_two.csv"],
      Error("base_acceleration")),
+    ("ok-simulate-base-acceleration-beam-three-modes", ["simulate", "--base-acceleration",
+                                                        "{tmp}/load_acc.csv", "--scenario",
+                                                        "{scenario:beam_three_modes}",
+                                                        "--json"], OK()),
     ("load-record-of-a-year", ["simulate", "--load", "{tmp}/load_years.csv"],
      Error("simulation.sample_rate")),
     ("load-tail-a-billion-seconds", ["simulate", "--load", "{tmp}/load_force.csv", "--tail",

@@ -22,8 +22,10 @@ steady drift of the whole set-up carries no damper force). For N modes (mass-nor
 :class:`~pdamper.structure.modal.ModalStructure`) the same with ``I``, ``diag(2 zeta w)``,
 ``diag(w^2)``, m_eff and d acting through the damper's mode shape ``phi_d``; the force acts
 at the release point (the point that the static load of the free decay pulls;
-default the damper point). Base motion needs each mode's participation factor, which a
-modes file does not carry: it runs on the 1-DOF and on one mode (``Gamma = 1 / phi_d``).
+default the damper point). Base motion (a translation of the base or clamp) loads mode i
+with ``-Gamma_i a_b``, its participation factor ``Gamma_i = phi_i^T M r``: the beam's come
+from its FE model; a modes file does not carry them, so it takes base motion with one mode
+only (``Gamma = 1 / phi_d``, all the mass at the damper point, as the 1-DOF).
 
 Each stretch between two updates is integrated exactly for an input linear between steps
 (first-order hold: the state-transition matrices from one matrix exponential, Van Loan
@@ -271,7 +273,7 @@ class _System:
         from pdamper.structure.modal import ModalStructure
 
         if isinstance(structure, ModalStructure) and structure.modes == 1 \
-                and structure.coincident:
+                and structure.coincident and structure.participation is None:
             structure = structure.equivalent_single_dof()  # Eq. (23), as Simulation does
         if isinstance(structure, SingleDOFStructure):
             one = np.ones(1)
@@ -280,8 +282,8 @@ class _System:
                        np.array([structure.mass]), structure)
         if isinstance(structure, ModalStructure):
             w = structure.angular_frequencies
-            base = None
-            if structure.modes == 1:
+            base = structure.participation
+            if base is None and structure.modes == 1:  # all the mass at the damper point
                 base = 1.0 / structure.damper_shape
             return cls(np.eye(structure.modes), np.diag(2.0 * structure.damping_ratios * w),
                        np.diag(w * w), structure.damper_shape, structure.output_shape,
@@ -345,8 +347,8 @@ def simulate_load(model, structure, load: LoadHistory, sample_rate: float = 2000
     kind = load.kind
     if kind == "base_acceleration" and sys_.base_shape is None:
         raise InputError("base_acceleration", "base motion needs each mode's participation "
-                         "factor, which a modes file or beam does not give here: use one mode "
-                         "(or the 1-DOF), or a force (--load) at the release point")
+                         "factor, which a modes file does not give: use one mode, the 1-DOF "
+                         "or [structure] beam, or a force (--load) at the release point")
     duration = load.duration + tail
     h_out = 1.0 / sample_rate
     fine = float(np.median(np.diff(load.time)))
