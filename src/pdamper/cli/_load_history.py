@@ -26,8 +26,10 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
         as_json: bool) -> None:
     """Run every model of ``models`` on ``history``; print, write and plot as the free
     decay does."""
-    from pdamper.coupling.loads import run_load
+    from pdamper.coupling.loads import check_model, run_load
 
+    for m in models.values():  # every compared model, before any run
+        check_model(m)
     structure = sc.structure_model()
     runs, seconds = {}, {}
     for n, m in models.items():

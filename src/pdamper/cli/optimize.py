@@ -90,6 +90,9 @@ def optimize(
     plot = check_plot(plot)
     o = sc.optimization
     history = sc.load.history() if o.objective in ("peak", "rms") else None
+    if history is None and tail is not None and not sc.load.given:
+        raise InputError("load.tail", "is the free vibration after a load history: give "
+                         "--load or --base-acceleration")
     if history is None and (load_file is not None or base_acceleration is not None):
         raise InputError("optimization.objective", f"a load history is given but the "
                          f"objective {o.objective!r} is on the free decay: use peak or rms")
@@ -101,6 +104,10 @@ def optimize(
         variables = [DesignVariable("particles", counts,
                                     spec=f"particles={counts[0]}:{counts[-1]}:{step_}")]
     proto = sc.model(None, damper)
+    if history is not None:  # the model must have a load-history form, before any design
+        from pdamper.coupling.loads import check_model
+
+        check_model(proto)
     n_workers = o.workers
     if n_workers == "auto":  # parallel where it pays and dask.distributed is installed
         import importlib.util

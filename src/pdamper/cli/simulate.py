@@ -119,6 +119,9 @@ def simulate(
                                  + name.replace("_", "-"))
         _load_history.run(sc, models, sc.load.history(), sc.load.tail, out, plot, as_json)
         return
+    if tail is not None:
+        raise InputError("load.tail", "is the free vibration after a load history: give "
+                         "--load or --base-acceleration")
     aligned = None
     if measured is not None:
         from pdamper.coupling.measurement import align_measurement, check_release_scale

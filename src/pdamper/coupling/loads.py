@@ -144,8 +144,8 @@ class LoadResponse:
     load
         The load at the sample times [N or m/s^2].
     damper_displacement
-        The container's displacement relative to the structure's rest position [m]
-        (absolute minus the base's for base motion).
+        The container's displacement ``phi_d . q`` [m]; under base motion plus the base's
+        displacement integrated from the record (its mean velocity removed).
     dissipated_energy
         Energy dissipated by the damper over the run, ``int d v_c^2 dt`` [J].
     input_work, structural_dissipation, energy_change
@@ -447,14 +447,18 @@ def simulate_load(model, structure, load: LoadHistory, sample_rate: float = 2000
 LOAD_COUPLINGS = {"pseudo_force": simulate_load}
 
 
-def run_load(model, structure, load: LoadHistory, sample_rate: float = 2000.0,
-             tail: float = 0.0) -> LoadResponse:
-    """:func:`simulate_load` through the model's coupling; a model whose coupling has no
-    load-history form is an error naming it."""
-    strategy = LOAD_COUPLINGS.get(model.coupling)
-    if strategy is None:
+def check_model(model) -> None:
+    """Raise InputError if ``model``'s coupling has no load-history form."""
+    if model.coupling not in LOAD_COUPLINGS:
         raise InputError("simulation.model", f"the {model.coupling} coupling of "
                          f"{type(model).__name__} has no load-history form yet; use a "
                          "pseudo-force model (analytic, fields) for --load / "
                          "--base-acceleration")
-    return strategy(model, structure, load, sample_rate, tail)
+
+
+def run_load(model, structure, load: LoadHistory, sample_rate: float = 2000.0,
+             tail: float = 0.0) -> LoadResponse:
+    """:func:`simulate_load` through the model's coupling; a model whose coupling has no
+    load-history form is an error naming it."""
+    check_model(model)
+    return LOAD_COUPLINGS[model.coupling](model, structure, load, sample_rate, tail)
