@@ -10,7 +10,8 @@ m_eff and ``d = E~ / (pi W X^2)`` updated at each minimum of the container's dis
 the swing of the last half cycle (``X`` = half the drop from the preceding maximum) and the
 frequency of the last cycle (``1 / (t_min,k - t_min,k-1)``; the first cycle: half over the
 duration of the first drop). Until the container completes its first drop (a structure at
-rest at the start of the record) the damper carries no force. Between updates the equations
+rest at the start of the record) the bed, resting on the floor, moves with the container as
+a rigid mass (``m_eff = m_bed``, ``d = 0``). Between updates the equations
 are linear. For the 1-DOF of Eq. (23), in the coordinate x of the end-effector,
 
     force:  (M + m_eff) x'' + (D + d) x' + K x = F(t)
@@ -382,7 +383,9 @@ def simulate_load(model, structure, load: LoadHistory, sample_rate: float = 2000
     zdot = np.zeros((t.size, 2 * n))
     dd = np.zeros(t.size)  # d in force at each sample
     me = np.zeros(t.size)
-    m_eff, d = 0.0, 0.0
+    # until the first update the bed rests on the floor and is carried along: a rigid mass
+    # that dissipates nothing
+    m_eff, d = float(model.bed_mass), 0.0
     a_mat, b_mat = sys_.matrices(m_eff, d, kind)
     p_mat, g0, g1 = _hold(a_mat, b_mat, h)
     zdot[0] = a_mat @ z[0] + b_mat @ u[0]
