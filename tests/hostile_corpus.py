@@ -79,6 +79,10 @@ SCENARIOS = {
     "uncertain_count": '[particles]\ncount = "64 +- 2"\n',
     "uncertain_short_run": '[particles]\nfriction = "0.1 +- 0.03"\n[simulation]\n'
                            'duration = "0.5 s"\n',
+    # -- load histories: [load]
+    "load_force": '[load]\nforce = "load_force.csv"\ntail = "0.5 s"\n',
+    "load_both": '[load]\nforce = "load_force.csv"\nbase_acceleration = "load_acc.csv"\n',
+    "load_tail_negative": '[load]\nforce = "load_force.csv"\ntail = "-1 s"\n',
 }
 
 
@@ -107,6 +111,26 @@ FILES = {
                                     "-5.56, 0.0052, 0.81\n",
     "modes_shape_in_metres.csv": "frequency [Hz], damping ratio [1], damper [m]\n5.56, 0.0052, 0.81\n",
     "modes_header_only.csv": "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n",
+    # -- load histories: --load / --base-acceleration files
+    "load_force.csv": "# 2 N at 5 Hz\ntime [ms], force [N]\n" + "".join(
+        f"{5 * k}, {2 * __import__('math').sin(2 * __import__('math').pi * 5 * k * 5e-3):.5f}\n"
+        for k in range(401)),
+    "load_acc.csv": "time [s]; acceleration [g0]\n" + "".join(
+        f"{k * 5e-3:.3f}; {0.1 * __import__('math').sin(2 * __import__('math').pi * 5 * k * 5e-3):.5f}\n"
+        for k in range(401)),
+    "load_empty.csv": "",
+    "load_header_only.csv": "time [s], force [N]\n",
+    "load_one_sample.csv": "time [s], force [N]\n0, 1\n",
+    "load_no_unit.csv": "time [s], force\n0, 0\n1, 1\n",
+    "load_nan.csv": "time [s], force [N]\n0, 0\n1, nan\n2, 0\n",
+    "load_time_backwards.csv": "time [s], force [N]\n0, 0\n1, 1\n0.5, 0\n",
+    "load_displacement.csv": "time [s], displacement [mm]\n0, 0\n1, 1\n",
+    "load_two_forces.csv": "time [s], force [N], force2 [N]\n0, 0, 0\n1, 1, 1\n",
+    "load_ragged.csv": "time [s], force [N]\n0, 0\n1, 1, 2\n",
+    "load_no_time.csv": "force [N], force2 [kN]\n0, 0\n1, 1\n",
+    "load_years.csv": "time [year], force [N]\n0, 0\n1, 1\n",
+    "load_modes_two.csv": "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n"
+                          "5.56, 0.0052, 0.81\n46.3, 0.01, -0.9\n",
 }
 
 _MAP = ["map", "--frequency", "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2"]
@@ -407,6 +431,75 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("simulate-uncertain-amplitude-after-the-run", [
         "simulate", "--scenario", "{scenario:uncertain_short_run}", "--uncertainty", "4"],
      Error("optimization.at")),
+    # -- load histories: --load, --base-acceleration, [load]
+    ("load-missing-file", ["simulate", "--load", "{tmp}/none.csv"], Error("load")),
+    ("load-is-directory", ["simulate", "--load", "{tmp}/dir"], Error("load")),
+    ("load-empty", ["simulate", "--load", "{tmp}/load_empty.csv"], Error("load")),
+    ("load-header-only", ["simulate", "--load", "{tmp}/load_header_only.csv"], Error("load")),
+    ("load-one-sample", ["simulate", "--load", "{tmp}/load_one_sample.csv"], Error("load")),
+    ("load-no-unit", ["simulate", "--load", "{tmp}/load_no_unit.csv"], Error("load")),
+    ("load-nan", ["simulate", "--load", "{tmp}/load_nan.csv"], Error("load")),
+    ("load-time-backwards", ["simulate", "--load", "{tmp}/load_time_backwards.csv"],
+     Error("load")),
+    ("load-displacement-column", ["simulate", "--load", "{tmp}/load_displacement.csv"],
+     Error("load")),
+    ("load-two-force-columns", ["simulate", "--load", "{tmp}/load_two_forces.csv"],
+     Error("load")),
+    ("load-ragged-row", ["simulate", "--load", "{tmp}/load_ragged.csv"], Error("load")),
+    ("load-no-time-column", ["simulate", "--load", "{tmp}/load_no_time.csv"], Error("load")),
+    ("base-acceleration-given-a-force", ["simulate", "--base-acceleration",
+                                         "{tmp}/load_force.csv"], Error("base_acceleration")),
+    ("load-and-base-acceleration", ["simulate", "--load", "{tmp}/load_force.csv",
+                                    "--base-acceleration", "{tmp}/load_acc.csv"], Error("load")),
+    ("load-scenario-both", ["simulate", "--scenario", "{scenario:load_both}"], Error("load")),
+    ("load-tail-negative", ["simulate", "--scenario", "{scenario:load_tail_negative}"],
+     Error("load.tail")),
+    ("load-tail-not-a-time", ["simulate", "--load", "{tmp}/load_force.csv", "--tail", "1 m"],
+     Error("load.tail")),
+    ("load-with-measured", ["simulate", "--load", "{tmp}/load_force.csv", "--measured",
+                            "{tmp}/decay_mm.csv"], Error("measured")),
+    ("load-with-duration", ["simulate", "--load", "{tmp}/load_force.csv", "--duration", "1s"],
+     Error("duration")),
+    ("load-dem", ["simulate", "--model", "dem", "--load", "{tmp}/load_force.csv"],
+     Error("simulation.model")),
+    ("base-acceleration-two-modes-file", ["simulate", "--base-acceleration",
+                                          "{tmp}/load_acc.csv", "--modes",
+                                          "{tmp}/load_modes_two.csv"],
+     Error("base_acceleration")),
+    ("ok-simulate-base-acceleration-beam-three-modes", ["simulate", "--base-acceleration",
+                                                        "{tmp}/load_acc.csv", "--scenario",
+                                                        "{scenario:beam_three_modes}",
+                                                        "--json"], OK()),
+    ("load-record-of-a-year", ["simulate", "--load", "{tmp}/load_years.csv"],
+     Error("simulation.sample_rate")),
+    ("load-tail-a-billion-seconds", ["simulate", "--load", "{tmp}/load_force.csv", "--tail",
+                                     "1e9 s"], Error("simulation.sample_rate")),
+    ("load-tail-without-load", ["simulate", "--tail", "1s"], Error("load.tail")),
+    ("load-compare-with-dem", ["simulate", "--compare", "analytic,dem", "--load",
+                               "{tmp}/load_force.csv"], Error("simulation.model")),
+    ("ok-simulate-load", ["simulate", "--load", "{tmp}/load_force.csv", "--json"], OK()),
+    ("ok-simulate-load-scenario", ["simulate", "--scenario", "{scenario:load_force}",
+                                   "--json"], OK()),
+    ("ok-simulate-base-acceleration-one-mode", ["simulate", "--base-acceleration",
+                                                "{tmp}/load_acc.csv", "--modes",
+                                                "{tmp}/modes_one.csv", "--json"], OK()),
+    ("ok-simulate-load-three-modes", ["simulate", "--load", "{tmp}/load_force.csv",
+                                      "--scenario", "{scenario:beam_three_modes}", "--json"],
+     OK()),
+    ("optimize-peak-without-load", ["optimize", "--objective", "peak"],
+     Error("optimization.objective")),
+    ("optimize-load-free-decay-objective", ["optimize", "--load", "{tmp}/load_force.csv"],
+     Error("optimization.objective")),
+    ("optimize-peak-load-nan", ["optimize", "--objective", "peak", "--load",
+                                "{tmp}/load_nan.csv"], Error("load")),
+    ("optimize-peak-dem", ["optimize", "--model", "dem", "--objective", "peak", "--load",
+                           "{tmp}/load_force.csv", "--vary", "particles=16:32:16"],
+     Error("simulation.model")),
+    ("ok-optimize-peak", ["optimize", "--objective", "peak", "--load", "{tmp}/load_force.csv",
+                          "--vary", "particles=0:32:32", "--json"], OK()),
+    ("ok-optimize-rms-base-acceleration", ["optimize", "--objective", "rms",
+                                           "--base-acceleration", "{tmp}/load_acc.csv",
+                                           "--vary", "particles=0:32:32", "--json"], OK()),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

@@ -74,6 +74,14 @@ def simulate(
     uncertainty: _uncertainty.UncertaintyOpt = None,
     uncertain: _uncertainty.UncertainOpt = None,
     uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
+    load_file: Annotated[Path | None, typer.Option(
+        "--load", help="Force history on the structure (CSV with unit headers, e.g. "
+                       "'time [s], force [N]'; docs/forced.md) instead of the release.")] = None,
+    base_acceleration: Annotated[Path | None, typer.Option(
+        "--base-acceleration", help="Base-acceleration history (CSV with unit headers, e.g. "
+                                    "'time [s], acceleration [m/s^2]').")] = None,
+    tail: Annotated[str | None, typer.Option(
+        help="Free vibration after the load record, e.g. '1s' (default 0).")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -88,7 +96,10 @@ def simulate(
         simulation__model=model, particles__count=particles, simulation__duration=duration,
         structure__initial_displacement=initial_displacement,
         fields__file=None if fields is None else str(fields),
-        structure__modes=None if modes is None else str(modes)), uncertain))
+        structure__modes=None if modes is None else str(modes),
+        load__force=None if load_file is None else str(load_file),
+        load__base_acceleration=None if base_acceleration is None
+        else str(base_acceleration), load__tail=tail), uncertain))
     _uncertainty.check(sc, "level3", uncertainty, force)
     if uncertainty is not None:  # the sampled model refused before any run
         from pdamper.io.uncertain import level3_answers
@@ -106,6 +117,21 @@ def simulate(
             sc.check_resources("simulation", n, force)
     damper = sc.damper()
     models = {n: sc.model(n, damper) for n in names}  # all built (and checked) before any run
+    if sc.load.given:  # a load history instead of the release (docs/forced.md)
+        from pdamper.cli import _load_history
+
+        for name, given in (("measured", measured), ("duration", duration),
+                            ("initial_displacement", initial_displacement),
+                            ("uncertainty", uncertainty)):
+            if given is not None:
+                raise InputError(name, "a load history starts from rest and lasts the "
+                                 "record plus --tail: leave out --"
+                                 + name.replace("_", "-"))
+        _load_history.run(sc, models, sc.load.history(), sc.load.tail, out, plot, as_json)
+        return
+    if tail is not None:
+        raise InputError("load.tail", "is the free vibration after a load history: give "
+                         "--load or --base-acceleration")
     aligned = None
     if measured is not None:
         from pdamper.coupling.measurement import align_measurement, check_release_scale

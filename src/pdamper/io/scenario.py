@@ -228,6 +228,37 @@ class StructureSpec(_Section):
         return self
 
 
+class LoadSpec(_Section):
+    """A load history on the structure (:mod:`pdamper.io.loads`, docs/forced.md): a force
+    (``force``, a CSV file) or a base acceleration (``base_acceleration``), not both; a
+    relative path is taken relative to the scenario file. The run lasts the record plus
+    ``tail`` of free vibration."""
+
+    force: str | None = None
+    base_acceleration: str | None = None
+    tail: Annotated[float, _q("s"), Field(ge=0, allow_inf_nan=False)] = 0.0
+
+    @model_validator(mode="after")
+    def _one_load(self):
+        if self.force is not None and self.base_acceleration is not None:
+            raise ValueError("give the load as force or as base_acceleration, not both")
+        return self
+
+    @property
+    def given(self) -> bool:
+        return self.force is not None or self.base_acceleration is not None
+
+    def history(self):
+        """The :class:`~pdamper.coupling.loads.LoadHistory` (None: no load given)."""
+        from pdamper.io.loads import read_load
+
+        if self.force is not None:
+            return read_load(self.force, "force")
+        if self.base_acceleration is not None:
+            return read_load(self.base_acceleration, "base_acceleration")
+        return None
+
+
 class SimulationSpec(_Section):
     model: str = Field("analytic", validation_alias=AliasChoices("model", "damper"))
     duration: Duration = paper.PAPER_DURATION
@@ -259,7 +290,8 @@ class OptimizationSpec(_Section):
 
     at: Duration = paper.PAPER_OBJECTIVE_TIME
     step: Annotated[int, Field(ge=1, strict=True)] | None = None
-    objective: Literal["amplitude-at", "settling-time", "mean-damping"] = "amplitude-at"
+    objective: Literal["amplitude-at", "settling-time", "mean-damping",
+                       "peak", "rms"] = "amplitude-at"
     vary: list[str] = []
     method: Literal["auto", "grid", "optimize"] = "auto"
     threshold: PositiveLength | None = None
@@ -430,6 +462,7 @@ class Scenario(_Section):
     fields: FieldsSpec = FieldsSpec()
     dem: DEMSpec = DEMSpec()
     restitution: RestitutionSpec = RestitutionSpec()
+    load: LoadSpec = LoadSpec()
     #: inputs given as "value +- sd" (field -> UncertainInput; pdamper.io.uncertain)
     _uncertain: dict = PrivateAttr(default_factory=dict)
 
@@ -914,6 +947,12 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
         if isinstance(structure, dict) and isinstance(structure.get("modes"), str) \
                 and not Path(structure["modes"]).expanduser().is_absolute():
             structure["modes"] = str((p.parent / structure["modes"]).resolve())
+        loads = data.get("load")  # the load history, relative to the scenario file
+        if isinstance(loads, dict):
+            for key in ("force", "base_acceleration"):
+                if isinstance(loads.get(key), str) \
+                        and not Path(loads[key]).expanduser().is_absolute():
+                    loads[key] = str((p.parent / loads[key]).resolve())
     for key, value in (overrides or {}).items():
         if value is None:
             continue

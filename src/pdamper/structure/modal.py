@@ -80,6 +80,10 @@ class ModalStructure:
         Mode shapes at the output and release points (default: the damper point).
     positions
         (damper, output, release) positions along the structure [m], for the record.
+    participation
+        Modal participation factors of a translation of the base, ``Gamma_i = phi_i^T M r``
+        [sqrt(kg)] (``r``: the rigid translation), for base motion; None where unknown
+        (:meth:`from_beam` computes them).
 
     Examples
     --------
@@ -99,6 +103,7 @@ class ModalStructure:
     output_shape: np.ndarray | None = None
     release_shape: np.ndarray | None = None
     positions: tuple[float, float, float] | None = field(default=None)
+    participation: np.ndarray | None = field(default=None)
 
     def __post_init__(self) -> None:
         f = np.atleast_1d(np.asarray(self.frequencies, float))
@@ -119,6 +124,12 @@ class ModalStructure:
         if not np.any(shapes["damper_shape"] != 0):
             raise InputError("structure.damper_shape", "the damper point does not move in any "
                              "retained mode")
+        if self.participation is not None:
+            g = np.asarray(self.participation, float).ravel()
+            if g.size != n or not np.all(np.isfinite(g)):
+                raise InputError("structure.participation", f"must hold {n} finite values, "
+                                 "one per mode")
+            object.__setattr__(self, "participation", g)
         object.__setattr__(self, "frequencies", f)
         object.__setattr__(self, "damping_ratios", z)
         for name, v in shapes.items():
@@ -215,8 +226,14 @@ class ModalStructure:
         ref = np.where(shapes[0] != 0, shapes[0], shapes[1])
         sign = np.where(ref < 0, -1.0, 1.0)
         zeta = np.broadcast_to(np.asarray(damping_ratio, float), (modes,))
+        # a translation of the clamp: every deflection DOF moves by 1, no rotation
+        rigid = np.zeros(2 * (beam.elements + 1))
+        rigid[0::2] = 1.0
+        rigid = rigid[1:] if compliant else rigid[2:]
+        gamma = vecs.T @ (m_mat @ rigid)
         return cls(np.sqrt(np.maximum(w2, 0.0)) / (2.0 * math.pi), zeta,
-                   shapes[0] * sign, shapes[1] * sign, shapes[2] * sign, (pts[0], pts[1], pts[2]))
+                   shapes[0] * sign, shapes[1] * sign, shapes[2] * sign, (pts[0], pts[1], pts[2]),
+                   gamma * sign)
 
     # ------------------------------------------------------------------ properties
     @property
