@@ -19,7 +19,9 @@ Example::
 
 from __future__ import annotations
 
+import contextlib
 import functools
+import json
 import math
 from dataclasses import dataclass, field
 
@@ -186,3 +188,292 @@ def run_realisations(scenario, count: int, *, workers: int | None = None,
         raise RuntimeError(f"realisation of seed {bad[0][0]} failed: {bad[0][1]}")
     return RealisationsResult(seeds, [p.values for p in res.points], res.seconds,
                               res.workers)
+
+
+# --------------------------------------------------------------------------- shared
+def parse_count(text) -> int:
+    """A command line's ``--realisations`` value as a whole number >= 1."""
+    try:
+        value = float(text) if isinstance(text, str) and "." in text else int(text)
+    except (TypeError, ValueError):
+        raise InputError("realisations", f"must be a whole number >= 1, got {text!r}") from None
+    return check_count(value)
+
+
+def check_count(count) -> int:
+    """``count`` as a whole number >= 1 (``InputError`` for ``realisations`` otherwise)."""
+    return check_realisations(count, None)
+
+
+def seeds_of(scenario, count: int) -> list[int]:
+    """The seeds of ``count`` realisations: ``dem.seed, dem.seed + 1, ...``."""
+    seed0 = int(scenario.dem.seed)
+    return [seed0 + k for k in range(count)]
+
+
+def spread(values) -> dict:
+    """``{"mean", "std", "min", "max", "values"}`` of ``values`` (``std``: divisor N - 1,
+    NaN for one value)."""
+    v = np.asarray(values, float)
+    return {"mean": float(v.mean()),
+            "std": float(v.std(ddof=1)) if v.size > 1 else math.nan,
+            "min": float(v.min()), "max": float(v.max()), "values": v.tolist()}
+
+
+def _scaled_check(scenario, run: str, model: str | None, n: int, force: bool) -> None:
+    """The cost check of ``scenario.check_resources(run, model)`` for ``n`` runs of it:
+    every time cost it implies, ``n`` times over (memory is per run: one at a time per
+    worker); the driver ``realisations`` is named when the count is what inflates it."""
+    real = resources.require
+
+    def require(cost, force_=False):
+        if cost.seconds > 0:
+            cost = resources.Cost(
+                f"{n} realisations of {cost.what}", cost.seconds * n, cost.memory,
+                f"{n} runs, each {cost.detail}",
+                (*cost.drivers, ("realisations", n / USUAL_REALISATIONS)),
+                runs=n * max(cost.runs or 1, 1),
+                longest=cost.longest if cost.longest is not None else cost.seconds,
+                remedy="ask for fewer realisations" if n > USUAL_REALISATIONS else cost.remedy)
+        return real(cost, force_)
+
+    # the scenario judges a run through this module's function: counted n times here
+    resources.require = require
+    try:
+        scenario.check_resources(run, model, force)
+    finally:
+        resources.require = real
+
+
+def _need_random(model, n: int) -> None:
+    """N > 1 only for a model whose runs start from a seeded random packing."""
+    packing = getattr(model, "initial_packing", None)
+    if packing is None:
+        raise InputError("realisations", f"must be 1 for the {model.fidelity} model (it has "
+                         f"no random packing: every realisation is the same), got {n}")
+    if packing() != "random":
+        raise InputError("realisations", f"must be 1 with the lattice packing (the lattice is "
+                         f"one realisation), got {n}; use dem.packing = \"random\"")
+
+
+@contextlib.contextmanager
+def _one_client(sweep_options: dict):
+    """One dask client for several sweeps (a local cluster started once), unless the
+    options run in this process or name a client or scheduler of their own."""
+    if sweep_options.get("serial") or sweep_options.get("client") is not None \
+            or sweep_options.get("scheduler") is not None:
+        yield sweep_options
+        return
+    from pdamper.sweep.cluster import open_client
+
+    opts = {k: v for k, v in sweep_options.items() if k != "workers"}
+    with open_client(sweep_options.get("workers")) as client:
+        yield {**opts, "client": client}
+
+
+# --------------------------------------------------------------------------- maps
+#: The map variables whose spread over the realisations a map carries.
+MAP_SPREAD = ("loss_factor", "effective_mass_ratio", "dissipated_energy_per_cycle")
+
+
+def check_map_realisations(count, scenario, model_name: str, *, force: bool = False) -> int:
+    """``count`` realisations of the scenario's map under ``model_name``: a whole number
+    >= 1; N > 1 only for a model with a random packing (the DEM with ``dem.packing`` or
+    ``[map] dem_packing`` random), and N times the map's cost within the limits."""
+    n = check_count(count)
+    if n > 1:
+        _need_random(scenario.map_model(model_name), n)
+        _scaled_check(scenario, "map", model_name, n, force)
+    return n
+
+
+def combine_realisations(datasets, seeds):
+    """One map from the maps of N realisations (same grid; realisation ``k`` of seed
+    ``seeds[k]``).
+
+    The variables of :data:`MAP_SPREAD` are the means over the realisations (attribute
+    ``statistic = "mean"``), with ``<name>_std`` (divisor N - 1), ``<name>_min``,
+    ``<name>_max`` per cell and every realisation's values in ``<name>_realisations``
+    (dimension ``realisation``, coordinate the seed). A cell is failed (``status`` 1, its
+    values NaN) when any realisation failed there, stationary only when every realisation
+    was; ``motion_mode`` is the first realisation's, with ``motion_mode_agreement`` the
+    share of the realisations in that mode. The other variables are the first
+    realisation's.
+    """
+    import xarray as xr
+
+    first = datasets[0]
+    stack = {name: xr.concat([d[name] for d in datasets], dim="realisation")
+             for name in MAP_SPREAD if name in first}
+    status = xr.concat([d["status"] for d in datasets], dim="realisation")
+    failed = (status != 0).any("realisation")
+    out = first.copy()
+    n = len(datasets)
+    for name, s in stack.items():
+        s = s.where(~failed)
+        units = first[name].attrs.get("units", "1")
+        long = first[name].attrs.get("long_name", name)
+        out[name] = s.mean("realisation").assign_attrs(
+            {**first[name].attrs, "statistic": "mean", "realisations": n})
+        std = s.std("realisation", ddof=1) if n > 1 else xr.full_like(s[0], math.nan)
+        for suffix, v, what in (("std", std, "standard deviation (divisor N - 1)"),
+                                ("min", s.min("realisation"), "minimum"),
+                                ("max", s.max("realisation"), "maximum")):
+            out[f"{name}_{suffix}"] = v.assign_attrs(
+                {"long_name": f"{long}: {what} over the realisations", "units": units})
+        out[f"{name}_realisations"] = s.assign_attrs(
+            {"long_name": f"{long} of each realisation", "units": units})
+    out["status"] = xr.where(failed, 1, 0).astype(first["status"].dtype).assign_attrs(
+        first["status"].attrs)
+    if "error" in first:
+        errs = np.asarray(first["error"].values, dtype=object).copy()
+        for d in datasets[1:]:
+            e = np.asarray(d["error"].values, dtype=object)
+            errs = np.where((errs == "") & (e != ""), e, errs)
+        out["error"] = (first["error"].dims, errs.astype(str), first["error"].attrs)
+    if "stationary" in first:
+        st = xr.concat([d["stationary"] for d in datasets], dim="realisation")
+        out["stationary"] = xr.where(failed, -1, (st == 1).all("realisation").astype(int)
+                                     ).astype(first["stationary"].dtype).assign_attrs(
+            first["stationary"].attrs)
+    if "motion_mode" in first:
+        modes = xr.concat([d["motion_mode"] for d in datasets], dim="realisation")
+        out["motion_mode_agreement"] = (modes == first["motion_mode"]).mean(
+            "realisation").assign_attrs({"long_name": "share of the realisations in the "
+                                         "first realisation's motion mode", "units": "1"})
+    out = out.assign_coords(realisation=("realisation", np.arange(n), {
+        "long_name": "realisation index"}), seed=("realisation", np.asarray(seeds, int), {
+            "long_name": "seed of the realisation's random packing"}))
+    out.attrs.update(realisations=n, seeds=json.dumps([int(s) for s in seeds]),
+                     statistic="mean", std_ddof=1, seed=int(seeds[0]))
+    return out
+
+
+def realisation_map(ds, k: int):
+    """The map of realisation ``k`` alone (index along ``realisation``) from a map with
+    realisations: the :data:`MAP_SPREAD` variables of that realisation in place of the
+    means, the spread variables dropped."""
+    if "realisation" not in ds.dims:
+        raise InputError("realisation", "the map has no realisations")
+    n = ds.sizes["realisation"]
+    if not 0 <= k < n:
+        raise InputError("realisation", f"must be in [0, {n - 1}], got {k}")
+    out = ds.copy()
+    for name in MAP_SPREAD:
+        if f"{name}_realisations" in ds:
+            out[name] = ds[f"{name}_realisations"].isel(realisation=k, drop=True
+                                                        ).assign_attrs(ds[name].attrs)
+    drop = [v for v in out.data_vars if "realisation" in out[v].dims or any(
+        v == f"{m}_{s}" for m in MAP_SPREAD for s in ("std", "min", "max"))
+        or v == "motion_mode_agreement"]
+    out = out.drop_vars(drop).drop_vars(["realisation", "seed"], errors="ignore")
+    seeds = json.loads(ds.attrs.get("seeds", "[]"))
+    out.attrs = {k_: v for k_, v in ds.attrs.items()
+                 if k_ not in ("realisations", "seeds", "statistic", "std_ddof", "map_key")}
+    if seeds:
+        out.attrs["seed"] = int(seeds[k])
+    return out
+
+
+def map_realisation_count(ds) -> int:
+    """Number of realisations a map carries (1 without a ``realisation`` dimension)."""
+    return int(ds.sizes["realisation"]) if "realisation" in ds.dims else 1
+
+
+def run_map_realisations(scenario, model_name: str, count: int, *, frequency=None,
+                         amplitude=None, particles=None, out=None, keep_partial: bool = False,
+                         progress=None, force: bool = False, **sweep_options):
+    """The map of :func:`pdamper.reports.maps.run_map` from ``count`` realisations
+    (seeds ``dem.seed + k``), combined by :func:`combine_realisations`.
+
+    Each realisation is a map on the sweep engine; the realisations share one dask cluster
+    and, with ``out``, one ``<out>.partial/`` store (a point's key holds the scenario, its
+    seed included, so a stopped run started again computes only the missing points of
+    every realisation). Returns a :class:`~pdamper.reports.maps.MapRun` whose counts are
+    over every realisation's points.
+    """
+    import time
+
+    from pdamper.files import atomic_write_netcdf
+    from pdamper.reports.maps import MapRun, map_context, map_key, partial_store, run_map
+
+    n = check_map_realisations(count, scenario, model_name, force=force)
+    if n == 1:
+        return run_map(scenario, model_name, frequency=frequency, amplitude=amplitude,
+                       particles=particles, out=out, keep_partial=keep_partial,
+                       progress=progress, **sweep_options)
+    t0 = time.perf_counter()
+    seeds = seeds_of(scenario, n)
+    if frequency is None or amplitude is None:
+        f_sc, x_sc = scenario.map_grid()
+        frequency = f_sc if frequency is None else frequency
+        amplitude = x_sc if amplitude is None else amplitude
+    if particles is None:
+        particles = scenario.map_particles()
+    f, x = np.asarray(frequency, float), np.asarray(amplitude, float)
+    sets, computed, reused, workers = [], 0, 0, 1
+    done = [0]
+
+    def tick(_done, total, point):  # one count over every realisation's points
+        done[0] += 1
+        if progress is not None:
+            progress(done[0], total * n, point)
+
+    store = None if out is None else partial_store(out)
+    with _one_client(sweep_options) as opts:
+        for s in seeds:
+            ds, sweep = _map_points(with_seed(scenario, s), model_name, f, x, particles,
+                                    store, tick, opts)
+            sets.append(ds)
+            computed += sweep.computed
+            reused += sweep.reused
+            workers = max(workers, sweep.workers)
+    ds = combine_realisations(sets, seeds)
+    context = {**map_context(scenario.for_map(), model_name), "realisations": seeds}
+    ds.attrs["map_key"] = map_key(context, f, x, particles)
+    failed = int((ds["status"].values != 0).sum())
+    path = None
+    if out is not None:
+        path = atomic_write_netcdf(out, ds)
+        if not keep_partial:
+            from pdamper.sweep import PointStore
+
+            PointStore(store).remove()
+    return MapRun(ds, time.perf_counter() - t0, computed, reused, failed, workers, path)
+
+
+def _map_points(scenario, model_name, f, x, particles, store, progress, opts):
+    """One realisation's map on the sweep engine (as :func:`pdamper.reports.maps.run_map`
+    computes a DEM map), its points kept in ``store``; ``(dataset, sweep)``."""
+    from pdamper import __version__
+    from pdamper.analysis.fields import sweep_field
+    from pdamper.reports.maps import _retry_if, map_context
+
+    model = scenario.map_model(model_name)
+    context = map_context(scenario.for_map(), model_name)
+    attrs = {"pdamper_version": __version__, "pdamper_source": context["pdamper_source"],
+             "inputs": json.dumps(scenario.model_dump(mode="json")),
+             "seed": int(scenario.dem.seed), "model_fidelity": model_name,
+             "packing": scenario.for_map().dem.packing}
+    opts = {"retry_if": _retry_if, **opts}
+    return sweep_field(model, f, x, particles, store=store, context=context, attrs=attrs,
+                       progress=progress, **opts)
+
+
+def map_spread_record(ds) -> dict:
+    """The ``realisations`` record of ``pdamper map --json`` for a map with realisations:
+    ``count``, ``seeds``, ``std_ddof`` and, per :data:`MAP_SPREAD` variable, the cell
+    arrays ``mean``, ``std``, ``min``, ``max`` (nested lists in the map's dimension order;
+    NaN as None)."""
+    rec = {"count": map_realisation_count(ds), "seeds": json.loads(ds.attrs["seeds"]),
+           "std_ddof": 1, "dims": list(ds["loss_factor"].dims)}
+
+    def cells(v):
+        a = np.asarray(v.values, float)
+        return np.where(np.isfinite(a), a, None).tolist()
+
+    for name in MAP_SPREAD:
+        if f"{name}_std" in ds:
+            rec[name] = {"mean": cells(ds[name]),
+                         **{s: cells(ds[f"{name}_{s}"]) for s in ("std", "min", "max")}}
+    return rec
