@@ -477,3 +477,232 @@ def map_spread_record(ds) -> dict:
             rec[name] = {"mean": cells(ds[name]),
                          **{s: cells(ds[f"{name}_{s}"]) for s in ("std", "min", "max")}}
     return rec
+
+
+# --------------------------------------------------------------------------- Level III
+#: Spacing of the times at which the band of the amplitude envelope is reported [s].
+ENVELOPE_STEP = 0.01
+
+
+@dataclass
+class Level3Band:
+    """N realisations of one Level III free vibration and their band.
+
+    Attributes
+    ----------
+    model
+        The damper model's fidelity.
+    runs
+        One :class:`~pdamper.coupling.FreeVibrationResult` per realisation.
+    at
+        The time of the reported amplitude [s].
+    seeds
+        The random packing's seed of each realisation (the DEM), or None.
+    map_realisations
+        The map realisation of each run (the effective fields of a map with
+        realisations), or None.
+    seconds, workers
+        Wall time [s] and worker processes of the runs.
+    """
+
+    model: str
+    runs: list
+    at: float
+    seeds: list[int] | None = None
+    map_realisations: list[int] | None = None
+    seconds: float = math.nan
+    workers: int = 1
+
+    @property
+    def count(self) -> int:
+        return len(self.runs)
+
+    def amplitude_at(self) -> dict:
+        """:func:`spread` of the amplitude envelope at :attr:`at` [m]
+        (:meth:`FreeVibrationResult.amplitude_at`)."""
+        return spread([r.amplitude_at(self.at) for r in self.runs])
+
+    def final_amplitude(self) -> dict:
+        """:func:`spread` of the last negative peak's amplitude [m]."""
+        return spread([r.final_amplitude for r in self.runs])
+
+    def envelope(self) -> dict:
+        """The band of the amplitude envelope: at ``time`` (every :data:`ENVELOPE_STEP`
+        from the release to the end) the ``mean``, ``std``, ``min`` and ``max`` [m] of the
+        realisations' envelopes (each interpolated between its negative peaks)."""
+        end = min(float(r.time[-1]) for r in self.runs)
+        t = np.arange(0.0, end + 1e-12, ENVELOPE_STEP)
+        a = np.array([[r.amplitude_at(ti) for ti in t] for r in self.runs])
+        return {"time": t.tolist(), **_columns(a)}
+
+    def trajectory(self) -> dict:
+        """Pointwise band of the sampled trajectories: ``time`` [s] and the ``mean``,
+        ``std``, ``min``, ``max`` of the displacement [m] over the realisations (arrays)."""
+        n = min(len(r.time) for r in self.runs)
+        x = np.array([r.displacement[:n] for r in self.runs])
+        return {"time": np.asarray(self.runs[0].time[:n]), **_columns(x, lists=False)}
+
+    def damping_ratio(self) -> list[dict]:
+        """The damping ratio (Eqs. 24-25) per amplitude over the realisations: at every
+        realisation's cycle amplitudes within the range all of them cover (largest first), the
+        ``mean``, ``std``, ``min`` and ``max`` of each realisation's zeta, interpolated
+        linearly in its cycle amplitude."""
+        curves = [r.damping_ratio for r in self.runs]
+        curves = [(a, z) for a, z in curves if len(a) >= 2]
+        if len(curves) < len(self.runs):
+            return []
+        lo = max(float(a.min()) for a, _ in curves)
+        hi = min(float(a.max()) for a, _ in curves)
+        grid = sorted({float(v) for a, _ in curves for v in a if lo <= v <= hi},
+                      reverse=True)
+        if not grid:
+            return []
+        z = np.array([np.interp(grid, a[np.argsort(a)], zz[np.argsort(a)])
+                      for a, zz in curves])
+        cols = _columns(z)
+        return [{"amplitude": g, **{k: cols[k][i] for k in cols}} for i, g in enumerate(grid)]
+
+    def as_dict(self) -> dict:
+        """The ``realisations`` record of ``pdamper simulate --json`` (SI units)."""
+        out = {"count": self.count, "model": self.model, "std_ddof": 1,
+               "statistic": "mean, std (divisor N - 1), min, max over the realisations",
+               "band": "min-max of the realisations around their mean",
+               "seconds": self.seconds, "workers": self.workers, "at": self.at,
+               "amplitude_at": self.amplitude_at(),
+               "final_amplitude": self.final_amplitude(),
+               "damping_ratio": self.damping_ratio(), "envelope": self.envelope()}
+        if self.seeds is not None:
+            out["seeds"] = list(self.seeds)
+        if self.map_realisations is not None:
+            out["map_realisations"] = list(self.map_realisations)
+        return out
+
+
+def _columns(a, lists: bool = True) -> dict:
+    """mean / std (divisor N - 1) / min / max over the first axis of ``a``."""
+    a = np.asarray(a, float)
+    std = a.std(axis=0, ddof=1) if a.shape[0] > 1 else np.full(a.shape[1:], math.nan)
+    cols = {"mean": a.mean(axis=0), "std": std, "min": a.min(axis=0), "max": a.max(axis=0)}
+    return {k: v.tolist() for k, v in cols.items()} if lists else cols
+
+
+def level3_point(params: dict, *, scenario, model_name: str) -> dict:
+    """One Level III realisation (runs on a sweep worker): the scenario's free vibration
+    with the model ``model_name`` of the random packing of seed ``params["seed"]``."""
+    import time
+
+    from pdamper.coupling import Simulation
+
+    sc = with_seed(scenario, int(params["seed"]))
+    t0 = time.perf_counter()
+    r = Simulation(sc.structure_model(), sc.model(model_name, sc.damper()),
+                   sc.structure.initial_displacement).run(sc.simulation.duration,
+                                                          sc.simulation.sample_rate)
+    return {"time": r.time, "displacement": r.displacement, "peak_times": r.peak_times,
+            "peak_amplitudes": r.peak_amplitudes, "model": r.model,
+            "wall_seconds": time.perf_counter() - t0}
+
+
+def _result(values: dict):
+    from pdamper.coupling import FreeVibrationResult
+
+    return FreeVibrationResult(np.asarray(values["time"], float),
+                               np.asarray(values["displacement"], float),
+                               np.asarray(values["peak_times"], float),
+                               np.asarray(values["peak_amplitudes"], float),
+                               model=values["model"])
+
+
+def _check_at(at: float, duration: float) -> float:
+    if not 0 <= at <= duration:
+        raise InputError("optimization.at", f"the time of the realisations' amplitude must be "
+                         f"within the simulated time [0 s, {duration:g} s], got {at:g} s; "
+                         "set a longer --duration or an earlier [optimization] at")
+    return float(at)
+
+
+def level3_kind(model) -> str | None:
+    """How a Level III model makes realisations: ``"seed"`` (it starts from a seeded
+    random packing), ``"map"`` (an effective-field map with realisations), or None."""
+    if getattr(model, "initial_packing", None) is not None:
+        return "seed"
+    if int(getattr(model, "map_attrs", {}).get("realisations", 1) or 1) > 1:
+        return "map"
+    return None
+
+
+def check_level3_realisations(count, scenario, model_name: str | None = None, *,
+                              force: bool = False) -> int:
+    """``count`` realisations of the scenario's free vibration with ``model_name``: a whole
+    number >= 1; N > 1 for a model with a random packing (the DEM, N times its cost within
+    the limits, ``[optimization] at`` within the simulated time) or the effective fields of
+    a map with at least N realisations."""
+    n = check_count(count)
+    if n == 1:
+        return n
+    model = scenario.model(model_name, scenario.damper())
+    kind = level3_kind(model)
+    if kind == "map":
+        have = int(model.map_attrs["realisations"])
+        if n > have:
+            raise InputError("realisations", f"must be at most the {have} realisations of the "
+                             f"effective-field map, got {n}")
+    else:
+        _need_random(model, n)
+        _scaled_check(scenario, "simulation", model_name, n, force)
+    _check_at(scenario.optimization.at, scenario.simulation.duration)
+    return n
+
+
+def run_level3_realisations(scenario, count: int, model_name: str | None = None, *,
+                            workers: int | None = None, scheduler: str | None = None,
+                            serial: bool = False, force: bool = False) -> Level3Band:
+    """The scenario's free vibration (``[structure]``, ``[simulation]``) from ``count``
+    realisations of the damper model ``model_name`` (default ``[simulation] model``),
+    with the amplitude band at ``[optimization] at``.
+
+    A model with a random packing (the DEM co-simulation, model 1) runs realisation ``k``
+    from seed ``dem.seed + k``, the realisations in parallel on the sweep engine (a local
+    dask cluster of ``workers`` processes, every core by default; ``scheduler``; or
+    ``serial``). The effective fields of a map with realisations (model 2) run realisation
+    ``k`` with the field of the map's realisation ``k`` (seconds each: in this process).
+
+    Raises
+    ------
+    InputError
+        A bad count (:func:`check_level3_realisations`).
+    RuntimeError
+        A realisation failed (its error).
+    """
+    import time
+
+    from pdamper.sweep import run_sweep
+
+    n = check_level3_realisations(count, scenario, model_name, force=force)
+    at = _check_at(scenario.optimization.at, scenario.simulation.duration)
+    damper = scenario.damper()
+    proto = scenario.model(model_name, damper)
+    if level3_kind(proto) == "map":
+        from pdamper.coupling import Simulation
+
+        t0 = time.perf_counter()
+        runs = []
+        for k in range(n):
+            opts = {**scenario.fields.options(), "file": None,
+                    "field": realisation_map(proto._map, k)}
+            m = type(proto)(damper, **opts)
+            runs.append(Simulation(scenario.structure_model(), m,
+                                   scenario.structure.initial_displacement).run(
+                scenario.simulation.duration, scenario.simulation.sample_rate))
+        return Level3Band(proto.fidelity, runs, at, map_realisations=list(range(n)),
+                          seconds=time.perf_counter() - t0)
+    seeds = seeds_of(scenario, n)
+    res = run_sweep(functools.partial(level3_point, scenario=scenario,
+                                      model_name=model_name or scenario.simulation.model),
+                    [{"seed": s} for s in seeds], retries=0, workers=workers,
+                    scheduler=scheduler, serial=serial)
+    bad = [(p.params["seed"], p.error) for p in res.points if not p.ok]
+    if bad:
+        raise RuntimeError(f"realisation of seed {bad[0][0]} failed: {bad[0][1]}")
+    return Level3Band(proto.fidelity, [_result(p.values) for p in res.points], at,
+                      seeds=seeds, seconds=res.seconds, workers=res.workers)
