@@ -164,7 +164,7 @@ def test_simulate_fields_band_from_a_map_with_realisations(tmp_path, cli):
 
     out = tmp_path / "m.nc"
     _json(cli, "map", "--model", "dem", "--frequency", "4Hz:7Hz:2", "--amplitude",
-          "5mm:60mm:3", "--serial", "--out", out, "--realisations", "2", "--scenario",
+          "10mm:60mm:2", "--serial", "--out", out, "--realisations", "2", "--scenario",
           _toml(tmp_path, "s.toml", FAST_MAP.format(seed=2)))
     clamp = _toml(tmp_path, "f.toml", "[fields]\nextrapolation = \"clamp\"\n"
                   "nonstationary = \"use\"\n")
@@ -200,3 +200,25 @@ def test_simulate_realisations_input_errors(tmp_path, cli):
         code, _, err = cli(*args)
         assert code == 2 and err.startswith(f"error: {field}:"), err
         assert err.count("\n") == 1 and words in err, err
+
+
+# --------------------------------------------------------------------------- design studies
+def test_optimize_dem_realisations_spread_per_design(tmp_path, cli):
+    """``optimize --realisations 2`` (DEM, random packings from seed 7): each design's
+    objective is the mean over seeds 7 and 8, each value the study of that seed alone."""
+    args = ["optimize", "--model", "dem", "--vary", "particles=16:32:16", "--at", "0.3s",
+            "--workers", "0"]
+    data = _json(cli, *args, "--realisations", "2", "--scenario",
+                 _toml(tmp_path, "s7.toml", RANDOM.format(seed=7)))
+    assert data["statistic"] == "mean" and data["realisations"]["seeds"] == [7, 8]
+    alone = {s: _json(cli, *args, "--scenario", _toml(tmp_path, f"s{s}.toml",
+                                                        RANDOM.format(seed=s)))
+             for s in (7, 8)}
+    for i, c in enumerate(data["candidates"]):
+        v = [alone[s]["candidates"][i]["objective"] for s in (7, 8)]
+        assert c["objective_values"] == v and v[0] != v[1]
+        assert math.isclose(c["objective"], np.mean(v), rel_tol=1e-12)
+        assert (c["objective_min"], c["objective_max"]) == (min(v), max(v))
+        assert math.isclose(c["objective_std"], abs(v[0] - v[1]) / math.sqrt(2), rel_tol=1e-9)
+    code, _, err = cli("optimize", "--realisations", "2")  # the analytical model
+    assert code == 2 and err.startswith("error: realisations:") and "analytic" in err

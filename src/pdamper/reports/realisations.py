@@ -706,3 +706,57 @@ def run_level3_realisations(scenario, count: int, model_name: str | None = None,
         raise RuntimeError(f"realisation of seed {bad[0][0]} failed: {bad[0][1]}")
     return Level3Band(proto.fidelity, [_result(p.values) for p in res.points], at,
                       seeds=seeds, seconds=res.seconds, workers=res.workers)
+
+
+# --------------------------------------------------------------------------- design studies
+def seeded_model(scenario, seed: int, damper):
+    """The ``[simulation]`` model of ``damper`` with the random packing of seed ``seed``
+    (a picklable model factory of a design study, with ``functools.partial``)."""
+    return with_seed(scenario, seed).model(None, damper)
+
+
+@dataclass
+class RealisationsEvaluator:
+    """A design study's objective over N realisations of each design: the mean of the
+    objective of the design's free vibration from the random packings of ``seeds``, with
+    their spread in the candidate's extras (``objective_std``, divisor N - 1;
+    ``objective_min``, ``objective_max``, ``objective_values``). Picklable for dask."""
+
+    evaluators: list
+    seeds: list[int]
+
+    def __call__(self, design: dict) -> tuple[float, dict]:
+        runs = [e(design) for e in self.evaluators]
+        st = spread([v for v, _ in runs])
+        return st["mean"], {**runs[0][1], "objective_std": st["std"],
+                            "objective_min": st["min"], "objective_max": st["max"],
+                            "objective_values": st["values"]}
+
+    def check(self, design: dict) -> None:
+        """The physical limits of the design (:meth:`DesignEvaluator.check`)."""
+        self.evaluators[0].check(design)
+
+
+def check_design_realisations(count, scenario, *, force: bool = False) -> int:
+    """``count`` realisations of every design of the scenario's study: a whole number >= 1;
+    N > 1 only with a ``[simulation]`` model of a random packing, N times the study's cost
+    within the limits."""
+    n = check_count(count)
+    if n > 1:
+        _need_random(scenario.model(None, scenario.damper()), n)
+        _scaled_check(scenario, "optimization", None, n, force)
+    return n
+
+
+def design_evaluator(scenario, count: int, objective):
+    """The evaluator of a design study over ``count`` realisations of each design
+    (seeds ``dem.seed + k``) of the scenario's structure and release, for ``objective``
+    (:func:`pdamper.design.study.make_objective`)."""
+    from pdamper.design.study import DesignEvaluator
+
+    seeds = seeds_of(scenario, count)
+    structure, damper = scenario.structure_model(), scenario.damper()
+    x0 = scenario.structure.initial_displacement
+    return RealisationsEvaluator(
+        [DesignEvaluator(structure, damper, x0, objective,
+                         functools.partial(seeded_model, scenario, s)) for s in seeds], seeds)
