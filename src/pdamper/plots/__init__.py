@@ -17,9 +17,9 @@ from pdamper.plots.figures import (
     plot_step_profile,
 )
 from pdamper.plots.level3 import (
+    plot_damping_ratio_band,
     plot_design_landscape,
     plot_mode_study,
-    plot_damping_ratio_band,
     plot_model_damping_ratios,
     plot_model_trajectories,
     plot_phase_drift,
