@@ -503,6 +503,8 @@ class Level3Band:
         realisations), or None.
     seconds, workers
         Wall time [s] and worker processes of the runs.
+    run_seconds
+        Wall time of each realisation's run [s].
     """
 
     model: str
@@ -512,6 +514,7 @@ class Level3Band:
     map_realisations: list[int] | None = None
     seconds: float = math.nan
     workers: int = 1
+    run_seconds: list[float] = field(default_factory=list)
 
     @property
     def count(self) -> int:
@@ -567,7 +570,8 @@ class Level3Band:
         out = {"count": self.count, "model": self.model, "std_ddof": 1,
                "statistic": "mean, std (divisor N - 1), min, max over the realisations",
                "band": "min-max of the realisations around their mean",
-               "seconds": self.seconds, "workers": self.workers, "at": self.at,
+               "seconds": self.seconds, "workers": self.workers,
+               "run_seconds": list(self.run_seconds), "at": self.at,
                "amplitude_at": self.amplitude_at(),
                "final_amplitude": self.final_amplitude(),
                "damping_ratio": self.damping_ratio(), "envelope": self.envelope()}
@@ -686,16 +690,18 @@ def run_level3_realisations(scenario, count: int, model_name: str | None = None,
         from pdamper.coupling import Simulation
 
         t0 = time.perf_counter()
-        runs = []
+        runs, secs = [], []
         for k in range(n):
+            t1 = time.perf_counter()
             opts = {**scenario.fields.options(), "file": None,
                     "field": realisation_map(proto._map, k)}
             m = type(proto)(damper, **opts)
             runs.append(Simulation(scenario.structure_model(), m,
                                    scenario.structure.initial_displacement).run(
                 scenario.simulation.duration, scenario.simulation.sample_rate))
+            secs.append(time.perf_counter() - t1)
         return Level3Band(proto.fidelity, runs, at, map_realisations=list(range(n)),
-                          seconds=time.perf_counter() - t0)
+                          seconds=time.perf_counter() - t0, run_seconds=secs)
     seeds = seeds_of(scenario, n)
     res = run_sweep(functools.partial(level3_point, scenario=scenario,
                                       model_name=model_name or scenario.simulation.model),
@@ -705,7 +711,8 @@ def run_level3_realisations(scenario, count: int, model_name: str | None = None,
     if bad:
         raise RuntimeError(f"realisation of seed {bad[0][0]} failed: {bad[0][1]}")
     return Level3Band(proto.fidelity, [_result(p.values) for p in res.points], at,
-                      seeds=seeds, seconds=res.seconds, workers=res.workers)
+                      seeds=seeds, seconds=res.seconds, workers=res.workers,
+                      run_seconds=[float(p.values["wall_seconds"]) for p in res.points])
 
 
 # --------------------------------------------------------------------------- design studies
