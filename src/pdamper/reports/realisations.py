@@ -230,7 +230,7 @@ def _scaled_check(scenario, run: str, model: str | None, n: int, force: bool) ->
         if cost.seconds > 0:
             cost = resources.Cost(
                 f"{n} realisations of {cost.what}", cost.seconds * n, cost.memory,
-                f"{n} runs, each {cost.detail}",
+                f"{n} realisations, each {cost.detail}",
                 (*cost.drivers, ("realisations", n / USUAL_REALISATIONS)),
                 runs=n * max(cost.runs or 1, 1),
                 longest=cost.longest if cost.longest is not None else cost.seconds,
