@@ -125,7 +125,8 @@ def main(argv=None) -> dict:
         print(f"{what}: one run {t1:.2f} s; {n} in this process {ts:.2f} s "
               f"({ts / t1:.2f} x one); {n} on {got} workers as the commands run them (a "
               f"new cluster) {tc:.2f} s ({tc / t1:.2f} x one); on {got} warm workers "
-              f"{tw:.2f} s ({tw / t1:.2f} x one, ideal {ideal:.2f}; efficiency "
+              f"{tw:.2f} s ({tw / t1:.2f} x one, ideal {ideal:.2f}; {ts / tw:.2f} times "
+              f"as fast as in this process, ideal {w}; efficiency "
               f"{n * t1 / (w * tw) * 100:.0f} %); loading the kernels on the workers "
               f"{tw0:.2f} s; runs in this process " + ", ".join(f"{r:.2f}" for r in runs)
               + " s, points on the warm workers " + ", ".join(f"{r:.2f}" for r in on_workers)
@@ -134,6 +135,7 @@ def main(argv=None) -> dict:
                                 "cold_parallel_seconds": tc, "warm_parallel_seconds": tw,
                                 "worker_kernel_load_seconds": tw0,
                                 "warm_over_one": tw / t1, "cold_over_one": tc / t1,
+                                "speedup_over_serial": ts / tw,
                                 "ideal_ratio": ideal, "warm_efficiency": n * t1 / (w * tw),
                                 "run_seconds": runs, "warm_point_seconds": on_workers,
                                 "workers": got}

@@ -157,6 +157,8 @@ def simulate(
     meta = metadata(sc)
     if out is not None:
         ds = first.to_dataset()
+        if names[0] in bands:  # the first realisation's trajectory and the band
+            ds = bands[names[0]].add_to(ds)
         ds.attrs.update(pdamper_version=meta["version"])
         from pdamper.files import atomic_write_netcdf
 

@@ -1,11 +1,20 @@
-"""Realisations of a DEM run: the same damper and excitation from N independent random
-packings, run in parallel on the sweep engine (:func:`pdamper.sweep.run_sweep`).
+"""Realisations of DEM answers: the same inputs from N independent random packings, run
+in parallel on the sweep engine (:func:`pdamper.sweep.run_sweep`).
 
 A DEM result depends on the realisation (the random initial packing); the spread over
-packings says how sure one run's loss factor and effective mass ratio are. Realisation
-``k`` (``k = 0 .. N-1``) starts from the random packing of seed ``seed + k``, so the first
-is the single run of that seed, and every realisation can be run again on its own with
-``pdamper dem --seed``.
+packings says how sure one run's answer is. Realisation ``k`` (``k = 0 .. N-1``) starts
+from the random packing of seed ``dem.seed + k``, so the first is the single run of that
+seed, and every realisation can be run again on its own with that seed.
+
+* Level II runs (``pdamper dem``): :func:`run_realisations`.
+* Maps (``pdamper map --model dem``): :func:`run_map_realisations`, the realisations
+  combined by :func:`combine_realisations` (a ``realisation`` dimension and the spread of
+  every cell), :func:`realisation_map` to take one out.
+* Level III (``pdamper simulate``): :func:`run_level3_realisations` gives a
+  :class:`Level3Band`: model 1 from N packings, or model 2 from the fields of a map's
+  realisations (the map's band carried through the free vibration).
+* Design studies (``pdamper optimize``): :func:`design_evaluator`, the objective's mean
+  over N packings and its spread per design.
 
 Example::
 
@@ -564,6 +573,29 @@ class Level3Band:
                       for a, zz in curves])
         cols = _columns(z)
         return [{"amplitude": g, **{k: cols[k][i] for k in cols}} for i, g in enumerate(grid)]
+
+    def add_to(self, ds):
+        """``ds`` (the first realisation's :meth:`FreeVibrationResult.to_dataset`) with the
+        band: ``displacement_mean`` / ``_std`` / ``_min`` / ``_max`` over ``time`` and the
+        amplitude envelope's ``envelope_mean`` / ... over ``envelope_time`` [m]; attributes
+        ``realisations``, ``seeds`` or ``map_realisations`` (JSON), ``at``."""
+        tr, env = self.trajectory(), self.envelope()
+        n = len(tr["time"])
+        out = ds.isel(time=slice(0, n))
+        for k in ("mean", "std", "min", "max"):
+            out[f"displacement_{k}"] = ("time", tr[k], {
+                "long_name": f"end-effector displacement, {k} over the realisations",
+                "units": "m"})
+            out[f"envelope_{k}"] = ("envelope_time", np.asarray(env[k]), {
+                "long_name": f"amplitude envelope, {k} over the realisations", "units": "m"})
+        out = out.assign_coords(envelope_time=("envelope_time", np.asarray(env["time"]),
+                                               {"units": "s"}))
+        out.attrs.update(realisations=self.count, at=self.at, std_ddof=1)
+        if self.seeds is not None:
+            out.attrs["seeds"] = json.dumps(self.seeds)
+        if self.map_realisations is not None:
+            out.attrs["map_realisations"] = json.dumps(self.map_realisations)
+        return out
 
     def as_dict(self) -> dict:
         """The ``realisations`` record of ``pdamper simulate --json`` (SI units)."""

@@ -168,10 +168,15 @@ def test_simulate_fields_band_from_a_map_with_realisations(tmp_path, cli):
           _toml(tmp_path, "s.toml", FAST_MAP.format(seed=2)))
     clamp = _toml(tmp_path, "f.toml", "[fields]\nextrapolation = \"clamp\"\n"
                   "nonstationary = \"use\"\n")
+    band = tmp_path / "band.nc"
     data = _json(cli, *_simulate("--model", "fields", "--fields", out, "--realisations", "2",
-                                 "--scenario", clamp))
+                                 "--scenario", clamp, "--out", band))
     rec = data["realisations"]
     assert rec["count"] == 2 and rec["map_realisations"] == [0, 1] and "seeds" not in rec
+    with xr.open_dataset(band, engine="h5netcdf") as nc:  # the band in the trajectory file
+        assert nc.attrs["realisations"] == 2
+        assert nc["envelope_max"].values.tolist() == rec["envelope"]["max"]
+        assert (nc["displacement_min"] <= nc["displacement_max"]).all()
     with xr.open_dataset(out, engine="h5netcdf") as ds:
         ds = ds.load()
     for k in (0, 1):
