@@ -73,3 +73,7 @@ def test_case_study_draws_dem_model1_as_a_band(tmp_path):
     assert data["count"] == 3 and data["at"] == 0.75 and len(set(a["values"])) == 3
     assert a["min"] < a["mean"] < a["max"]
     assert (tmp_path / "fig7_trajectory.png").stat().st_size > 10_000
+    row = next(m for m in cs.models() if "random packings" in m["label"])  # the report's table
+    assert row["amplitude_0p75"] == a["mean"] and row["amplitude_0p75_band"]["min"] == a["min"]
+    page = (tmp_path / "report.html").read_text()
+    assert "mean of 3 random packings" in page and f"{a['max'] * 1e3:.2f} mm" in page

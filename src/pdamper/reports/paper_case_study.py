@@ -138,6 +138,21 @@ class CaseStudy:
                         "amplitude_0p75": run.amplitude_at(t_cmp) if long_enough else None,
                         "final_amplitude": run.final_amplitude,
                         "seconds": self.timings.get(key)})
+        b = self.dem_band
+        if b is not None:  # the means, the band in the source column and its own keys
+            a, fin = b.amplitude_at(), b.final_amplitude()
+            at = b.at >= t_cmp * (1.0 - 1e-9)
+            band = (f"; at 0.75 s std {a['std'] * 1e3:.2f} mm, min {a['min'] * 1e3:.2f}, "
+                    f"max {a['max'] * 1e3:.2f} mm" if at else "")
+            out.append({"label": f"DEM (model 1), mean of {b.count} random packings",
+                        "model": b.model,
+                        "source": f"DEM co-simulation, seeds {b.seeds[0]}-{b.seeds[-1]}"
+                                  + band,
+                        "amplitude_0p75": a["mean"] if at else None,
+                        "amplitude_0p75_band": {k: a[k] for k in ("std", "min", "max")}
+                        if at else None,
+                        "final_amplitude": fin["mean"],
+                        "seconds": self.timings.get(f"model 1, {b.count} random packings")})
         return out
 
 
