@@ -212,7 +212,8 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     its points), the Fig. 3 snapshots, the Fig. 2 check (the paper's COR curves in single
     DEM impacts) and DEM model 1, run with the scenario's COR and with the paper's Fig. 2
     curves; ``realisations`` N > 1 adds DEM model 1 from N random packings (seeds
-    ``dem.seed + k``, on the sweep engine), drawn as a band in Figs. 7/8.
+    ``dem.seed + k``, on the sweep engine: in this process unless ``sweep_options`` name
+    ``workers`` or a ``scheduler``), drawn as a band in Figs. 7/8.
     """
     from pdamper.io.scenario import Scenario
 
@@ -460,6 +461,10 @@ def _dem_band(cs: CaseStudy, sc, n: int, say, sweep_options) -> None:
 
     say(f"Fig. 7/8: DEM model 1 from {n} random packings")
     opts = {k: v for k, v in sweep_options.items() if k in ("workers", "scheduler", "serial")}
+    if not opts.get("workers") and not opts.get("scheduler"):
+        # a few runs of seconds each: in this process, whose kernels are loaded, they cost
+        # less than a new cluster's start and its workers' kernel loads
+        opts["serial"] = True
     cs.dem_band = _timed(cs, f"model 1, {n} random packings",
                          lambda: run_level3_realisations(band_scenario(sc), n, "dem", **opts))
 
