@@ -213,8 +213,10 @@ def test_optimize_dem_realisations_spread_per_design(tmp_path, cli):
     objective is the mean over seeds 7 and 8, each value the study of that seed alone."""
     args = ["optimize", "--model", "dem", "--vary", "particles=16:32:16", "--at", "0.3s",
             "--workers", "0"]
-    data = _json(cli, *args, "--realisations", "2", "--scenario",
+    plot = tmp_path / "landscape.png"
+    data = _json(cli, *args, "--realisations", "2", "--plot", plot, "--scenario",
                  _toml(tmp_path, "s7.toml", RANDOM.format(seed=7)))
+    assert plot.stat().st_size > 10_000
     assert data["statistic"] == "mean" and data["realisations"]["seeds"] == [7, 8]
     alone = {s: _json(cli, *args, "--scenario", _toml(tmp_path, f"s{s}.toml",
                                                         RANDOM.format(seed=s)))

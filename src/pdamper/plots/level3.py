@@ -93,8 +93,9 @@ def plot_design_landscape(study, ax=None):
     added mass against the objective ringed, the lightest design within the study's
     tolerance of the best as a green diamond.
 
-    One variable: objective against it. Two or more: the first two variables as axes,
-    the objective as colour (categorical variables by index).
+    One variable: objective against it (designs evaluated from several realisations:
+    their mean, the min-max shaded). Two or more: the first two variables as axes, the
+    objective as colour (categorical variables by index).
     """
     ax = _axes(ax)
     names = [v.name for v in study.variables]
@@ -121,8 +122,14 @@ def plot_design_landscape(study, ax=None):
     v0 = study.variables[0]
     if len(names) == 1:
         pts = sorted(ok, key=lambda c: coord(v0, c))
-        ax.plot([coord(v0, c) for c in pts], [c.objective * unit for c in pts], "o-",
-                label="designs")
+        line, = ax.plot([coord(v0, c) for c in pts], [c.objective * unit for c in pts], "o-",
+                        label="designs")
+        if pts and all("objective_min" in c.extra for c in pts):  # realisations: their band
+            ax.fill_between([coord(v0, c) for c in pts],
+                            [c.extra["objective_min"] * unit for c in pts],
+                            [c.extra["objective_max"] * unit for c in pts],
+                            color=line.get_color(), alpha=0.25, lw=0,
+                            label="min-max of the realisations (line: their mean)")
         if bad:
             y0 = min((c.objective * unit for c in ok), default=0.0)
             for status, color in (("infeasible", "0.5"), ("failed", "r")):
