@@ -528,6 +528,9 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
                                     "{scenario:dem_random}"], Error("realisations")),
     ("paper-realisations-0", ["paper", "--realisations", "0", "--out", "{tmp}/p"],
      Error("realisations")),
+    ("simulate-realisations-with-load", ["simulate", "--model", "dem", "--realisations", "2",
+                                         "--scenario", "{scenario:load_force}"],
+     Error("realisations")),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds
