@@ -131,11 +131,16 @@ def simulate(
             sc.check_resources("simulation", n, force)
     damper = sc.damper()
     models = {n: sc.model(n, damper) for n in names}  # all built (and checked) before any run
-    if realisations is not None and (sc.load.given or uncertainty is not None):
+    n_real, banded = 1, []
+    if realisations is not None:
+        from pdamper.reports.realisations import parse_count
+
+        n_real = parse_count(realisations)
+    if n_real > 1 and (sc.load.given or uncertainty is not None):
         raise InputError("realisations", "a band over random packings is of the release's "
-                         "free vibration alone: leave out --realisations with "
+                         "free vibration alone: must be 1 with "
                          + ("--load / --base-acceleration" if sc.load.given
-                            else "--uncertainty"))
+                            else "--uncertainty") + f", got {n_real}")
     if sc.load.given:  # a load history instead of the release (docs/forced.md)
         from pdamper.cli import _load_history
 
@@ -151,25 +156,18 @@ def simulate(
     if tail is not None:
         raise InputError("load.tail", "is the free vibration after a load history: give "
                          "--load or --base-acceleration")
-    n_real, banded = 1, []
     if workers is not None and workers < 1:
         raise InputError("workers", f"must be a whole number >= 1, got {workers}")
-    if realisations is not None:
-        from pdamper.reports.realisations import (
-            check_level3_realisations,
-            level3_kind,
-            parse_count,
-        )
+    if n_real > 1:
+        from pdamper.reports.realisations import check_level3_realisations, level3_kind
 
-        n_real = parse_count(realisations)
-        if n_real > 1:
-            # each model that has realisations gets a band; the others run once
-            banded = [n for n, m in models.items() if level3_kind(m) is not None]
-            if not banded:
-                raise InputError("realisations", f"must be 1 for {', '.join(names)} (no "
-                                 f"random packing, no map with realisations), got {n_real}")
-            for n in banded:  # every count and cost judged before any run
-                check_level3_realisations(n_real, sc, n, force=force)
+        # each model that has realisations gets a band; the others run once
+        banded = [n for n, m in models.items() if level3_kind(m) is not None]
+        if not banded:
+            raise InputError("realisations", f"must be 1 for {', '.join(names)} (no "
+                             f"random packing, no map with realisations), got {n_real}")
+        for n in banded:  # every count and cost judged before any run
+            check_level3_realisations(n_real, sc, n, force=force)
     aligned = None
     if measured is not None:
         from pdamper.coupling.measurement import align_measurement, check_release_scale
