@@ -83,6 +83,8 @@ SCENARIOS = {
     "load_force": '[load]\nforce = "load_force.csv"\ntail = "0.5 s"\n',
     "load_both": '[load]\nforce = "load_force.csv"\nbase_acceleration = "load_acc.csv"\n',
     "load_tail_negative": '[load]\nforce = "load_force.csv"\ntail = "-1 s"\n',
+    # -- realisations: a random packing (several realisations)
+    "dem_random": '[dem]\npacking = "random"\n',
 }
 
 
@@ -500,6 +502,35 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("ok-optimize-rms-base-acceleration", ["optimize", "--objective", "rms",
                                            "--base-acceleration", "{tmp}/load_acc.csv",
                                            "--vary", "particles=0:32:32", "--json"], OK()),
+    # -- realisations of maps, Level III, design studies and the case study: a whole number
+    # >= 1 within the cost limits, only for a model with a random packing
+    ("map-realisations-analytic", ["map", "--realisations", "2"], Error("realisations")),
+    ("map-realisations-nan", ["map", "--model", "dem", "--realisations", "nan"],
+     Error("realisations")),
+    ("map-realisations-1e12", ["map", "--model", "dem", "--realisations", "1000000000000",
+                               "--force", "--scenario", "{scenario:dem_random}"],
+     Error("realisations")),
+    ("simulate-realisations-lattice", ["simulate", "--model", "dem", "--realisations", "2"],
+     Error("realisations")),
+    ("simulate-realisations-analytic", ["simulate", "--realisations", "3"],
+     Error("realisations")),
+    ("simulate-realisations-1e12", ["simulate", "--model", "dem", "--realisations",
+                                    "1000000000000", "--force", "--scenario",
+                                    "{scenario:dem_random}"], Error("realisations")),
+    ("simulate-realisations-at-past-the-end", ["simulate", "--model", "dem", "--duration",
+                                               "0.5s", "--at", "1s", "--realisations", "2",
+                                               "--scenario", "{scenario:dem_random}"],
+     Error("optimization.at")),
+    ("optimize-realisations-inf", ["optimize", "--model", "dem", "--realisations", "inf"],
+     Error("realisations")),
+    ("optimize-realisations-1e12", ["optimize", "--model", "dem", "--realisations",
+                                    "1000000000000", "--force", "--scenario",
+                                    "{scenario:dem_random}"], Error("realisations")),
+    ("paper-realisations-0", ["paper", "--realisations", "0", "--out", "{tmp}/p"],
+     Error("realisations")),
+    ("simulate-realisations-with-load", ["simulate", "--model", "dem", "--realisations", "2",
+                                         "--scenario", "{scenario:load_force}"],
+     Error("realisations")),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds
