@@ -227,8 +227,6 @@ def _scaled_check(scenario, run: str, model: str | None, n: int, force: bool) ->
     """The cost check of ``scenario.check_resources(run, model)`` for ``n`` runs of it:
     every time cost it implies, ``n`` times over (memory is per run: one at a time per
     worker); the driver ``realisations`` is named when the count is what inflates it."""
-    real = resources.require
-
     def require(cost, force_=False):
         if cost.seconds > 0:
             cost = resources.Cost(
@@ -238,14 +236,9 @@ def _scaled_check(scenario, run: str, model: str | None, n: int, force: bool) ->
                 runs=n * max(cost.runs or 1, 1),
                 longest=cost.longest if cost.longest is not None else cost.seconds,
                 remedy="ask for fewer realisations" if n > USUAL_REALISATIONS else cost.remedy)
-        return real(cost, force_)
+        return resources.require(cost, force_)
 
-    # the scenario judges a run through this module's function: counted n times here
-    resources.require = require
-    try:
-        scenario.check_resources(run, model, force)
-    finally:
-        resources.require = real
+    scenario.check_resources(run, model, force, require=require)
 
 
 def _need_random(model, n: int) -> None:
