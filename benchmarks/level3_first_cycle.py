@@ -273,7 +273,7 @@ def structures():
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="fewer realisations (under a minute)")
-    ap.add_argument("--sections", default="spread,ledger,settle,cor,friction,structure,level2",
+    ap.add_argument("--sections", default="spread,ledger,settle,cor,friction,numerics,play,structure,level2",
                     help="comma-separated subset of the sections")
     args = ap.parse_args(argv)
     n = 3 if args.quick else 8
@@ -326,6 +326,19 @@ def main(argv=None) -> None:
                 run_group(f"{start}, mu {mu}, seeds 0-{n_small - 1}",
                           [model(start, s, damper=d) for s in range(n_small)], damper=d,
                           rows=rows)
+    if "numerics" in sections:
+        say("integration and damping law")
+        for label, kw in (("Gear tolerance 1e-6 (default 1e-5)", {"gear_tolerance": 1e-6}),
+                          ("Tsuji damping law (default exact)", {"damping_model": "tsuji"})):
+            for start in ("jitter", "random"):
+                run_group(f"{start}, {label}, seeds 0-{n_small - 1}",
+                          [model(start, s, **kw) for s in range(n_small)], rows=rows)
+    if "play" in sections:
+        say("play: the box 0.5 mm wider and deeper than four diameters")
+        d = dataclasses.replace(PAPER_DAMPER, width=0.0405, depth=0.0405)
+        for start in ("jitter", "random"):
+            run_group(f"{start}, box 40.5 x 40.5 mm, seeds 0-{n_small - 1}",
+                      [model(start, s, damper=d) for s in range(n_small)], damper=d, rows=rows)
     if "structure" in sections:
         say("structure")
         for label, s in structures()[1:]:
