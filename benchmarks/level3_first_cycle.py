@@ -216,23 +216,34 @@ def analytical_lines(structure=PAPER_STRUCTURE, damper=PAPER_DAMPER) -> list[str
 
 
 def level2_lines(frequency: float, amplitude: float, cycles: int, seeds) -> list[str]:
-    """Level II DEM at the first cycle's frequency and stroke, harmonic motion from rest:
-    the ledger's dissipation per cycle over the analytical steady E~."""
-    from pdamper.dem import HarmonicMotion
+    """Level II DEM at the first cycle's frequency and stroke, from rest: the harmonic motion
+    of Level II (``X sin W t``, from mid-stroke moving up) and the same motion started at
+    its minimum (``-X cos W t``, as the free decay starts). Per cycle: the ledger's
+    dissipation and the container's work on the bed, over the analytical steady E~."""
+    from pdamper.dem import HarmonicMotion, PrescribedMotion
 
+    w = 2 * math.pi * frequency
     e_ref = steady_energy(frequency, amplitude)
-    out = []
+    eta = float(bed_response(frequency, amplitude, PAPER_DAMPER.clearance,
+                             PAPER_DAMPER.bed_mass).loss_factor)
+    from_minimum = PrescribedMotion(
+        lambda t: -amplitude * np.cos(w * t), lambda t: amplitude * w * np.sin(w * t),
+        lambda t: amplitude * w**2 * np.cos(w * t), sample_interval=1e-5)
+    out = [f"Level II at {frequency:.2f} Hz / {amplitude * 1e3:.0f} mm: analytical E~ "
+           f"{e_ref:.3f} J (eta {eta:.3f}); per cycle, over E~:"]
     for start, seed in seeds:
-        m = model(start, seed)
-        eng = m.engine(HarmonicMotion(amplitude, frequency))
-        res = eng.run(cycles / frequency, sample_rate=200 * frequency)
-        e = res.dissipated_normal + res.dissipated_friction
-        tb = np.arange(cycles + 1) / frequency
-        per = np.diff(np.interp(tb, res.time, e)) / e_ref
-        out.append(f"Level II {start} seed {seed}, {frequency:.2f} Hz / {amplitude * 1e3:.0f} mm, "
-                   f"dissipation per cycle / analytical E~ ({e_ref:.3f} J): "
-                   + " ".join(f"{v:.2f}" for v in per)
-                   + f"; mean of cycles 3-{cycles}: {per[2:].mean():.2f}")
+        for label, motion in (("X sin Wt", HarmonicMotion(amplitude, frequency)),
+                              ("-X cos Wt", from_minimum)):
+            res = model(start, seed).engine(motion).run(cycles / frequency,
+                                                        sample_rate=200 * frequency)
+            tb = np.arange(cycles + 1) / frequency
+            diss = np.diff(np.interp(tb, res.time, res.dissipated_normal
+                                     + res.dissipated_friction)) / e_ref
+            work = np.diff(np.interp(tb, res.time, res.container_work)) / e_ref
+            out.append(f"  {start} seed {seed}, {label}: dissipated "
+                       + " ".join(f"{v:.2f}" for v in diss)
+                       + "; container's work " + " ".join(f"{v:.2f}" for v in work)
+                       + f"; cycles 3-{cycles}: {diss[2:].mean():.2f} / {work[2:].mean():.2f}")
     return out
 
 
