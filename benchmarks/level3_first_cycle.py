@@ -20,8 +20,9 @@ same with its first cycle holding only the lid impact (the floor impact of the s
 falls after the first minimum), a Level II DEM run at the first cycle's frequency and
 stroke (per-cycle dissipation from rest and steady), and the no-particle decay.
 
-Run: ``python benchmarks/level3_first_cycle.py [--quick]`` (about 3 min on one core;
-``--quick``: fewer realisations, under a minute). Seeds are explicit: jittered lattices use
+Run: ``python benchmarks/level3_first_cycle.py [--quick]`` (45 s of CPU, 1.5 min on a loaded
+2-core machine;
+``--quick``: fewer realisations, 22 s of CPU). Seeds are explicit: jittered lattices use
 ``numpy.random.default_rng(seed)``, random packings ``DEMDamper(seed=...)``.
 """
 
@@ -283,7 +284,7 @@ def structures():
 
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--quick", action="store_true", help="fewer realisations (under a minute)")
+    ap.add_argument("--quick", action="store_true", help="fewer realisations (about a third of the runs)")
     ap.add_argument("--sections", default="spread,ledger,settle,cor,friction,numerics,play,structure,level2",
                     help="comma-separated subset of the sections")
     args = ap.parse_args(argv)
