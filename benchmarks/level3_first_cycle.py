@@ -15,15 +15,17 @@ The paper's free decay (Sect. 4.2.1, Figs. 7/8): 32 spheres, structure released 
   differs from E1 by what the bed holds as motion at the first minimum, or gave back);
 * ``Ekin0``: the bed's kinetic energy at the release (after the settling) [J].
 
-Reference lines: model 3 (analytical, steady loss factor from the first update on), the
-same with its first cycle holding only the lid impact (the floor impact of the steady cycle
-falls after the first minimum), a Level II DEM run at the first cycle's frequency and
-stroke (per-cycle dissipation from rest and steady), and the no-particle decay.
+Reference lines: model 3 (analytical, steady loss factor from the first update on), its
+first cycle in closed form with the steady E~, with a rigid plastic bed from rest and with
+the lid impact only (the floor impact of the steady cycle falls after the first minimum),
+the DEM's energy ledger over the first cycle, Level II DEM runs at the first cycle's
+frequency and stroke started at mid-stroke and at the minimum (per-cycle dissipation and
+work), and the no-particle decay of each structure.
 
-Run: ``python benchmarks/level3_first_cycle.py [--quick]`` (45 s of CPU, 1.5 min on a loaded
-2-core machine;
-``--quick``: fewer realisations, 22 s of CPU). Seeds are explicit: jittered lattices use
-``numpy.random.default_rng(seed)``, random packings ``DEMDamper(seed=...)``.
+Run: ``python benchmarks/level3_first_cycle.py [--quick] [--sections spread,ledger,...]``
+(45 s of CPU, 1.5 min on a loaded 2-core machine; ``--quick``: fewer realisations, 22 s of
+CPU). Seeds are explicit: jittered lattices use ``numpy.random.default_rng(seed)``, random
+packings ``DEMDamper(seed=...)``. The runs are deterministic: a rerun prints the same table.
 """
 
 from __future__ import annotations
