@@ -23,7 +23,7 @@ frequency and stroke started at mid-stroke and at the minimum (per-cycle dissipa
 work), and the no-particle decay of each structure.
 
 Run: ``python benchmarks/level3_first_cycle.py [--quick] [--sections spread,ledger,...]``
-(45 s of CPU, 1.5 min on a loaded 2-core machine; ``--quick``: fewer realisations, 22 s of
+(45 s of CPU, 1.5-2 min on a loaded 2-core machine; ``--quick``: fewer realisations, 22 s of
 CPU). Seeds are explicit: jittered lattices use ``numpy.random.default_rng(seed)``, random
 packings ``DEMDamper(seed=...)``. The runs are deterministic: a rerun prints the same table.
 """
