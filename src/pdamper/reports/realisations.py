@@ -67,13 +67,21 @@ def run_summary(model, response) -> dict:
         "max_overlap_ratio": res.max_overlap_ratio,
         "max_impact_velocity": res.max_impact_velocity,
         "stepped_fraction": res.stepped_fraction,
+        # which protocol ran: the start and how it was integrated (DEMDamper.protocol)
+        "protocol": model.protocol("random" if int(r.diagnostics["random_packing"].item())
+                                   else "lattice"),
     }
     if model.error_estimate:
         d = r.diagnostics
         out.update(loss_factor_error=float(d["loss_factor_error"].item()),
                    effective_mass_ratio_error=float(d["effective_mass_ratio_error"].item()),
                    accuracy_met=bool(d["accuracy_met"].item()),
-                   accuracy_refinements=int(d["accuracy_refinements"].item()))
+                   accuracy_refinements=int(d["accuracy_refinements"].item()),
+                   realisation_loss_factor_spread=float(
+                       d["realisation_loss_factor_spread"].item()),
+                   realisation_effective_mass_ratio_spread=float(
+                       d["realisation_effective_mass_ratio_spread"].item()),
+                   realisation_dependent=bool(d["realisation_dependent"].item()))
     return out
 
 
