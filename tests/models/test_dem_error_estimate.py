@@ -188,11 +188,12 @@ def test_accuracy_is_met_only_where_a_converged_run_agrees(f, x):
     """From the paper's lattice, cycles 3-8, the default law: ``accuracy_met`` is true only
     where velocity Verlet at safety 0.005 (converged, computed here) is within the target.
     10 Hz / 32 mm is reproducible (the lattice's ordered state; a 1e-9 m move changes
-    nothing): met, and within 1 % of the converged run. 8 Hz / 80 mm is chaotic (converged
-    Verlet at safety 0.0049 / 0.0050 / 0.0051: 0.349 / 0.363 / 0.369, docs/dem.md): the
-    realisation companion shows it, the result says so and is not met, whatever its
-    integration error (before the companion, the estimate said 0.001 and met while Gear
-    at 1e-3 over the first cycle gave 0.67 against the converged 0.35)."""
+    nothing): met, and within 1 % of the converged run. 8 Hz / 80 mm depends on the
+    trajectory (converged Verlet at safety 0.0049 / 0.0050 / 0.0051: 0.349 / 0.363 / 0.369,
+    docs/dem.md): not met, by the refined companion that now refines the start from rest
+    too (measured: error 0.025, spread of a 1e-9 m move 0.002); before, the estimate said
+    0.001 and met while Gear at 1e-3 over the first cycle gave 0.67 against the converged
+    0.35."""
     kw = dict(cycles=8)
     run = DEMDamper(PAPER_DAMPER, error_estimate=True, **kw).steady_run(f, x)
     conv = DEMDamper(PAPER_DAMPER, integrator="verlet", safety=0.005, **kw).steady_run(f, x)
@@ -204,5 +205,5 @@ def test_accuracy_is_met_only_where_a_converged_run_agrees(f, x):
         assert acc.met and not acc.realisation_dependent
         assert dev <= DEFAULT_ACCURACY
     else:
-        assert acc.realisation_dependent and not acc.met
-        assert _rel(run, acc.loss_factor_spread, acc.effective_mass_ratio_spread) > acc.target
+        assert not acc.met and acc.relative_error > acc.target
+        assert acc.loss_factor_spread >= 0 and acc.effective_mass_ratio_spread >= 0
