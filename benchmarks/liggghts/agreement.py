@@ -144,6 +144,53 @@ def _print_lattice_row(row) -> None:
           f"{lm:.3f})", flush=True)
 
 
+def lattice_markdown(rows) -> str:
+    """docs/dem.md's lattice table: per point LIGGGHTS' eta and m_eff/m_bed (jitters
+    1 / 2), pdamper's default with each law, and the worst paired deviation against the
+    allowed max(2 %, LIGGGHTS' spread over the jitters)."""
+    laws = [k.split()[0] for k in rows[0]["pdamper"] if k.endswith("default")]
+    head = "| point | LIGGGHTS eta | m_eff/m_bed | spread | " + " | ".join(
+        f"pdamper {law} eta | m_eff/m_bed | dev" for law in laws) + " |"
+    lines = [head, "|" + "---|" * (4 + 3 * len(laws))]
+    for row in rows:
+        lg = row["liggghts"]
+        spread = max(max(abs(_dev(a["eta"], b["eta"])), abs(_dev(a["mass"], b["mass"])))
+                     for a in lg for b in lg)
+        allowed = max(0.02, spread)
+        cells = [f"{row['f']:g} Hz / {row['x']:g} mm",
+                 " / ".join(f"{r['eta']:.3f}" for r in lg),
+                 " / ".join(f"{r['mass']:.3f}" for r in lg), f"{100 * spread:.1f} %"]
+        for law in laws:
+            runs = row["pdamper"][f"{law} default"]
+            worst = max(max(abs(_dev(p["eta"], q["eta"])), abs(_dev(p["mass"], q["mass"])))
+                        for p, q in zip(runs, lg))
+            cells += [" / ".join(f"{r['eta']:.3f}" for r in runs),
+                      " / ".join(f"{r['mass']:.3f}" for r in runs),
+                      f"{100 * worst:.1f} %" + (" **out**" if worst > allowed else "")]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def random_markdown(rows) -> str:
+    """docs/dem.md's random-bed table: each code's ensemble (values per seed), the
+    deviation of the means against the allowed max(5 %, combined half-ranges)."""
+    lines = ["| point | LIGGGHTS eta | pdamper eta | dev (allowed) | LIGGGHTS m_eff/m_bed | "
+             "pdamper m_eff/m_bed | dev (allowed) |", "|---|---|---|---|---|---|---|"]
+    for row in rows:
+        cells = [f"{row['f']:g} Hz / {row['x']:g} mm"]
+        for q in ("eta", "mass"):
+            a, sa = _stats([r[q] for r in row["pdamper"]])
+            b, sb = _stats([r[q] for r in row["liggghts"]])
+            dev = _dev(a, b)
+            allowed = max(0.05, (sa + sb) / max(abs(b), 0.05))
+            cells += [" / ".join(f"{r[q]:.3f}" for r in row["liggghts"]),
+                      " / ".join(f"{r[q]:.3f}" for r in row["pdamper"]),
+                      f"{100 * dev:+.1f} % ({100 * allowed:.0f} %)"
+                      + (" **out**" if abs(dev) > allowed else "")]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
 def random_table(points, seeds: int, law: str, out: Path | None) -> list:
     """Per point: the ensembles of ``seeds`` random packings of each code."""
     rows = []
@@ -183,8 +230,9 @@ def main(args) -> None:
               f"{LATTICE_SKIP + 1}-{LATTICE_CYCLES}; LIGGGHTS (Tsuji law, tangential spring, "
               f"{LIGGGHTS_STEP * 1e6:g} us) against pdamper default / converged (Verlet at "
               f"{CONVERGED_SAFETY}), laws {', '.join(args.law)}")
-        lattice_table(points, args.seeds, args.law, out, args.converged)
+        print(lattice_markdown(lattice_table(points, args.seeds, args.law, out,
+                                             args.converged)))
     else:
         print(f"random packings, {args.seeds} seeds per code, {RANDOM_CYCLES} cycles, the "
               f"last {RANDOM_WINDOW} averaged; pdamper default ({args.law[0]} law)")
-        random_table(points, args.seeds, args.law[0], out)
+        print(random_markdown(random_table(points, args.seeds, args.law[0], out)))
