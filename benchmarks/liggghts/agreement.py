@@ -136,7 +136,7 @@ def _print_lattice_row(row) -> None:
         e = [r["eta"] for r in runs]
         m = [r["mass"] for r in runs]
         worst = max(max(abs(_dev(a, b["eta"])), abs(_dev(c, b["mass"])))
-                    for a, c, b in zip(e, m, lg))  # paired with the same jitter
+                    for a, c, b in zip(e, m, lg, strict=True))  # paired by jitter
         parts.append(f"{name}: eta " + "/".join(f"{v:.3f}" for v in e) + " m "
                      + "/".join(f"{v:.3f}" for v in m) + f" worst {100 * worst:.1f} % "
                      f"({sum(r['cpu'] for r in runs):.1f} s)")
@@ -163,7 +163,7 @@ def lattice_markdown(rows) -> str:
         for law in laws:
             runs = row["pdamper"][f"{law} default"]
             worst = max(max(abs(_dev(p["eta"], q["eta"])), abs(_dev(p["mass"], q["mass"])))
-                        for p, q in zip(runs, lg))
+                        for p, q in zip(runs, lg, strict=True))
             cells += [" / ".join(f"{r['eta']:.3f}" for r in runs),
                       " / ".join(f"{r['mass']:.3f}" for r in runs),
                       f"{100 * worst:.1f} %" + (" **out**" if worst > allowed else "")]

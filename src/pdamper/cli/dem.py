@@ -190,7 +190,8 @@ def dem(
             pvd = res.write_vtk(stage)
         payload["vtk"] = str(vtk_dir / pvd.name)
     human = (
-        f"DEM ({model.integrator}, from the {payload['protocol']['start']}), {damper.count} spheres, f = {f:g} Hz, X = {x * 1e3:g} mm, "
+        f"DEM ({model.integrator}, from the {payload['protocol']['start']}), "
+        f"{damper.count} spheres, f = {f:g} Hz, X = {x * 1e3:g} mm, "
         f"{st.cycles} cycles (complex power over cycles {st.first_cycle}-{st.last_cycle}, "
         + (("steady, a quiet bed)\n" if st.quiet else "steady)\n") if st.stationary
            else f"NOT steady: {st.reason})\n")
