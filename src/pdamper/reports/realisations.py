@@ -73,13 +73,21 @@ def run_summary(model, response) -> dict:
         "motion_mode": motion.mode.label,
         "subharmonic_order": motion.subharmonic_order,
         "mode_reason": motion.reason,
+        # which protocol ran: the start and how it was integrated (DEMDamper.protocol)
+        "protocol": model.protocol("random" if int(r.diagnostics["random_packing"].item())
+                                   else "lattice"),
     }
     if model.error_estimate:
         d = r.diagnostics
         out.update(loss_factor_error=float(d["loss_factor_error"].item()),
                    effective_mass_ratio_error=float(d["effective_mass_ratio_error"].item()),
                    accuracy_met=bool(d["accuracy_met"].item()),
-                   accuracy_refinements=int(d["accuracy_refinements"].item()))
+                   accuracy_refinements=int(d["accuracy_refinements"].item()),
+                   realisation_loss_factor_spread=float(
+                       d["realisation_loss_factor_spread"].item()),
+                   realisation_effective_mass_ratio_spread=float(
+                       d["realisation_effective_mass_ratio_spread"].item()),
+                   realisation_dependent=bool(d["realisation_dependent"].item()))
     return out
 
 
