@@ -20,7 +20,7 @@ import functools
 import math
 import tomllib
 from pathlib import Path
-from typing import Annotated, Any, ClassVar, Literal
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
 
 from pydantic import (
     AfterValidator,
@@ -54,6 +54,9 @@ from pdamper.models.settings import (
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID, DEFAULT_TOLERANCE
 from pdamper.units import format_quantity, parse_quantity, parse_range
+
+if TYPE_CHECKING:  # pragma: no cover
+    from pdamper.contact.restitution import RestitutionCurve
 
 
 def _q(unit: str):
@@ -115,7 +118,7 @@ class ParticlesSpec(_Section):
     count: Annotated[int, Field(ge=0, strict=True)] = _D.count
     radius: PositiveLength = _D.particle_radius
     material: str | MaterialSpec = _D.particle_material.name
-    friction: Annotated[float, Field(ge=0)] = _D.friction
+    friction: Annotated[float, Field(ge=0)] = paper.PAPER_FRICTION  # (_D.friction)
 
 
 class ExcitationSpec(_Section):
@@ -260,7 +263,7 @@ class LoadSpec(_Section):
 
 
 class SimulationSpec(_Section):
-    model: str = Field("analytic", validation_alias=AliasChoices("model", "damper"))
+    model: str = Field(default="analytic", validation_alias=AliasChoices("model", "damper"))
     duration: Duration = paper.PAPER_DURATION
     sample_rate: Frequency = 2000.0
 
@@ -390,8 +393,9 @@ DEM_SET_ELSEWHERE = {"gravity": "excitation.gravity"}
 DEM_SCENARIO_ONLY = ("restitution_pp", "restitution_pw")
 #: ``[dem.<table>]``: the settings of one concern in a table of its own (the same keys as
 #: flat ``[dem]`` keys, which stay the plain way of writing them).
-DEM_TABLES = {"plan": RunPlan, "steady_state": SteadyState, "accuracy_target": AccuracyTarget,
-              "contact": ContactLaw, "engine": EngineSettings}
+DEM_TABLES: dict[str, type[Settings]] = {"plan": RunPlan, "steady_state": SteadyState, "accuracy_target": AccuracyTarget,
+                                         "contact": ContactLaw,
+                                         "engine": EngineSettings}
 
 
 class _DEMSection(Settings):
@@ -436,12 +440,16 @@ class _DEMSection(Settings):
 
 #: Options of the DEM damper model (:class:`pdamper.models.DEMDamper`): its settings,
 #: derived from their declarations, and the constant CORs.
-DEMSpec = create_model(
-    "DEMSpec", __base__=_DEMSection, __module__=__name__,
-    restitution_pp=(Restitution, _D.restitution_pp.e),
-    restitution_pw=(Restitution, _D.restitution_pw.e),
-    **{name: (info.annotation, info) for name, info in DEMSettings.model_fields.items()
-       if name not in DEM_SET_ELSEWHERE})
+if TYPE_CHECKING:  # built from the declarations at run time: a type checker sees a class
+    class DEMSpec(_DEMSection):
+        def __getattr__(self, name: str) -> Any: ...
+else:
+    DEMSpec = create_model(
+        "DEMSpec", __base__=_DEMSection, __module__=__name__,
+        restitution_pp=(Restitution, _D.restitution_pp.e),
+        restitution_pw=(Restitution, _D.restitution_pw.e),
+        **{name: (info.annotation, info) for name, info in DEMSettings.model_fields.items()
+           if name not in DEM_SET_ELSEWHERE})
 
 
 class Scenario(_Section):
@@ -497,7 +505,7 @@ class Scenario(_Section):
         from pdamper.contact.restitution import ConstantRestitution
         from pdamper.io.restitution import build_curve
 
-        curves = []
+        curves: list[RestitutionCurve] = []
         for pair, legacy, partner in (("particle_particle", "restitution_pp", sphere),
                                       ("particle_wall", "restitution_pw", wall)):
             spec = getattr(self.restitution, pair)
@@ -534,7 +542,7 @@ class Scenario(_Section):
 
         field = "model" if name is not None else "simulation.model"
         cls = get_damper_model(self.simulation.model if name is None else name, field)
-        section = getattr(self, cls.fidelity, None)
+        section: Any = getattr(self, cls.fidelity, None)
         options = section.options() if hasattr(section, "options") else {}
         if cls.takes_gravity:
             options["gravity"] = self.excitation.gravity
