@@ -393,9 +393,9 @@ DEM_SET_ELSEWHERE = {"gravity": "excitation.gravity"}
 DEM_SCENARIO_ONLY = ("restitution_pp", "restitution_pw")
 #: ``[dem.<table>]``: the settings of one concern in a table of its own (the same keys as
 #: flat ``[dem]`` keys, which stay the plain way of writing them).
-DEM_TABLES: dict[str, type[Settings]] = {"plan": RunPlan, "steady_state": SteadyState, "accuracy_target": AccuracyTarget,
-                                         "contact": ContactLaw,
-                                         "engine": EngineSettings}
+DEM_TABLES: dict[str, type[Settings]] = {
+    "plan": RunPlan, "steady_state": SteadyState, "accuracy_target": AccuracyTarget,
+    "contact": ContactLaw, "engine": EngineSettings}
 
 
 class _DEMSection(Settings):
@@ -976,11 +976,16 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
 
 
 def _example() -> str:
+    """The text of ``EXAMPLE_SCENARIO``: every section with its defaults, commented."""
     s = Scenario()
+    return _example_levels(s) + _example_study(s) + _example_dem(s)
+
+
+def _example_levels(s: Scenario) -> str:
+    """The example's head and its Level II and III sections (damper, excitation,
+    structure)."""
     c, p, x, st = s.container, s.particles, s.excitation, s.structure
     q = format_quantity
-    dem = s.dem
-    _MODELS = " or ".join(f'"{m}"' for m in DAMPING_MODELS)  # noqa: N806
     return f"""\
 # pdamper scenario: the reference paper's benchmark damper on its beam-like structure.
 # Every quantity carries its unit ("120 mm", "10 Hz", "7900 kg/m^3"); bare numbers are SI.
@@ -1028,6 +1033,13 @@ damping_ratio = {BeamSpec().damping_ratio:.4g} }}
 #   (material = "S235" instead of youngs_modulus, poisson_ratio, density; damping_ratio: one
 #   for all modes or a list, one per mode; positions from the clamp, default the tip)
 
+"""
+
+
+def _example_study(s: Scenario) -> str:
+    """The example's sections of the simulation, the design study, the fields and the map."""
+    q = format_quantity
+    return f"""\
 [simulation]
 model = "{s.simulation.model}"          # damper fidelity: "analytic" (model 3), "fields" (2), "dem" (1)
 duration = "{q(s.simulation.duration, 's')}"
@@ -1063,6 +1075,15 @@ dem_packing = "{s.map.dem_packing}"           # initial packing of a map's DEM r
                             # "random", "auto": random where it fits, else the lattice;
                             # the lattice's symmetric states are artefacts)
 
+"""
+
+
+def _example_dem(s: Scenario) -> str:
+    """The example's sections of the DEM and the COR models."""
+    q = format_quantity
+    dem = s.dem
+    _MODELS = " or ".join(f'"{m}"' for m in DAMPING_MODELS)  # noqa: N806
+    return f"""\
 [dem]                       # options of the DEM model ("pdamper dem", "--model dem")
 integrator = "{dem.integrator}"         # "gear" (variable step, the paper's), "verlet", or "auto"
                             # (gear, handing over to verlet in jammed beds; docs/dem.md)
