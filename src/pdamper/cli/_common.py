@@ -19,6 +19,8 @@ import typer
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
+    from pdamper.io.scenario import Scenario
+
 ScenarioOpt = Annotated[Path | None, typer.Option("--scenario", "-s", help="Scenario TOML file.")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON for scripts.")]
 ModelOpt = Annotated[str | None, typer.Option(
@@ -64,7 +66,7 @@ def emit(payload: dict, as_json: bool, human: str | None = None) -> None:
 
 
 def load(scenario: Path | None, *, runs: tuple[str, ...] = (), model: str | None = None,
-         force: bool = False, **overrides):
+         force: bool = False, **overrides: Any) -> Scenario:
     """Scenario from ``--scenario`` with the command-line options applied on top, and what
     ``runs`` imply checked (:meth:`pdamper.io.scenario.Scenario.check_resources`).
 

@@ -19,7 +19,7 @@ their means, the spread under ``realisations``
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, cast
 
 import typer
 
@@ -39,6 +39,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from pdamper.dem.result import DEMResult
     from pdamper.io.scenario import Scenario
     from pdamper.models.base import DamperResponse
+    from pdamper.models.dem import DEMDamper
 
 #: The options of ``pdamper dem`` that set a scenario key, one row each: ``(flag, key,
 #: type, help)``. The key's declaration (:mod:`pdamper.models.settings`,
@@ -132,7 +133,7 @@ def dem(
     if damper.count < 1:
         raise InputError("particles.count", f"must be in [1, {damper.max_count}] for the DEM, "
                          f"got {damper.count}")
-    model = sc.model("dem", damper)
+    model = cast("DEMDamper", sc.model("dem", damper))
     r = model.response(sc.excitation.frequency, sc.excitation.amplitude)
     from pdamper.reports.realisations import run_summary
 
@@ -190,7 +191,7 @@ def _write_outputs(res: DEMResult, payload: dict, meta: dict, out: str | None,
         payload["vtk"] = str(vtk_dir / pvd.name)
 
 
-def _human_summary(sc: Scenario, count: int, model: Any, r: DamperResponse,
+def _human_summary(sc: Scenario, count: int, model: DEMDamper, r: DamperResponse,
                    payload: dict) -> str:
     """The summary ``pdamper dem`` prints without ``--json`` (``count`` spheres)."""
     f, x = sc.excitation.frequency, sc.excitation.amplitude

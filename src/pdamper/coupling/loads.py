@@ -119,7 +119,7 @@ class LoadHistory:
     def unit(self) -> str:
         return LOAD_KINDS[self.kind]
 
-    def at(self, t) -> np.ndarray:
+    def at(self, t: float | np.ndarray) -> np.ndarray:
         """The load at ``t`` [s from the record's start]: linear between samples, 0 after
         the record."""
         t = np.asarray(t, float)
@@ -274,7 +274,7 @@ class _System:
     structure: Any
 
     @classmethod
-    def of(cls, structure) -> _System:
+    def of(cls, structure: Any) -> _System:
         from pdamper.structure import SingleDOFStructure
         from pdamper.structure.modal import ModalStructure
 

@@ -38,7 +38,7 @@ from pdamper.dem.kernels import verlet as _verlet
 from pdamper.dem.result import DEMResult
 
 if TYPE_CHECKING:  # pragma: no cover
-    from pdamper.dem.simulation import DEMEngine
+    from pdamper.dem.simulation import DEMEngine, _SampleGrid
 
 #: The judgement window of "auto" [s of simulated time] (a whole number of landings: the
 #: decisions do not depend on the chunking).
@@ -388,7 +388,7 @@ class AutoSwitch(Controller):
 
 
 # ------------------------------------------------------------------ the result
-def collect_result(engine: DEMEngine, run: Run, phase: Phase, grid, k: int, wall: float,
+def collect_result(engine: DEMEngine, run: Run, phase: Phase, grid: _SampleGrid, k: int, wall: float,
                    profile: np.ndarray | None = None) -> DEMResult:
     """The :class:`DEMResult` of samples ``0 .. k`` of the excitation ``phase`` on the
     sample ``grid`` (k < nsamp - 1: a run stopped early, whose last force window is closed

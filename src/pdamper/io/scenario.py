@@ -56,7 +56,16 @@ from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID, DEFAULT
 from pdamper.units import format_quantity, parse_quantity, parse_range
 
 if TYPE_CHECKING:  # pragma: no cover
+    import numpy as np
+
     from pdamper.contact.restitution import RestitutionCurve
+    from pdamper.coupling.loads import LoadHistory
+    from pdamper.damper import ParticleDamper
+    from pdamper.design.study import DesignVariable
+    from pdamper.materials import Material
+    from pdamper.models.base import DamperModel
+    from pdamper.structure import SingleDOFStructure
+    from pdamper.structure.modal import ModalStructure
 
 
 def _q(unit: str):
@@ -165,7 +174,7 @@ class BeamSpec(_Section):
                              f"({', '.join(given)}), not both")
         return self
 
-    def structure(self):
+    def structure(self) -> ModalStructure:
         """The :class:`~pdamper.structure.modal.ModalStructure`: damper and release at
         ``damper_position``, results at ``observation_position`` (both default the tip)."""
         from pdamper.structure.beam import TimoshenkoBeam, TipMass
@@ -251,7 +260,7 @@ class LoadSpec(_Section):
     def given(self) -> bool:
         return self.force is not None or self.base_acceleration is not None
 
-    def history(self):
+    def history(self) -> LoadHistory | None:
         """The :class:`~pdamper.coupling.loads.LoadHistory` (None: no load given)."""
         from pdamper.io.loads import read_load
 
@@ -305,7 +314,7 @@ class OptimizationSpec(_Section):
     seed: Annotated[int, Field(ge=0, strict=True)] = 0
     tolerance: Annotated[float, BeforeValidator(_tolerance)] = DEFAULT_TOLERANCE
 
-    def variables(self):
+    def variables(self) -> list[DesignVariable]:
         """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary`` (judge
         their sizes first: :meth:`Scenario.check_resources` with ``"optimization"``)."""
         if not self.vary:  # no import of Level III for the commands that do not optimise
@@ -480,7 +489,7 @@ class Scenario(_Section):
         return tuple(self._uncertain.values())
 
     # -- builders of the domain objects ------------------------------------------------
-    def damper(self):
+    def damper(self) -> ParticleDamper:
         """The :class:`~pdamper.damper.ParticleDamper` this scenario describes."""
         from pdamper.damper import ParticleDamper
 
@@ -494,7 +503,8 @@ class Scenario(_Section):
                               container_mass=c.mass, friction=p.friction,
                               restitution_pp=pp, restitution_pw=pw)
 
-    def restitution_curves(self, sphere, wall, radius: float):
+    def restitution_curves(self, sphere: Material, wall: Material,
+                           radius: float) -> tuple[RestitutionCurve, ...]:
         """COR curves ``(sphere-sphere, sphere-wall)`` of spheres of ``sphere`` material and
         ``radius`` [m] in a container of ``wall`` material.
 
@@ -518,7 +528,7 @@ class Scenario(_Section):
             curves.append(build_curve(spec, pair, sphere, partner, radius))
         return tuple(curves)
 
-    def structure_model(self):
+    def structure_model(self) -> SingleDOFStructure | ModalStructure:
         """The :class:`~pdamper.structure.SingleDOFStructure` of Eq. (23) (M defaults to the
         paper's, see :mod:`pdamper.parameters.vertical_dampers_paper`), or the
         :class:`~pdamper.structure.modal.ModalStructure` of ``[structure] modes`` or
@@ -535,7 +545,8 @@ class Scenario(_Section):
         return SingleDOFStructure(mass=paper.PAPER_MASS if s.mass is None else s.mass,
                                   damping=s.damping, stiffness=s.stiffness)
 
-    def model(self, name: str | None = None, damper=None):
+    def model(self, name: str | None = None,
+              damper: ParticleDamper | None = None) -> DamperModel:
         """The damper model of fidelity ``name`` (default ``[simulation] model``) for
         ``damper`` (default :meth:`damper`), with the options of its section."""
         from pdamper.models import get_damper_model
@@ -556,7 +567,7 @@ class Scenario(_Section):
         return self.model_copy(update={"dem": self.dem.model_copy(
             update={"packing": self.map.dem_packing})})
 
-    def map_model(self, name: str, damper=None):
+    def map_model(self, name: str, damper: ParticleDamper | None = None) -> DamperModel:
         """The damper model of a map: :meth:`model` of :meth:`for_map`."""
         try:
             return self.for_map().model(name, damper)
@@ -571,27 +582,27 @@ class Scenario(_Section):
         return (parse_axis(self.map.frequency, "Hz", "map.frequency")[:3],
                 parse_axis(self.map.amplitude, "m", "map.amplitude")[:3])
 
-    def map_grid(self):
+    def map_grid(self) -> tuple[np.ndarray, np.ndarray]:
         """The Level II grid ``(frequency [Hz], amplitude [m])`` of ``[map]`` (check its
         size first: :meth:`check_resources` with ``"map"``)."""
         return (grid(self.map.frequency, "Hz", "map.frequency"),
                 grid(self.map.amplitude, "m", "map.amplitude"))
 
-    def map_particles(self):
+    def map_particles(self) -> np.ndarray | None:
         """The particle-count axis of ``[map] particles`` (None: the one count of
         ``[particles]``)."""
         if self.map.particles is None:
             return None
         return count_grid(self.map.particles, "map.particles")
 
-    def dem_map_grid(self):
+    def dem_map_grid(self) -> tuple[np.ndarray, np.ndarray]:
         """The grid of the case study's DEM map (``[map] dem_frequency, dem_amplitude``)."""
         return (grid(self.map.dem_frequency, "Hz", "map.dem_frequency"),
                 grid(self.map.dem_amplitude, "m", "map.dem_amplitude"))
 
 
     # -- what the runs imply ------------------------------------------------------------
-    def check_physics(self, damper=None) -> None:
+    def check_physics(self, damper: ParticleDamper | None = None) -> None:
         """Refuse what has no physical meaning in any model (:mod:`pdamper.resources`):
         spheres too small, strokes too long, impacts too fast, excitations faster than a
         contact, in ``[particles]``, ``[excitation]``, ``[structure]`` and ``[map]``."""
@@ -667,12 +678,13 @@ class Scenario(_Section):
                                        self.simulation.duration,
                                        self.simulation.sample_rate, default, force)
 
-    def settings_of(self, cls):
+    def settings_of(self, cls: type[DamperModel]) -> Any:
         """The section of the scenario that holds the settings of fidelity ``cls`` (None:
         it has none)."""
         return getattr(self, cls.fidelity, None)
 
-    def excitation_cost(self, model: str = "analytic", damper=None):
+    def excitation_cost(self, model: str = "analytic",
+                        damper: ParticleDamper | None = None) -> resources.Cost | None:
         """What one Level II response of fidelity ``model`` at ``[excitation]`` costs
         (:meth:`pdamper.models.DamperModel.excitation_cost`; None: not worth judging), for
         ``damper`` (default :meth:`damper`)."""
@@ -768,7 +780,7 @@ class Scenario(_Section):
             runs=int(min(candidates, 2**62)), longest=one.seconds), force)
 
 
-def grid(text: str, unit: str, field: str):
+def grid(text: str, unit: str, field: str) -> np.ndarray:
     """A grid from ``"start:stop:count"`` (linear), ``"log:start:stop:count"`` (geometric)
     or one quantity; values must be > 0.
 
@@ -792,7 +804,7 @@ def parse_axis(text: str, unit: str, field: str) -> tuple[float, float, int, boo
     return a, b, n, log
 
 
-def count_grid(value, field: str):
+def count_grid(value: Any, field: str) -> np.ndarray:
     """Whole particle counts from ``N``, ``"start:stop:count"`` or ``"log:..."`` (rounded;
     counts must be >= 1 and distinct).
 
