@@ -142,7 +142,7 @@ def test_dem_human_summary_unless_json(cli):
     code, out, err = cli("dem", "--particles", 16, "--cycles", 2, "--skip-cycles", 1,
                          "--integrator", "verlet")
     assert code == 0, err
-    assert out.startswith("DEM (verlet), 16 spheres") and "effective loss factor" in out
+    assert out.startswith("DEM (verlet, from the lattice), 16 spheres") and "effective loss factor" in out
     with pytest.raises(json.JSONDecodeError):
         json.loads(out)
 

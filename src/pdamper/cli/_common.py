@@ -9,11 +9,17 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, overload
 
 import numpy as np
 import typer
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
+    from pdamper.io.scenario import Scenario
 
 ScenarioOpt = Annotated[Path | None, typer.Option("--scenario", "-s", help="Scenario TOML file.")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON for scripts.")]
@@ -24,7 +30,7 @@ ForceOpt = Annotated[bool, typer.Option(
     "(see pdamper.resources); never beyond what this machine can hold.")]
 
 
-def _default(o: Any):
+def _default(o: Any) -> Any:
     if isinstance(o, np.generic):
         return o.item()
     if isinstance(o, np.ndarray):
@@ -36,7 +42,7 @@ def _default(o: Any):
     raise TypeError(f"not JSON serialisable: {type(o)}")
 
 
-def _clean(o: Any):
+def _clean(o: Any) -> Any:
     """Replace non-finite floats by None so that the output is strict JSON."""
     if isinstance(o, float) and not math.isfinite(o):
         return None
@@ -60,7 +66,7 @@ def emit(payload: dict, as_json: bool, human: str | None = None) -> None:
 
 
 def load(scenario: Path | None, *, runs: tuple[str, ...] = (), model: str | None = None,
-         force: bool = False, **overrides):
+         force: bool = False, **overrides: Any) -> Scenario:
     """Scenario from ``--scenario`` with the command-line options applied on top, and what
     ``runs`` imply checked (:meth:`pdamper.io.scenario.Scenario.check_resources`).
 
@@ -72,17 +78,23 @@ def load(scenario: Path | None, *, runs: tuple[str, ...] = (), model: str | None
                          runs=runs, model=model, force=force)
 
 
-def metadata(scenario, **extra) -> dict:
+def metadata(scenario: Any, **extra: Any) -> dict:
     """Inputs, version (and seed etc. in ``extra``) recorded with every result."""
     from pdamper import __version__
 
     out = {"inputs": scenario.model_dump(mode="json"), "version": __version__, **extra}
-    uncertain = getattr(scenario, "uncertain_inputs", tuple)()
+    uncertain: Sequence[Any] = getattr(scenario, "uncertain_inputs", tuple)()
     if uncertain:  # "value +- sd": the inputs hold the nominal value, this the rest
         out["uncertain_inputs"] = [u.as_dict() for u in uncertain]
     return out
 
 
+@overload
+def check_output(path: str, field: str = ...) -> Path: ...
+@overload
+def check_output(path: None, field: str = ...) -> None: ...
+@overload
+def check_output(path: str | None, field: str = ...) -> Path | None: ...
 def check_output(path: str | None, field: str = "out") -> Path | None:
     """The file ``--out`` names, checked before any computation (None: not given)."""
     from pdamper.files import check_file_target
@@ -90,6 +102,12 @@ def check_output(path: str | None, field: str = "out") -> Path | None:
     return None if path is None else check_file_target(path, field)
 
 
+@overload
+def check_output_directory(path: str, field: str = ...) -> Path: ...
+@overload
+def check_output_directory(path: None, field: str = ...) -> None: ...
+@overload
+def check_output_directory(path: str | None, field: str = ...) -> Path | None: ...
 def check_output_directory(path: str | None, field: str = "out") -> Path | None:
     """The directory ``--out``/``--vtk`` names, checked before any computation."""
     from pdamper.files import check_directory_target
@@ -129,7 +147,7 @@ def check_plot(path: str | None, field: str = "plot") -> Path | None:
     return target
 
 
-def write_figure(fig, path: Path, dpi: int = 110, field: str = "plot") -> Path:
+def write_figure(fig: Figure, path: Path, dpi: int = 110, field: str = "plot") -> Path:
     """Write the matplotlib ``fig`` to ``path`` (checked by :func:`check_plot`) in the
     format its suffix names, atomically: rendered in memory, then written by
     :func:`pdamper.files.atomic_write_bytes`, so that a full device ends as for every
@@ -148,7 +166,8 @@ def flag_name(flag: str) -> str:
     return flag.split("/")[0].removeprefix("--").replace("-", "_")
 
 
-def with_flags(rows: tuple[tuple[str, str, type, str], ...]):
+def with_flags(rows: tuple[tuple[str, str, type, str], ...]
+               ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Give a command one option per row ``(flag, scenario key, type, help)`` and hand their
     values to it as ``flags`` (``{"dem.safety": 0.01, ...}``, None: not given): the flags of
     scenario keys are declared in one table, not as parameters one by one. The command's
@@ -156,7 +175,7 @@ def with_flags(rows: tuple[tuple[str, str, type, str], ...]):
     import functools
     import inspect
 
-    def wrap(func):
+    def wrap(func: Callable[..., Any]) -> Callable[..., Any]:
         own = [p for p in inspect.signature(func, eval_str=True).parameters.values()
                if p.name != "flags"]
         made = [inspect.Parameter(flag_name(flag), inspect.Parameter.KEYWORD_ONLY,
@@ -166,12 +185,12 @@ def with_flags(rows: tuple[tuple[str, str, type, str], ...]):
         keys = {flag_name(flag): key for flag, key, _, _ in rows}
 
         @functools.wraps(func)
-        def command(**kwargs):
+        def command(**kwargs: Any) -> Any:
             flags = {key: kwargs.pop(name) for name, key in keys.items()}
             return func(flags=flags, **kwargs)
 
         params = [*made, *(p.replace(kind=inspect.Parameter.KEYWORD_ONLY) for p in own)]
-        command.__signature__ = inspect.Signature(params)
+        command.__signature__ = inspect.Signature(params)  # type: ignore[attr-defined]  # (read by typer)
         command.__annotations__ = {p.name: p.annotation for p in params}
         del command.__wrapped__  # typer reads __signature__, not the wrapped function's
         return command

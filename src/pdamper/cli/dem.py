@@ -19,7 +19,7 @@ their means, the spread under ``realisations``
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated, cast
 
 import typer
 
@@ -34,6 +34,12 @@ from pdamper.cli._common import (
     metadata,
     with_flags,
 )
+
+if TYPE_CHECKING:  # pragma: no cover
+    from pdamper.dem.result import DEMResult
+    from pdamper.io.scenario import Scenario
+    from pdamper.models.base import DamperResponse
+    from pdamper.models.dem import DEMDamper
 
 #: The options of ``pdamper dem`` that set a scenario key, one row each: ``(flag, key,
 #: type, help)``. The key's declaration (:mod:`pdamper.models.settings`,
@@ -101,30 +107,12 @@ def dem(
     """Run the DEM of a damper (default: the paper's benchmark) under harmonic excitation
     and apply the complex power method (Eqs. 1-4). Options left out take the scenario's
     values (`pdamper example-scenario` shows every default)."""
-    import json
-
     from pdamper.errors import InputError
-    from pdamper.files import atomic_directory
 
-    cycles = flags["dem.cycles"]
-    if cycles is not None and cycles != "auto":
-        try:
-            flags["dem.cycles"] = int(cycles)
-        except ValueError:
-            raise InputError("dem.cycles", f"must be 'auto' or a whole number >= 1, "
-                             f"got {cycles!r}") from None
+    _check_cycles(flags)
     sc = load(scenario, runs=("excitation",), model="dem", force=force,
               **{key.replace(".", "__"): value for key, value in flags.items()})
-    n_real = 1
-    if realisations is not None:
-        from pdamper.reports.realisations import check_realisations
-
-        try:
-            n_real = int(realisations)
-        except ValueError:
-            raise InputError("realisations", f"must be a whole number >= 1, "
-                             f"got {realisations!r}") from None
-        n_real = check_realisations(n_real, sc, force=force)
+    n_real = _realisation_count(realisations, sc, force)
     if workers is not None and workers < 1:
         raise InputError("workers", f"must be a whole number >= 1, got {workers}")
     if n_real > 1:
@@ -145,18 +133,71 @@ def dem(
     if damper.count < 1:
         raise InputError("particles.count", f"must be in [1, {damper.max_count}] for the DEM, "
                          f"got {damper.count}")
-    model = sc.model("dem", damper)
-    f, x = sc.excitation.frequency, sc.excitation.amplitude
-    r = model.response(f, x)
+    model = cast("DEMDamper", sc.model("dem", damper))
+    r = model.response(sc.excitation.frequency, sc.excitation.amplitude)
     from pdamper.reports.realisations import run_summary
 
-    st = r.diagnostics["stationarity"].item()
-    motion = r.diagnostics["motion"].item()
-    res = r.details.item()
     meta = metadata(sc, seed=model.seed)
     summary = run_summary(model, r)
     accuracy = {k: summary.pop(k) for k in ACCURACY_KEYS if k in summary}
     payload = {**summary, "units": UNITS, **meta, **accuracy}
+    _write_outputs(r.details.item(), payload, meta, out, target, vtk_dir)
+    emit(payload, as_json, _human_summary(sc, damper.count, model, r, payload))
+
+
+def _check_cycles(flags: dict) -> None:
+    """``--cycles``: 'auto' or a whole number (then set as one in ``flags``)."""
+    from pdamper.errors import InputError
+
+    cycles = flags["dem.cycles"]
+    if cycles is not None and cycles != "auto":
+        try:
+            flags["dem.cycles"] = int(cycles)
+        except ValueError:
+            raise InputError("dem.cycles", f"must be 'auto' or a whole number >= 1, "
+                             f"got {cycles!r}") from None
+
+
+def _realisation_count(realisations: str | None, sc: Scenario, force: bool) -> int:
+    """The number of ``--realisations`` (1 if not given), checked against the scenario."""
+    if realisations is None:
+        return 1
+    from pdamper.errors import InputError
+    from pdamper.reports.realisations import check_realisations
+
+    try:
+        n_real = int(realisations)
+    except ValueError:
+        raise InputError("realisations", f"must be a whole number >= 1, "
+                         f"got {realisations!r}") from None
+    return check_realisations(n_real, sc, force=force)
+
+
+def _write_outputs(res: DEMResult, payload: dict, meta: dict, out: str | None,
+                   target: Path | None, vtk_dir: Path | None) -> None:
+    """The time series (``--out``) and the snapshots (``--vtk``) of the run ``res``, their
+    paths added to ``payload``."""
+    import json
+
+    from pdamper.files import atomic_directory
+
+    attrs = {"inputs": json.dumps(meta["inputs"]), "pdamper_version": meta["version"]}
+    if target is not None and out is not None:
+        res.write_netcdf(target, attrs=attrs)
+        payload["out"] = str(Path(out))
+    if vtk_dir is not None:
+        with atomic_directory(vtk_dir, "vtk") as stage:
+            pvd = res.write_vtk(stage)
+        payload["vtk"] = str(vtk_dir / pvd.name)
+
+
+def _human_summary(sc: Scenario, count: int, model: DEMDamper, r: DamperResponse,
+                   payload: dict) -> str:
+    """The summary ``pdamper dem`` prints without ``--json`` (``count`` spheres)."""
+    f, x = sc.excitation.frequency, sc.excitation.amplitude
+    st = r.diagnostics["stationarity"].item()
+    motion = r.diagnostics["motion"].item()
+    res = r.details.item()
     accuracy_line = ""
     if model.error_estimate:
         accuracy_line = (
@@ -169,17 +210,9 @@ def dem(
             f"{payload['realisation_effective_mass_ratio_spread']:.2g}"
             + (": the state depends on the transient or the realisation\n"
                if payload["realisation_dependent"] else "\n"))
-    attrs = {"inputs": json.dumps(meta["inputs"]), "pdamper_version": meta["version"]}
-    if target is not None:
-        res.write_netcdf(target, attrs=attrs)
-        payload["out"] = str(Path(out))
-    if vtk_dir is not None:
-        with atomic_directory(vtk_dir, "vtk") as stage:
-            pvd = res.write_vtk(stage)
-        payload["vtk"] = str(vtk_dir / pvd.name)
-    human = (
+    return (
         f"DEM ({model.integrator}, from the {payload['protocol']['start']}), "
-        f"{damper.count} spheres, f = {f:g} Hz, X = {x * 1e3:g} mm, "
+        f"{count} spheres, f = {f:g} Hz, X = {x * 1e3:g} mm, "
         f"{st.cycles} cycles (complex power over cycles {st.first_cycle}-{st.last_cycle}, "
         + (("steady, a quiet bed)\n" if st.quiet else "steady)\n") if st.stationary
            else f"NOT steady: {st.reason})\n")
@@ -194,9 +227,8 @@ def dem(
         f"  {res.steps} steps in {res.wall_seconds:.3g} s wall (settling: "
         + (f"{res.settle_steps} steps in {res.settle_seconds:.3g} s)" if not res.settle_reused
            else "a bed settled earlier)")
-        + (f"\n  time series written to {payload['out']}" if out is not None else "")
-        + (f"\n  snapshots written to {payload['vtk']}" if vtk is not None else ""))
-    emit(payload, as_json, human)
+        + (f"\n  time series written to {payload['out']}" if "out" in payload else "")
+        + (f"\n  snapshots written to {payload['vtk']}" if "vtk" in payload else ""))
 
 
 #: Keys of the integration error estimate (``--error-estimate``), last in the JSON.
@@ -211,7 +243,8 @@ UNITS = {"wall_seconds": "s", "dissipated_energy_per_cycle": "J", "time_step": "
          "simulated_time": "s", "min_step": "s", "max_step": "s", "verlet_time": "s"}
 
 
-def _realisations(sc, n: int, *, workers, serial: bool, force: bool, as_json: bool) -> None:
+def _realisations(sc: Scenario, n: int, *, workers: int | None, serial: bool, force: bool,
+                  as_json: bool) -> None:
     """``--realisations N`` (N > 1): the runs on the sweep engine; the top-level
     ``loss_factor``, ``effective_mass_ratio`` and ``dissipated_energy_per_cycle`` are the
     means over the realisations, the other run keys those of the first (seed ``--seed``)."""

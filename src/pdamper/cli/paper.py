@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
 from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, check_output_directory, emit, load
 from pdamper.cli._quiet import quiet
+
+if TYPE_CHECKING:  # pragma: no cover
+    from rich.console import Console
+    from rich.progress import Task, TaskID
 
 
 class _Progress:
@@ -16,7 +20,7 @@ class _Progress:
     total, the time elapsed. Nothing at all where stderr is no terminal (a pipe, a file, a
     test's capture): the output and error lines stay as they are."""
 
-    def __init__(self, console) -> None:
+    def __init__(self, console: Console) -> None:
         from rich.progress import (
             BarColumn,
             Progress,
@@ -30,7 +34,7 @@ class _Progress:
         class Count(ProgressColumn):
             """``done/total`` where there is a total (the map's points), else nothing."""
 
-            def render(self, task):
+            def render(self, task: Task) -> Text:
                 return Text("" if task.total is None else
                             f"{int(task.completed)}/{int(task.total)}")
 
@@ -38,24 +42,25 @@ class _Progress:
                                   BarColumn(bar_width=20), Count(), TimeElapsedColumn(),
                                   console=console, transient=True,
                                   disable=not console.is_terminal or quiet())
-        self._points = None
-        self._task = None
+        self._points: TaskID | None = None
+        self._task: TaskID | None = None
 
-    def __enter__(self):
+    def __enter__(self) -> _Progress:
         self._progress.__enter__()
         # no total: the steps depend on the scenario; the bar of this line only pulses
         self._task = self._progress.add_task("pdamper paper: the case study", total=None)
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: Any) -> None:
         self._progress.__exit__(*exc)
 
     def step(self, message: str) -> None:
         """A new step of the case study, drawn at once (not at the next refresh: a step
         shorter than a refresh is shown too)."""
+        assert self._task is not None  # (added on entering the context)
         self._progress.update(self._task, description=message, refresh=True)
 
-    def map_points(self, done: int, total: int, _point=None) -> None:
+    def map_points(self, done: int, total: int, _point: Any = None) -> None:
         """The DEM map's points: ``done`` of ``total`` (finished or reused)."""
         if self._points is None:
             self._points = self._progress.add_task("DEM map points", total=total)

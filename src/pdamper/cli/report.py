@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
 import typer
 
@@ -83,6 +83,7 @@ def report(
                "figures": [f.name for f in rep.figures], "seconds": time.perf_counter() - t0,
                "version": rep.version, "seeds": rep.seeds}
     st = rep.study
+    assert st is not None  # (run_damper_report makes the design study)
     lines = [f"report of {sc.title!r} in {target}/ ({payload['seconds']:.1f} s)",
              f"  best design: {damper_report._brief(st.best, [v.name for v in st.variables])}",
              f"  lightest within {st.tolerance * 100:g} %: "
@@ -93,8 +94,8 @@ def report(
 
 
 class _Nothing:
-    def __enter__(self):
+    def __enter__(self) -> None:
         return None
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> Literal[False]:
         return False

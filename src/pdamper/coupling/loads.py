@@ -45,13 +45,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from pdamper.coupling.pseudo_force import motion_mode, pseudo_force_coefficients
 from pdamper.coupling.results import CycleUpdate
 from pdamper.errors import InputError, check_range
+
+if TYPE_CHECKING:  # pragma: no cover
+    import xarray as xr
+
+    from pdamper.models.base import DamperModel
 
 #: Kinds of load history and the SI unit of their values.
 LOAD_KINDS = {"force": "N", "base_acceleration": "m/s^2"}
@@ -114,7 +119,7 @@ class LoadHistory:
     def unit(self) -> str:
         return LOAD_KINDS[self.kind]
 
-    def at(self, t) -> np.ndarray:
+    def at(self, t: float | np.ndarray) -> np.ndarray:
         """The load at ``t`` [s from the record's start]: linear between samples, 0 after
         the record."""
         t = np.asarray(t, float)
@@ -218,7 +223,7 @@ class LoadResponse:
                 "energy_change": _finite_or_none(self.energy_change),
                 "energy_balance_error": _finite_or_none(self.energy_balance_error)}
 
-    def to_dataset(self):
+    def to_dataset(self) -> xr.Dataset:
         """The response history as an :class:`xarray.Dataset` with units."""
         import xarray as xr
 
@@ -244,7 +249,7 @@ class LoadResponse:
         )
 
 
-def _finite_or_none(v: float):
+def _finite_or_none(v: float) -> float | None:
     return float(v) if math.isfinite(v) else None
 
 
@@ -269,7 +274,7 @@ class _System:
     structure: Any
 
     @classmethod
-    def of(cls, structure) -> _System:
+    def of(cls, structure: Any) -> _System:
         from pdamper.structure import SingleDOFStructure
         from pdamper.structure.modal import ModalStructure
 
@@ -286,13 +291,14 @@ class _System:
             base = structure.participation
             if base is None and structure.modes == 1:  # all the mass at the damper point
                 base = 1.0 / structure.damper_shape
+            out, release = structure.output_shape, structure.release_shape
+            assert out is not None and release is not None  # (filled in by __post_init__)
             return cls(np.eye(structure.modes), np.diag(2.0 * structure.damping_ratios * w),
-                       np.diag(w * w), structure.damper_shape, structure.output_shape,
-                       structure.release_shape, base, structure)
+                       np.diag(w * w), structure.damper_shape, out, release, base, structure)
         raise InputError("structure", "must be a SingleDOFStructure or a ModalStructure, got "
                          f"{type(structure).__name__}")
 
-    def matrices(self, m_eff: float, d: float, kind: str):
+    def matrices(self, m_eff: float, d: float, kind: str) -> tuple[np.ndarray, np.ndarray]:
         """State matrix A (2N x 2N) and input matrix B (2N x 3) for u = (F, a_b, v_b)."""
         n = self.phi.size
         pp = np.outer(self.phi, self.phi)
@@ -304,13 +310,15 @@ class _System:
         if kind == "force":
             cols[:, 0] = self.load_shape
         else:
+            assert self.base_shape is not None  # (simulate_load checked it)
             cols[:, 1] = -(self.base_shape + m_eff * self.phi)
             cols[:, 2] = -d * self.phi
         b = np.vstack([np.zeros((n, 3)), minv @ cols])
         return a, b
 
 
-def _hold(a: np.ndarray, b: np.ndarray, h: float):
+def _hold(a: np.ndarray, b: np.ndarray, h: float
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Exact step of ``z' = A z + B u`` for u linear over the step h (first-order hold):
     ``z1 = P z0 + G0 u0 + G1 (u1 - u0)`` from one matrix exponential (Van Loan)."""
     import scipy.linalg
@@ -325,7 +333,7 @@ def _hold(a: np.ndarray, b: np.ndarray, h: float):
             np.ascontiguousarray(x[:n, n + m:]))
 
 
-def simulate_load(model, structure, load: LoadHistory, sample_rate: float = 2000.0,
+def simulate_load(model: DamperModel, structure: Any, load: LoadHistory, sample_rate: float = 2000.0,
                   tail: float = 0.0) -> LoadResponse:
     """Response of ``structure`` carrying ``model`` (a pseudo-force damper model: analytic,
     effective fields) to ``load``, from rest, over the record plus ``tail`` [s] of free
@@ -350,25 +358,64 @@ def simulate_load(model, structure, load: LoadHistory, sample_rate: float = 2000
         raise InputError("base_acceleration", "base motion needs each mode's participation "
                          "factor, which a modes file does not give: use one mode, the 1-DOF "
                          "or [structure] beam, or a force (--load) at the release point")
+    t, h, sub, steps = _time_grid(load, tail, sample_rate, sys_.phi.size)
+    u, lv, v_b, y_b = _inputs(load, t)
+    n = sys_.phi.size
+    phi = sys_.phi
+    z, zdot, dd, me, cycles = _march(model, sys_, kind, t, u, y_b, h, steps)
+    q, qd, qdd = z[:, :n].T, z[:, n:].T, zdot[:, n:].T
+    v_c = phi @ qd + v_b
+    dissipated = float(np.trapezoid(dd * v_c * v_c, t))
+    a_out = sys_.out @ qdd + (u[:, 1] if kind != "force" else 0.0)
+    if kind == "force":
+        w_in = float(np.trapezoid(lv * (sys_.load_shape @ qd), t))
+        w_struct = float(np.trapezoid(np.einsum("it,ij,jt->t", qd, sys_.damping, qd), t))
+        e_end = 0.5 * (qd[:, -1] @ sys_.mass @ qd[:, -1] + q[:, -1] @ sys_.stiffness @ q[:, -1]
+                       + me[-1] * v_c[-1] ** 2)
+    else:
+        w_in = w_struct = e_end = math.nan
+    keep = slice(None, None, sub)
+    return LoadResponse(
+        time=t[keep], displacement=(sys_.out @ q)[keep], acceleration=a_out[keep],
+        load=lv[keep], damper_displacement=(phi @ q + y_b)[keep],
+        dissipated_energy=dissipated, input_work=w_in, structural_dissipation=w_struct,
+        energy_change=e_end, cycles=tuple(cycles), model=model.fidelity, kind=kind,
+        inputs={"load": load.source, "load_kind": kind, "record_duration": load.duration,
+                "tail": tail, "sample_rate": sample_rate, "integration_step": h,
+                "interpolation": "linear", "steps": steps})
+
+
+def _time_grid(load: LoadHistory, tail: float, sample_rate: float,
+               n_modes: int) -> tuple[np.ndarray, float, int, int]:
+    """The integration grid ``t`` (step ``h``: the sample interval split ``sub`` times to
+    resolve the record, ``steps`` steps) over the record plus ``tail``, or an InputError if
+    its arrays would exceed :data:`MAX_BYTES`."""
     duration = load.duration + tail
     h_out = 1.0 / sample_rate
     fine = float(np.median(np.diff(load.time)))
     sub = max(1, math.ceil(h_out / fine * (1.0 - 1e-9)))
     h = h_out / sub
-    steps = duration / h
-    n_modes = sys_.phi.size
-    need = (steps + 1) * 8.0 * (4 * n_modes + 12)  # z, z', inputs, d, m_eff, outputs
+    steps_f = duration / h
+    need = (steps_f + 1) * 8.0 * (4 * n_modes + 12)  # z, z', inputs, d, m_eff, outputs
     if not need <= MAX_BYTES:
-        raise InputError("simulation.sample_rate", f"the run needs {steps:.3g} steps "
+        raise InputError("simulation.sample_rate", f"the run needs {steps_f:.3g} steps "
                          f"({duration:g} s at {1.0 / h:.4g} Hz, the finer of the sample rate "
                          f"and the record's) and {need / 2**30:.3g} GiB, more than "
                          f"{MAX_BYTES / 2**30:.3g} GiB: lower the sample rate, shorten the "
                          "record or its tail")
-    steps = math.ceil(steps * (1.0 - 1e-12))
-    t = np.arange(steps + 1) * h
+    steps = math.ceil(steps_f * (1.0 - 1e-12))
+    return np.arange(steps + 1) * h, h, sub, steps
+
+
+def _inputs(load: LoadHistory, t: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The inputs ``u = (F, a_b, v_b)`` at the times ``t``, the load's values there, the
+    base velocity and the container's displacement from rest carried by the base (zero
+    for a force)."""
     u = np.zeros((t.size, 3))
     lv = load.at(t)
-    if kind == "force":
+    y_b = np.zeros(t.size)
+    if load.kind == "force":
         u[:, 0] = lv
         v_b = np.zeros(t.size)
     else:
@@ -378,6 +425,17 @@ def simulate_load(model, structure, load: LoadHistory, sample_rate: float = 2000
         v_b = cumulative_trapezoid(lv, t, initial=0.0)
         v_b -= np.trapezoid(v_b, t) / (t[-1] - t[0])  # a steady drift carries no damper force
         u[:, 2] = v_b
+        # (relative to the base's own mean drift)
+        y_b = cumulative_trapezoid(v_b, t, initial=0.0)
+    return u, lv, v_b, y_b
+
+
+def _march(model: DamperModel, sys_: _System, kind: str, t: np.ndarray, u: np.ndarray,
+           y_b: np.ndarray, h: float, steps: int
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[CycleUpdate]]:
+    """The state ``z``, its derivative, d and m_eff at each sample and the cycle updates:
+    exact steps between the container's minima, where the pseudo-force coefficients are
+    updated from the last half cycle."""
     n = sys_.phi.size
     z = np.zeros((t.size, 2 * n))
     zdot = np.zeros((t.size, 2 * n))
@@ -390,16 +448,10 @@ def simulate_load(model, structure, load: LoadHistory, sample_rate: float = 2000
     p_mat, g0, g1 = _hold(a_mat, b_mat, h)
     zdot[0] = a_mat @ z[0] + b_mat @ u[0]
     phi = sys_.phi
-    # the container's displacement from rest (relative to the base's own mean drift)
-    y_b = np.zeros(t.size)
-    if kind != "force":
-        from scipy.integrate import cumulative_trapezoid
-
-        y_b = cumulative_trapezoid(v_b, t, initial=0.0)
     # detection state: the container's two previous samples, the last maximum, the last
     # minimum's time (NaN: none yet)
     det = np.array([0.0, 0.0, math.nan, math.nan, math.nan, math.nan])
-    cycles = []
+    cycles: list[CycleUpdate] = []
     k = 0
     from pdamper.coupling._load_kernel import advance
 
@@ -424,33 +476,14 @@ def simulate_load(model, structure, load: LoadHistory, sample_rate: float = 2000
         # the state at k stays; its derivative follows the new coefficients
         zdot[k] = a_mat @ z[k] + b_mat @ u[k]
         dd[k], me[k] = d, m_eff
-    q, qd, qdd = z[:, :n].T, z[:, n:].T, zdot[:, n:].T
-    v_c = phi @ qd + v_b
-    dissipated = float(np.trapezoid(dd * v_c * v_c, t))
-    a_out = sys_.out @ qdd + (u[:, 1] if kind != "force" else 0.0)
-    if kind == "force":
-        w_in = float(np.trapezoid(lv * (sys_.load_shape @ qd), t))
-        w_struct = float(np.trapezoid(np.einsum("it,ij,jt->t", qd, sys_.damping, qd), t))
-        e_end = 0.5 * (qd[:, -1] @ sys_.mass @ qd[:, -1] + q[:, -1] @ sys_.stiffness @ q[:, -1]
-                       + me[-1] * v_c[-1] ** 2)
-    else:
-        w_in = w_struct = e_end = math.nan
-    keep = slice(None, None, sub)
-    return LoadResponse(
-        time=t[keep], displacement=(sys_.out @ q)[keep], acceleration=a_out[keep],
-        load=lv[keep], damper_displacement=(phi @ q + y_b)[keep],
-        dissipated_energy=dissipated, input_work=w_in, structural_dissipation=w_struct,
-        energy_change=e_end, cycles=tuple(cycles), model=model.fidelity, kind=kind,
-        inputs={"load": load.source, "load_kind": kind, "record_duration": load.duration,
-                "tail": tail, "sample_rate": sample_rate, "integration_step": h,
-                "interpolation": "linear", "steps": steps})
+    return z, zdot, dd, me, cycles
 
 
 #: Load-history strategies by coupling name (a new coupling registers here).
 LOAD_COUPLINGS = {"pseudo_force": simulate_load}
 
 
-def check_model(model) -> None:
+def check_model(model: Any) -> None:
     """Raise InputError if ``model``'s coupling has no load-history form."""
     if model.coupling not in LOAD_COUPLINGS:
         raise InputError("simulation.model", f"the {model.coupling} coupling of "
@@ -459,7 +492,7 @@ def check_model(model) -> None:
                          "--base-acceleration")
 
 
-def run_load(model, structure, load: LoadHistory, sample_rate: float = 2000.0,
+def run_load(model: DamperModel, structure: Any, load: LoadHistory, sample_rate: float = 2000.0,
              tail: float = 0.0) -> LoadResponse:
     """:func:`simulate_load` through the model's coupling; a model whose coupling has no
     load-history form is an error naming it."""

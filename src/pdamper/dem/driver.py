@@ -38,7 +38,7 @@ from pdamper.dem.kernels import verlet as _verlet
 from pdamper.dem.result import DEMResult
 
 if TYPE_CHECKING:  # pragma: no cover
-    from pdamper.dem.simulation import DEMEngine
+    from pdamper.dem.simulation import DEMEngine, _SampleGrid
 
 #: The judgement window of "auto" [s of simulated time] (a whole number of landings: the
 #: decisions do not depend on the chunking).
@@ -183,7 +183,8 @@ class GearKernels:
 
 
 #: The kernels of each integrator, by :attr:`Phase.kernel`.
-KERNELS = {"verlet": VerletKernels, "gear": GearKernels}
+KERNELS: dict[str, type[VerletKernels | GearKernels]] = {"verlet": VerletKernels,
+                                                         "gear": GearKernels}
 
 #: Raises the phase's kernel error, if any (:meth:`DEMEngine._check`).
 ErrorCheck = Callable[[Phase], None]
@@ -216,7 +217,7 @@ class ChunkSizer:
     two landings long); ``math.inf``: one call for the whole phase; ``one_sample``: one
     sample per call (the step profile)."""
 
-    def __init__(self, seconds: float, one_sample: bool = False):
+    def __init__(self, seconds: float, one_sample: bool = False) -> None:
         self.seconds = seconds
         self.whole = math.isinf(seconds) and not one_sample
         self.adapt = not math.isinf(seconds) and not one_sample
@@ -267,7 +268,7 @@ class StopRule(Controller):
     """Ask ``ask(j)`` after each chunk, only at the ends of whole cycles of ``cycle``
     landings (``cycle > 0``: the chunks end there); True ends the phase."""
 
-    def __init__(self, ask: Callable[[int], bool], cycle: int, j_end: int):
+    def __init__(self, ask: Callable[[int], bool], cycle: int, j_end: int) -> None:
         self.ask, self.cycle, self.j_end = ask, cycle, j_end
 
     def limit(self, j: int, target: int) -> int:
@@ -285,7 +286,7 @@ class TransientTolerance(Controller):
     """The Gear tolerance ``transient`` [-] up to landing ``end`` (the first cycles of the
     excitation), ``tolerance`` [-] from there on."""
 
-    def __init__(self, phase: Phase, end: int, transient: float, tolerance: float):
+    def __init__(self, phase: Phase, end: int, transient: float, tolerance: float) -> None:
         self.phase, self.end, self.tolerance = phase, end, float(tolerance)
         phase.stepping = phase.stepping._replace(tol=float(transient))
 
@@ -302,7 +303,7 @@ class StepProfile(Controller):
     the sphere-steps, the rejected steps and the kernel wall time [s] (run with
     ``ChunkSizer(..., one_sample=True)``)."""
 
-    def __init__(self, phase: Phase, nsamp: int, count: int):
+    def __init__(self, phase: Phase, nsamp: int, count: int) -> None:
         self.stats, self.count = phase.stats, count
         self.table = np.zeros((4, nsamp))
         self._before = (0, 0, 0, 0)
@@ -329,7 +330,7 @@ class AutoSwitch(Controller):
     windows, probe Gear for one window (:data:`AUTO_FIRST_SPAN`, :data:`AUTO_MAX_SPAN`)."""
 
     def __init__(self, engine: DEMEngine, run: Run, phase: Phase, j_end: int,
-                 check: ErrorCheck):
+                 check: ErrorCheck) -> None:
         self.engine, self.run, self.phase, self.j_end, self.check = (engine, run, phase,
                                                                      j_end, check)
         self.half = phase.stepping.half
@@ -387,7 +388,7 @@ class AutoSwitch(Controller):
 
 
 # ------------------------------------------------------------------ the result
-def collect_result(engine: DEMEngine, run: Run, phase: Phase, grid, k: int, wall: float,
+def collect_result(engine: DEMEngine, run: Run, phase: Phase, grid: _SampleGrid, k: int, wall: float,
                    profile: np.ndarray | None = None) -> DEMResult:
     """The :class:`DEMResult` of samples ``0 .. k`` of the excitation ``phase`` on the
     sample ``grid`` (k < nsamp - 1: a run stopped early, whose last force window is closed

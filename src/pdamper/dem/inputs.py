@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -95,11 +96,20 @@ class ParticleSet:
         Initial values, shape ``(n, 3)`` [m/s], [rad/s]; zero if omitted.
     """
 
+    # The fields' types are those after ``__post_init__`` has normalised them; the
+    # constructor takes the wider ones that ``__init__`` below declares to the type checker.
     positions: np.ndarray
-    radius: float | Sequence[float] | np.ndarray
-    material: Material | Sequence[Material]
-    velocities: np.ndarray | None = None
-    angular_velocities: np.ndarray | None = None
+    radius: np.ndarray
+    material: list[Material]
+    velocities: np.ndarray = None  # type: ignore[assignment]  # None -> zeros (__post_init__)
+    angular_velocities: np.ndarray = None  # type: ignore[assignment]  # None -> zeros
+
+    if TYPE_CHECKING:
+        def __init__(self, positions: np.ndarray | Sequence[Sequence[float]],
+                     radius: float | Sequence[float] | np.ndarray,
+                     material: Material | Sequence[Material],
+                     velocities: np.ndarray | None = None,
+                     angular_velocities: np.ndarray | None = None) -> None: ...
 
     def __post_init__(self) -> None:
         pos = _floats("particles.positions", self.positions, "an (n, 3) array of centres in m",
@@ -125,12 +135,14 @@ class ParticleSet:
             if v.shape != (n, 3) or not np.all(np.isfinite(v)):
                 raise InputError(f"particles.{name}", f"must be finite with shape ({n}, 3)")
             setattr(self, name, v)
-        if isinstance(self.material, Material):
-            mats = [self.material] * n
-        elif isinstance(self.material, str | bytes) or not hasattr(self.material, "__iter__"):
+        material: Any = self.material  # as given: one Material or a sequence of them
+        mats: list[Material]
+        if isinstance(material, Material):
+            mats = [material] * n
+        elif isinstance(material, str | bytes) or not hasattr(material, "__iter__"):
             mats = []
         else:
-            mats = list(self.material)
+            mats = list(material)
         if len(mats) != n or not all(isinstance(m, Material) for m in mats):
             raise InputError("particles.material", f"must be one Material or {n} of them "
                              f"(pdamper.materials), got {self.material!r}")
@@ -194,7 +206,7 @@ class HarmonicMotion:
         """W = 2 pi f [rad/s]."""
         return 2.0 * math.pi * self.frequency
 
-    def state(self, t):
+    def state(self, t: float | np.ndarray) -> tuple[Any, Any, Any]:
         """(x_c, v_c, a_c) at time(s) t [s]."""
         w = self.angular_frequency
         return (self.amplitude * np.sin(w * t), self.amplitude * w * np.cos(w * t),
@@ -223,7 +235,8 @@ class PrescribedMotion:
     acceleration: Callable | None = None
     sample_interval: float = 1e-6
 
-    def table(self, duration: float):
+    def table(self, duration: float
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Sampled ``(t, z, v, a)`` over [0, duration]."""
         h = float(self.sample_interval)
         nt = int(math.ceil(duration / h)) + 3

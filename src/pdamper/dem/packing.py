@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 import operator
 from collections.abc import Sequence
+from typing import Any
 
 import numba
 import numpy as np
@@ -79,11 +80,13 @@ def _as_box(box: Sequence[float]) -> tuple[float, float, float]:
     return values[0], values[1], values[2]
 
 
-def _as_radius(radius: float) -> float:
+def _as_radius(radius: Any) -> float:
+    """One radius as the user gave it (a scalar) as a float [m] > 0, or an InputError."""
     return check_range(_RADIUS_FIELD, radius, low=0.0, low_inclusive=False, unit="m")
 
 
-def _as_count(n: int) -> int:
+def _as_count(n: Any) -> int:
+    """``n`` (as the user gave it) as a whole count >= 0, or an InputError."""
     if isinstance(n, bool):
         raise InputError(_COUNT_FIELD, f"must be a whole number >= 0, got {n!r}")
     try:

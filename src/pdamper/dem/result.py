@@ -12,10 +12,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pdamper.errors import InputError, check_whole
+
+if TYPE_CHECKING:  # pragma: no cover
+    import xarray as xr
+
+    from pdamper.analysis.complex_power import ComplexPowerResult
 
 #: The wall-time keys of :meth:`DEMResult.summary` [s]: the only ones that differ between
 #: two runs of the same inputs.
@@ -189,7 +195,8 @@ class DEMResult:
         eps = 1e-9 * period
         return (self.time >= t_a - eps) & (self.time <= t_b + eps)
 
-    def complex_power(self, skip_cycles: int = 2, cycles: int | None = None):
+    def complex_power(self, skip_cycles: int = 2,
+                      cycles: int | None = None) -> ComplexPowerResult:
         """Complex power method, Eqs. (1)-(4), over whole cycles after ``skip_cycles``.
 
         The driving force in z is the container inertia minus the force of the particles on
@@ -203,6 +210,7 @@ class DEMResult:
         from pdamper.analysis.complex_power import complex_power
 
         m = self.window(skip_cycles, cycles)
+        assert self.frequency is not None  # (window() raised otherwise)
         return complex_power(self.time[m], -self.force[m, 2], self.container_velocity[m],
                              self.container_acceleration[m], self.frequency, self.bed_mass,
                              container_mass=0.0)
@@ -218,7 +226,7 @@ class DEMResult:
                 "mechanical_energy_change": float(
                     (self.mechanical_energy[b] - self.mechanical_energy[a]) / nc)}
 
-    def step_profile(self, bins: int = 20, skip_cycles: int = 0):
+    def step_profile(self, bins: int = 20, skip_cycles: int = 0) -> xr.Dataset:
         """Where the integrator's steps and wall time go within the excitation cycle.
 
         The per-sample counts of a ``DEMEngine.run(..., step_profile=True)`` run, binned
@@ -347,7 +355,7 @@ class DEMResult:
         }
 
     # ------------------------------------------------------------------ export
-    def to_dataset(self):
+    def to_dataset(self) -> xr.Dataset:
         """The time series as an ``xarray.Dataset`` with units in the attributes."""
         import xarray as xr
 

@@ -18,7 +18,7 @@ changes (:meth:`Settings.clone`), as scikit-learn's estimators are.
 from __future__ import annotations
 
 import math
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, Self
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
@@ -30,6 +30,9 @@ from pdamper.dem.inputs import (
     INTEGRATORS,
 )
 from pdamper.errors import InputError, check_range, check_whole
+
+if TYPE_CHECKING:  # pragma: no cover
+    from pydantic.json_schema import JsonDict
 
 #: ``integrator="auto"`` runs Gear and hands over to velocity Verlet while Gear's mean step
 #: over a judgement window of the excitation is below AUTO_COST_RATIO x the step Verlet would
@@ -59,9 +62,9 @@ def setting(default: Any, doc: str, *, unit: str = "", low: float | None = None,
                 else "whole" if isinstance(default, int) else "number")
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
-    extra = {"unit": unit, "kind": kind, "low": low, "high": high,
-             "low_inclusive": low_inclusive, "high_inclusive": high_inclusive,
-             "choices": list(choices), "infinite": infinite, "none": none}
+    extra: JsonDict = {"unit": unit, "kind": kind, "low": low, "high": high,
+                       "low_inclusive": low_inclusive, "high_inclusive": high_inclusive,
+                       "choices": list(choices), "infinite": infinite, "none": none}
     return Field(default, description=doc, json_schema_extra=extra)
 
 
@@ -130,7 +133,7 @@ class Settings(BaseModel):
     #: Prefix of the field names in errors (``"dem."``: as the scenario's section).
     prefix: ClassVar[str] = ""
 
-    def __init__(self, **data: Any):
+    def __init__(self, **data: Any) -> None:
         try:
             super().__init__(**data)
         except ValidationError as exc:
@@ -167,7 +170,7 @@ class Settings(BaseModel):
         """Every setting by name (the defaults included)."""
         return {name: getattr(self, name) for name in type(self).model_fields}
 
-    def clone(self, **changes: Any):
+    def clone(self, **changes: Any) -> Self:
         """A copy with ``changes`` (checked as at construction)."""
         return type(self)(**{**self.get_params(), **changes})
 

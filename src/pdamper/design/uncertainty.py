@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -76,7 +77,7 @@ class UncertainInput:
         if not (math.isfinite(self.sd) and self.sd > 0):
             raise InputError(self.field, f"standard deviation must be > 0, got {self.sd:g}")
 
-    def distribution(self):
+    def distribution(self) -> Any:
         """The frozen :func:`scipy.stats.truncnorm` of this input."""
         from scipy.stats import truncnorm
 
@@ -145,7 +146,7 @@ class UncertaintyResult:
     runs: int
     seconds: float
     #: the 2 n input points of A and B (d, 2 n) and the answers there (name -> (2 n,))
-    samples: np.ndarray = field(repr=False, compare=False, default=None)
+    samples: np.ndarray | None = field(repr=False, compare=False, default=None)
     values: dict[str, np.ndarray] = field(repr=False, compare=False, default_factory=dict)
     #: answers that are arrays (e.g. an envelope over time): name -> {"nominal", "mean",
     #: "std", "p5", ..., "p95"} per element over the 2 n points of A and B (no indices)

@@ -21,7 +21,7 @@ import math
 import tomllib
 from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated, Any, ClassVar, Literal
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
 
 from pydantic import (
     AfterValidator,
@@ -55,6 +55,18 @@ from pdamper.models.settings import (
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID, DEFAULT_TOLERANCE
 from pdamper.units import format_quantity, parse_quantity, parse_range
+
+if TYPE_CHECKING:  # pragma: no cover
+    import numpy as np
+
+    from pdamper.contact.restitution import RestitutionCurve
+    from pdamper.coupling.loads import LoadHistory
+    from pdamper.damper import ParticleDamper
+    from pdamper.design.study import DesignVariable
+    from pdamper.materials import Material
+    from pdamper.models.base import DamperModel
+    from pdamper.structure import SingleDOFStructure
+    from pdamper.structure.modal import ModalStructure
 
 
 def _q(unit: str):
@@ -116,7 +128,7 @@ class ParticlesSpec(_Section):
     count: Annotated[int, Field(ge=0, strict=True)] = _D.count
     radius: PositiveLength = _D.particle_radius
     material: str | MaterialSpec = _D.particle_material.name
-    friction: Annotated[float, Field(ge=0)] = _D.friction
+    friction: Annotated[float, Field(ge=0)] = paper.PAPER_FRICTION  # (_D.friction)
 
 
 class ExcitationSpec(_Section):
@@ -163,7 +175,7 @@ class BeamSpec(_Section):
                              f"({', '.join(given)}), not both")
         return self
 
-    def structure(self):
+    def structure(self) -> ModalStructure:
         """The :class:`~pdamper.structure.modal.ModalStructure`: damper and release at
         ``damper_position``, results at ``observation_position`` (both default the tip)."""
         from pdamper.structure.beam import TimoshenkoBeam, TipMass
@@ -249,7 +261,7 @@ class LoadSpec(_Section):
     def given(self) -> bool:
         return self.force is not None or self.base_acceleration is not None
 
-    def history(self):
+    def history(self) -> LoadHistory | None:
         """The :class:`~pdamper.coupling.loads.LoadHistory` (None: no load given)."""
         from pdamper.io.loads import read_load
 
@@ -261,7 +273,7 @@ class LoadSpec(_Section):
 
 
 class SimulationSpec(_Section):
-    model: str = Field("analytic", validation_alias=AliasChoices("model", "damper"))
+    model: str = Field(default="analytic", validation_alias=AliasChoices("model", "damper"))
     duration: Duration = paper.PAPER_DURATION
     sample_rate: Frequency = 2000.0
 
@@ -303,7 +315,7 @@ class OptimizationSpec(_Section):
     seed: Annotated[int, Field(ge=0, strict=True)] = 0
     tolerance: Annotated[float, BeforeValidator(_tolerance)] = DEFAULT_TOLERANCE
 
-    def variables(self):
+    def variables(self) -> list[DesignVariable]:
         """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary`` (judge
         their sizes first: :meth:`Scenario.check_resources` with ``"optimization"``)."""
         if not self.vary:  # no import of Level III for the commands that do not optimise
@@ -391,8 +403,9 @@ DEM_SET_ELSEWHERE = {"gravity": "excitation.gravity"}
 DEM_SCENARIO_ONLY = ("restitution_pp", "restitution_pw")
 #: ``[dem.<table>]``: the settings of one concern in a table of its own (the same keys as
 #: flat ``[dem]`` keys, which stay the plain way of writing them).
-DEM_TABLES = {"plan": RunPlan, "steady_state": SteadyState, "accuracy_target": AccuracyTarget,
-              "contact": ContactLaw, "engine": EngineSettings}
+DEM_TABLES: dict[str, type[Settings]] = {
+    "plan": RunPlan, "steady_state": SteadyState, "accuracy_target": AccuracyTarget,
+    "contact": ContactLaw, "engine": EngineSettings}
 
 
 class _DEMSection(Settings):
@@ -437,12 +450,16 @@ class _DEMSection(Settings):
 
 #: Options of the DEM damper model (:class:`pdamper.models.DEMDamper`): its settings,
 #: derived from their declarations, and the constant CORs.
-DEMSpec = create_model(
-    "DEMSpec", __base__=_DEMSection, __module__=__name__,
-    restitution_pp=(Restitution, _D.restitution_pp.e),
-    restitution_pw=(Restitution, _D.restitution_pw.e),
-    **{name: (info.annotation, info) for name, info in DEMSettings.model_fields.items()
-       if name not in DEM_SET_ELSEWHERE})
+if TYPE_CHECKING:  # built from the declarations at run time: a type checker sees a class
+    class DEMSpec(_DEMSection):
+        def __getattr__(self, name: str) -> Any: ...
+else:
+    DEMSpec = create_model(
+        "DEMSpec", __base__=_DEMSection, __module__=__name__,
+        restitution_pp=(Restitution, _D.restitution_pp.e),
+        restitution_pw=(Restitution, _D.restitution_pw.e),
+        **{name: (info.annotation, info) for name, info in DEMSettings.model_fields.items()
+           if name not in DEM_SET_ELSEWHERE})
 
 
 class Scenario(_Section):
@@ -473,7 +490,7 @@ class Scenario(_Section):
         return tuple(self._uncertain.values())
 
     # -- builders of the domain objects ------------------------------------------------
-    def damper(self):
+    def damper(self) -> ParticleDamper:
         """The :class:`~pdamper.damper.ParticleDamper` this scenario describes."""
         from pdamper.damper import ParticleDamper
 
@@ -487,7 +504,8 @@ class Scenario(_Section):
                               container_mass=c.mass, friction=p.friction,
                               restitution_pp=pp, restitution_pw=pw)
 
-    def restitution_curves(self, sphere, wall, radius: float):
+    def restitution_curves(self, sphere: Material, wall: Material,
+                           radius: float) -> tuple[RestitutionCurve, ...]:
         """COR curves ``(sphere-sphere, sphere-wall)`` of spheres of ``sphere`` material and
         ``radius`` [m] in a container of ``wall`` material.
 
@@ -498,7 +516,7 @@ class Scenario(_Section):
         from pdamper.contact.restitution import ConstantRestitution
         from pdamper.io.restitution import build_curve
 
-        curves = []
+        curves: list[RestitutionCurve] = []
         for pair, legacy, partner in (("particle_particle", "restitution_pp", sphere),
                                       ("particle_wall", "restitution_pw", wall)):
             spec = getattr(self.restitution, pair)
@@ -511,7 +529,7 @@ class Scenario(_Section):
             curves.append(build_curve(spec, pair, sphere, partner, radius))
         return tuple(curves)
 
-    def structure_model(self):
+    def structure_model(self) -> SingleDOFStructure | ModalStructure:
         """The :class:`~pdamper.structure.SingleDOFStructure` of Eq. (23) (M defaults to the
         paper's, see :mod:`pdamper.parameters.vertical_dampers_paper`), or the
         :class:`~pdamper.structure.modal.ModalStructure` of ``[structure] modes`` or
@@ -528,14 +546,15 @@ class Scenario(_Section):
         return SingleDOFStructure(mass=paper.PAPER_MASS if s.mass is None else s.mass,
                                   damping=s.damping, stiffness=s.stiffness)
 
-    def model(self, name: str | None = None, damper=None):
+    def model(self, name: str | None = None,
+              damper: ParticleDamper | None = None) -> DamperModel:
         """The damper model of fidelity ``name`` (default ``[simulation] model``) for
         ``damper`` (default :meth:`damper`), with the options of its section."""
         from pdamper.models import get_damper_model
 
         field = "model" if name is not None else "simulation.model"
         cls = get_damper_model(self.simulation.model if name is None else name, field)
-        section = getattr(self, cls.fidelity, None)
+        section: Any = getattr(self, cls.fidelity, None)
         options = section.options() if hasattr(section, "options") else {}
         if cls.takes_gravity:
             options["gravity"] = self.excitation.gravity
@@ -549,7 +568,7 @@ class Scenario(_Section):
         return self.model_copy(update={"dem": self.dem.model_copy(
             update={"packing": self.map.dem_packing})})
 
-    def map_model(self, name: str, damper=None):
+    def map_model(self, name: str, damper: ParticleDamper | None = None) -> DamperModel:
         """The damper model of a map: :meth:`model` of :meth:`for_map`."""
         try:
             return self.for_map().model(name, damper)
@@ -564,27 +583,27 @@ class Scenario(_Section):
         return (parse_axis(self.map.frequency, "Hz", "map.frequency")[:3],
                 parse_axis(self.map.amplitude, "m", "map.amplitude")[:3])
 
-    def map_grid(self):
+    def map_grid(self) -> tuple[np.ndarray, np.ndarray]:
         """The Level II grid ``(frequency [Hz], amplitude [m])`` of ``[map]`` (check its
         size first: :meth:`check_resources` with ``"map"``)."""
         return (grid(self.map.frequency, "Hz", "map.frequency"),
                 grid(self.map.amplitude, "m", "map.amplitude"))
 
-    def map_particles(self):
+    def map_particles(self) -> np.ndarray | None:
         """The particle-count axis of ``[map] particles`` (None: the one count of
         ``[particles]``)."""
         if self.map.particles is None:
             return None
         return count_grid(self.map.particles, "map.particles")
 
-    def dem_map_grid(self):
+    def dem_map_grid(self) -> tuple[np.ndarray, np.ndarray]:
         """The grid of the case study's DEM map (``[map] dem_frequency, dem_amplitude``)."""
         return (grid(self.map.dem_frequency, "Hz", "map.dem_frequency"),
                 grid(self.map.dem_amplitude, "m", "map.dem_amplitude"))
 
 
     # -- what the runs imply ------------------------------------------------------------
-    def check_physics(self, damper=None) -> None:
+    def check_physics(self, damper: ParticleDamper | None = None) -> None:
         """Refuse what has no physical meaning in any model (:mod:`pdamper.resources`):
         spheres too small, strokes too long, impacts too fast, excitations faster than a
         contact, in ``[particles]``, ``[excitation]``, ``[structure]`` and ``[map]``."""
@@ -665,12 +684,13 @@ class Scenario(_Section):
                                        self.simulation.duration,
                                        self.simulation.sample_rate, default, force, req)
 
-    def settings_of(self, cls):
+    def settings_of(self, cls: type[DamperModel]) -> Any:
         """The section of the scenario that holds the settings of fidelity ``cls`` (None:
         it has none)."""
         return getattr(self, cls.fidelity, None)
 
-    def excitation_cost(self, model: str = "analytic", damper=None):
+    def excitation_cost(self, model: str = "analytic",
+                        damper: ParticleDamper | None = None) -> resources.Cost | None:
         """What one Level II response of fidelity ``model`` at ``[excitation]`` costs
         (:meth:`pdamper.models.DamperModel.excitation_cost`; None: not worth judging), for
         ``damper`` (default :meth:`damper`)."""
@@ -767,7 +787,7 @@ class Scenario(_Section):
             runs=int(min(candidates, 2**62)), longest=one.seconds), force)
 
 
-def grid(text: str, unit: str, field: str):
+def grid(text: str, unit: str, field: str) -> np.ndarray:
     """A grid from ``"start:stop:count"`` (linear), ``"log:start:stop:count"`` (geometric)
     or one quantity; values must be > 0.
 
@@ -791,7 +811,7 @@ def parse_axis(text: str, unit: str, field: str) -> tuple[float, float, int, boo
     return a, b, n, log
 
 
-def count_grid(value, field: str):
+def count_grid(value: Any, field: str) -> np.ndarray:
     """Whole particle counts from ``N``, ``"start:stop:count"`` or ``"log:..."`` (rounded;
     counts must be >= 1 and distinct).
 
@@ -975,11 +995,16 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
 
 
 def _example() -> str:
+    """The text of ``EXAMPLE_SCENARIO``: every section with its defaults, commented."""
     s = Scenario()
+    return _example_levels(s) + _example_study(s) + _example_dem(s)
+
+
+def _example_levels(s: Scenario) -> str:
+    """The example's head and its Level II and III sections (damper, excitation,
+    structure)."""
     c, p, x, st = s.container, s.particles, s.excitation, s.structure
     q = format_quantity
-    dem = s.dem
-    _MODELS = " or ".join(f'"{m}"' for m in DAMPING_MODELS)  # noqa: N806
     return f"""\
 # pdamper scenario: the reference paper's benchmark damper on its beam-like structure.
 # Every quantity carries its unit ("120 mm", "10 Hz", "7900 kg/m^3"); bare numbers are SI.
@@ -1027,6 +1052,13 @@ damping_ratio = {BeamSpec().damping_ratio:.4g} }}
 #   (material = "S235" instead of youngs_modulus, poisson_ratio, density; damping_ratio: one
 #   for all modes or a list, one per mode; positions from the clamp, default the tip)
 
+"""
+
+
+def _example_study(s: Scenario) -> str:
+    """The example's sections of the simulation, the design study, the fields and the map."""
+    q = format_quantity
+    return f"""\
 [simulation]
 model = "{s.simulation.model}"          # damper fidelity: "analytic" (model 3), "fields" (2), "dem" (1)
 duration = "{q(s.simulation.duration, 's')}"
@@ -1062,6 +1094,15 @@ dem_packing = "{s.map.dem_packing}"           # initial packing of a map's DEM r
                             # "random", "auto": random where it fits, else the lattice;
                             # the lattice's symmetric states are artefacts)
 
+"""
+
+
+def _example_dem(s: Scenario) -> str:
+    """The example's sections of the DEM and the COR models."""
+    q = format_quantity
+    dem = s.dem
+    _MODELS = " or ".join(f'"{m}"' for m in DAMPING_MODELS)  # noqa: N806
+    return f"""\
 [dem]                       # options of the DEM model ("pdamper dem", "--model dem")
 integrator = "{dem.integrator}"         # "gear" (variable step, the paper's), "verlet", or "auto"
                             # (gear, handing over to verlet in jammed beds; docs/dem.md)

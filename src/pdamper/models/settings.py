@@ -15,7 +15,7 @@ use it where it acts, and, for a command-line flag, add one row to
 
 from __future__ import annotations
 
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 from pydantic import create_model
 
@@ -178,6 +178,9 @@ def _fields() -> dict[str, tuple]:
     return out
 
 
+_S = TypeVar("_S", bound=Settings)
+
+
 class _DEMSettingsBase(Settings):
     prefix: ClassVar[str] = "dem."
 
@@ -187,15 +190,19 @@ class _DEMSettingsBase(Settings):
         return EngineSettings(**{**{k: v for k, v in self.get_params().items() if k in names},
                                  **changes})
 
-    def concern(self, cls: type[Settings]) -> Settings:
+    def concern(self, cls: type[_S]) -> _S:
         """The settings of one concern (``RunPlan``, ``SteadyState``, ...)."""
         params = self.get_params()
         return cls(**{k: params[k] for k in cls.model_fields if k in params})
 
 
 #: Every setting of the DEM damper under its flat name (errors name ``dem.<name>``).
-DEMSettings = create_model("DEMSettings", __base__=_DEMSettingsBase,
-                           __module__=__name__, **_fields())
+if TYPE_CHECKING:  # built from the concerns' fields at run time: a type checker sees a class
+    class DEMSettings(_DEMSettingsBase):
+        def __getattr__(self, name: str) -> Any: ...
+else:
+    DEMSettings = create_model("DEMSettings", __base__=_DEMSettingsBase,
+                               __module__=__name__, **_fields())
 DEMSettings.__doc__ = ("Every setting of :class:`~pdamper.models.DEMDamper`, flat: the fields "
                        "of " + ", ".join(c.__name__ for c in CONCERNS) + " (the engine's "
                        "less " + ", ".join(ENGINE_SET_BY_RUN) + ").")

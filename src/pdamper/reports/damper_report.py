@@ -30,10 +30,20 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from pdamper.reports.html import _STYLE, ReportFigure, _e, _img, _table
+
+if TYPE_CHECKING:  # pragma: no cover
+    import xarray as xr
+    from matplotlib.figure import Figure
+
+    from pdamper.coupling.results import FreeVibrationResult
+    from pdamper.damper import ParticleDamper
+    from pdamper.design.study import DesignStudyResult
+    from pdamper.io.scenario import Scenario
 
 #: Base points of the report's uncertainty propagation (a power of two; N (d + 2) runs).
 DEFAULT_UNCERTAINTY_POINTS = 32
@@ -46,14 +56,14 @@ class DamperReport:
     title: str
     version: str
     inputs: dict
-    damper: object = None
+    damper: ParticleDamper | None = None
     structure: object = None
-    level2_map: object = None  # xarray.Dataset (analytical)
-    dem_map: object = None  # xarray.Dataset (DEM), or None
+    level2_map: xr.Dataset | None = None  # analytical
+    dem_map: xr.Dataset | None = None  # DEM, or None
     runs: dict = field(default_factory=dict)  # label -> FreeVibrationResult
     sources: dict = field(default_factory=dict)  # label -> what the model rests on
-    empty: object = None  # run without particles
-    study: object = None  # DesignStudyResult
+    empty: FreeVibrationResult | None = None  # run without particles
+    study: DesignStudyResult | None = None
     study_model: str = "analytic"
     uncertainty: dict = field(default_factory=dict)  # "level2"/"level3" -> result
     timings: dict = field(default_factory=dict)
@@ -83,7 +93,7 @@ class DamperReport:
                 "figures": [f.name for f in self.figures], "inputs": self.inputs}
 
 
-def _timed(rep: DamperReport, key: str, fn):
+def _timed(rep: DamperReport, key: str, fn: Callable[..., Any]) -> Any:
     t0 = time.perf_counter()
     out = fn()
     rep.timings[key] = time.perf_counter() - t0
@@ -103,10 +113,10 @@ def _one_count(ds, count: int):
     return ds
 
 
-def run_damper_report(scenario, *, dem: bool = False, uncertainty: int | None = None,
+def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int | None = None,
                       uncertainty_seed: int = 0, out: Path | None = None,
                       progress: Callable[[str], None] | None = None,
-                      **sweep_options) -> DamperReport:
+                      **sweep_options: Any) -> DamperReport:
     """Compute the report of ``scenario`` (module docstring).
 
     Parameters
@@ -195,7 +205,8 @@ def run_damper_report(scenario, *, dem: bool = False, uncertainty: int | None = 
     return rep
 
 
-def effective_field_map(damper, frequency, amplitude, gravity: float):
+def effective_field_map(damper: ParticleDamper, frequency: np.ndarray, amplitude: np.ndarray,
+                        gravity: float) -> xr.Dataset:
     """The analytical map of ``damper`` on a grid: model 2's fields without a map file."""
     from pdamper.analysis.fields import effective_field
     from pdamper.models import AnalyticalDamper
@@ -203,7 +214,7 @@ def effective_field_map(damper, frequency, amplitude, gravity: float):
     return effective_field(AnalyticalDamper(damper, gravity=gravity), frequency, amplitude)
 
 
-def design_study(sc, damper, structure):
+def design_study(sc: Scenario, damper: ParticleDamper, structure: Any) -> DesignStudyResult:
     """The design study of ``[optimization]`` (its ``vary``, or the particle count in
     whole layers) with the analytical model, in-process."""
     from pdamper.design.study import DesignVariable, optimize_design
@@ -229,6 +240,7 @@ def figures(rep: DamperReport) -> list[ReportFigure]:
     from pdamper import plots
 
     out = []
+    assert rep.damper is not None  # (set by run_damper_report, as the maps)
     ds = _one_count(rep.level2_map, rep.damper.count)
     fig = Figure(figsize=(15, 4.4), layout="constrained")
     a = fig.subplots(1, 3)
@@ -270,7 +282,7 @@ def figures(rep: DamperReport) -> list[ReportFigure]:
     return out
 
 
-def uncertainty_figure(results: dict):
+def uncertainty_figure(results: dict) -> Figure:
     """Histograms of the Level III amplitude at t and the Level II loss factor with their
     5-95 % band, the band of the Level III envelope over time, and the total Sobol' index
     of each input per answer."""
@@ -376,6 +388,7 @@ def _uncertainty_html(rep: DamperReport) -> list[str]:
 def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:
     """The page as a string; ``extra``: the sections of :func:`merge_sections`."""
     d = rep.damper
+    assert d is not None  # (set by run_damper_report)
     inputs = _table(["quantity", "value"], [
         ["container (L x W x D)", f"{d.length * 1e3:g} x {d.width * 1e3:g} x "
                                   f"{d.depth * 1e3:g} mm, {d.wall_material.name}"],
@@ -404,6 +417,7 @@ def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:
                           for m in models], "models",
                          [["", "", "", "num", "num", "num"]] * len(models))
     st = rep.study
+    assert st is not None  # (set by run_damper_report)
     on_front = {id(c) for c in st.front}
     light, best = st.lightest_within, st.best
     names = [v.name for v in st.variables]

@@ -1,0 +1,120 @@
+"""The shape of the code a reader meets: short functions, a short engine, a small engine
+constructor, and a type check that passes.
+
+- no function outside the numba kernels (``pdamper/dem/kernels``) over 80 lines, counted
+  without its docstring;
+- ``dem/simulation.py`` under 700 lines;
+- ``DEMEngine.__init__`` takes at most six parameters (the settings travel as objects);
+- mypy, as CI runs it (``python3 -m mypy``, configured in pyproject.toml), passes.
+"""
+
+from __future__ import annotations
+
+import ast
+import importlib.util
+import inspect
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import pdamper
+
+PACKAGE = Path(pdamper.__file__).parent
+REPO = Path(__file__).resolve().parents[1]
+#: Longest function body allowed [lines, without the docstring].
+MAX_FUNCTION_LINES = 80
+#: Functions in files that other branches are still reshaping: the long ones there are
+#: known; everything else is held to the limit now.
+FILES_BEING_MERGED = ("cli/map.py", "cli/simulate.py", "cli/optimize.py", "plots/level3.py",
+                      "reports/paper_case_study.py", "models/fields.py", "models/dem.py",
+                      "dem/simulation.py", "design/study.py", "design/optimize.py")
+
+
+def function_lengths(path: Path) -> list[tuple[str, int]]:
+    """``(name, lines)`` of every function and method in ``path``, nested ones included;
+    lines from ``def`` to the last line of the body, less the docstring's."""
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            assert node.end_lineno is not None
+            n = node.end_lineno - node.lineno + 1
+            first = node.body[0]
+            if (isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant)
+                    and isinstance(first.value.value, str)):
+                assert first.end_lineno is not None
+                n -= first.end_lineno - first.lineno + 1
+            out.append((node.name, n))
+    return out
+
+
+def long_functions(skip: tuple[str, ...] = ()) -> list[str]:
+    """``file:function (lines)`` of every function over the limit outside the kernels and
+    the files in ``skip`` (paths relative to the package)."""
+    found = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        rel = path.relative_to(PACKAGE).as_posix()
+        if rel.startswith("dem/kernels/") or rel in skip:
+            continue
+        found += [f"{rel}:{name} ({n} lines)" for name, n in function_lengths(path)
+                  if n > MAX_FUNCTION_LINES]
+    return found
+
+
+def test_the_length_count_leaves_out_the_docstring(tmp_path):
+    """The counting itself: a docstring does not count, the body does."""
+    body = "\n".join(f"    x{i} = {i}" for i in range(3))
+    src = f'def f():\n    """One.\n\n    Two.\n    """\n{body}\n\n\ndef g():\n{body}\n'
+    (tmp_path / "m.py").write_text(src)
+    assert function_lengths(tmp_path / "m.py") == [("f", 4), ("g", 4)]
+
+
+@pytest.mark.xfail(strict=False, reason="functions in files still being merged: cli/map.py "
+                   "map_, cli/optimize.py optimize, cli/simulate.py simulate, "
+                   "plots/level3.py plot_design_landscape, reports/paper_case_study.py "
+                   "run_case_study and write_case_study")
+def test_no_function_over_80_lines():
+    assert long_functions() == []
+
+
+def test_no_function_over_80_lines_outside_the_files_being_merged():
+    assert long_functions(FILES_BEING_MERGED) == []
+
+
+def test_the_engine_module_is_under_700_lines():
+    lines = (PACKAGE / "dem" / "simulation.py").read_text(encoding="utf-8").splitlines()
+    assert len(lines) < 700
+
+
+def test_the_engine_takes_at_most_six_parameters():
+    """Explicit parameters (settings objects), no ``**options``."""
+    from pdamper.dem import DEMEngine
+
+    params = [p for name, p in inspect.signature(DEMEngine.__init__).parameters.items()
+              if name != "self"]
+    assert len(params) <= 6, [p.name for p in params]
+    assert not [p for p in params if p.kind in (p.VAR_KEYWORD, p.VAR_POSITIONAL)]
+
+
+def test_the_type_check_passes():
+    """``python3 -m mypy`` from the repository root, as CI runs it. Errors in the files
+    still being merged make it an expected failure (listed); anywhere else, a failure."""
+    if importlib.util.find_spec("mypy") is None:
+        pytest.skip("mypy is not installed (pip install -e '.[test]')")
+    if not (REPO / "pyproject.toml").is_file() or not (REPO / "src" / "pdamper").is_dir():
+        pytest.skip("needs the source tree (pyproject.toml and src/pdamper)")
+    p = subprocess.run([sys.executable, "-m", "mypy"], cwd=REPO, capture_output=True,
+                       text=True, timeout=900)
+    if p.returncode == 0:
+        return
+    errors = [line for line in p.stdout.splitlines() if ": error: " in line]
+    assert errors, p.stdout[-4000:] + p.stderr[-2000:]  # mypy failed without type errors
+    prefix = "src/pdamper/"
+    merging = {line.split(":", 1)[0].removeprefix(prefix) for line in errors} \
+        <= set(FILES_BEING_MERGED)
+    assert merging, "\n".join(e for e in errors
+                              if e.split(":", 1)[0].removeprefix(prefix)
+                              not in FILES_BEING_MERGED)
+    files = sorted({line.split(":", 1)[0] for line in errors})
+    pytest.xfail(f"{len(errors)} type errors in files still being merged: {', '.join(files)}")
