@@ -93,6 +93,7 @@ def _register() -> None:
         cor,
         cor_sensitivity,
         dem,
+        frf,
         map,
         optimize,
         paper,
@@ -104,7 +105,8 @@ def _register() -> None:
                            ("simulate", simulate.simulate), ("optimize", optimize.optimize),
                            ("dem", dem.dem), ("paper", paper.paper),
                            ("example-scenario", scenario.example_scenario), ("cor", cor.cor),
-                           ("cor-sensitivity", cor_sensitivity.cor_sensitivity)):
+                           ("cor-sensitivity", cor_sensitivity.cor_sensitivity),
+                           ("frf", frf.frf)):
         app.command(name, cls=_Command, short_help=_summary(function))(function)
     _registered = True
 
