@@ -126,7 +126,7 @@ def main() -> None:
     print("\n  f [Hz]  DEM [mm] (per seed)          fields from DEM map [mm]  |diff| [mm]  "
           "allowed [mm]  ok")
     for i, f in enumerate(freqs):
-        per = " ".join(f"{a * 1e3:6.2f}{'' if st[i] else '*'}" for a, st in dem_amp)
+        per = " ".join(f"{a[i] * 1e3:6.2f}{'' if st[i] else '*'}" for a, st in dem_amp)
         ok = abs(fa[i] - mean[i]) <= allowed[i]
         print(f"  {f:6.3f}  {per:28s} {fa[i] * 1e3:10.2f}            {abs(fa[i] - mean[i]) * 1e3:8.2f}"
               f"  {allowed[i] * 1e3:10.2f}    {'yes' if ok else 'NO'}")

@@ -72,6 +72,9 @@ SCENARIOS = {
     "beam_three_modes": "[structure]\nbeam = { modes = 3, elements = 20 }\n",
     # -- gravity
     "gravity_inf": "[excitation]\ngravity = inf\n",
+    # -- forced response (frf): loads, frequency grids, structures
+    "frf_dem_three_modes": '[simulation]\nmodel = "dem"\n[structure]\n'
+                           'beam = { modes = 3, elements = 20 }\n',
 }
 
 
@@ -355,6 +358,33 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("gravity-not-an-acceleration", ["dem", "--gravity", "9.81 m/s"],
      Error("excitation.gravity")),
     ("ok-analytic-gravity-zero", ["analytic", "--gravity", "0 m/s^2", "--json"], OK()),
+    # -- forced response (frf): the load, the frequency grid, the sweep, the structure
+    ("frf-force-negative", ["frf", "--force", "-2N"], Error("force")),
+    ("frf-force-zero", ["frf", "--force", "0N"], Error("force")),
+    ("frf-force-a-length", ["frf", "--force", "2mm"], Error("force")),
+    ("frf-force-infinite", ["frf", "--force", "inf N"], Error("force")),
+    ("frf-force-and-base", ["frf", "--force", "2N", "--base", "1mm"], Error("base")),
+    ("frf-base-a-duration", ["frf", "--base", "3 s"], Error("base")),
+    ("frf-base-negative", ["frf", "--base", "-1mm"], Error("base")),
+    ("frf-base-on-three-modes", ["frf", "--base", "0.3g", "--frequency", "5Hz",
+                                 "--scenario", "{scenario:beam_three_modes}"], Error("base")),
+    ("frf-frequency-zero", ["frf", "--frequency", "0Hz:9Hz:3"], Error("frequency")),
+    ("frf-frequency-a-length", ["frf", "--frequency", "3mm:9mm:3"], Error("frequency")),
+    ("frf-frequency-no-count", ["frf", "--frequency", "3Hz:9Hz"], Error("frequency")),
+    ("frf-frequency-negative-one", ["frf", "--frequency", "-5Hz"], Error("frequency")),
+    ("frf-sweep-sideways", ["frf", "--sweep", "sideways"], Error("sweep")),
+    ("frf-max-cycles-zero", ["frf", "--max-cycles", "0"], Error("max_cycles")),
+    ("frf-dem-three-modes", ["frf", "--frequency", "5Hz", "--scenario",
+                             "{scenario:frf_dem_three_modes}"], Error("structure")),
+    ("frf-out-directory", ["frf", "--frequency", "5Hz", "--out", "{tmp}/dir"], Error("out")),
+    ("frf-plot-no-suffix", ["frf", "--frequency", "5Hz", "--plot", "{tmp}/figure"],
+     Error("plot")),
+    ("frf-modes-nan", ["frf", "--frequency", "5Hz", "--modes", "{tmp}/modes_nan.csv"],
+     Error("structure.modes")),
+    ("ok-frf-base-acceleration", ["frf", "--base", "0.05g", "--frequency", "4Hz:7Hz:4",
+                                  "--json"], OK()),
+    ("ok-frf-modes-one", ["frf", "--frequency", "5Hz:6Hz:3", "--modes",
+                          "{tmp}/modes_one.csv", "--json"], OK()),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds
