@@ -385,6 +385,12 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
                                   "--json"], OK()),
     ("ok-frf-modes-one", ["frf", "--frequency", "5Hz:6Hz:3", "--modes",
                           "{tmp}/modes_one.csv", "--json"], OK()),
+    ("optimize-frf-load-a-duration", ["optimize", "--objective", "peak-frf", "--load", "3 s"],
+     Error("optimization.load")),
+    ("optimize-frf-band-zero", ["optimize", "--objective", "rms-frf", "--band", "0Hz:9Hz:3"],
+     Error("optimization.band")),
+    ("optimize-objective-unknown-frf", ["optimize", "--objective", "peak-frff"],
+     Error("optimization.objective")),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 from typing import Annotated
 
@@ -32,26 +31,12 @@ def parse_load(force: str | None, base: str | None):
     (a length, or an acceleration: ``0.3g`` is 0.3 standard gravities)."""
     from pdamper.coupling.frf import HarmonicLoad
     from pdamper.errors import InputError
-    from pdamper.units import parse_quantity
 
     if force is not None and base is not None:
         raise InputError("base", "give either --force or --base, not both")
     if base is None:
-        return HarmonicLoad("force", parse_quantity(DEFAULT_FORCE if force is None else force,
-                                                    "N", "force"))
-    text = base.strip()
-    try:
-        return HarmonicLoad("base", parse_quantity(text, "m", "base"))
-    except InputError:
-        pass
-    # "0.3g": g is the standard gravity here (pint reads a bare g as gram)
-    accel = re.sub(r"(?<=[\d.\s])g$", " g0", text)
-    try:
-        value = parse_quantity(accel, "m/s^2", "base")
-    except InputError:
-        raise InputError("base", f"must be a base displacement (e.g. '1mm') or acceleration "
-                         f"(e.g. '0.3g', '3m/s^2') amplitude, got {base!r}") from None
-    return HarmonicLoad("base", value, acceleration=True)
+        return HarmonicLoad.parse(DEFAULT_FORCE if force is None else force, "force")
+    return HarmonicLoad.parse(base, "base")
 
 
 def frf(

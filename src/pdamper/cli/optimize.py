@@ -30,7 +30,14 @@ def optimize(
         "'radius=3mm:6mm:4' (start:stop:count), 'container-length=100mm:140mm:3', "
         "'particle-material=S235,PVC'. Default: the particle count.")] = None,
     objective: Annotated[str | None, typer.Option(
-        help="amplitude-at (min), settling-time (min) or mean-damping (max).")] = None,
+        help="amplitude-at (min), settling-time (min), mean-damping (max), or on the "
+             "forced response peak-frf or rms-frf (min).")] = None,
+    band: Annotated[str | None, typer.Option(
+        help="Frequencies of peak-frf and rms-frf, 'start:stop:count', e.g. '3Hz:9Hz:41' "
+             "(default 0.5-1.5 times the first natural frequency).")] = None,
+    frf_load: Annotated[str | None, typer.Option(
+        "--load", help="Harmonic load of peak-frf and rms-frf: a force ('2N', default) or a base "
+             "motion ('1mm', '0.3g').")] = None,
     threshold: Annotated[str | None, typer.Option(
         help="Settling threshold, e.g. '15mm' (default |x0| / 4).")] = None,
     method: Annotated[str | None, typer.Option(
@@ -74,7 +81,8 @@ def optimize(
               optimization__threshold=threshold, optimization__method=method,
               optimization__workers=workers, optimization__scheduler=scheduler,
               optimization__max_evaluations=max_evaluations, optimization__seed=seed,
-              optimization__tolerance=tolerance,
+              optimization__tolerance=tolerance, optimization__band=band,
+              optimization__load=frf_load,
               structure__modes=None if modes is None else str(modes))
     plot = check_plot(plot)
     o = sc.optimization
@@ -96,7 +104,8 @@ def optimize(
                           variables, o.objective, o.at, model=functools.partial(sc.model, None),
                           threshold=o.threshold, method=o.method, max_grid=o.max_grid,
                           max_evaluations=o.max_evaluations, seed=o.seed,
-                          workers=n_workers, scheduler=o.scheduler, tolerance=o.tolerance)
+                          workers=n_workers, scheduler=o.scheduler, tolerance=o.tolerance,
+                          band=o.frf_band(), load=o.load)
     if plot is not None:
         from matplotlib.figure import Figure
 
@@ -113,9 +122,14 @@ def optimize(
                **metadata(sc)}
     names = [v.name for v in res.variables]
     shown = {"amplitude-at": (1e3, "amplitude [mm]"), "settling-time": (1.0, "settling [s]"),
-             "mean-damping": (1.0, "mean zeta [-]")}[res.objective.name]
+             "mean-damping": (1.0, "mean zeta [-]"), "peak-frf": (1e3, "peak [mm]"),
+             "rms-frf": (1e3, "rms [mm]")}[res.objective.name]
     head = f"{res.objective.name} (t = {res.at:g} s" if res.objective.name != "settling-time" \
         else f"settling-time (to {res.objective.threshold * 1e3:g} mm"
+    if res.objective.load is not None:
+        b, ld = res.objective.band, res.objective.load
+        head = (f"{res.objective.name} ({b[0]:g}-{b[-1]:g} Hz in {len(b)}, {ld.kind} "
+                f"{ld.amplitude:g} {ld.unit}")
     lines = [f"{head}, {sc.simulation.model} model, {res.method}: {len(res.candidates)} designs)",
              "  " + "  ".join(f"{n:>17s}" for n in names) + f"  mass [g]  {shown[1]}"]
     light = res.lightest_within

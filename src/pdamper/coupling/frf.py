@@ -56,6 +56,7 @@ DEM stepped sine makes no such assumption; docs/forced.md compares them.
 from __future__ import annotations
 
 import math
+import re
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -95,10 +96,54 @@ class HarmonicLoad:
             raise InputError("load", f"must be one of {', '.join(LOAD_KINDS)}, got {self.kind!r}")
         unit = "N" if self.kind == "force" else ("m/s^2" if self.acceleration else "m")
         check_range(self.kind, self.amplitude, low=0.0, low_inclusive=False, unit=unit)
+        object.__setattr__(self, "amplitude", float(self.amplitude))
 
     @property
     def unit(self) -> str:
         return "N" if self.kind == "force" else ("m/s^2" if self.acceleration else "m")
+
+    @classmethod
+    def parse(cls, text: str, kind: str | None = None, field: str | None = None) -> HarmonicLoad:
+        """The load of a quantity with units: a force (``"2N"``) or a base motion, as
+        displacement (``"1mm"``) or acceleration (``"0.3g"``: g is the standard gravity
+        here, ``"3 m/s^2"``). ``kind`` (``"force"``, ``"base"``) restricts it; ``field``
+        names the input in errors (default the kind, or ``load``).
+
+        >>> HarmonicLoad.parse("0.3g").amplitude
+        2.941995
+        """
+        if field is None:
+            return cls._parse(text, kind, kind or "load")
+        try:
+            return cls._parse(text, kind, field)
+        except InputError as exc:  # the amplitude's own check names the kind
+            if exc.field == field:
+                raise
+            raise InputError(field, exc.message) from None
+
+    @classmethod
+    def _parse(cls, text: str, kind: str | None, name: str) -> HarmonicLoad:
+        from pdamper.units import parse_quantity
+
+        if kind in (None, "force"):
+            try:
+                return cls("force", parse_quantity(text, "N", name))
+            except InputError as exc:
+                if kind == "force" or "convertible" not in exc.message:
+                    raise
+        try:
+            return cls("base", parse_quantity(text, "m", name))
+        except InputError as exc:
+            if "convertible" not in exc.message:
+                raise
+        # "0.3g": g is the standard gravity (pint reads a bare g as gram)
+        accel = re.sub(r"(?<=[\d.\s])g$", " g0", str(text).strip())
+        try:
+            return cls("base", parse_quantity(accel, "m/s^2", name), acceleration=True)
+        except InputError:
+            what = "a force (e.g. '2N'), or a base " if kind is None else "a base "
+            raise InputError(name, f"must be {what}displacement (e.g. '1mm') or acceleration "
+                             f"(e.g. '0.3g', '3m/s^2') amplitude, got {text!r}") from None
 
     def reference(self, omega: float) -> float:
         """Amplitude of the reference signal the phase is measured against: the force [N]
@@ -579,10 +624,12 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
     harmonic over the cycle is ``Z + (2 / T) (A - i W)^-1 (e^{A T} - 1)(z_0 - Re Z)``: no
     time step, no sampling. Cycles start at load phase 0, so the load's phase runs on
     continuously from one frequency to the next. A step is steady when
-    :class:`~pdamper.analysis.stationarity.SteadyStateCriterion` accepts the per-cycle
-    amplitudes and, the model being deterministic, every one of the window's cycles is
-    within the criterion's ``rtol`` of the last (a slow beat of free and forced motion
-    would otherwise pass as scatter).
+    :func:`steady_amplitudes` accepts the per-cycle amplitudes (the maps'
+    :class:`~pdamper.analysis.stationarity.SteadyStateCriterion`, every cycle of the window
+    within ``rtol`` of the last) and the transient left, ``z_0 - Re Z``, is below ``rtol``
+    of the steady motion in the modal energy norm ``sqrt(sum w_i^2 q_i^2 + q_i'^2)``: on a
+    lightly damped structure the beat of free and forced motion near resonance is slower
+    than any window of cycles.
     """
     s = _modal(structure)
     n = s.modes
@@ -625,6 +672,10 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
             b = np.concatenate([np.zeros(n), minv @ phi * force])
             zp = np.linalg.solve(1j * om * eye - a, b)
             h0 = z - zp.real
+            # what is left of the transient: its energy norm against the steady motion's
+            transient = math.sqrt(float(np.sum(w * w * h0[:n] ** 2 + h0[n:] ** 2)))
+            forced = math.sqrt(float(np.sum(w * w * np.abs(zp[:n]) ** 2
+                                            + np.abs(zp[n:]) ** 2)))
             e, g = _propagators(a, period, om, eye)
             hat = zp + (2.0 / period) * (g @ h0)
             z = zp.real + e @ h0
@@ -633,7 +684,7 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
             xd_hat, xo_hat = complex(phi @ hat[:n]), complex(psi @ hat[:n])
             x_prev = abs(xd_hat)
             amps.append(x_prev)
-            if steady_amplitudes(amps, criterion):
+            if transient <= criterion.rtol * forced and steady_amplitudes(amps, criterion):
                 ok = True
                 break
         cycles[i] = len(amps)

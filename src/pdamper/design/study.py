@@ -10,7 +10,11 @@ particle material) and ranks the designs by one objective (:data:`OBJECTIVES`):
   threshold (default a quarter of the release deflection; minimised; a design that never
   gets there within the simulated time is reported at that time with ``settled: false``) [s];
 - ``mean-damping``: mean damping ratio (Eqs. 24-25) of the cycles that end by T
-  (maximised) [-].
+  (maximised) [-];
+- ``peak-frf``: largest steady amplitude of the output point over a frequency band under
+  a harmonic load (the forced response of :mod:`pdamper.coupling.frf`, stepped sines up
+  and down; minimised) [m];
+- ``rms-frf``: RMS over the band's frequencies of that amplitude (minimised) [m].
 
 Search
 ------
@@ -382,9 +386,19 @@ class Objective:
     at: float
     threshold: float | None = None
     duration: float | None = None
+    #: Forced-response objectives: the frequencies [Hz] of the band and the
+    #: :class:`~pdamper.coupling.frf.HarmonicLoad`.
+    band: tuple[float, ...] | None = None
+    load: Any = None
 
     def evaluate(self, res) -> tuple[float, dict]:
-        """Objective value of a :class:`~pdamper.coupling.FreeVibrationResult` and extras."""
+        """Objective value of a :class:`~pdamper.coupling.FreeVibrationResult` (or, for
+        the forced-response objectives, a :class:`~pdamper.coupling.frf.FRFResult`) and
+        extras."""
+        if self.name in FRF_OBJECTIVES:
+            value = res.peak() if self.name == "peak-frf" else res.rms()
+            steady = all(bool(np.all(c.steady)) for c in res.sweeps.values())
+            return value, {"steady": steady}
         if self.name == "amplitude-at":
             return res.amplitude_at(self.at), {}
         if self.name == "mean-damping":
@@ -426,21 +440,48 @@ def settling_time(peak_times, peak_amplitudes, threshold: float) -> float | None
 
 OBJECTIVES = {"amplitude-at": ("min", "m"), "settling-time": ("min", "s"),
               "mean-damping": ("max", "1")}
+#: Objectives on the forced response (pdamper.coupling.frf) over a frequency band.
+FRF_OBJECTIVES = {"peak-frf": ("min", "m"), "rms-frf": ("min", "m")}
+OBJECTIVES.update(FRF_OBJECTIVES)
+#: Default band of the forced-response objectives: this fraction of the structure's first
+#: natural frequency below and above it, in this many frequencies; default load 2 N.
+FRF_BAND = (0.5, 1.5, 41)
+FRF_LOAD = "2 N"
 
 
 def make_objective(name: str, at: float, initial_displacement: float, structure,
-                   threshold: float | None = None, duration: float | None = None) -> Objective:
+                   threshold: float | None = None, duration: float | None = None,
+                   band=None, load=None) -> Objective:
     """The :class:`Objective` ``name`` with its defaults (module docstring).
 
     ``duration`` (settling-time) defaults to ``max(2 s, 2 at)``; the other objectives run to
     two periods of ``structure``'s natural frequency past T (so that two peaks bracket T,
-    as in :func:`pdamper.design.optimize_particle_count`).
+    as in :func:`pdamper.design.optimize_particle_count`). The forced-response objectives
+    take ``band`` (frequencies [Hz]; default :data:`FRF_BAND` around the first natural
+    frequency) and ``load`` (a :class:`~pdamper.coupling.frf.HarmonicLoad` or its text,
+    e.g. ``"2N"``, ``"0.3g"``; default :data:`FRF_LOAD`).
     """
     if name not in OBJECTIVES:
         raise InputError("optimization.objective", f"must be one of {', '.join(OBJECTIVES)}, "
                          f"got {name!r}")
     check_range("optimization.at", at, low=0.0, low_inclusive=False, unit="s")
     sense, unit = OBJECTIVES[name]
+    if name in FRF_OBJECTIVES:
+        from pdamper.coupling.frf import HarmonicLoad
+
+        if band is None:
+            lo, hi, n = FRF_BAND
+            band = np.linspace(lo * structure.natural_frequency,
+                               hi * structure.natural_frequency, n)
+        f = np.atleast_1d(np.asarray(band, float))
+        if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
+            raise InputError("optimization.band", "must be one or more finite frequencies "
+                             "> 0 Hz")
+        if not isinstance(load, HarmonicLoad):
+            load = HarmonicLoad.parse(FRF_LOAD if load is None else load,
+                                      field="optimization.load")
+        return Objective(name, sense, unit, at, band=tuple(float(v) for v in np.unique(f)),
+                         load=load)
     if name == "settling-time":
         thr = 0.25 * abs(initial_displacement) if threshold is None else threshold
         check_range("optimization.threshold", thr, low=0.0, high=abs(initial_displacement),
@@ -532,6 +573,8 @@ class DesignStudyResult:
             "objective_name": self.objective.name,
             "sense": self.objective.sense,
             "threshold": self.objective.threshold,
+            **({"band": list(self.objective.band), "load": self.objective.load.as_dict()}
+               if self.objective.load is not None else {}),
             "method": self.method,
             "seed": self.seed,
             "evaluations": len(self.candidates),
@@ -640,7 +683,15 @@ class DesignEvaluator:
     model: Callable[[ParticleDamper], Any]
 
     def __call__(self, design: dict) -> tuple[float, dict]:
-        res = self.simulation(design).run(self.objective.duration, sample_rate=_SAMPLE_RATE)
+        sim = self.simulation(design)
+        if self.objective.load is not None:  # a forced response, both sweep directions
+            from pdamper.coupling.frf import frequency_response
+
+            res = frequency_response(sim.model, self.structure, self.objective.load,
+                                     self.objective.band, sweep="both",
+                                     harmonic_balance_=False)
+            return self.objective.evaluate(res)
+        res = sim.run(self.objective.duration, sample_rate=_SAMPLE_RATE)
         return self.objective.evaluate(res)
 
     def simulation(self, design: dict) -> Simulation:
@@ -888,6 +939,8 @@ def optimize_design(
     model: Callable[[ParticleDamper], Any] | None = None,
     threshold: float | None = None,
     duration: float | None = None,
+    band=None,
+    load=None,
     **options,
 ) -> DesignStudyResult:
     """A design study of ``damper`` on ``structure`` (module docstring).
@@ -903,7 +956,7 @@ def optimize_design(
         x0 [m] (paper: -58 mm).
     variables
         :class:`DesignVariable` objects or specifications (``"particles=16:176:16"``).
-    objective, at, threshold, duration
+    objective, at, threshold, duration, band, load
         See :func:`make_objective`.
     model
         Damper model factory taking a :class:`ParticleDamper` (default: the analytical model).
@@ -923,6 +976,7 @@ def optimize_design(
 
         model = AnalyticalDamper
     variables = [parse_variable(v) if isinstance(v, str) else v for v in variables]
-    obj = make_objective(objective, at, initial_displacement, structure, threshold, duration)
+    obj = make_objective(objective, at, initial_displacement, structure, threshold, duration,
+                         band, load)
     evaluate = DesignEvaluator(structure, damper, initial_displacement, obj, model)
     return run_design_study(evaluate, damper, variables, obj, **options)

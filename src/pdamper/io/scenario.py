@@ -268,7 +268,16 @@ class OptimizationSpec(_Section):
 
     at: Duration = paper.PAPER_OBJECTIVE_TIME
     step: Annotated[int, Field(ge=1, strict=True)] | None = None
-    objective: Literal["amplitude-at", "settling-time", "mean-damping"] = "amplitude-at"
+    objective: Literal["amplitude-at", "settling-time", "mean-damping",
+                       "peak-frf", "rms-frf"] = "amplitude-at"
+    #: Forced-response objectives: frequencies ("start:stop:count", default around the
+    #: first natural frequency) and the harmonic load ("2 N", "1 mm", "0.3 g").
+    band: str | None = None
+    load: str | None = None
+
+    def frf_band(self):
+        """The frequencies [Hz] of ``band`` (None: the objective's default)."""
+        return None if self.band is None else grid(self.band, "Hz", "optimization.band")
     vary: list[str] = []
     method: Literal["auto", "grid", "optimize"] = "auto"
     threshold: PositiveLength | None = None
