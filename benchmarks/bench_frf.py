@@ -2,7 +2,7 @@
 built from a DEM map of the same damper.
 
 Run: ``python benchmarks/bench_frf.py [--dem] [--seeds 0,1] [--frequencies 5:6:7]
-[--map-frequency 5:6:3] [--map-amplitude 4e-3:32e-3:4] [--max-cycles 80]``
+[--map-frequency 5:6:5] [--map-amplitude 3e-3:30e-3:8] [--max-cycles 150] [--map FILE.nc]``
 
 1. The paper's damper (32 spheres) on the paper's structure under a 2 N force, 121
    frequencies over 3-9 Hz: harmonic balance and both stepped sines, with the analytical
@@ -51,10 +51,12 @@ def main() -> None:
     ap.add_argument("--dem", action="store_true", help="run the DEM comparison (minutes)")
     ap.add_argument("--seeds", default="0,1", help="random-packing seeds of the DEM runs")
     ap.add_argument("--frequencies", default="5:6:7", help="DEM FRF frequencies start:stop:n")
-    ap.add_argument("--map-frequency", default="5:6:3", help="DEM map frequencies")
-    ap.add_argument("--map-amplitude", default="4e-3:32e-3:4", help="DEM map strokes (log)")
-    ap.add_argument("--max-cycles", type=int, default=80, help="DEM cycles per step at most")
-    ap.add_argument("--map", help="reuse this DEM map (NetCDF) instead of computing one")
+    ap.add_argument("--map-frequency", default="5:6:5", help="DEM map frequencies")
+    ap.add_argument("--map-amplitude", default="3e-3:30e-3:8", help="DEM map strokes (log)")
+    ap.add_argument("--max-cycles", type=int, default=150, help="DEM cycles per step at most")
+    ap.add_argument("--figure", help="write the worked example of docs/forced.md (PNG)")
+    ap.add_argument("--map", help="DEM map (NetCDF): reused if it exists, else computed and "
+                                  "written there")
     args = ap.parse_args()
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     s = PAPER_STRUCTURE
@@ -73,6 +75,8 @@ def main() -> None:
             w = r.wall_seconds
             print(f"{name:28s}{w['harmonic_balance']:>12.2f}{w['up']:>14.2f}{w['down']:>9.2f}"
                   f"{wall:>10.2f}{r.peak() * 1e3:>10.2f}")
+    if args.figure:
+        figure(Path(args.figure))
     if not args.dem:
         return
 
@@ -101,15 +105,18 @@ def main() -> None:
               f"{int(np.count_nonzero(c.steady))}/{len(freqs)} steps steady")
         dem_amp.append((c.amplitude, c.steady))
 
-    if args.map:
+    tmp = None
+    if args.map and Path(args.map).exists():
         dmap = Path(args.map)
-        tmp = None
     else:
         mf, mx = _grid(args.map_frequency), _grid(args.map_amplitude, log=True)
         print(f"\nDEM map for the fields model: {mf.size} x {mx.size} points "
               f"({mf[0]:g}-{mf[-1]:g} Hz, {mx[0] * 1e3:g}-{mx[-1] * 1e3:g} mm)", flush=True)
-        tmp = tempfile.TemporaryDirectory()
-        dmap = Path(tmp.name) / "dem.nc"
+        if args.map:  # computed once, kept for the next run
+            dmap = Path(args.map)
+        else:
+            tmp = tempfile.TemporaryDirectory()
+            dmap = Path(tmp.name) / "dem.nc"
         wall, ds = timed(lambda: effective_field(DEMDamper(PAPER_DAMPER, packing="random",
                                                            seed=seeds[0]), mf, mx))
         ds.to_netcdf(dmap)
@@ -133,6 +140,29 @@ def main() -> None:
     print("  (* : the DEM step did not become steady within --max-cycles)")
     if tmp is not None:
         tmp.cleanup()
+
+
+def figure(path: Path) -> None:
+    """docs/forced.md's worked example: the paper's damper at 2 N over 3-9 Hz, and 128
+    spheres at 1 N, whose sweeps jump between branches near 5.1 Hz."""
+    from matplotlib.figure import Figure
+
+    from pdamper.plots.frf import plot_frf
+
+    s = PAPER_STRUCTURE
+    a = frequency_response(AnalyticalDamper(PAPER_DAMPER), s, LOAD, np.linspace(3, 9, 121))
+    b = frequency_response(AnalyticalDamper(PAPER_DAMPER.with_count(128)), s,
+                           HarmonicLoad("force", 1.0), np.linspace(4.9, 5.4, 26))
+    fig = Figure(figsize=(11, 6), layout="constrained")
+    ax = fig.subplots(2, 2, sharex="col")
+    plot_frf(a, axes=ax[:, 0])
+    ax[0, 0].set_ylim(0, 50)
+    ax[0, 0].set_title("32 spheres, 2 N (analytic model)")
+    plot_frf(b, axes=ax[:, 1])
+    ax[0, 1].set_ylim(0, 16)
+    ax[0, 1].set_title("128 spheres, 1 N: a jump, up and down sweeps differ")
+    fig.savefig(path, dpi=72)
+    print(f"figure: {path}")
 
 
 if __name__ == "__main__":
