@@ -89,7 +89,7 @@ def main() -> None:
         dem = DEMDamper(PAPER_DAMPER, packing="random", seed=seed)
         rows = []
 
-        def progress(f, info, rows=rows):
+        def progress(f, info, rows=rows, seed=seed):
             rows.append((f, info))
             print(f"  seed {seed}: {f:6.3f} Hz  {info['cycles']:3d} cycles  "
                   f"steady {info['steady']!s:5s}  {info['wall_seconds']:7.1f} s", flush=True)

@@ -122,8 +122,9 @@ def _table(res) -> list[str]:
 
     ld = res.load
     unit = {"N": ("N", 1.0), "m": ("mm", 1e3), "m/s^2": ("m/s^2", 1.0)}[ld.unit]
+    walls = ", ".join(f"{k} {v:.2f} s" for k, v in res.wall_seconds.items())
     lines = [f"forced response, {res.model} model, {ld.kind} {ld.amplitude * unit[1]:g} "
-             f"{unit[0]}; amplitudes [mm] of the output point ({', '.join(f'{k} {v:.2f} s' for k, v in res.wall_seconds.items())})"]
+             f"{unit[0]}; amplitudes [mm] of the output point ({walls})"]
     head = "    f [Hz]  linear"
     if res.harmonic_balance is not None:
         head += "   harmonic balance (s stable, u unstable, e edge)"

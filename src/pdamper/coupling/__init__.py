@@ -5,7 +5,9 @@ on N modes :mod:`pdamper.coupling.modal`) and the co-simulation of model 1
 (:mod:`pdamper.coupling.cosimulation`). Measured trajectories are aligned and compared in
 :mod:`pdamper.coupling.measurement` and :mod:`pdamper.coupling.comparison`. :class:`Simulation`
 runs any :class:`~pdamper.models.DamperModel` on a structure with the strategy the model
-names; the damping ratio follows from the logarithmic decrement (Eqs. 24-25).
+names; the damping ratio follows from the logarithmic decrement (Eqs. 24-25). The forced
+response under a harmonic force or base motion (harmonic balance and stepped sines) is
+:mod:`pdamper.coupling.frf`.
 """
 
 from pdamper.coupling.decrement import damping_ratio_from_peaks, negative_peaks

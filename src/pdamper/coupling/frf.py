@@ -759,7 +759,7 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
             settle = False
         period = 1.0 / f
 
-        def stop(res, period=period):
+        def stop(res, period=period, f=f):
             t = res.time
             k = int((t[-1] - t[0]) / period + 1e-9)
             if k < criterion.min_cycles:
@@ -840,7 +840,7 @@ HARMONIC_BALANCE = ("pseudo_force",)
 
 
 def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
-                       sweep: str = "both", harmonic_balance_: bool = True,
+                       sweep: str = "both", with_harmonic_balance: bool = True,
                        strokes: int = DEFAULT_STROKES, max_cycles: int | None = None,
                        criterion: SteadyStateCriterion | None = None,
                        progress: Callable | None = None) -> FRFResult:
@@ -848,6 +848,27 @@ def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
     ``frequency`` [Hz] (module docstring): the linear FRF, harmonic balance (where the
     model's coupling has one) and the stepped sines of ``sweep`` (``"up"``, ``"down"``,
     ``"both"`` or ``"none"``).
+
+    Parameters
+    ----------
+    model
+        Any :class:`~pdamper.models.DamperModel`; its ``coupling`` picks the stepped sine
+        (:data:`STEPPED_SINES`) and whether harmonic balance runs (:data:`HARMONIC_BALANCE`).
+    structure
+        :class:`~pdamper.structure.SingleDOFStructure` or
+        :class:`~pdamper.structure.modal.ModalStructure`.
+    load
+        The :class:`HarmonicLoad`.
+    with_harmonic_balance
+        Solve harmonic balance too (default).
+    strokes
+        Strokes of the describing-function table per frequency.
+    max_cycles, criterion
+        Most load cycles per step and the steady-state criterion of the stepped sine
+        (defaults: :data:`DEFAULT_MAX_CYCLES`, :data:`DEFAULT_STEADY`; the DEM 60 cycles
+        and 2 %).
+    progress
+        ``progress(frequency, info)`` after each DEM step.
 
     Examples
     --------
@@ -880,7 +901,7 @@ def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
     tables: dict = {}
     walls: dict = {}
     hb = None
-    if harmonic_balance_ and model.coupling in HARMONIC_BALANCE:
+    if with_harmonic_balance and model.coupling in HARMONIC_BALANCE:
         t0 = time.perf_counter()
         hb = harmonic_balance(model, s, load, f, strokes=strokes, tables=tables)
         walls["harmonic_balance"] = time.perf_counter() - t0

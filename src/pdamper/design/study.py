@@ -689,7 +689,7 @@ class DesignEvaluator:
 
             res = frequency_response(sim.model, self.structure, self.objective.load,
                                      self.objective.band, sweep="both",
-                                     harmonic_balance_=False)
+                                     with_harmonic_balance=False)
             return self.objective.evaluate(res)
         res = sim.run(self.objective.duration, sample_rate=_SAMPLE_RATE)
         return self.objective.evaluate(res)
