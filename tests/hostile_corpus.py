@@ -385,6 +385,8 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
                                   "--json"], OK()),
     ("ok-frf-modes-one", ["frf", "--frequency", "5Hz:6Hz:3", "--modes",
                           "{tmp}/modes_one.csv", "--json"], OK()),
+    ("ok-frf-beam-three-modes", ["frf", "--frequency", "5Hz:7Hz:3", "--scenario",
+                                 "{scenario:beam_three_modes}", "--json"], OK()),
     ("optimize-frf-load-a-duration", ["optimize", "--objective", "peak-frf", "--load", "3 s"],
      Error("optimization.load")),
     ("optimize-frf-band-zero", ["optimize", "--objective", "rms-frf", "--band", "0Hz:9Hz:3"],

@@ -203,3 +203,40 @@ def test_bad_loads_name_the_field(kind, amp, field):
     with pytest.raises(InputError) as e:
         HarmonicLoad(kind, amp)
     assert e.value.field == field
+
+
+def test_n_modes_harmonic_balance_and_stepped_sine_agree():
+    """The damper on a 3-mode structure, observed at another point: both solutions agree."""
+    s = three_modes()
+    f = np.linspace(4.5, 7.0, 26)
+    r = frequency_response(AnalyticalDamper(PAPER_DAMPER), s, HarmonicLoad("force", 2.0), f)
+    hb = r.harmonic_balance
+    peak = r.peak()
+    assert peak < 0.5 * np.abs(r.linear).max()  # the damper works on this structure too
+    for d in ("up", "down"):
+        c = r.sweeps[d]
+        assert np.count_nonzero(c.steady) >= 0.9 * f.size
+        for i in np.flatnonzero(c.steady):
+            stable = hb.amplitude[i][hb.branch[i] == "stable"]
+            assert np.min(np.abs(stable - c.amplitude[i])) <= 0.02 * peak, (d, f[i])
+            # the output point is not the damper point here
+            assert c.amplitude[i] != pytest.approx(c.stroke[i], rel=1e-3)
+
+
+def test_dem_stepped_sine_runs_and_continues():
+    """The DEM stepped sine (model 1) with a small bed: two steps, the second continuing
+    from the first's state; amplitudes near the analytic model's (a small bed damps
+    little: both near the linear response)."""
+    from pdamper.models import DEMDamper
+
+    f = np.array([4.0, 4.5])
+    d = PAPER_DAMPER.with_count(4)
+    r = frequency_response(DEMDamper(d), PAPER_STRUCTURE, HarmonicLoad("force", 0.5), f,
+                           sweep="up", max_cycles=40)
+    c = r.sweeps["up"]
+    assert r.harmonic_balance is None  # the DEM has no describing function of its own
+    assert np.all(np.isfinite(c.amplitude)) and np.all(c.cycles <= 40)
+    lin = np.abs(r.linear)
+    np.testing.assert_allclose(c.amplitude, lin, rtol=0.1)
+    assert np.all(c.phase < 0) and np.all(c.phase > -math.pi / 2)  # below resonance
+    assert np.all(c.diagnostics["steps"] > 0)
