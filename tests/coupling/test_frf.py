@@ -240,3 +240,6 @@ def test_dem_stepped_sine_runs_and_continues():
     np.testing.assert_allclose(c.amplitude, lin, rtol=0.1)
     assert np.all(c.phase < 0) and np.all(c.phase > -math.pi / 2)  # below resonance
     assert np.all(c.diagnostics["steps"] > 0)
+    # accelerations below g: the DEM classifier sees a resting bed
+    assert np.all(c.mode == 0)
+    assert np.all(c.effective_mass > 0.5 * d.bed_mass)

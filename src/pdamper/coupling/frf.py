@@ -795,6 +795,7 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
             out["loss_factor"][i], out["effective_mass"][i] = cp.loss_factor, cp.effective_mass
         except InputError:  # too few samples: left NaN
             pass
+        mode[i] = _dem_mode(res, f, k, last)
         # the next step starts where this one ended
         particles = _final_particles(engine, res)
         x0, v0 = float(res.container_position[-1]), float(res.container_velocity[-1])
@@ -803,6 +804,27 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
             progress(f, {"cycles": k, "steady": bool(steady[i]), "wall_seconds": walls[i]})
     return FRFCurve(mode=mode, steady=steady, cycles=cycles,
                     diagnostics={"wall_seconds": walls, "steps": steps}, **out)
+
+
+def _dem_mode(res, f: float, cycles: int, last: int) -> int:
+    """Motion-mode code of the bed over the last ``last`` of ``cycles`` load cycles (the
+    DEM classifier of the maps, :mod:`pdamper.analysis.dem_modes`); -1 if it cannot say."""
+    from pdamper.analysis.dem_modes import BedSignals, classify_motion
+    from pdamper.constants import STANDARD_GRAVITY
+
+    box = res.attrs.get("box_m")
+    if box is None or cycles < 1:
+        return -1
+    try:
+        sig = BedSignals(time=np.asarray(res.time),
+                         height=np.asarray(res.center_of_mass[:, 2] - res.container_position),
+                         force_z=np.asarray(res.force[:, 2]), frequency=f,
+                         bed_mass=float(res.bed_mass), particle_radius=float(np.max(res.radius)),
+                         container_height=float(box[2]),
+                         gravity=float(res.attrs.get("gravity_m_s2", STANDARD_GRAVITY)))
+        return int(classify_motion(sig, cycles - last + 1, cycles).mode)
+    except InputError:
+        return -1
 
 
 def _cycle_amplitudes(t: np.ndarray, x: np.ndarray, f: float, k: int) -> list[float]:
