@@ -372,6 +372,10 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("frf-frequency-a-length", ["frf", "--frequency", "3mm:9mm:3"], Error("frequency")),
     ("frf-frequency-no-count", ["frf", "--frequency", "3Hz:9Hz"], Error("frequency")),
     ("frf-frequency-negative-one", ["frf", "--frequency", "-5Hz"], Error("frequency")),
+    ("frf-frequency-count-1e9", ["frf", "--frequency", "3Hz:9Hz:1000000000"],
+     Error("frequency")),
+    ("frf-force-huge", ["frf", "--force", "1e6N", "--frequency", "5Hz"], Error("force")),
+    ("frf-base-huge", ["frf", "--base", "100m", "--frequency", "5Hz"], Error("base")),
     ("frf-sweep-sideways", ["frf", "--sweep", "sideways"], Error("sweep")),
     ("frf-max-cycles-zero", ["frf", "--max-cycles", "0"], Error("max_cycles")),
     ("frf-dem-three-modes", ["frf", "--frequency", "5Hz", "--scenario",
@@ -403,3 +407,5 @@ HEADROOM: dict[str, float] = {
         "cor-velocity-count-1e9", "cor-velocity-count-1e9-forced", "cor-velocity-count-1e7",
         "optimize-vary-particles-1e9", "optimize-vary-particles-1e9-scenario",
         "optimize-vary-radius-1e8", "ok-analytic-scenario-vary-particles-1e9")}
+# forced response (frf): a frequency count judged before the grid is built
+HEADROOM["frf-frequency-count-1e9"] = 2**30

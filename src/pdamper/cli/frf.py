@@ -73,7 +73,15 @@ def frf(
 
     load_ = parse_load(force, base)
     text = DEFAULT_FREQUENCY if frequency is None else frequency
-    freqs = grid(text, "Hz", "frequency") if ":" in str(text) else None
+    freqs = None
+    if ":" in str(text):
+        from pdamper.coupling.frf import MAX_FREQUENCIES
+        from pdamper.io.scenario import parse_axis
+
+        count = parse_axis(text, "Hz", "frequency")[2]  # judged before the grid is built
+        if count > MAX_FREQUENCIES:
+            raise InputError("frequency", f"at most {MAX_FREQUENCIES} frequencies, got {count}")
+        freqs = grid(text, "Hz", "frequency")
     if freqs is None:
         from pdamper.units import parse_quantity
 

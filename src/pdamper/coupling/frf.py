@@ -75,6 +75,8 @@ DEFAULT_MAX_CYCLES = 2000
 #: Steady-state criterion of the stepped sine on the per-cycle amplitude over its last
 #: value: the windows of the maps, tolerance 0.1 %.
 DEFAULT_STEADY = SteadyStateCriterion(rtol=1e-3, atol=1e-3, quiet_window_cycles=0)
+#: Most frequencies of one response (a typo guard: a 121-point response takes seconds).
+MAX_FREQUENCIES = 100_000
 LOAD_KINDS = ("force", "base")
 SWEEPS = ("up", "down", "both")
 
@@ -314,10 +316,10 @@ def stroke_bounds(structure, load: HarmonicLoad, model, frequency: float) -> tup
 
 
 def describing_function(model, frequency: float, low: float, high: float,
-                        points: int = DEFAULT_STROKES) -> DescribingFunction:
+                        points: int = DEFAULT_STROKES, field: str = "load") -> DescribingFunction:
     """The damper of ``model`` at ``frequency`` [Hz] on ``points`` log-spaced strokes in
     [low, high] [m], one call of the model (clipped to a map's range when its policy
-    refuses points outside it)."""
+    refuses points outside it); ``field`` names the load in errors."""
     lo, hi = low, high
     rng = getattr(model, "amplitude_range", None)
     if rng is not None and getattr(model, "extrapolation", "") == "error":
@@ -328,7 +330,15 @@ def describing_function(model, frequency: float, low: float, high: float,
                              f"({rng[0] * 1e3:.3g}-{rng[1] * 1e3:.3g} mm); use a map over "
                              "these strokes or fields.extrapolation = 'analytic'")
     x = np.geomspace(lo, hi, points)
-    m, d, eta, mode = _coefficients(model, np.full(points, frequency), x)
+    try:
+        m, d, eta, mode = _coefficients(model, np.full(points, frequency), x)
+    except InputError as exc:  # the physics limits of the model's runs, judged on the load
+        if exc.field not in ("amplitude", "frequency"):
+            raise
+        raise InputError(field, f"at {frequency:g} Hz the load can drive the damper through "
+                         f"strokes up to {hi:.3g} m, outside the limits of the "
+                         f"{model.fidelity} model ({exc.field}: {exc.message}); lower the "
+                         "load or the frequencies") from None
     return DescribingFunction(frequency, x, m, d, eta, mode)
 
 
@@ -535,7 +545,7 @@ def harmonic_balance(model, structure, load: HarmonicLoad, frequency,
         h_dd = complex(receptance(s, f))
         h_od = complex(receptance(s, f, "output", "damper"))
         lo, hi = stroke_bounds(s, load, model, f)
-        table = describing_function(model, f, lo, hi, strokes)
+        table = describing_function(model, f, lo, hi, strokes, load.kind)
         if tables is not None:
             tables[float(f)] = table
         x = table.stroke
@@ -654,7 +664,7 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
         table = None if tables is None else tables.get(f)
         if table is None:
             lo, hi = stroke_bounds(s, load, model, f)
-            table = describing_function(model, f, lo, hi, strokes)
+            table = describing_function(model, f, lo, hi, strokes, load.kind)
             if tables is not None:
                 tables[f] = table
         amps: list[float] = []
@@ -913,6 +923,8 @@ def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
     if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
         raise InputError("frequency", "must be one or more finite frequencies > 0 Hz")
     f = np.unique(f)
+    if f.size > MAX_FREQUENCIES:
+        raise InputError("frequency", f"at most {MAX_FREQUENCIES} frequencies, got {f.size}")
     if sweep not in (*SWEEPS, "none"):
         raise InputError("sweep", f"must be up, down or both, got {sweep!r}")
     if model.coupling not in STEPPED_SINES:
