@@ -31,6 +31,7 @@ def test_frf_without_particles_is_the_closed_form(cli):
     assert d["units"]["amplitude"] == "m" and d["load"] == {"kind": "force", "amplitude": 2.0,
                                                             "unit": "N", "acceleration": False}
     assert d["version"] and d["inputs"]["particles"]["count"] == 0
+    assert d["frf_inputs"]["sweep"] == "up" and len(d["frf_inputs"]["frequency"]) == 13
 
 
 def test_modes_csv_equal_to_the_1dof_gives_identical_frf(cli, tmp_path):

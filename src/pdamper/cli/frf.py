@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Annotated
 
@@ -107,7 +108,8 @@ def frf(
         from pdamper.files import atomic_write_netcdf
 
         ds = res.to_dataset()
-        ds.attrs["inputs"] = str(meta["inputs"])
+        ds.attrs["inputs"] = json.dumps(meta["inputs"])
+        ds.attrs["frf_inputs"] = json.dumps(res.inputs)
         atomic_write_netcdf(out, ds)
     if plot is not None:
         from matplotlib.figure import Figure
@@ -118,6 +120,7 @@ def frf(
         plot_frf(res, axes=fig.subplots(2, 1, sharex=True))
         write_figure(fig, plot, dpi=110)
     payload = res.as_dict()
+    payload["frf_inputs"] = payload.pop("inputs")  # "inputs" is the scenario's, as everywhere
     payload["units"] = {"frequency": "Hz", "amplitude": "m", "stroke": "m", "phase": "rad",
                         "loss_factor": "1", "effective_mass": "kg", "wall_seconds": "s",
                         "load": load_.unit}
