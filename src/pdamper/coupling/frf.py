@@ -798,7 +798,7 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
         x = res.container_position[sel]
         hat = 2.0 / (tt[-1] - tt[0]) * np.trapezoid(x * np.exp(-1j * th), tt)
         out["amplitude"][i] = out["stroke"][i] = abs(hat)
-        out["phase"][i] = float(np.angle(hat * abs(force) / force))  # against the reference
+        out["phase"][i] = float(np.angle(hat))  # against the reference signal (th)
         try:  # Eqs. (1)-(4) over the same cycles, the particles' force on the container
             cp = complex_power(tt, -res.force[sel, 2], res.container_velocity[sel],
                                res.container_acceleration[sel], f, model.bed_mass)
