@@ -29,7 +29,14 @@ import time
 
 import numpy as np
 
-from pdamper.dem import Container, DEMEngine, HarmonicMotion, ParticleSet, warmup
+from pdamper.dem import (
+    Container,
+    DEMEngine,
+    EngineSettings,
+    HarmonicMotion,
+    ParticleSet,
+    warmup,
+)
 from pdamper.dem.packing import lattice_layers, scaled_box
 from pdamper.models import DEMDamper
 from pdamper.parameters import PAPER_DAMPER
@@ -80,7 +87,7 @@ def scaling(counts, duration):
         ps = ParticleSet(lattice_layers(n, d.particle_radius, box), d.particle_radius,
                          d.particle_material)
         sim = DEMEngine(ps, Container(box, d.wall_material), DEMDamper(d).contact,
-                        motion=HarmonicMotion(0.032, 10.0), settle_time=0.0)
+                        HarmonicMotion(0.032, 10.0), EngineSettings(settle_time=0.0))
         res = sim.run(duration, sample_rate=2000.0)
         us = 1e6 * res.wall_seconds / res.steps
         per = 1e3 * us / n

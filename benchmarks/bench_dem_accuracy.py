@@ -1,4 +1,4 @@
-"""Accuracy of the DEM defaults over the design map: the verification table of docs/dem.md.
+"""Accuracy of the DEM defaults over the design map: the verification table of docs/verification.md.
 
 Run ``python benchmarks/bench_dem_accuracy.py`` (``--quick``: five points; ``--jobs 2``:
 two processes). At each point of a grid that spans the paper's envelope (2-20 Hz x
@@ -54,8 +54,8 @@ RESOLUTION = 1e-3
 def run(f: float, x_mm: float, n: int, kind: str, jitter: int) -> dict:
     """One run of the paper's procedure (``kind``: default, converged or refined); the loss
     factor, mass ratio and diagnostics."""
-    from pdamper.dem import Container, DEMEngine, HarmonicMotion, ParticleSet
-    from pdamper.dem.model import DEFAULT_GEAR_TOLERANCE
+    from pdamper.dem import Container, DEMEngine, EngineSettings, HarmonicMotion, ParticleSet
+    from pdamper.dem.inputs import DEFAULT_GEAR_TOLERANCE
     from pdamper.models import DEMDamper
     from pdamper.models.dem import PAPER_CYCLES, REFINEMENT
     from pdamper.parameters import PAPER_DAMPER
@@ -75,8 +75,8 @@ def run(f: float, x_mm: float, n: int, kind: str, jitter: int) -> dict:
         ps = ParticleSet(ps.positions + rng.uniform(-1e-9, 1e-9, ps.positions.shape),
                          d.particle_radius, d.particle_material)
     eng = DEMEngine(ps, Container(d.box, d.wall_material, d.container_mass), model.contact,
-                    HarmonicMotion(x_mm * 1e-3, f), integrator=model.integrator,
-                    safety=model.safety, **options)
+                    HarmonicMotion(x_mm * 1e-3, f),
+                    EngineSettings(integrator=model.integrator, safety=model.safety, **options))
     c0 = time.thread_time()
     res = eng.run(model.cycles / f, sample_rate=model.sample_rate)
     cpu = time.thread_time() - c0

@@ -42,7 +42,7 @@ VARIANTS = [
 def windows(f: float, x_mm: float, cycles: int, damping_model: str = "exact", jitter: int = 0,
             **contact) -> list[float]:
     """Loss factor over windows of 6 cycles from cycle 3 of one pdamper run."""
-    from pdamper.dem import Container, DEMEngine, HarmonicMotion, ParticleSet
+    from pdamper.dem import Container, DEMEngine, EngineSettings, HarmonicMotion, ParticleSet
     from pdamper.models import DEMDamper
     from pdamper.parameters import PAPER_DAMPER
 
@@ -55,7 +55,7 @@ def windows(f: float, x_mm: float, cycles: int, damping_model: str = "exact", ji
                          d.particle_radius, d.particle_material)
     eng = DEMEngine(ps, Container(d.box, d.wall_material, d.container_mass),
                     replace(model.contact, **contact), HarmonicMotion(x_mm * 1e-3, f),
-                    integrator="gear")
+                    EngineSettings(integrator="gear"))
     res = eng.run(cycles / f, sample_rate=4000.0)
     return [res.complex_power(s, 6).loss_factor for s in range(2, cycles - 5, 6)]
 

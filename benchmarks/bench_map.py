@@ -13,7 +13,7 @@ Run ``python benchmarks/bench_map.py`` (the paper's 14 x 24 grid, 32 spheres, ev
   its ``--liggghts-step verlet`` (at each point the step pdamper's velocity Verlet takes
   there, 0.28-0.54 us, which resolves the contacts to the accuracy of the verification
   table). ``--json`` also keeps ``liggghts_estimate_seconds``, 0.2 Rayleigh times at an
-  older measured 4.69 wall s per simulated second (docs/dem.md), superseded by the 1 us
+  older measured 4.69 wall s per simulated second (docs/performance.md), superseded by the 1 us
   estimate at the measured cost per step;
 * the largest overlap / radius and the fastest impact over the map (the large-overlap
   regime of the fast corners, docs/dem.md);
@@ -38,12 +38,12 @@ from pathlib import Path
 
 import numpy as np
 
-#: LIGGGHTS 3.8, benchmark damper, step 0.2 Rayleigh times, one core (docs/dem.md).
+#: LIGGGHTS 3.8, benchmark damper, step 0.2 Rayleigh times, one core (docs/performance.md).
 LIGGGHTS_WALL_PER_SIMULATED_SECOND = 4.69
 #: The step LIGGGHTS users take for the benchmark spheres (0.19 Rayleigh times) [s].
 LIGGGHTS_USERS_STEP = 1e-6
 #: LIGGGHTS 3.8, benchmark damper of 32 spheres, CPU seconds per step: 11-14 us over the
-#: kinds of point of ``benchmarks/liggghts/compare.py`` (README, Performance); the middle.
+#: kinds of point of ``benchmarks/liggghts/compare.py`` (docs/performance.md, "Summary"); the middle.
 LIGGGHTS_CPU_PER_STEP_32 = 12.5e-6
 
 

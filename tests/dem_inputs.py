@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from pdamper.contact.restitution import ConstantRestitution
-from pdamper.dem import ContactParameters, Container, DEMEngine, ParticleSet
+from pdamper.dem import ContactParameters, Container, DEMEngine, EngineSettings, ParticleSet
 from pdamper.materials import PVC, S235
 from pdamper.parameters import vertical_dampers_paper as paper
 
@@ -44,8 +44,9 @@ def container(box=BOX, material=PVC, **kw) -> Container:
 
 
 def engine(ps: ParticleSet, box: Container | None = None, cp: ContactParameters | None = None,
-           **kw) -> DEMEngine:
-    return DEMEngine(ps, box or container(), cp or contact(), **kw)
+           motion=None, **settings) -> DEMEngine:
+    """An engine of ``ps``; ``settings``: the fields of :class:`EngineSettings`."""
+    return DEMEngine(ps, box or container(), cp or contact(), motion, EngineSettings(**settings))
 
 
 def engine_at(n: int, frequency: float, amplitude: float, **kw) -> DEMEngine:

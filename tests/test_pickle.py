@@ -150,7 +150,7 @@ def test_damper_model_pickles_and_answers_the_same(fidelity):
 
 def test_dem_settings_pickle_and_keep_the_settle_key():
     from dem_inputs import contact, container, lattice
-    from pdamper.dem import DEMEngine, HarmonicMotion, StructureMotion
+    from pdamper.dem import DEMEngine, EngineSettings, HarmonicMotion, StructureMotion
 
     cp = contact(paper.PAPER_COR_PP, MEASURED, pairs={("S235", "PVC"): MEASURED.scaled(0.9)})
     assert roundtrip(cp) == cp
@@ -161,7 +161,7 @@ def test_dem_settings_pickle_and_keep_the_settle_key():
     np.testing.assert_array_equal(back.positions, ps.positions)
     for motion in (HarmonicMotion(0.01, 10.0), StructureMotion(1.5, 0.5, 1848.0, x0=-0.058)):
         assert roundtrip(motion) == motion
-    engine = DEMEngine(ps, box, cp, motion=HarmonicMotion(0.01, 10.0), integrator="verlet")
+    engine = DEMEngine(ps, box, cp, HarmonicMotion(0.01, 10.0), EngineSettings(integrator="verlet"))
     key = engine.settle_key
     assert roundtrip(engine).settle_key == key
     assert engine.settle_key == key  # the key does not change with the curves' first use

@@ -9,7 +9,7 @@ LIGGGHTS' time step is ``--liggghts-step`` (repeatable: one comparison per step)
 * ``verlet``: at each point the step that pdamper's velocity Verlet takes there by default
   (0.02 of the Hertz contact time at the fastest impact it expects, 0.28-0.54 us over the
   kinds below: the step at which an explicit code resolves the contacts to the accuracy of
-  the verification table of docs/dem.md), 2-3.5x finer than the users' step;
+  the verification table of docs/verification.md), 2-3.5x finer than the users' step;
 * ``0.2tR`` (a fraction of the Rayleigh time) or a step with its unit (``500ns``,
   ``0.7us``, ``1e-6s``).
 

@@ -94,7 +94,7 @@ def configure(environ: MutableMapping[str, str] = os.environ,
             environ[VARIABLE] = str(directory)
             numba_config = sys.modules.get("numba.core.config")
             if numba_config is not None:  # numba already loaded: its setting too
-                numba_config.CACHE_DIR = str(directory)
+                numba_config.CACHE_DIR = str(directory)  # type: ignore[attr-defined]
             logger.debug("pdamper is installed read-only: numba caches in %s", directory)
             return directory
     logger.warning("no writable directory for numba's cache (package, %s); set %s",

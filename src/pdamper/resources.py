@@ -50,7 +50,7 @@ the damper models (sphere radius, the analytical model's excitation) and
 values, a list of runs) is judged from its parameters (:func:`count_cost`) before the
 list exists.
 
-The per-unit costs below are the README's figures (2-core machine, one core), rounded up.
+The per-unit costs below are the figures of docs/performance.md (2-core machine, one core), rounded up.
 The DEM step count is that of a fixed step of ``safety`` x the shortest Hertz contact time
 at the fastest implied impact (the variable-step Gear integrator mostly needs fewer).
 """
@@ -108,7 +108,7 @@ DEFAULT_MAX_EVALUATIONS = 200
 DEFAULT_TOLERANCE = 0.05
 
 # ---------------------------------------------------------------- per-unit costs
-#: DEM: seconds per particle and time step (README: 29-34 ns, Verlet).
+#: DEM: seconds per particle and time step (docs/performance.md: 29-34 ns, Verlet).
 DEM_SECONDS_PER_PARTICLE_STEP = 5e-8
 #: DEM: bytes per stored sample (17 series, held by the kernel, the result and a dataset).
 DEM_BYTES_PER_SAMPLE = 17 * 8 * 3

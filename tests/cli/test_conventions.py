@@ -14,7 +14,7 @@ from proc import command, env
 
 #: Every command of ``pdamper --help``.
 COMMANDS = ("analytic", "map", "simulate", "optimize", "dem", "paper", "example-scenario", "cor",
-            "cor-sensitivity")
+            "cor-sensitivity", "report")
 
 
 def _run(*args, **extra_env):

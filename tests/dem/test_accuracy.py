@@ -1,6 +1,6 @@
 """Accuracy of the default DEM settings against converged runs (issue: "accurate by
 default, and shown"), in a reduced form CI can afford: the full verification grid is
-``benchmarks/bench_dem_accuracy.py`` (table in docs/dem.md)."""
+``benchmarks/bench_dem_accuracy.py`` (table in docs/verification.md)."""
 
 from __future__ import annotations
 

@@ -8,6 +8,7 @@ import math
 import xarray as xr
 
 from pdamper.cli import main
+from pdamper.dem.result import WALL_TIME_KEYS
 
 
 def test_dem_command_writes_netcdf_and_json(tmp_path, capsys):
@@ -23,6 +24,14 @@ def test_dem_command_writes_netcdf_and_json(tmp_path, capsys):
                 "max_impact_velocity"):
         assert key in data
     assert data["steps"] > 1000
+    # one meaning per key: the excitation's, the settling's and both
+    assert data["steps"] == data["excitation_steps"]
+    # (Level II runs start from a bed settled once per process: its steps are not this run's)
+    assert data["settle_reused"] and data["settle_steps"] == 0
+    assert data["total_steps"] == data["steps"] + data["settle_steps"]
+    assert data["wall_seconds"] == data["excitation_wall_seconds"]
+    assert math.isclose(data["total_wall_seconds"], data["wall_seconds"] + data["settle_seconds"])
+    assert all(data["units"][k] == "s" for k in WALL_TIME_KEYS)
     assert data["energy_balance_error"] < 0.02
     assert "pdamper_version" not in data  # one version key
     assert data["inputs"]["dem"]["restitution_pp"] == 0.7
@@ -176,7 +185,8 @@ def test_dem_one_realisation_is_the_single_run(capsys):
     plain = _run(capsys)
     one = _run(capsys, "--realisations", "1")
     for d in (plain, one):
-        d.pop("wall_seconds")
+        for key in WALL_TIME_KEYS:  # the only keys two runs differ in
+            d.pop(key)
     assert one == plain and "realisations" not in one
 
 

@@ -76,7 +76,7 @@ def test_step_loops_count_no_references():
     """The per-step loops and the functions they call per regroup, rebuild, onset or sample
     are compiled without numba's reference counting (``_nrt=False``): an atomic increment
     and decrement for every array taken out of a bundle, in each step, cost more than the
-    step's work at the few stepped spheres of an impact (docs/dem.md, Kernels). The
+    step's work at the few stepped spheres of an impact (docs/performance.md, Kernels). The
     physics of these kernels is checked by every other DEM test; against a twin compiled
     with reference counting a 0.04 s random-bed run took the same steps and differed by
     2e-16 (relative) at most, measured once (the twin compiles for 40 s without a cache)."""

@@ -22,7 +22,7 @@ def closed_form(force, f):
 @pytest.mark.parametrize("name", ["peak-frf", "rms-frf"])
 def test_frf_objectives_without_particles_are_the_closed_form(name):
     r = optimize_design(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, ["particles=0:32:32"],
-                        objective=name, band=BAND, load="2 N")
+                        objective=name, band=BAND, frf_load="2 N")
     zero = next(c for c in r.candidates if c.particles == 0)
     lin = closed_form(2.0, BAND)
     ref = lin.max() if name == "peak-frf" else math.sqrt(np.mean(lin**2))
@@ -33,7 +33,7 @@ def test_frf_objectives_without_particles_are_the_closed_form(name):
     assert r.best.particles == 32 and r.best.objective < 0.6 * zero.objective
     d = r.as_dict()
     assert d["objective_name"] == name and d["band"] == pytest.approx(list(BAND))
-    assert d["load"]["kind"] == "force" and d["load"]["amplitude"] == 2.0
+    assert d["frf_load"]["kind"] == "force" and d["frf_load"]["amplitude"] == 2.0
 
 
 def test_one_mode_equal_to_the_1dof_gives_identical_designs():
@@ -49,15 +49,15 @@ def test_default_band_is_around_the_natural_frequency():
     o = make_objective("peak-frf", 0.8, -0.058, PAPER_STRUCTURE)
     f0 = PAPER_STRUCTURE.natural_frequency
     assert o.band[0] == pytest.approx(0.5 * f0) and o.band[-1] == pytest.approx(1.5 * f0)
-    assert o.load.kind == "force" and o.load.amplitude == 2.0
+    assert o.frf_load.kind == "force" and o.frf_load.amplitude == 2.0
     assert {"peak-frf", "rms-frf"} <= set(OBJECTIVES)
 
 
 @pytest.mark.parametrize("kwargs, field", [
     ({"band": [0.0, 5.0]}, "optimization.band"),
     ({"band": []}, "optimization.band"),
-    ({"load": "3 s"}, "optimization.load"),
-    ({"load": "-2 N"}, "optimization.load"),
+    ({"frf_load": "3 s"}, "optimization.frf_load"),
+    ({"frf_load": "-2 N"}, "optimization.frf_load"),
 ])
 def test_bad_frf_objective_inputs_name_the_field(kwargs, field):
     with pytest.raises(InputError) as e:

@@ -193,7 +193,7 @@ def test_gravity_is_a_quantity_of_the_excitation_and_reaches_the_models():
     s = load_scenario(None, {"excitation.gravity": "0 m/s^2"})
     assert s.excitation.gravity == 0.0
     assert s.model("dem").gravity == 0.0
-    assert s.model("dem").options["gravity"] == 0.0
+    assert s.model("dem").settings.engine_settings().gravity == 0.0
     h = s.damper().clearance
     r = s.model("analytic").response(10.0, h / np.pi)
     assert float(r.loss_factor) == pytest.approx(ETA_MAX, rel=1e-9)

@@ -286,3 +286,20 @@ def test_zero_gravity_dem_reaches_the_collect_and_collide_optimum():
     assert _zero_g_dem(1.25, **inelastic) == pytest.approx(1.2107, rel=0.05)
     assert _zero_g_dem(1.0) == pytest.approx(ETA_MAX, rel=0.10)
     assert _zero_g_dem(0.8) < 0.3 * ETA_MAX
+
+
+def test_a_map_points_steps_are_the_whole_run_and_named_apart():
+    """The map's ``steps`` (and ``wall_seconds``) are the point's whole run, settling
+    included, as they have always been; ``excitation_steps``, ``settle_steps`` and
+    ``total_steps`` name the parts (:meth:`pdamper.dem.DEMResult.summary`)."""
+    from pdamper.analysis.fields import _INTEGER, VARIABLES
+    from pdamper.models.dem import point_diagnostics
+
+    sr = DEMDamper(PAPER_DAMPER, cycles=3, skip_cycles=1).steady_run(10.0, 0.02)
+    d = point_diagnostics(sr)
+    res = sr.result
+    assert d["steps"] == d["total_steps"] == res.steps + res.settle_steps
+    assert d["excitation_steps"] == res.steps and d["settle_steps"] == res.settle_steps
+    assert d["wall_seconds"] == res.wall_seconds + res.settle_seconds
+    for key in ("total_steps", "excitation_steps", "settle_steps"):
+        assert key in VARIABLES and key in _INTEGER

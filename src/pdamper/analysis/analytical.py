@@ -283,6 +283,45 @@ def bed_response(
     >>> MotionMode(int(r.mode)).label
     'double_cac_harmonic'
     """
+    f, x, h, m, gravity, shape = _bed_inputs(frequency, amplitude, clearance, bed_mass, gravity)
+    b = _Flights.start(f, x, h, gravity)
+    top = _first_crossing(lambda p, i: b.y_bed(p, i) - np.sin(p) - b.ht[i, None],
+                          b.phi0, b.flying, b.max_phase, rising=True)
+    # a bottom impact counts only before the lid's: no need to scan the flight beyond it
+    bot = _first_crossing(lambda p, i: b.y_bed(p, i) - np.sin(p),
+                          b.phi0, b.flying, np.fmin(b.max_phase, top), rising=False)
+    double = b.flying & np.isfinite(top) & ~(np.isfinite(bot) & (bot < top))
+    b.single_cac(np.flatnonzero(b.flying & ~double), bot)
+    b.double_cac(np.flatnonzero(double), top)
+
+    scattering = b.mode == int(MotionMode.SCATTERING)
+    b.eta[scattering] = SOLID_LOSS_FACTOR  # Eq. (8)
+    b.ns[scattering] = -1
+    v = x * b.w
+    with np.errstate(over="ignore"):
+        e_tilde = b.eta * math.pi * m * v**2  # E~ = 2 pi * eta * (1/2 m V^2)
+    if not np.all(np.isfinite(e_tilde)):
+        raise _out_of_range(int(np.flatnonzero(~np.isfinite(e_tilde))[0]), f, x, b.gam,
+                            "the container's kinetic energy overflows")
+    ratio = np.vectorize(lambda c: EFFECTIVE_MASS_RATIO[MotionMode(c)], otypes=[float])(b.mode)
+    b.phi_tt[~double] = np.nan
+
+    def out(a):
+        return a.reshape(shape)
+
+    return BedResponse(
+        frequency=out(f), amplitude=out(x), clearance=out(h), bed_mass=out(m),
+        mode=out(b.mode), subharmonic_order=out(b.ns), takeoff_phase=out(b.phi0),
+        top_impact_phase=out(b.phi_st), top_release_phase=out(b.phi_tt),
+        bottom_impact_phase=out(b.phi_nd), relative_velocity_top=out(b.dv_st * v),
+        relative_velocity_bottom=out(b.dv_nd * v), dissipated_energy_per_cycle=out(e_tilde),
+        loss_factor=out(b.eta), effective_mass_ratio=out(ratio), gravity=gravity,
+    )
+
+
+def _bed_inputs(frequency, amplitude, clearance, bed_mass, gravity: float):
+    """The inputs of :func:`bed_response` checked, broadcast and flattened, with the
+    broadcast shape."""
     f, x, h, m = np.broadcast_arrays(*(_floats(name, v, unit) for name, v, unit in (
         ("frequency", frequency, "Hz"), ("amplitude", amplitude, "m"),
         ("clearance", clearance, "m"), ("bed_mass", bed_mass, "kg"))))
@@ -293,122 +332,123 @@ def bed_response(
     gravity = check_range("gravity", gravity, low=0.0, unit="m/s^2")
     shape = f.shape
     f, x, h, m = (a.ravel() for a in (f, x, h, m))
-    with np.errstate(over="ignore"):
-        w = 2.0 * math.pi * f
-        # Gamma = A / g; without gravity Gamma = inf: take-off at phi_0 = 0 (Eq. 5), straight
-        # flights (Eqs. 7, 9, 14) and release from the lid at phi = pi (Eq. 13)
-        gam = x * w**2 / gravity if gravity > 0 else np.full_like(x, math.inf)
-    if gravity > 0 and not np.all(np.isfinite(gam)):
-        raise _out_of_range(int(np.flatnonzero(~np.isfinite(gam))[0]), f, x, gam,
-                            "the container acceleration overflows")
-    with np.errstate(over="ignore"):  # a vanishing stroke: the lid is out of reach
-        ht = h / x  # clearance in strokes
-    n = f.size
+    return f, x, h, m, gravity, shape
 
-    mode = np.full(n, int(MotionMode.SOLID))
-    ns = np.full(n, -1)
-    nan = np.full(n, np.nan)
-    phi0, phi_st, phi_tt, phi_nd = nan.copy(), nan.copy(), nan.copy(), nan.copy()
-    dv_st, dv_nd = nan.copy(), nan.copy()  # in units of V
-    eta = np.full(n, SOLID_LOSS_FACTOR)
 
-    flying = gam > 1.0
-    phi0[flying] = np.arcsin(1.0 / gam[flying])  # Eq. (5)
-    s0, c0 = np.sin(phi0), np.cos(phi0)
+@dataclass
+class _Flights:
+    """The flights of the bed over one cycle at every point (flat arrays, phases in rad,
+    velocity changes in units of V = X omega), filled in by the motion modes in turn."""
 
-    def y_bed(phi, idx):  # flight from the bottom, Eqs. (7) and (9)
-        s = phi - phi0[idx, None]
-        return s0[idx, None] + c0[idx, None] * s - s**2 / (2.0 * gam[idx, None])
+    f: np.ndarray
+    x: np.ndarray
+    gam: np.ndarray  # Gamma = A / g
+    ht: np.ndarray  # clearance in strokes h / X
+    w: np.ndarray  # omega [rad/s]
+    flying: np.ndarray
+    phi0: np.ndarray  # take-off phase, Eq. (5)
+    s0: np.ndarray  # sin(phi0)
+    c0: np.ndarray  # cos(phi0)
+    max_phase: np.ndarray  # the last phase a first flight may reach a wall
+    mode: np.ndarray
+    ns: np.ndarray
+    phi_st: np.ndarray
+    phi_tt: np.ndarray
+    phi_nd: np.ndarray
+    dv_st: np.ndarray
+    dv_nd: np.ndarray
+    eta: np.ndarray
 
-    # The bed must hit a wall before its parabola falls below the container's lowest point
-    # (without gravity: before its straight flight rises above the lid's highest point).
-    s_max = _flight_span(s0, c0, -1.0, ht + 1.0, gam)
-    max_phase = phi0 + s_max + 2.0 * math.pi
-    _check_flight(phi0, max_phase, flying, f, x, gam)
+    @classmethod
+    def start(cls, f: np.ndarray, x: np.ndarray, h: np.ndarray, gravity: float) -> _Flights:
+        with np.errstate(over="ignore"):
+            w = 2.0 * math.pi * f
+            # Gamma = A / g; without gravity Gamma = inf: take-off at phi_0 = 0 (Eq. 5),
+            # straight flights (Eqs. 7, 9, 14) and release from the lid at phi = pi (Eq. 13)
+            gam = x * w**2 / gravity if gravity > 0 else np.full_like(x, math.inf)
+        if gravity > 0 and not np.all(np.isfinite(gam)):
+            raise _out_of_range(int(np.flatnonzero(~np.isfinite(gam))[0]), f, x, gam,
+                                "the container acceleration overflows")
+        with np.errstate(over="ignore"):  # a vanishing stroke: the lid is out of reach
+            ht = h / x  # clearance in strokes
+        n = f.size
+        nan = np.full(n, np.nan)
+        phi0 = nan.copy()
+        flying = gam > 1.0
+        phi0[flying] = np.arcsin(1.0 / gam[flying])  # Eq. (5)
+        # The bed must hit a wall before its parabola falls below the container's lowest
+        # point (without gravity: before its straight flight rises above the lid's highest).
+        s0, c0 = np.sin(phi0), np.cos(phi0)
+        s_max = _flight_span(s0, c0, -1.0, ht + 1.0, gam)
+        max_phase = phi0 + s_max + 2.0 * math.pi
+        _check_flight(phi0, max_phase, flying, f, x, gam)
+        return cls(f=f, x=x, gam=gam, ht=ht, w=w, flying=flying, phi0=phi0, s0=s0, c0=c0,
+                   max_phase=max_phase, mode=np.full(n, int(MotionMode.SOLID)),
+                   ns=np.full(n, -1), phi_st=nan.copy(), phi_tt=nan.copy(),
+                   phi_nd=nan.copy(), dv_st=nan.copy(), dv_nd=nan.copy(),
+                   eta=np.full(n, SOLID_LOSS_FACTOR))
 
-    top = _first_crossing(lambda p, i: y_bed(p, i) - np.sin(p) - ht[i, None],
-                          phi0, flying, max_phase, rising=True)
-    # a bottom impact counts only before the lid's: no need to scan the flight beyond it
-    bot = _first_crossing(lambda p, i: y_bed(p, i) - np.sin(p),
-                          phi0, flying, np.fmin(max_phase, top), rising=False)
-    double = flying & np.isfinite(top) & ~(np.isfinite(bot) & (bot < top))
-    single = flying & ~double
+    def y_bed(self, phi, idx):  # flight from the bottom, Eqs. (7) and (9)
+        s = phi - self.phi0[idx, None]
+        return (self.s0[idx, None] + self.c0[idx, None] * s
+                - s**2 / (2.0 * self.gam[idx, None]))
 
-    # --- single collect-and-collide, Eqs. (9)-(12)
-    i = np.flatnonzero(single)
-    phi_nd[i] = bot[i]
-    dv_nd[i] = (c0[i] - (bot[i] - phi0[i]) / gam[i]) - np.cos(bot[i])  # Eq. (11), units of V
-    ns[i] = np.maximum(np.floor((bot[i] - 0.5 * math.pi) / (2.0 * math.pi)), 0).astype(int)
-    mode[i] = np.where(ns[i] == 0, int(MotionMode.SINGLE_CAC_HARMONIC),
-                       int(MotionMode.SINGLE_CAC_SUBHARMONIC))
-    eta[i] = dv_nd[i] ** 2 / (1.0 + ns[i]) / (2.0 * math.pi)
+    def single_cac(self, i: np.ndarray, bot: np.ndarray) -> None:
+        """Single collect-and-collide at the points ``i``, Eqs. (9)-(12)."""
+        c0, phi0, gam = self.c0, self.phi0, self.gam
+        self.phi_nd[i] = bot[i]
+        self.dv_nd[i] = (c0[i] - (bot[i] - phi0[i]) / gam[i]) - np.cos(bot[i])  # Eq. (11)
+        ns = np.maximum(np.floor((bot[i] - 0.5 * math.pi) / (2.0 * math.pi)), 0).astype(int)
+        self.ns[i] = ns
+        self.mode[i] = np.where(ns == 0, int(MotionMode.SINGLE_CAC_HARMONIC),
+                                int(MotionMode.SINGLE_CAC_SUBHARMONIC))
+        self.eta[i] = self.dv_nd[i] ** 2 / (1.0 + ns) / (2.0 * math.pi)
 
-    # --- double collect-and-collide, Eqs. (13)-(18)
-    i = np.flatnonzero(double)
-    phi_st[i] = top[i]
-    dv_st[i] = (c0[i] - (top[i] - phi0[i]) / gam[i]) - np.cos(top[i])  # Eq. (16)
-    sub_top = top[i] > phi0[i] + 2.0 * math.pi  # subharmonic top impact: scattering
-    mode[i[sub_top]] = int(MotionMode.SCATTERING)
-    i = i[~sub_top]
-    # Eq. (13): pinned to the lid while the lid decelerates faster than g
-    phi_tt[i] = np.maximum(top[i], math.pi - phi0[i])
-    st, ct = np.sin(phi_tt), np.cos(phi_tt)
+    def double_cac(self, i: np.ndarray, top: np.ndarray) -> None:
+        """Double collect-and-collide at the points ``i``, Eqs. (13)-(18), or scattering."""
+        c0, phi0, gam, ht, mode = self.c0, self.phi0, self.gam, self.ht, self.mode
+        self.phi_st[i] = top[i]
+        self.dv_st[i] = (c0[i] - (top[i] - phi0[i]) / gam[i]) - np.cos(top[i])  # Eq. (16)
+        sub_top = top[i] > phi0[i] + 2.0 * math.pi  # subharmonic top impact: scattering
+        mode[i[sub_top]] = int(MotionMode.SCATTERING)
+        i = i[~sub_top]
+        # Eq. (13): pinned to the lid while the lid decelerates faster than g
+        phi_tt = self.phi_tt
+        phi_tt[i] = np.maximum(top[i], math.pi - phi0[i])
+        st, ct = np.sin(phi_tt), np.cos(phi_tt)
 
-    def y_bed2(phi, idx):  # flight from the lid, Eq. (14), bed bottom coordinate
-        s = phi - phi_tt[idx, None]
-        return st[idx, None] + ht[idx, None] + ct[idx, None] * s - s**2 / (2.0 * gam[idx, None])
+        def y_bed2(phi, idx):  # flight from the lid, Eq. (14), bed bottom coordinate
+            s = phi - phi_tt[idx, None]
+            return (st[idx, None] + ht[idx, None] + ct[idx, None] * s
+                    - s**2 / (2.0 * gam[idx, None]))
 
-    act = np.zeros(n, bool)
-    act[i] = True
-    max2 = phi_tt + _flight_span(st + ht, ct, -1.0, ht + 1.0, gam) + 2 * math.pi
-    _check_flight(phi_tt, max2, act, f, x, gam)
-    bot2 = _first_crossing(lambda p, k: y_bed2(p, k) - np.sin(p), phi_tt, act, max2,
-                           rising=False)
-    # leave the lid just after release: a renewed lid contact first means no repetition
-    top2 = _first_crossing(lambda p, k: y_bed2(p, k) - np.sin(p) - ht[k, None],
-                           phi_tt + 1e-9, act, max2, rising=True)
-    again = np.isfinite(top2[i]) & (~np.isfinite(bot2[i]) | (top2[i] < bot2[i]))
-    mode[i[again]] = int(MotionMode.SCATTERING)
-    i = i[~again & np.isfinite(bot2[i])]
-    phi_nd[i] = bot2[i]
-    dv_nd[i] = (ct[i] - (bot2[i] - phi_tt[i]) / gam[i]) - np.cos(bot2[i])  # Eq. (17)
-    k = np.maximum(np.floor((bot2[i] - 0.5 * math.pi) / (2.0 * math.pi)), 0)
-    # corrected Eq. (18): a harmonic bottom impact after the next take-off is scattering;
-    # for n_s >= 1 the bed re-launches at almost the regular take-off state (Fig. 4-3ii,
-    # "conditionally repetitive"), so the whole cycle counts as subharmonic.
-    # (up to the bisection's round-off: without gravity the optimum X = h / pi lands its
-    # bottom impact exactly on the next take-off, phi = 2 pi, Eq. 19)
-    late = (k == 0) & (bot2[i] > phi0[i] + 2.0 * math.pi + _PHASE_TOL)
-    mode[i[late]] = int(MotionMode.SCATTERING)
-    i, k = i[~late], k[~late].astype(int)
-    ns[i] = k
-    mode[i] = np.where(k == 0, int(MotionMode.DOUBLE_CAC_HARMONIC),
-                       int(MotionMode.DOUBLE_CAC_SUBHARMONIC))
-    eta[i] = (dv_st[i] ** 2 + dv_nd[i] ** 2) / (1.0 + k) / (2.0 * math.pi)  # Eq. (15)
-
-    scattering = mode == int(MotionMode.SCATTERING)
-    eta[scattering] = SOLID_LOSS_FACTOR  # Eq. (8)
-    ns[scattering] = -1
-    v = x * w
-    with np.errstate(over="ignore"):
-        e_tilde = eta * math.pi * m * v**2  # E~ = 2 pi * eta * (1/2 m V^2)
-    if not np.all(np.isfinite(e_tilde)):
-        raise _out_of_range(int(np.flatnonzero(~np.isfinite(e_tilde))[0]), f, x, gam,
-                            "the container's kinetic energy overflows")
-    ratio = np.vectorize(lambda c: EFFECTIVE_MASS_RATIO[MotionMode(c)], otypes=[float])(mode)
-    phi_tt[~double] = np.nan
-
-    def out(a):
-        return a.reshape(shape)
-
-    return BedResponse(
-        frequency=out(f), amplitude=out(x), clearance=out(h), bed_mass=out(m),
-        mode=out(mode), subharmonic_order=out(ns), takeoff_phase=out(phi0),
-        top_impact_phase=out(phi_st), top_release_phase=out(phi_tt),
-        bottom_impact_phase=out(phi_nd), relative_velocity_top=out(dv_st * v),
-        relative_velocity_bottom=out(dv_nd * v), dissipated_energy_per_cycle=out(e_tilde),
-        loss_factor=out(eta), effective_mass_ratio=out(ratio), gravity=gravity,
-    )
+        act = np.zeros(self.f.size, bool)
+        act[i] = True
+        max2 = phi_tt + _flight_span(st + ht, ct, -1.0, ht + 1.0, gam) + 2 * math.pi
+        _check_flight(phi_tt, max2, act, self.f, self.x, gam)
+        bot2 = _first_crossing(lambda p, k: y_bed2(p, k) - np.sin(p), phi_tt, act, max2,
+                               rising=False)
+        # leave the lid just after release: a renewed lid contact first means no repetition
+        top2 = _first_crossing(lambda p, k: y_bed2(p, k) - np.sin(p) - ht[k, None],
+                               phi_tt + 1e-9, act, max2, rising=True)
+        again = np.isfinite(top2[i]) & (~np.isfinite(bot2[i]) | (top2[i] < bot2[i]))
+        mode[i[again]] = int(MotionMode.SCATTERING)
+        i = i[~again & np.isfinite(bot2[i])]
+        self.phi_nd[i] = bot2[i]
+        self.dv_nd[i] = (ct[i] - (bot2[i] - phi_tt[i]) / gam[i]) - np.cos(bot2[i])  # Eq. (17)
+        k = np.maximum(np.floor((bot2[i] - 0.5 * math.pi) / (2.0 * math.pi)), 0)
+        # corrected Eq. (18): a harmonic bottom impact after the next take-off is scattering;
+        # for n_s >= 1 the bed re-launches at almost the regular take-off state (Fig. 4-3ii,
+        # "conditionally repetitive"), so the whole cycle counts as subharmonic.
+        # (up to the bisection's round-off: without gravity the optimum X = h / pi lands its
+        # bottom impact exactly on the next take-off, phi = 2 pi, Eq. 19)
+        late = (k == 0) & (bot2[i] > phi0[i] + 2.0 * math.pi + _PHASE_TOL)
+        mode[i[late]] = int(MotionMode.SCATTERING)
+        i, k = i[~late], k[~late].astype(int)
+        self.ns[i] = k
+        mode[i] = np.where(k == 0, int(MotionMode.DOUBLE_CAC_HARMONIC),
+                           int(MotionMode.DOUBLE_CAC_SUBHARMONIC))
+        self.eta[i] = (self.dv_st[i] ** 2 + self.dv_nd[i] ** 2) / (1.0 + k) / (2.0 * math.pi)
 
 
 @dataclass(frozen=True)

@@ -42,9 +42,12 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "effective_mass_ratio": ("effective particle mass / bed mass", "1"),
     "dissipated_energy_per_cycle": ("dissipated energy per cycle E~ (Eq. 2)", "J"),
     "subharmonic_order": ("subharmonic order n_s (Eqs. 12, 18; -1: none)", "1"),
-    "wall_seconds": ("wall time of the run", "s"),
+    "wall_seconds": ("wall time of the run, settling included", "s"),
     "point_seconds": ("wall time of the point on its worker (all runs and the analysis)", "s"),
-    "steps": ("time steps of the run (settling included)", "1"),
+    "steps": ("time steps of the run (settling included: total_steps)", "1"),
+    "total_steps": ("time steps of the run, settling included", "1"),
+    "excitation_steps": ("time steps of the run's excitation phase", "1"),
+    "settle_steps": ("time steps of the run's settling (0: a bed settled once reused)", "1"),
     "energy_balance_error": ("relative closure error of the energy ledger", "1"),
     "max_overlap_ratio": ("largest contact overlap / particle radius", "1"),
     "max_impact_velocity": ("fastest normal impact velocity of the run", "m s-1"),
@@ -113,7 +116,8 @@ def _length(values) -> int:
 
 
 #: Integer variables (stored as such; -1 where a point has no value).
-_INTEGER = {"subharmonic_order", "steps", "cycles", "first_cycle", "last_cycle",
+_INTEGER = {"subharmonic_order", "steps", "total_steps", "excitation_steps", "settle_steps",
+            "cycles", "first_cycle", "last_cycle",
             "symmetric_state", "quiet_window", "period", "accuracy_met",
             "accuracy_refinements"}
 
@@ -130,7 +134,7 @@ def _coords(frequency, amplitude, particles):
         "amplitude": ("amplitude", amplitude, {"long_name": "container stroke amplitude X",
                                                "units": "m"}),
     }
-    dims = ("frequency", "amplitude")
+    dims: tuple[str, ...] = ("frequency", "amplitude")
     if particles is not None:
         coords["particles"] = ("particles", np.asarray(particles, int),
                                {"long_name": "number of particles", "units": "1"})
@@ -399,10 +403,11 @@ def field_agreement(ds, reference) -> dict:
            "mode_agreement": float(agree[ok].mean()) if ok.any() else math.nan,
            "median_abs_delta_eta": float(np.median(delta[ok])) if ok.any() else math.nan,
            "by_mode": {}}
+    by_mode: dict[str, dict] = out["by_mode"]  # type: ignore[assignment]
     for mode in MotionMode:
         sel = ok & (ref_mode == int(mode))
         if sel.any():
-            out["by_mode"][mode.label] = {"cells": int(sel.sum()),
+            by_mode[mode.label] = {"cells": int(sel.sum()),
                                           "mode_agreement": float(agree[sel].mean()),
                                           "median_abs_delta_eta": float(np.median(delta[sel]))}
     return out

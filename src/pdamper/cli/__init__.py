@@ -14,6 +14,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import sys
+from collections.abc import Sequence
 
 
 def _register() -> None:
@@ -54,7 +55,7 @@ def _usage(exc: Exception) -> str:
     opts = getattr(param, "opts", None)
     if opts and raw:
         return f"error: {max(opts, key=len)}: {raw}"
-    return f"error: {exc.format_message()}"
+    return f"error: {exc.format_message()}"  # type: ignore[attr-defined]  # click's UsageError
 
 
 def _stdout_is_null() -> bool:
@@ -112,7 +113,7 @@ def _standard_streams() -> None:
         sys.stderr = _ClosedStream()
 
 
-def _run(argv: list[str] | None, received: list[int] = ()) -> int:  # noqa: B006 - read only
+def _run(argv: list[str] | None, received: Sequence[int] = ()) -> int:
     from pdamper.errors import Interrupted, OutputError, PdamperError
     from pdamper.files import stdout_error
 
@@ -213,7 +214,8 @@ def entry() -> None:  # pragma: no cover - run as a process by the tests
             signal.signal(s, signal.SIG_IGN)
     atexit._run_exitfuncs()
     try:  # what click printed (help, usage) may still sit in the buffer
-        sys.stdout.flush()
+        if sys.stdout is not None:
+            sys.stdout.flush()
     except OSError as exc:
         status = _say(f"error: {stdout_error(exc)}", 1) if status == 0 else status
     except ValueError:

@@ -97,6 +97,7 @@ def _register() -> None:
         map,
         optimize,
         paper,
+        report,
         scenario,
         simulate,
     )
@@ -106,7 +107,7 @@ def _register() -> None:
                            ("dem", dem.dem), ("paper", paper.paper),
                            ("example-scenario", scenario.example_scenario), ("cor", cor.cor),
                            ("cor-sensitivity", cor_sensitivity.cor_sensitivity),
-                           ("frf", frf.frf)):
+                           ("report", report.report), ("frf", frf.frf)):
         app.command(name, cls=_Command, short_help=_summary(function))(function)
     _registered = True
 

@@ -76,7 +76,11 @@ def metadata(scenario, **extra) -> dict:
     """Inputs, version (and seed etc. in ``extra``) recorded with every result."""
     from pdamper import __version__
 
-    return {"inputs": scenario.model_dump(mode="json"), "version": __version__, **extra}
+    out = {"inputs": scenario.model_dump(mode="json"), "version": __version__, **extra}
+    uncertain = getattr(scenario, "uncertain_inputs", tuple)()
+    if uncertain:  # "value +- sd": the inputs hold the nominal value, this the rest
+        out["uncertain_inputs"] = [u.as_dict() for u in uncertain]
+    return out
 
 
 def check_output(path: str | None, field: str = "out") -> Path | None:
@@ -99,12 +103,18 @@ PLOT_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg", ".jpg": "jpeg", ".j
 
 
 
-def plot_option(what: str):
+def plot_param(what: str) -> Any:
     """The ``--plot`` option of a command whose figure shows ``what`` (checked by
-    :func:`check_plot`, written by :func:`write_figure`)."""
-    return Annotated[str | None, typer.Option(
-        "--plot", help=f"Figure file of {what}; its suffix names the format "
-                       f"({', '.join(PLOT_FORMATS)}).")]
+    :func:`check_plot`, written by :func:`write_figure`), as the metadata of
+    ``Annotated[str | None, plot_param(what)]`` (an annotation a type checker reads)."""
+    return typer.Option("--plot", help=f"Figure file of {what}; its suffix names the format "
+                                       f"({', '.join(PLOT_FORMATS)}).")
+
+
+def plot_option(what: str) -> Any:
+    """``Annotated[str | None, plot_param(what)]``, built at run time (type checkers cannot
+    read it: prefer the spelled-out form)."""
+    return Annotated[str | None, plot_param(what)]
 
 
 def check_plot(path: str | None, field: str = "plot") -> Path | None:
@@ -131,3 +141,39 @@ def write_figure(fig, path: Path, dpi: int = 110, field: str = "plot") -> Path:
     buf = io.BytesIO()
     fig.savefig(buf, format=PLOT_FORMATS[path.suffix.lower()], dpi=dpi)
     return atomic_write_bytes(path, buf.getbuffer(), field)
+
+
+def flag_name(flag: str) -> str:
+    """The parameter of a flag: ``"--free-flight/--no-free-flight"`` -> ``"free_flight"``."""
+    return flag.split("/")[0].removeprefix("--").replace("-", "_")
+
+
+def with_flags(rows: tuple[tuple[str, str, type, str], ...]):
+    """Give a command one option per row ``(flag, scenario key, type, help)`` and hand their
+    values to it as ``flags`` (``{"dem.safety": 0.01, ...}``, None: not given): the flags of
+    scenario keys are declared in one table, not as parameters one by one. The command's
+    own parameters follow them."""
+    import functools
+    import inspect
+
+    def wrap(func):
+        own = [p for p in inspect.signature(func, eval_str=True).parameters.values()
+               if p.name != "flags"]
+        made = [inspect.Parameter(flag_name(flag), inspect.Parameter.KEYWORD_ONLY,
+                                  default=None, annotation=Annotated[
+                                      kind | None, typer.Option(flag, help=text)])
+                for flag, _, kind, text in rows]
+        keys = {flag_name(flag): key for flag, key, _, _ in rows}
+
+        @functools.wraps(func)
+        def command(**kwargs):
+            flags = {key: kwargs.pop(name) for name, key in keys.items()}
+            return func(flags=flags, **kwargs)
+
+        params = [*made, *(p.replace(kind=inspect.Parameter.KEYWORD_ONLY) for p in own)]
+        command.__signature__ = inspect.Signature(params)
+        command.__annotations__ = {p.name: p.annotation for p in params}
+        del command.__wrapped__  # typer reads __signature__, not the wrapped function's
+        return command
+
+    return wrap

@@ -111,6 +111,7 @@ def _relaying() -> Iterator[None]:
         yield
         return
     main = threading.main_thread().ident
+    assert main is not None  # the main thread has started: it runs this
     wanted = {int(s) for s in SIGNALS}
     read_end, write_end = os.pipe()
     os.set_blocking(write_end, False)

@@ -6,7 +6,8 @@ from typing import Annotated
 
 import typer
 
-from pdamper.cli._common import JsonOpt, ScenarioOpt, emit, load, metadata
+from pdamper.cli import _uncertainty
+from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, emit, load, metadata
 
 
 def analytic(
@@ -16,6 +17,10 @@ def analytic(
     gravity: Annotated[str | None, typer.Option(
         "--gravity", help="g, e.g. '9.81 m/s^2' (default); '0 m/s^2' for a structure in "
                           "orbit.")] = None,
+    uncertainty: _uncertainty.UncertaintyOpt = None,
+    uncertain: _uncertainty.UncertainOpt = None,
+    uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
+    force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -26,9 +31,10 @@ def analytic(
     from pdamper.analysis.modes import MotionMode
     from pdamper.units import format_quantity
 
-    sc = load(scenario, runs=("excitation",), model="analytic",
-              excitation__frequency=frequency, excitation__amplitude=amplitude,
-              particles__count=particles, excitation__gravity=gravity)
+    sc = load(scenario, runs=("excitation",), model="analytic", **_uncertainty.merged(dict(
+        excitation__frequency=frequency, excitation__amplitude=amplitude,
+        particles__count=particles, excitation__gravity=gravity), uncertain))
+    _uncertainty.check(sc, "level2", uncertainty, force)
     damper = sc.damper()
     f, x = sc.excitation.frequency, sc.excitation.amplitude
     r = sc.model("analytic", damper).response(f, x)
@@ -62,4 +68,11 @@ def analytic(
         f"  clearance h                  {format_quantity(damper.clearance, 'mm')}\n"
         f"  optimal stroke X_opt = h/pi  {format_quantity(damper.optimal_stroke, 'mm')}"
     )
+    if uncertainty is not None:
+        from pdamper.io.uncertain import propagate_scenario
+
+        spread = propagate_scenario(sc, "level2", uncertainty, uncertainty_seed)
+        payload["uncertainty"] = spread.as_dict()
+        human += "\n" + "\n".join(_uncertainty.lines(spread, {
+            "effective_mass": (1e3, "g"), "dissipated_energy_per_cycle": (1e3, "mJ")}))
     emit(payload, as_json, human)

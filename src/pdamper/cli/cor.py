@@ -7,7 +7,7 @@ Example::
 ``--pair SPHERE:PARTNER`` names the sphere material and its partner: the same material twice
 (``S235:S235``) is a sphere-sphere impact of two equal spheres, otherwise a sphere hits a
 wall of the partner material. The target curve is ``--model`` (``0.6``, ``paper``,
-``thornton``, ``cor.csv``, each optionally ``*scale``) or else the scenario's model of that
+``thornton``, ``cor.csv``, each optionally ``*scale``) or else the scenario's COR curve of that
 pair type (``[restitution]``, or the ``[dem]`` constants). Each velocity is one DEM run of
 the real engine without gravity. ``--json``: ``velocity``, ``cor_target``,
 ``cor_simulated``, ``max_deviation`` and what was simulated.
@@ -27,7 +27,7 @@ from pdamper.cli._common import (
     emit,
     load,
     metadata,
-    plot_option,
+    plot_param,
 )
 
 #: Default velocity grid of ``--velocity``.
@@ -44,15 +44,15 @@ def cor(
         "--velocity", help="Impact speeds 'start:stop:count', e.g. '0.01m/s:2m/s:40'.")
     ] = DEFAULT_VELOCITY,
     model: Annotated[str | None, typer.Option(
-        "--model", help="Target COR model: 0.6, paper, thornton or a CSV table, optionally "
-                        "*scale (default: the scenario's model of this pair).")] = None,
+        "--model", help="Target COR curve: 0.6, paper, thornton or a CSV table, optionally "
+                        "*scale (default: the scenario's COR curve of this pair).")] = None,
     damping_model: Annotated[str | None, typer.Option(
-        "--damping-model", help="COR-damping relation: exact (default) or gonthier.")] = None,
+        "--damping-model", help="Damping law: exact (default) or gonthier.")] = None,
     integrator: Annotated[str | None, typer.Option(
         "--integrator", help="gear (default) or verlet.")] = None,
     radius: Annotated[str | None, typer.Option(
         "--radius", help="Sphere radius, e.g. '5mm' (default: the scenario's).")] = None,
-    plot: plot_option("the target and simulated COR") = None,
+    plot: Annotated[str | None, plot_param("the target and simulated COR")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -65,12 +65,11 @@ def cor(
     from pdamper.dem.impacts import check_restitution, impacts_cost
     from pdamper.errors import InputError
     from pdamper.io.restitution import build_curve, parse_model_text, validate_spec
-    from pdamper.materials import get_material
     from pdamper.units import parse_range
 
     sc = load(scenario, particles__radius=radius, dem__damping_model=damping_model,
               dem__integrator=integrator)
-    plot = check_plot(plot)
+    plot_path = check_plot(plot)
     v0, v1, n = parse_range(velocity, "m/s", "velocity")
     if min(v0, v1) <= 0:
         raise InputError("velocity", f"impact speeds must be > 0 m/s, got {min(v0, v1):g} m/s")
@@ -78,19 +77,7 @@ def cor(
     v = np.linspace(v0, v1, n)
 
     damper = sc.damper()
-    own = {m.name.lower(): m for m in (damper.particle_material, damper.wall_material)}
-
-    def material(name: str):
-        return own.get(name.strip().lower()) or get_material(name.strip(), "pair")
-
-    if pair is None:
-        sphere, partner = damper.particle_material, damper.wall_material
-    else:
-        names = pair.split(":")
-        if len(names) != 2 or not all(x.strip() for x in names):
-            raise InputError("pair", f"expected SPHERE:PARTNER such as S235:PVC or S235:S235, "
-                             f"got {pair!r}")
-        sphere, partner = material(names[0]), material(names[1])
+    sphere, partner = _pair(damper, pair)
     sphere_sphere = sphere.name == partner.name
     kind = "particle_particle" if sphere_sphere else "particle_wall"
     r = damper.particle_radius
@@ -103,7 +90,7 @@ def cor(
     check = check_restitution(v, curve, sphere, partner, r, sphere_sphere,
                               sc.dem.damping_model, sc.dem.integrator)
     payload = {**check.as_dict(), **metadata(sc, model=model)}
-    if plot is not None:
+    if plot_path is not None:
         from matplotlib.figure import Figure
 
         from pdamper.cli._common import write_figure
@@ -111,7 +98,27 @@ def cor(
 
         fig = Figure(figsize=(7, 4.5), layout="constrained")
         plot_cor_check(check, ax=fig.subplots(), curve=curve)
-        payload["plot"] = str(write_figure(fig, plot, dpi=120))
+        payload["plot"] = str(write_figure(fig, plot_path, dpi=120))
+    emit(payload, as_json, _table(check, r, sphere_sphere, payload.get("plot")))
+
+
+def _pair(damper, pair: str | None) -> tuple:
+    """The (sphere, partner) materials of ``--pair``; the damper's own materials first."""
+    from pdamper.errors import InputError
+    from pdamper.materials import get_material
+
+    if pair is None:
+        return damper.particle_material, damper.wall_material
+    own = {m.name.lower(): m for m in (damper.particle_material, damper.wall_material)}
+    names = pair.split(":")
+    if len(names) != 2 or not all(x.strip() for x in names):
+        raise InputError("pair", f"expected SPHERE:PARTNER such as S235:PVC or S235:S235, "
+                         f"got {pair!r}")
+    return tuple(own.get(x.strip().lower()) or get_material(x.strip(), "pair") for x in names)
+
+
+def _table(check, r: float, sphere_sphere: bool, plot: str | None) -> str:
+    """The command's text: target and simulated COR per impact speed."""
     kind_text = "sphere-sphere" if sphere_sphere else "sphere-wall"
     lines = [f"{check.pair} ({kind_text}, r = {r * 1e3:g} mm): target {check.curve}",
              f"DEM single impacts: {check.damping_model} COR-damping relation, "
@@ -121,5 +128,5 @@ def cor(
               for a, b, c in zip(check.velocity, check.cor_target, check.cor_simulated,
                                  strict=True)]
     lines.append(f"max |deviation| {check.max_deviation:.2e}"
-                 + (f"; figure written to {payload['plot']}" if plot is not None else ""))
-    emit(payload, as_json, "\n".join(lines))
+                 + (f"; figure written to {plot}" if plot is not None else ""))
+    return "\n".join(lines)

@@ -22,7 +22,7 @@ from typing import Annotated
 
 import typer
 
-from pdamper.cli._common import JsonOpt, ScenarioOpt, check_plot, emit, load, metadata, plot_option
+from pdamper.cli._common import JsonOpt, ScenarioOpt, check_plot, emit, load, metadata, plot_param
 
 
 def _points(text: str):
@@ -61,7 +61,7 @@ def cor_sensitivity(
     skip_cycles: Annotated[int | None, typer.Option(
         "--skip-cycles", help="Cycles left out of the complex power (default: the "
                               "scenario's, else 16).")] = None,
-    plot: plot_option("the loss factors and amplitudes per COR variant") = None,
+    plot: Annotated[str | None, plot_param("the loss factors and amplitudes per COR variant")] = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -75,15 +75,15 @@ def cor_sensitivity(
 
     sc = load(scenario, simulation__duration=duration, dem__cycles=cycles,
               dem__skip_cycles=skip_cycles)
-    plot = check_plot(plot)
+    plot_path = check_plot(plot)
     names = DEFAULT_VARIANTS if variants is None else [v for v in variants.split(",") if v.strip()]
     pts = DEFAULT_POINTS if points is None else _points(points)
     study = run_cor_sensitivity(sc, names, pts, level3=level3)
     payload = {**study.as_dict(), **metadata(sc)}
-    if plot is not None:
+    if plot_path is not None:
         from pdamper.cli._common import write_figure
 
         fig = sensitivity_figure(study)
-        payload["plot"] = str(write_figure(fig, plot, dpi=110))
+        payload["plot"] = str(write_figure(fig, plot_path, dpi=110))
     emit(payload, as_json, study.markdown() + f"\n{study.wall_seconds:.1f} s"
-         + (f"; figure written to {payload['plot']}" if plot is not None else ""))
+         + (f"; figure written to {payload['plot']}" if plot_path is not None else ""))

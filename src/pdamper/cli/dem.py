@@ -4,12 +4,15 @@ Example::
 
     pdamper dem --frequency 10Hz --amplitude 32mm --particles 32 --cycles 8 --out run.nc
 
-prints a summary (``--json``: ``steps``, ``wall_seconds``, ``loss_factor``,
-``effective_mass_ratio``, ``energy_balance_error`` and more, with the inputs, the pdamper
-version and the seed). Every run option can also come from the scenario's ``[dem]``
-section; the command line overrides the file. ``--realisations N`` runs N random packings
-(seeds ``--seed`` + 0..N-1) on the sweep engine (``--workers``, ``--serial``): the loss
-factor and effective mass ratio are then their means, the spread under ``realisations``
+prints a summary (``--json``: ``loss_factor``, ``effective_mass_ratio``,
+``energy_balance_error`` and more, with the inputs, the pdamper version and the seed; the
+run's own keys are those of :meth:`pdamper.dem.DEMResult.summary`: ``steps`` and
+``wall_seconds`` of the excitation, ``settle_steps`` and ``settle_seconds`` of the
+settling before it, ``total_steps`` and ``total_wall_seconds`` of both). Every run option
+can also come from the scenario's ``[dem]`` section; the command line overrides the file.
+``--realisations N`` runs N random packings (seeds ``--seed`` + 0..N-1) on the sweep
+engine (``--workers``, ``--serial``): the loss factor and effective mass ratio are then
+their means, the spread under ``realisations``
 (:mod:`pdamper.reports.realisations`).
 """
 
@@ -29,63 +32,58 @@ from pdamper.cli._common import (
     emit,
     load,
     metadata,
+    with_flags,
+)
+
+#: The options of ``pdamper dem`` that set a scenario key, one row each: ``(flag, key,
+#: type, help)``. The key's declaration (:mod:`pdamper.models.settings`,
+#: :mod:`pdamper.dem.settings` for ``dem.*``) holds its unit, range and default; a new DEM
+#: option is one declared setting and one row here. Flags whose name differs from the
+#: setting's (``--free-flight``: ``gear_free_flight``) are the public names.
+FLAGS: tuple[tuple[str, str, type, str], ...] = (
+    ("--frequency", "excitation.frequency", str, "Excitation frequency f, e.g. '10Hz'."),
+    ("--amplitude", "excitation.amplitude", str, "Excitation amplitude X, e.g. '32mm'."),
+    ("--particles", "particles.count", int, "Number of spheres (benchmark box: <= 192)."),
+    ("--cycles", "dem.cycles", str, "'auto' (until the loss factor is steady, default) or a "
+     "number of excitation cycles (the paper: 8)."),
+    ("--max-cycles", "dem.max_cycles", int, "Upper bound of a run until steady."),
+    ("--integrator", "dem.integrator", str, "gear (variable step, default), verlet, or auto "
+     "(gear, handing over to verlet where gear's steps are held by its stability limit: "
+     "jammed beds)."),
+    ("--skip-cycles", "dem.skip_cycles", int, "Cycles left out of the complex power."),
+    ("--friction", "particles.friction", float, "Friction coefficient mu, all contacts."),
+    ("--restitution-pp", "dem.restitution_pp", float, "Constant sphere-sphere COR."),
+    ("--restitution-pw", "dem.restitution_pw", float, "Constant sphere-wall COR."),
+    ("--damping-model", "dem.damping_model", str, "exact (default), gonthier (the paper's) "
+     "or tsuji (LIGGGHTS/EDEM 'Hertz with COR')."),
+    ("--seed", "dem.seed", int, "Seed of the random packing (recorded always)."),
+    ("--packing", "dem.packing", str, "lattice (the paper's 4x4 layers), random, or auto "
+     "(random where every sphere fits at random, else lattice)."),
+    ("--sample-rate", "dem.sample_rate", str, "Sampling rate of the time series, e.g. "
+     "'4 kHz'."),
+    ("--safety", "dem.safety", float, "Time step / Hertz contact time."),
+    ("--error-estimate/--no-error-estimate", "dem.error_estimate", bool, "Estimate the "
+     "integration error of the loss factor and effective mass from a refined companion run "
+     "(about twice the cost); redo refined if it misses --accuracy."),
+    ("--accuracy", "dem.accuracy", float, "Target of the error estimate, relative (default "
+     "0.01)."),
+    ("--free-flight/--no-free-flight", "dem.gear_free_flight", bool, "Gear steps only the "
+     "spheres that may touch something, the others fly their exact parabola (default on; "
+     "off: every sphere at every step)."),
+    ("--snapshot-rate", "dem.snapshot_rate", str, "Snapshots per second for --vtk."),
+    ("--gravity", "excitation.gravity", str, "g, e.g. '9.81 m/s^2' (default); '0 m/s^2' for "
+     "a structure in orbit."),
 )
 
 
+@with_flags(FLAGS)
 def dem(
-    frequency: Annotated[str | None, typer.Option("--frequency",
-                         help="Excitation frequency f, e.g. '10Hz'.")] = None,
-    amplitude: Annotated[str | None, typer.Option("--amplitude",
-                         help="Excitation amplitude X, e.g. '32mm'.")] = None,
-    particles: Annotated[int | None, typer.Option("--particles",
-                         help="Number of spheres (benchmark box: <= 192).")] = None,
-    cycles: Annotated[str | None, typer.Option("--cycles",
-                      help="'auto' (until the loss factor is steady, default) or a number of "
-                           "excitation cycles (the paper: 8).")] = None,
-    max_cycles: Annotated[int | None, typer.Option("--max-cycles",
-                          help="Upper bound of a run until steady.")] = None,
+    flags: dict,
     out: Annotated[str | None, typer.Option("--out",
                    help="NetCDF file for the time series.")] = None,
-    integrator: Annotated[str | None, typer.Option("--integrator",
-                          help="gear (variable step, default), verlet, or auto (gear, handing "
-                               "over to verlet where gear's steps are held by its stability "
-                               "limit: jammed beds).")] = None,
-    skip_cycles: Annotated[int | None, typer.Option("--skip-cycles",
-                           help="Cycles left out of the complex power.")] = None,
-    friction: Annotated[float | None, typer.Option("--friction",
-                        help="Friction coefficient mu, all contacts.")] = None,
-    restitution_pp: Annotated[float | None, typer.Option("--restitution-pp",
-                              help="Constant sphere-sphere COR.")] = None,
-    restitution_pw: Annotated[float | None, typer.Option("--restitution-pw",
-                              help="Constant sphere-wall COR.")] = None,
-    damping_model: Annotated[str | None, typer.Option("--damping-model",
-                             help="exact (default), gonthier (the paper's) or tsuji "
-                                  "(LIGGGHTS/EDEM 'Hertz with COR').")] = None,
-    seed: Annotated[int | None, typer.Option("--seed",
-                    help="Seed of the random packing (recorded always).")] = None,
-    packing: Annotated[str | None, typer.Option("--packing",
-                       help="lattice (the paper's 4x4 layers), random, or auto (random where "
-                       "every sphere fits at random, else lattice).")] = None,
-    sample_rate: Annotated[str | None, typer.Option("--sample-rate",
-                           help="Sampling rate of the time series, e.g. '4 kHz'.")] = None,
-    safety: Annotated[float | None, typer.Option("--safety",
-                      help="Time step / Hertz contact time.")] = None,
-    error_estimate: Annotated[bool | None, typer.Option(
-        "--error-estimate/--no-error-estimate",
-        help="Estimate the integration error of the loss factor and effective mass from a "
-             "refined companion run (about twice the cost); redo refined if it misses "
-             "--accuracy.")] = None,
-    accuracy: Annotated[float | None, typer.Option(
-        "--accuracy", help="Target of the error estimate, relative (default 0.01).")] = None,
-    free_flight: Annotated[bool | None, typer.Option(
-        "--free-flight/--no-free-flight",
-        help="Gear steps only the spheres that may touch something, the others fly their "
-             "exact parabola (default on; off: every sphere at every step).")] = None,
     vtk: Annotated[str | None, typer.Option("--vtk",
                    help="Directory for ParaView snapshots (.vtp + .pvd); its parent must "
                    "exist.")] = None,
-    snapshot_rate: Annotated[str | None, typer.Option("--snapshot-rate",
-                             help="Snapshots per second for --vtk.")] = None,
     realisations: Annotated[str | None, typer.Option(
         "--realisations",
         help="Independent random packings (seeds --seed, --seed + 1, ...) run in parallel; "
@@ -96,9 +94,6 @@ def dem(
              "core).")] = None,
     serial: Annotated[bool, typer.Option(
         "--serial", help="Run the realisations in this process, without dask.")] = False,
-    gravity: Annotated[str | None, typer.Option(
-        "--gravity", help="g, e.g. '9.81 m/s^2' (default); '0 m/s^2' for a structure in "
-                          "orbit.")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -111,22 +106,15 @@ def dem(
     from pdamper.errors import InputError
     from pdamper.files import atomic_directory
 
+    cycles = flags["dem.cycles"]
     if cycles is not None and cycles != "auto":
         try:
-            cycles = int(cycles)
+            flags["dem.cycles"] = int(cycles)
         except ValueError:
             raise InputError("dem.cycles", f"must be 'auto' or a whole number >= 1, "
                              f"got {cycles!r}") from None
     sc = load(scenario, runs=("excitation",), model="dem", force=force,
-              excitation__frequency=frequency, excitation__amplitude=amplitude,
-              particles__count=particles, particles__friction=friction, dem__cycles=cycles,
-              dem__max_cycles=max_cycles,
-              dem__integrator=integrator, dem__skip_cycles=skip_cycles,
-              dem__restitution_pp=restitution_pp, dem__restitution_pw=restitution_pw,
-              dem__damping_model=damping_model, dem__seed=seed, dem__packing=packing,
-              dem__sample_rate=sample_rate, dem__safety=safety, dem__snapshot_rate=snapshot_rate,
-              dem__error_estimate=error_estimate, dem__accuracy=accuracy,
-              dem__gear_free_flight=free_flight, excitation__gravity=gravity)
+              **{key.replace(".", "__"): value for key, value in flags.items()})
     n_real = 1
     if realisations is not None:
         from pdamper.reports.realisations import check_realisations
@@ -197,7 +185,9 @@ def dem(
         + f"  energy ledger closes to      {res.energy_balance_error():.2e}\n"
         f"  largest overlap / radius     {res.max_overlap_ratio:.3g}\n"
         f"  fastest impact               {res.max_impact_velocity:.3g} m/s\n"
-        f"  {res.steps} steps in {res.wall_seconds:.3g} s wall"
+        f"  {res.steps} steps in {res.wall_seconds:.3g} s wall (settling: "
+        + (f"{res.settle_steps} steps in {res.settle_seconds:.3g} s)" if not res.settle_reused
+           else "a bed settled earlier)")
         + (f"\n  time series written to {payload['out']}" if out is not None else "")
         + (f"\n  snapshots written to {payload['vtk']}" if vtk is not None else ""))
     emit(payload, as_json, human)
@@ -209,7 +199,9 @@ ACCURACY_KEYS = ("loss_factor_error", "effective_mass_ratio_error", "accuracy_me
 
 #: Units of the dimensional keys of ``pdamper dem --json``.
 UNITS = {"wall_seconds": "s", "dissipated_energy_per_cycle": "J", "time_step": "s",
-         "contact_time": "s", "ledger_per_cycle": "J", "max_impact_velocity": "m/s"}
+         "contact_time": "s", "ledger_per_cycle": "J", "max_impact_velocity": "m/s",
+         "excitation_wall_seconds": "s", "settle_seconds": "s", "total_wall_seconds": "s",
+         "simulated_time": "s", "min_step": "s", "max_step": "s", "verlet_time": "s"}
 
 
 def _realisations(sc, n: int, *, workers, serial: bool, force: bool, as_json: bool) -> None:

@@ -13,6 +13,7 @@ from typing import Annotated
 
 import typer
 
+from pdamper.cli import _uncertainty
 from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, check_output, emit, load
 from pdamper.cli._quiet import quiet
 
@@ -27,6 +28,9 @@ def map_(
     particles: Annotated[str | None, typer.Option(
         help="Number of spheres, or a particle-count axis '16:96:6' (or 'log:...').")] = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file to write.")] = None,
+    uncertainty: _uncertainty.UncertaintyOpt = None,
+    uncertain: _uncertainty.UncertainOpt = None,
+    uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
     force: ForceOpt = False,
     workers: Annotated[int | None, typer.Option(
         help="Worker processes of the local cluster (default: every core).")] = None,
@@ -72,8 +76,14 @@ def map_(
             except ValueError:
                 raise InputError("particles", f"expected a whole number or 'start:stop:count', "
                                  f"got {particles!r}") from None
-    sc = load(scenario, runs=("map",), model=model, force=force, map__frequency=frequency,
-              map__amplitude=amplitude, particles__count=count, map__particles=axis)
+    sc = load(scenario, runs=("map",), model=model, force=force, **_uncertainty.merged(dict(
+        map__frequency=frequency, map__amplitude=amplitude, particles__count=count,
+        map__particles=axis), uncertain))
+    _uncertainty.check(sc, "map", uncertainty, force)
+    if uncertainty is not None:  # the sampled model refused before any run
+        from pdamper.io.uncertain import map_answers
+
+        map_answers(sc, model)
     out = check_output(out)
     if out is not None and scheduler is None:
         from pdamper.reports.maps import partial_store
@@ -107,12 +117,18 @@ def map_(
         "max_loss_factor": float(np.nanmax(eta)) if finite.any() else None, "max_at": best,
         **meta,
     }
+    spread = None
+    if uncertainty is not None:  # the spread of every cell, added to the map and its file
+        spread, payload["uncertainty"] = _uncertainty.map_spread(
+            sc, model, uncertainty, uncertainty_seed, ds, out)
     where = ", ".join(f"{k} = {v:.4g}" for k, v in best.items())
     human = (f"{model} field {' x '.join(map(str, eta.shape))} in {result.seconds:.3g} s "
              f"({result.computed} computed, {result.reused} reused, {result.failed} failed, "
              f"{steady} steady)"
              + (f"; max loss factor {np.nanmax(eta):.3f} at {where}" if finite.any() else "")
              + (f"; written to {out}" if out else ""))
+    if spread is not None:
+        human += "\n" + "\n".join(_uncertainty.lines(spread, {}))
     emit(payload, as_json, human)
 
 

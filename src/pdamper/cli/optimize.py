@@ -30,14 +30,15 @@ def optimize(
         "'radius=3mm:6mm:4' (start:stop:count), 'container-length=100mm:140mm:3', "
         "'particle-material=S235,PVC'. Default: the particle count.")] = None,
     objective: Annotated[str | None, typer.Option(
-        help="amplitude-at (min), settling-time (min), mean-damping (max), or on the "
-             "forced response peak-frf or rms-frf (min).")] = None,
+        help="amplitude-at (min), settling-time (min) or mean-damping (max) of the free "
+             "decay; peak or rms (min) of the response to --load / --base-acceleration; "
+             "peak-frf or rms-frf (min) of the forced response to --frf-load.")] = None,
     band: Annotated[str | None, typer.Option(
         help="Frequencies of peak-frf and rms-frf, 'start:stop:count', e.g. '3Hz:9Hz:41' "
              "(default 0.5-1.5 times the first natural frequency).")] = None,
     frf_load: Annotated[str | None, typer.Option(
-        "--load", help="Harmonic load of peak-frf and rms-frf: a force ('2N', default) or a base "
-             "motion ('1mm', '0.3g').")] = None,
+        "--frf-load", help="Harmonic load of peak-frf and rms-frf: a force ('2N', default) "
+                           "or a base motion ('1mm', '0.3g').")] = None,
     threshold: Annotated[str | None, typer.Option(
         help="Settling threshold, e.g. '15mm' (default |x0| / 4).")] = None,
     method: Annotated[str | None, typer.Option(
@@ -58,6 +59,13 @@ def optimize(
     modes: Annotated[Path | None, typer.Option(
         help="The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
              "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF.")] = None,
+    load_file: Annotated[Path | None, typer.Option(
+        "--load", help="Force history for the peak and rms objectives (CSV with unit "
+                       "headers, e.g. 'time [s], force [N]'; docs/forced.md).")] = None,
+    base_acceleration: Annotated[Path | None, typer.Option(
+        "--base-acceleration", help="Base-acceleration history for peak and rms.")] = None,
+    tail: Annotated[str | None, typer.Option(
+        help="Free vibration after the load record, e.g. '1s' (default 0).")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -82,10 +90,20 @@ def optimize(
               optimization__workers=workers, optimization__scheduler=scheduler,
               optimization__max_evaluations=max_evaluations, optimization__seed=seed,
               optimization__tolerance=tolerance, optimization__band=band,
-              optimization__load=frf_load,
-              structure__modes=None if modes is None else str(modes))
+              optimization__frf_load=frf_load,
+              structure__modes=None if modes is None else str(modes),
+              load__force=None if load_file is None else str(load_file),
+              load__base_acceleration=None if base_acceleration is None
+              else str(base_acceleration), load__tail=tail)
     plot = check_plot(plot)
     o = sc.optimization
+    history = sc.load.history() if o.objective in ("peak", "rms") else None
+    if history is None and tail is not None and not sc.load.given:
+        raise InputError("load.tail", "is the free vibration after a load history: give "
+                         "--load or --base-acceleration")
+    if history is None and (load_file is not None or base_acceleration is not None):
+        raise InputError("optimization.objective", f"a load history is given but the "
+                         f"objective {o.objective!r} is on the free decay: use peak or rms")
     damper = sc.damper()
     variables = o.variables()
     if not variables:  # the paper's study: whole layers 0, step, ... below n_max
@@ -94,6 +112,10 @@ def optimize(
         variables = [DesignVariable("particles", counts,
                                     spec=f"particles={counts[0]}:{counts[-1]}:{step_}")]
     proto = sc.model(None, damper)
+    if history is not None:  # the model must have a load-history form, before any design
+        from pdamper.coupling.loads import check_model
+
+        check_model(proto)
     n_workers = o.workers
     if n_workers == "auto":  # parallel where it pays and dask.distributed is installed
         import importlib.util
@@ -105,7 +127,8 @@ def optimize(
                           threshold=o.threshold, method=o.method, max_grid=o.max_grid,
                           max_evaluations=o.max_evaluations, seed=o.seed,
                           workers=n_workers, scheduler=o.scheduler, tolerance=o.tolerance,
-                          band=o.frf_band(), load=o.load)
+                          load=history, tail=sc.load.tail, band=o.frf_band(),
+                          frf_load=o.frf_load)
     if plot is not None:
         from matplotlib.figure import Figure
 
@@ -122,12 +145,17 @@ def optimize(
                **metadata(sc)}
     names = [v.name for v in res.variables]
     shown = {"amplitude-at": (1e3, "amplitude [mm]"), "settling-time": (1.0, "settling [s]"),
-             "mean-damping": (1.0, "mean zeta [-]"), "peak-frf": (1e3, "peak [mm]"),
-             "rms-frf": (1e3, "rms [mm]")}[res.objective.name]
+             "mean-damping": (1.0, "mean zeta [-]"), "peak": (1e3, "peak [mm]"),
+             "rms": (1e3, "RMS [mm]"), "peak-frf": (1e3, "peak [mm]"),
+             "rms-frf": (1e3, "RMS [mm]")}[res.objective.name]
     head = f"{res.objective.name} (t = {res.at:g} s" if res.objective.name != "settling-time" \
         else f"settling-time (to {res.objective.threshold * 1e3:g} mm"
-    if res.objective.load is not None:
-        b, ld = res.objective.band, res.objective.load
+    if history is not None:
+        head = f"{res.objective.name} (response to {history.source}"
+        payload["load"] = {"file": history.source, "kind": history.kind,
+                           "record_duration": history.duration, "tail": sc.load.tail}
+    if res.objective.frf_load is not None:
+        b, ld = res.objective.band, res.objective.frf_load
         head = (f"{res.objective.name} ({b[0]:g}-{b[-1]:g} Hz in {len(b)}, {ld.kind} "
                 f"{ld.amplitude:g} {ld.unit}")
     lines = [f"{head}, {sc.simulation.model} model, {res.method}: {len(res.candidates)} designs)",

@@ -7,6 +7,7 @@ from typing import Annotated
 
 import typer
 
+from pdamper.cli import _uncertainty
 from pdamper.cli._common import (
     ForceOpt,
     JsonOpt,
@@ -70,6 +71,17 @@ def simulate(
     modes: Annotated[Path | None, typer.Option(
         help="The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
              "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF.")] = None,
+    uncertainty: _uncertainty.UncertaintyOpt = None,
+    uncertain: _uncertainty.UncertainOpt = None,
+    uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
+    load_file: Annotated[Path | None, typer.Option(
+        "--load", help="Force history on the structure (CSV with unit headers, e.g. "
+                       "'time [s], force [N]'; docs/forced.md) instead of the release.")] = None,
+    base_acceleration: Annotated[Path | None, typer.Option(
+        "--base-acceleration", help="Base-acceleration history (CSV with unit headers, e.g. "
+                                    "'time [s], acceleration [m/s^2]').")] = None,
+    tail: Annotated[str | None, typer.Option(
+        help="Free vibration after the load record, e.g. '1s' (default 0).")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -80,11 +92,19 @@ def simulate(
     from pdamper.coupling import Simulation
     from pdamper.errors import InputError
 
-    sc = load(scenario, runs=("simulation",), force=force, simulation__model=model,
-              particles__count=particles, simulation__duration=duration,
-              structure__initial_displacement=initial_displacement,
-              fields__file=None if fields is None else str(fields),
-              structure__modes=None if modes is None else str(modes))
+    sc = load(scenario, runs=("simulation",), force=force, **_uncertainty.merged(dict(
+        simulation__model=model, particles__count=particles, simulation__duration=duration,
+        structure__initial_displacement=initial_displacement,
+        fields__file=None if fields is None else str(fields),
+        structure__modes=None if modes is None else str(modes),
+        load__force=None if load_file is None else str(load_file),
+        load__base_acceleration=None if base_acceleration is None
+        else str(base_acceleration), load__tail=tail), uncertain))
+    _uncertainty.check(sc, "level3", uncertainty, force)
+    if uncertainty is not None:  # the sampled model refused before any run
+        from pdamper.io.uncertain import level3_answers
+
+        level3_answers(sc)
     out = check_output(out)
     plot = check_plot(plot)
     names = [sc.simulation.model]
@@ -97,6 +117,21 @@ def simulate(
             sc.check_resources("simulation", n, force)
     damper = sc.damper()
     models = {n: sc.model(n, damper) for n in names}  # all built (and checked) before any run
+    if sc.load.given:  # a load history instead of the release (docs/forced.md)
+        from pdamper.cli import _load_history
+
+        for name, given in (("measured", measured), ("duration", duration),
+                            ("initial_displacement", initial_displacement),
+                            ("uncertainty", uncertainty)):
+            if given is not None:
+                raise InputError(name, "a load history starts from rest and lasts the "
+                                 "record plus --tail: leave out --"
+                                 + name.replace("_", "-"))
+        _load_history.run(sc, models, sc.load.history(), sc.load.tail, out, plot, as_json)
+        return
+    if tail is not None:
+        raise InputError("load.tail", "is the free vibration after a load history: give "
+                         "--load or --base-acceleration")
     aligned = None
     if measured is not None:
         from pdamper.coupling.measurement import align_measurement, check_release_scale
@@ -146,6 +181,12 @@ def simulate(
             "units": {"peak_rms_error": "m", "peak_rms_relative": "1", "time_drift": "s",
                       "phase_drift": "rad", "zeta": "1"},
         }
+    spread = None
+    if uncertainty is not None:
+        from pdamper.io.uncertain import propagate_scenario
+
+        spread = propagate_scenario(sc, "level3", uncertainty, uncertainty_seed)
+        payload["uncertainty"] = spread.as_dict()
     payload.update(meta)
     if plot is not None:
         _figure(plot, runs, aligned, comparisons)
@@ -165,6 +206,9 @@ def simulate(
                          f"({c.peak_rms_relative * 100:.2f} %), zeta RMS error "
                          f"{c.zeta_rms_error:.4f}, phase drift {c.final_phase_drift:+.3f} rad "
                          f"after {c.peaks} peaks")
+    if spread is not None:
+        lines += _uncertainty.lines(spread, {"amplitude_at": (1e3, "mm"),
+                                             "final_amplitude": (1e3, "mm")})
     emit(payload, as_json, "\n".join(lines))
 
 

@@ -128,6 +128,7 @@ def damping_factor(e, model: str = "exact"):
     e : float or array_like
         Coefficient of restitution [-], in (0, 1].
     model : {"exact", "gonthier", "tsuji"}
+        The damping law.
         ``"exact"``: root of Eq. (*) of this module (default);
         ``"gonthier"``: Gonthier's approximation (1 - e^2)/e, the paper's choice;
         ``"tsuji"``: ``2 sqrt(5/6) |beta|`` of Tsuji's law (see the module docstring).

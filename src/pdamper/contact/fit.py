@@ -1,7 +1,8 @@
-"""Fit a COR model to measured points, with the uncertainty of its parameters (Level I).
+"""Fit a COR curve to measured points, with the uncertainty of its parameters (Level I).
 
-:func:`fit_restitution` fits one of :data:`FIT_MODELS` (Thornton's elastic-plastic model,
-the exponential and the linear forms of :mod:`pdamper.contact.restitution`) by weighted
+:func:`fit_restitution` fits a curve of one fit family, a key of :data:`FIT_MODELS`
+(Thornton's elastic-plastic model, the exponential and the linear forms of
+:mod:`pdamper.contact.restitution`) by weighted
 least squares (:func:`scipy.optimize.curve_fit`) and returns a :class:`RestitutionFit`: the
 fitted curve, the parameters, their covariance and standard errors, and a confidence band.
 
@@ -9,7 +10,7 @@ Uncertainty: with the standard deviation of each point given (``std``, e.g. from
 drops), the covariance is that of the weighted least-squares estimate for those absolute
 errors (``absolute_sigma=True``); without, the residual scatter sets the scale (the
 covariance is multiplied by the reduced chi-square). The band at a velocity is the linear
-(delta-method) propagation of the covariance through the model.
+(delta-method) propagation of the covariance through the fitted curve.
 """
 
 from __future__ import annotations
@@ -36,12 +37,12 @@ FIT_MODELS: dict[str, type[ParametricRestitution]] = {
 
 @dataclass(frozen=True)
 class RestitutionFit:
-    """A fitted COR model.
+    """A fitted COR curve.
 
     Attributes
     ----------
     model
-        Name of the model (a key of :data:`FIT_MODELS`).
+        The fit family (a key of :data:`FIT_MODELS`).
     curve
         The fitted curve (usable by the DEM like any other).
     parameters
@@ -118,20 +119,20 @@ class RestitutionFit:
 
 def fit_restitution(velocity, restitution, std=None, model: str = "exponential",
                     p0=None, name: str = "") -> RestitutionFit:
-    """Fit the COR model ``model`` to points ``(velocity [m/s], restitution [-])``.
+    """Fit a COR curve of the fit family ``model`` to points ``(velocity [m/s], restitution [-])``.
 
     Parameters
     ----------
     velocity, restitution
-        The data; at least one point more than the model has parameters.
+        The data; at least one point more than the fit family has parameters.
     std
         Standard deviation of each COR [-] (optional): weights, and the absolute scale of
         the parameter uncertainty.
     model
-        ``"thornton"`` (V_y), ``"exponential"`` (e0, e_inf, v_c) or ``"linear"`` (e0, slope;
+        The fit family: ``"thornton"`` (V_y), ``"exponential"`` (e0, e_inf, v_c) or ``"linear"`` (e0, slope;
         held beyond the highest measured speed).
     p0
-        Starting values (default: the model's guess from the data).
+        Starting values (default: the fit family's guess from the data).
 
     Examples
     --------

@@ -2,7 +2,7 @@
 
 A curve is a callable ``e(v_impact)`` [-] of the normal impact speed [m/s]. The paper's DEM
 sets the damping of each contact from the curve of its material pair at its impact speed
-(Sect. 2-3); the curve models here are
+(Sect. 2-3); the kinds of COR curve here are
 
 * :class:`ConstantRestitution`: one value;
 * :class:`TabulatedRestitution`: points interpolated linearly (what the kernels evaluate);
@@ -228,7 +228,8 @@ class ParametricRestitution(SmoothRestitution):
     @classmethod
     def from_fit(cls, params, v: np.ndarray, name: str = "") -> ParametricRestitution:
         """The curve with fitted ``params`` for data measured at speeds ``v``."""
-        return cls(*params, name=name)
+        # every concrete curve is a dataclass with a ``name`` field after its parameters
+        return cls(*params, name=name)  # type: ignore[call-arg]
 
     @property
     def parameters(self) -> tuple[float, ...]:
@@ -238,8 +239,9 @@ class ParametricRestitution(SmoothRestitution):
         return self.function(v, *self.parameters)
 
     def describe(self) -> str:
-        if getattr(self, "name", ""):
-            return self.name
+        name = getattr(self, "name", "")
+        if name:
+            return str(name)
         pars = ", ".join(f"{p} = {x:.4g}{' ' + u if u else ''}"
                          for p, x, u in zip(self.PARAMETERS, self.parameters, self.UNITS,
                                             strict=True))
@@ -342,7 +344,8 @@ class LinearRestitution(ParametricRestitution):
 
     @classmethod
     def from_fit(cls, params, v, name: str = ""):
-        return cls(*params, v_hold=float(np.max(v)), name=name)
+        # ``params`` holds the two fitted values (e0, slope) only
+        return cls(*params, v_hold=float(np.max(v)), name=name)  # type: ignore[misc]
 
     def describe(self) -> str:
         if self.name:

@@ -11,7 +11,7 @@ input classes :class:`Container`, :class:`ParticleSet`,
 :class:`PrescribedMotion`, :class:`StructureMotion`.
 
 The numba kernels load on first use of :class:`DEMEngine` (attribute access below), so
-that the input classes and :mod:`pdamper.dem.model` can be used without compiling anything.
+that the input classes and :mod:`pdamper.dem.inputs` can be used without compiling anything.
 """
 
 from __future__ import annotations
@@ -21,14 +21,15 @@ from typing import TYPE_CHECKING
 
 _EXPORTS = {
     "ContactParameters": "pdamper.contact.law",
-    "Container": "pdamper.dem.model",
-    "HarmonicMotion": "pdamper.dem.model",
-    "ParticleSet": "pdamper.dem.model",
-    "PrescribedMotion": "pdamper.dem.model",
-    "StructureMotion": "pdamper.dem.model",
+    "Container": "pdamper.dem.inputs",
+    "HarmonicMotion": "pdamper.dem.inputs",
+    "ParticleSet": "pdamper.dem.inputs",
+    "PrescribedMotion": "pdamper.dem.inputs",
+    "StructureMotion": "pdamper.dem.inputs",
     "DEMEngine": "pdamper.dem.simulation",
-    "DEMResult": "pdamper.dem.simulation",
-    "SettledBed": "pdamper.dem.simulation",
+    "EngineSettings": "pdamper.dem.settings",
+    "DEMResult": "pdamper.dem.result",
+    "SettledBed": "pdamper.dem.driver",
     "warmup": "pdamper.dem.simulation",
 }
 
@@ -37,6 +38,7 @@ __all__ = [
     "Container",
     "DEMEngine",
     "DEMResult",
+    "EngineSettings",
     "HarmonicMotion",
     "ParticleSet",
     "PrescribedMotion",
@@ -47,14 +49,17 @@ __all__ = [
 
 if TYPE_CHECKING:  # pragma: no cover
     from pdamper.contact.law import ContactParameters
-    from pdamper.dem.model import (
+    from pdamper.dem.driver import SettledBed
+    from pdamper.dem.inputs import (
         Container,
         HarmonicMotion,
         ParticleSet,
         PrescribedMotion,
         StructureMotion,
     )
-    from pdamper.dem.simulation import DEMEngine, DEMResult, SettledBed, warmup
+    from pdamper.dem.result import DEMResult
+    from pdamper.dem.settings import EngineSettings
+    from pdamper.dem.simulation import DEMEngine, warmup
 
 
 def __getattr__(name: str):

@@ -101,7 +101,7 @@ def simulate_impact(velocity: float, curve: RestitutionCurve, sphere: Material,
         hertz_stiffness,
         max_overlap,
     )
-    from pdamper.dem import Container, DEMEngine, ParticleSet
+    from pdamper.dem import Container, DEMEngine, EngineSettings, ParticleSet
 
     v = check_range("velocity", velocity, low=0.0, low_inclusive=False, unit="m/s")
     r = check_range("radius", radius, low=0.0, low_inclusive=False, unit="m")
@@ -125,8 +125,9 @@ def simulate_impact(velocity: float, curve: RestitutionCurve, sphere: Material,
         vel = [[0.0, 0.0, -v]]
         wall = partner
     particles = ParticleSet(np.array(pos), r, sphere, velocities=np.array(vel))
-    engine = DEMEngine(particles, Container(box, wall), cp, integrator=integrator, gravity=0.0,
-                       settle_time=0.0, reference_velocity=v)
+    engine = DEMEngine(particles, Container(box, wall), cp, None,
+                       EngineSettings(integrator=integrator, gravity=0.0, settle_time=0.0,
+                                      reference_velocity=v))
     duration = gap / v + CONTACT_DURATIONS * t_c
     res = engine.run(duration, sample_rate=8.0 / duration)
     z = res.snapshot_positions[-1, :, 2]

@@ -275,6 +275,59 @@ def _rsa_kernel(  # pragma: no cover - compiled
     return k, attempts, False
 
 
+def _seed_and_attempts(seed, max_attempts) -> tuple[int, int]:
+    """The checked seed (a whole number >= 0) and attempt limit (>= 1) of a packing."""
+    if isinstance(seed, bool):
+        raise InputError("particles.seed", f"must be a whole number >= 0, got {seed!r}")
+    try:
+        seed_int = operator.index(seed)
+    except TypeError:
+        raise InputError("particles.seed", f"must be a whole number >= 0, got {seed!r}") from None
+    if seed_int < 0:
+        raise InputError("particles.seed", f"must be a whole number >= 0, got {seed_int}")
+    try:
+        attempts_max = operator.index(max_attempts)
+    except TypeError:
+        attempts_max = -1
+    if attempts_max < 1:
+        raise InputError(
+            "particles.max_attempts", f"must be a whole number >= 1, got {max_attempts!r}"
+        )
+    return seed_int, attempts_max
+
+
+def _check_fill(count: int, radii: np.ndarray, lbox) -> tuple[float, str, str]:
+    """The volume fraction the spheres would fill [-] (refused above
+    :data:`RANDOM_FILL_LIMIT`), and the radius and box as the messages name them."""
+    r_max = float(radii.max())
+    volume = lbox[0] * lbox[1] * lbox[2]
+    fill = float(np.sum(4.0 / 3.0 * math.pi * radii**3)) / volume
+    r_text = f"r = {r_max * 1e3:g} mm" if np.all(radii == r_max) else f"r <= {r_max * 1e3:g} mm"
+    box_text = f"{lbox[0] * 1e3:g}x{lbox[1] * 1e3:g}x{lbox[2] * 1e3:g} mm box"
+    if fill > RANDOM_FILL_LIMIT:
+        raise InputError(
+            _COUNT_FIELD,
+            f"{count} spheres ({r_text}) would fill {fill:.2f} of the {box_text}; random "
+            f"placement is limited to {RANDOM_FILL_LIMIT:g} of the volume; use fewer "
+            "spheres, a larger box or lattice_layers",
+        )
+    return fill, r_text, box_text
+
+
+def _cell_grid(lbox, reach: float, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Cells (number per axis, size [m]) at least one contact distance ``reach`` [m] wide,
+    but not vastly more cells than particles (a huge, nearly empty box would otherwise
+    cost memory)."""
+    cell = reach
+    cap = max(64, 8 * count)
+    while True:
+        ncell = np.array([max(1, int(length / cell)) for length in lbox], dtype=np.int64)
+        if int(np.prod(ncell)) <= cap:
+            break
+        cell *= 1.25
+    return ncell, np.array(lbox) / ncell
+
+
 def random_packing(
     n: int,
     radius: float | Sequence[float] | np.ndarray,
@@ -324,57 +377,19 @@ def random_packing(
     count = _as_count(n)
     radii = _as_radii(radius, count)
     lbox = _as_box(box)
-    if isinstance(seed, bool):
-        raise InputError("particles.seed", f"must be a whole number >= 0, got {seed!r}")
-    try:
-        seed_int = operator.index(seed)
-    except TypeError:
-        raise InputError("particles.seed", f"must be a whole number >= 0, got {seed!r}") from None
-    if seed_int < 0:
-        raise InputError("particles.seed", f"must be a whole number >= 0, got {seed_int}")
-    try:
-        attempts_max = operator.index(max_attempts)
-    except TypeError:
-        attempts_max = -1
-    if attempts_max < 1:
-        raise InputError(
-            "particles.max_attempts", f"must be a whole number >= 1, got {max_attempts!r}"
-        )
+    seed_int, attempts_max = _seed_and_attempts(seed, max_attempts)
     m = check_range("particles.margin", margin, low=0.0, high=1.0, high_inclusive=False)
     if count == 0:
         return np.empty((0, 3))
     r_max = float(radii.max())
     _check_fits(lbox, 2.0 * r_max)
-
-    volume = lbox[0] * lbox[1] * lbox[2]
-    fill = float(np.sum(4.0 / 3.0 * math.pi * radii**3)) / volume
-    r_text = f"r = {r_max * 1e3:g} mm" if np.all(radii == r_max) else f"r <= {r_max * 1e3:g} mm"
-    box_text = f"{lbox[0] * 1e3:g}x{lbox[1] * 1e3:g}x{lbox[2] * 1e3:g} mm box"
-    if fill > RANDOM_FILL_LIMIT:
-        raise InputError(
-            _COUNT_FIELD,
-            f"{count} spheres ({r_text}) would fill {fill:.2f} of the {box_text}; random "
-            f"placement is limited to {RANDOM_FILL_LIMIT:g} of the volume; use fewer "
-            "spheres, a larger box or lattice_layers",
-        )
-
-    # Cell grid: cells at least one contact distance wide, but not vastly more cells than
-    # particles (a huge, nearly empty box would otherwise cost memory).
-    reach = 2.0 * r_max * (1.0 + m)
-    cell = reach
-    cap = max(64, 8 * count)
-    while True:
-        ncell = np.array([max(1, int(length / cell)) for length in lbox], dtype=np.int64)
-        if int(np.prod(ncell)) <= cap:
-            break
-        cell *= 1.25
-    csize = np.array(lbox) / ncell
+    fill, r_text, box_text = _check_fill(count, radii, lbox)
+    ncell, csize = _cell_grid(lbox, 2.0 * r_max * (1.0 + m), count)
     head = np.full(int(np.prod(ncell)), -1, dtype=np.int64)
     nxt = np.full(count, -1, dtype=np.int64)
     pos = np.zeros((count, 3))
     order = np.argsort(-radii, kind="stable").astype(np.int64)
     box_arr = np.array(lbox)
-
     rng = np.random.default_rng(seed_int)
     chunk = 8192
     k, attempts = 0, 0

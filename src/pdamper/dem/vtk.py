@@ -40,8 +40,9 @@ _RESERVED = ("radius", "velocity", "speed", "angular_velocity")
 DEFAULT_SNAPSHOT_RATE = 200.0
 
 _NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
-_VTK_TYPES = {"Float64": np.dtype("<f8"), "Int64": np.dtype("<i8"), "Float32": np.dtype("<f4"),
-              "Int32": np.dtype("<i4"), "UInt8": np.dtype("u1")}
+_VTK_TYPES: dict[str, np.dtype] = {
+    "Float64": np.dtype("<f8"), "Int64": np.dtype("<i8"), "Float32": np.dtype("<f4"),
+    "Int32": np.dtype("<i4"), "UInt8": np.dtype("u1")}
 
 
 # ------------------------------------------------------------------------------ helpers
@@ -134,6 +135,57 @@ def _per_snapshot(field: str, values: object, nt: int, n: int,
 # ------------------------------------------------------------------------------- writers
 
 
+def _point_arrays(nt: int, n: int, radii, velocities, angular_velocities,
+                  extra_point_data) -> list[tuple[str, np.ndarray]]:
+    """The checked point data of ``nt`` snapshots of ``n`` particles, by name."""
+    arrays: list[tuple[str, np.ndarray]] = []
+    if radii is not None:
+        r = _as_array("vtk.radii", radii)
+        if r.ndim == 0:
+            r = np.full(n, float(r))
+        arrays.append(("radius", _per_snapshot("vtk.radii", r, nt, n, 1)))
+    if velocities is not None:
+        v = _per_snapshot("vtk.velocities", velocities, nt, n, 3)
+        arrays.append(("velocity", v))
+        arrays.append(("speed", np.linalg.norm(v, axis=-1)))
+    if angular_velocities is not None:
+        arrays.append(("angular_velocity",
+                       _per_snapshot("vtk.angular_velocities", angular_velocities, nt, n, 3)))
+    for name, values in (extra_point_data or {}).items():
+        field = f"vtk.extra_point_data[{name!r}]"
+        if not isinstance(name, str) or not _NAME_RE.match(name) or name in _RESERVED:
+            raise InputError(field, "name must be letters, digits, '_', '.' or '-' and not "
+                             f"one of {', '.join(_RESERVED)}")
+        arrays.append((name, _per_snapshot(field, values, nt, n, None)))
+    return arrays
+
+
+def _write_series(out_dir: Path, prefix: str, t: np.ndarray, pos: np.ndarray,
+                  arrays: list[tuple[str, np.ndarray]], encoding: Encoding,
+                  scalars: str | None, vectors: str | None) -> Path:
+    """One ``.vtp`` per snapshot and the ``.pvd`` collection of them; the latter's path."""
+    nt = pos.shape[0]
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError("vtk.directory", f"cannot create {str(out_dir)!r}: {exc}") from None
+    width = max(4, len(str(max(nt - 1, 0))))
+    datasets = []
+    for k in range(nt):
+        name = f"{prefix}_{k:0{width}d}.vtp"
+        text = _polydata(pos[k], [(a, arr[k]) for a, arr in arrays], encoding,
+                         scalars=scalars, vectors=vectors)
+        atomic_write_text(out_dir / name, text)
+        datasets.append(f'<DataSet timestep="{float(t[k])!r}" group="" part="0" '
+                        f'file="{name}"/>\n')
+    pvd = ('<?xml version="1.0"?>\n'
+           '<VTKFile type="Collection" version="1.0" byte_order="LittleEndian">\n'
+           "<Collection>\n" + "".join(datasets) + "</Collection>\n</VTKFile>\n")
+    pvd_path = out_dir / f"{prefix}.pvd"
+    atomic_write_text(pvd_path, pvd)
+    return pvd_path
+
+
 def write_vtk_series(
     directory: str | os.PathLike[str],
     times: Sequence[float] | np.ndarray,
@@ -193,48 +245,10 @@ def write_vtk_series(
         raise InputError("vtk.times", f"must have shape ({nt},) to match positions "
                          f"(nt = {nt} snapshots), got {t.shape}")
 
-    arrays: list[tuple[str, np.ndarray]] = []
-    if radii is not None:
-        r = _as_array("vtk.radii", radii)
-        if r.ndim == 0:
-            r = np.full(n, float(r))
-        arrays.append(("radius", _per_snapshot("vtk.radii", r, nt, n, 1)))
-    if velocities is not None:
-        v = _per_snapshot("vtk.velocities", velocities, nt, n, 3)
-        arrays.append(("velocity", v))
-        arrays.append(("speed", np.linalg.norm(v, axis=-1)))
-    if angular_velocities is not None:
-        arrays.append(("angular_velocity",
-                       _per_snapshot("vtk.angular_velocities", angular_velocities, nt, n, 3)))
-    for name, values in (extra_point_data or {}).items():
-        field = f"vtk.extra_point_data[{name!r}]"
-        if not isinstance(name, str) or not _NAME_RE.match(name) or name in _RESERVED:
-            raise InputError(field, "name must be letters, digits, '_', '.' or '-' and not "
-                             f"one of {', '.join(_RESERVED)}")
-        arrays.append((name, _per_snapshot(field, values, nt, n, None)))
-
-    out_dir = Path(directory)
-    try:
-        out_dir.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError("vtk.directory", f"cannot create {str(out_dir)!r}: {exc}") from None
-    width = max(4, len(str(max(nt - 1, 0))))
-    scalars = "radius" if radii is not None else None
-    vectors = "velocity" if velocities is not None else None
-    datasets = []
-    for k in range(nt):
-        name = f"{prefix}_{k:0{width}d}.vtp"
-        text = _polydata(pos[k], [(a, arr[k]) for a, arr in arrays], encoding,
-                         scalars=scalars, vectors=vectors)
-        atomic_write_text(out_dir / name, text)
-        datasets.append(f'<DataSet timestep="{float(t[k])!r}" group="" part="0" '
-                        f'file="{name}"/>\n')
-    pvd = ('<?xml version="1.0"?>\n'
-           '<VTKFile type="Collection" version="1.0" byte_order="LittleEndian">\n'
-           "<Collection>\n" + "".join(datasets) + "</Collection>\n</VTKFile>\n")
-    pvd_path = out_dir / f"{prefix}.pvd"
-    atomic_write_text(pvd_path, pvd)
-    return pvd_path
+    arrays = _point_arrays(nt, n, radii, velocities, angular_velocities, extra_point_data)
+    return _write_series(Path(directory), prefix, t, pos, arrays, encoding,
+                         scalars="radius" if radii is not None else None,
+                         vectors="velocity" if velocities is not None else None)
 
 
 def write_container_vtk(
@@ -306,9 +320,12 @@ def read_vtp(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
     piece = root.find("PolyData/Piece")
     if piece is None:
         raise InputError("vtk.path", f"{os.fspath(path)!r} is not a VTK PolyData file")
-    out = {"Points": _decode(piece.find("Points/DataArray")).reshape(-1, 3)}
+    points = piece.find("Points/DataArray")
+    if points is None:
+        raise InputError("vtk.path", f"{os.fspath(path)!r} has no points")
+    out = {"Points": _decode(points).reshape(-1, 3)}
     for da in piece.findall("PointData/DataArray"):
-        out[da.get("Name")] = _decode(da)
+        out[da.get("Name", "")] = _decode(da)
     return out
 
 
@@ -316,5 +333,11 @@ def read_pvd(path: str | os.PathLike[str]) -> list[tuple[float, Path]]:
     """Read a ``.pvd`` collection: ``(time [s], dataset path)`` in file order."""
     root = ET.parse(path).getroot()
     base = Path(path).parent
-    return [(float(ds.get("timestep")), base / ds.get("file"))
-            for ds in root.iter("DataSet")]
+    out = []
+    for ds in root.iter("DataSet"):
+        timestep, file = ds.get("timestep"), ds.get("file")
+        if timestep is None or file is None:
+            raise InputError("vtk.path", f"{os.fspath(path)!r}: a DataSet lacks its timestep "
+                             "or file")
+        out.append((float(timestep), base / file))
+    return out

@@ -20,7 +20,7 @@ import functools
 import math
 import tomllib
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
 from pydantic import (
     AfterValidator,
@@ -29,28 +29,27 @@ from pydantic import (
     BeforeValidator,
     ConfigDict,
     Field,
+    PrivateAttr,
     ValidationError,
+    create_model,
     field_validator,
     model_validator,
 )
 
 from pdamper import resources
-from pdamper.analysis.stationarity import SteadyStateCriterion
 from pdamper.constants import STANDARD_GRAVITY
-from pdamper.contact.law import DAMPING_MODELS, DEFAULT_MIN_IMPACT_VELOCITY
-from pdamper.dem.model import DEFAULT_SAFETY
+from pdamper.contact.law import DAMPING_MODELS
+from pdamper.dem.settings import EngineSettings, Settings
 from pdamper.errors import InputError
 from pdamper.io.restitution import MODELS as COR_MODELS
 from pdamper.io.restitution import RestitutionSpec, resolve_files
-from pdamper.models.dem import (
-    DEFAULT_ACCURACY,
-    DEFAULT_CYCLES,
-    DEFAULT_MAX_CYCLES,
-    DEFAULT_MAX_REFINEMENTS,
-    DEFAULT_SAMPLE_RATE,
-    DEFAULT_SKIP_CYCLES,
-    DEFAULT_TRANSIENT_TOLERANCE,
+from pdamper.models.settings import (
     PAPER_CYCLES,
+    AccuracyTarget,
+    ContactLaw,
+    DEMSettings,
+    RunPlan,
+    SteadyState,
 )
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID, DEFAULT_TOLERANCE
@@ -81,14 +80,6 @@ Restitution = Annotated[float, Field(gt=0, le=1)]
 Gravity = Annotated[float, _q("m/s^2"), Field(ge=0, allow_inf_nan=False)]
 Count = Annotated[int, Field(strict=True)]
 
-
-def _cycles(v: Any) -> Any:
-    if v == "auto" or (isinstance(v, int) and not isinstance(v, bool) and v >= 1):
-        return v
-    raise ValueError(f"must be 'auto' or a whole number >= 1, got {v!r}")
-
-
-Cycles = Annotated[Any, BeforeValidator(_cycles)]
 
 _D = paper.PAPER_DAMPER
 #: Usual (f [Hz], X [m]) of a Level II run: the paper's benchmark point; of the two, the
@@ -237,6 +228,37 @@ class StructureSpec(_Section):
         return self
 
 
+class LoadSpec(_Section):
+    """A load history on the structure (:mod:`pdamper.io.loads`, docs/forced.md): a force
+    (``force``, a CSV file) or a base acceleration (``base_acceleration``), not both; a
+    relative path is taken relative to the scenario file. The run lasts the record plus
+    ``tail`` of free vibration."""
+
+    force: str | None = None
+    base_acceleration: str | None = None
+    tail: Annotated[float, _q("s"), Field(ge=0, allow_inf_nan=False)] = 0.0
+
+    @model_validator(mode="after")
+    def _one_load(self):
+        if self.force is not None and self.base_acceleration is not None:
+            raise ValueError("give the load as force or as base_acceleration, not both")
+        return self
+
+    @property
+    def given(self) -> bool:
+        return self.force is not None or self.base_acceleration is not None
+
+    def history(self):
+        """The :class:`~pdamper.coupling.loads.LoadHistory` (None: no load given)."""
+        from pdamper.io.loads import read_load
+
+        if self.force is not None:
+            return read_load(self.force, "force")
+        if self.base_acceleration is not None:
+            return read_load(self.base_acceleration, "base_acceleration")
+        return None
+
+
 class SimulationSpec(_Section):
     model: str = Field("analytic", validation_alias=AliasChoices("model", "damper"))
     duration: Duration = paper.PAPER_DURATION
@@ -269,11 +291,13 @@ class OptimizationSpec(_Section):
     at: Duration = paper.PAPER_OBJECTIVE_TIME
     step: Annotated[int, Field(ge=1, strict=True)] | None = None
     objective: Literal["amplitude-at", "settling-time", "mean-damping",
-                       "peak-frf", "rms-frf"] = "amplitude-at"
-    #: Forced-response objectives: frequencies ("start:stop:count", default around the
-    #: first natural frequency) and the harmonic load ("2 N", "1 mm", "0.3 g").
+                       "peak", "rms", "peak-frf", "rms-frf"] = "amplitude-at"
+    #: frequencies of peak-frf and rms-frf, "start:stop:count" (default 0.5-1.5 times the
+    #: first natural frequency in 41)
     band: str | None = None
-    load: str | None = None
+    #: harmonic load of peak-frf and rms-frf: a force ("2 N", the default) or a base motion
+    #: ("1 mm", "0.3 g")
+    frf_load: str | None = None
 
     def frf_band(self):
         """The frequencies [Hz] of ``band`` (None: the objective's default)."""
@@ -369,43 +393,65 @@ class FieldsSpec(_Section):
         return self.model_dump()
 
 
-#: The steady-state criterion's defaults (one home: the criterion itself).
-_STEADY = SteadyStateCriterion()
+#: Settings of the DEM damper that the scenario takes from another section.
+DEM_SET_ELSEWHERE = {"gravity": "excitation.gravity"}
+#: Keys of ``[dem]`` that are not settings of the DEM damper: the constant CORs of the damper
+#: (or ``[restitution]``).
+DEM_SCENARIO_ONLY = ("restitution_pp", "restitution_pw")
+#: ``[dem.<table>]``: the settings of one concern in a table of its own (the same keys as
+#: flat ``[dem]`` keys, which stay the plain way of writing them).
+DEM_TABLES = {"plan": RunPlan, "steady_state": SteadyState, "accuracy_target": AccuracyTarget,
+              "contact": ContactLaw, "engine": EngineSettings}
 
 
-class DEMSpec(_Section):
-    """Options of the DEM damper model (:class:`pdamper.models.DEMDamper`)."""
+class _DEMSection(Settings):
+    """The ``[dem]`` section: the settings of :class:`~pdamper.models.settings.DEMSettings`
+    (but those of :data:`DEM_SET_ELSEWHERE`) with units at the edge, flat or in the tables
+    of :data:`DEM_TABLES`."""
 
-    integrator: str = "gear"
-    cycles: Cycles = DEFAULT_CYCLES
-    skip_cycles: Count = DEFAULT_SKIP_CYCLES
-    max_cycles: Count = DEFAULT_MAX_CYCLES
-    window_cycles: Count = _STEADY.window_cycles
-    steady_windows: Count = _STEADY.windows
-    steady_rtol: float = _STEADY.rtol
-    steady_atol: float = _STEADY.atol
-    quiet_window_cycles: Count = _STEADY.quiet_window_cycles
-    quiet_scatter: float = _STEADY.quiet_scatter
-    quiet_windows: Count = _STEADY.quiet_windows
-    quiet_skip_cycles: Count = _STEADY.quiet_skip_cycles
-    restitution_pp: Restitution = _D.restitution_pp.e
-    restitution_pw: Restitution = _D.restitution_pw.e
-    damping_model: str = "exact"
-    min_impact_velocity: Annotated[float, _q("m/s")] = DEFAULT_MIN_IMPACT_VELOCITY
-    packing: str = "lattice"
-    seed: Count = 0
-    safety: float = DEFAULT_SAFETY
-    sample_rate: Frequency = DEFAULT_SAMPLE_RATE
-    snapshot_rate: Frequency | None = None
-    error_estimate: bool = False
-    gear_free_flight: bool = True
-    accuracy: Annotated[float, Field(gt=0.0, le=1.0)] = DEFAULT_ACCURACY
-    max_refinements: Count = DEFAULT_MAX_REFINEMENTS
-    transient_tolerance: Annotated[float, Field(gt=0.0)] = DEFAULT_TRANSIENT_TOLERANCE
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True,
+                              validate_default=False)
+    prefix: ClassVar[str] = "dem."
+    # validated inside the scenario: its errors name the field (_first_error)
+    __init__ = BaseModel.__init__
+
+    @classmethod
+    def _edge(cls, name: str, value: Any, decl: dict) -> Any:
+        if decl["unit"] and value is not None:
+            return parse_quantity(value, decl["unit"], name)
+        return value
+
+    @model_validator(mode="before")
+    @classmethod
+    def _tables(cls, data: Any) -> Any:
+        if not isinstance(data, dict) or not any(
+                isinstance(data.get(t), dict) for t in DEM_TABLES):
+            return data
+        flat = {k: v for k, v in data.items()
+                if not (k in DEM_TABLES and isinstance(v, dict))}
+        for table, concern in DEM_TABLES.items():
+            for key, value in (data.get(table) or {}).items():
+                if key not in concern.model_fields:
+                    raise ValueError(f"[dem.{table}] has no setting {key!r}; its settings: "
+                                     f"{', '.join(concern.model_fields)}")
+                if key in flat:
+                    raise ValueError(f"{key} given twice, flat and in [dem.{table}]")
+                flat[key] = value
+        return flat
 
     def options(self) -> dict:
         """Keyword arguments of :class:`pdamper.models.DEMDamper`."""
-        return self.model_dump(exclude={"restitution_pp", "restitution_pw"})
+        return self.model_dump(exclude=set(DEM_SCENARIO_ONLY))
+
+
+#: Options of the DEM damper model (:class:`pdamper.models.DEMDamper`): its settings,
+#: derived from their declarations, and the constant CORs.
+DEMSpec = create_model(
+    "DEMSpec", __base__=_DEMSection, __module__=__name__,
+    restitution_pp=(Restitution, _D.restitution_pp.e),
+    restitution_pw=(Restitution, _D.restitution_pw.e),
+    **{name: (info.annotation, info) for name, info in DEMSettings.model_fields.items()
+       if name not in DEM_SET_ELSEWHERE})
 
 
 class Scenario(_Section):
@@ -426,6 +472,14 @@ class Scenario(_Section):
     fields: FieldsSpec = FieldsSpec()
     dem: DEMSpec = DEMSpec()
     restitution: RestitutionSpec = RestitutionSpec()
+    load: LoadSpec = LoadSpec()
+    #: inputs given as "value +- sd" (field -> UncertainInput; pdamper.io.uncertain)
+    _uncertain: dict = PrivateAttr(default_factory=dict)
+
+    def uncertain_inputs(self) -> tuple:
+        """The :class:`~pdamper.design.uncertainty.UncertainInput` of every value given
+        as ``"value +- sd"`` (:mod:`pdamper.io.uncertain`), in the file's order."""
+        return tuple(self._uncertain.values())
 
     # -- builders of the domain objects ------------------------------------------------
     def damper(self):
@@ -587,66 +641,59 @@ class Scenario(_Section):
             raise InputError("run", f"must be one of {', '.join(_RUNS)}, got {run!r}")
         damper = self.damper()
         default = Scenario()
+        field = "model" if model else "simulation.model"
         if run == "excitation":
-            if get_damper_model(model or "analytic", "model").fidelity == "dem":
-                resources.require(self._dem_level2_cost(damper, self.excitation.frequency,
-                                                        self.excitation.amplitude, default),
-                                  force)
+            cost = self.excitation_cost(model or "analytic", damper)
+            if cost is not None:
+                resources.require(cost, force)
         elif run == "map":
-            self._check_map(damper, model or "analytic", default, force)
+            self._check_map(damper, get_damper_model(model or "analytic", "model"), default,
+                            force)
         elif run == "simulation":
-            field = "model" if model else "simulation.model"
-            fidelity = get_damper_model(model or self.simulation.model, field).fidelity
-            self._check_simulation(damper, fidelity, self.simulation.duration,
+            cls = get_damper_model(model or self.simulation.model, field)
+            self._check_simulation(damper, cls, self.simulation.duration,
                                    self.simulation.sample_rate, default, force)
         elif run == "optimization":
-            field = "model" if model else "simulation.model"
-            fidelity = get_damper_model(model or self.simulation.model, field).fidelity
-            self._check_optimization(damper, fidelity, default, force)
+            cls = get_damper_model(model or self.simulation.model, field)
+            self._check_optimization(damper, cls, default, force)
         else:  # the paper's case study (pdamper.reports.paper_case_study)
-            self._check_map(damper, "analytic", default, force)
+            analytic = get_damper_model("analytic")
+            self._check_map(damper, analytic, default, force)
             for duration in (self.simulation.duration,
                              max(self.simulation.duration, paper.PAPER_DURATION)):
-                self._check_simulation(damper, "analytic", duration,
+                self._check_simulation(damper, analytic, duration,
                                        self.simulation.sample_rate, default, force)
-            self._check_optimization(damper, "analytic", default, force)
+            self._check_optimization(damper, analytic, default, force)
             if run == "case_study_dem":
-                self._check_simulation(damper, "dem", self.simulation.duration,
+                self._check_simulation(damper, get_damper_model("dem"),
+                                       self.simulation.duration,
                                        self.simulation.sample_rate, default, force)
 
-    def _dem_drivers(self, damper, default) -> list[tuple[str, float]]:
-        dd, dm = default.dem, default.damper()
-        return [("particles.count", damper.count / dm.count),
-                ("particles.radius", dm.particle_radius / damper.particle_radius, True),
-                ("dem.safety", dd.safety / self.dem.safety, True),
-                ("dem.sample_rate", self.dem.sample_rate / dd.sample_rate),
-                ("dem.snapshot_rate", (self.dem.snapshot_rate or 0.0) / dd.sample_rate)]
+    def settings_of(self, cls):
+        """The section of the scenario that holds the settings of fidelity ``cls`` (None:
+        it has none)."""
+        return getattr(self, cls.fidelity, None)
 
-    def _dem_level2_cost(self, damper, frequency: float, amplitude: float, default,
-                         fields=("excitation.frequency", "excitation.amplitude")):
-        imp = resources.check_motion(damper, frequency, amplitude, fields=fields,
-                                     usual=_USUAL_EXCITATION, contact_law=True,
-                                     gravity=self.excitation.gravity)
-        dem = self.dem
-
-        def bound(spec):  # a run until steady lasts at most max_cycles
-            return (spec.max_cycles, "dem.max_cycles") if spec.cycles == "auto" \
-                else (spec.cycles, "dem.cycles")
-
-        cycles, field = bound(dem)
-        return resources.dem_cost(
-            damper, cycles / frequency, imp.speed, sample_rate=dem.sample_rate,
-            safety=dem.safety, snapshot_rate=dem.snapshot_rate, frequency=frequency,
-            gravity=self.excitation.gravity, drivers=[(field, cycles / bound(default.dem)[0]),
-                     (fields[0], default.excitation.frequency / frequency, True),
-                     *self._dem_drivers(damper, default)])
-
-    def _check_map(self, damper, model: str, default, force: bool) -> None:
-        import numpy as np
-
+    def excitation_cost(self, model: str = "analytic", damper=None):
+        """What one Level II response of fidelity ``model`` at ``[excitation]`` costs
+        (:meth:`pdamper.models.DamperModel.excitation_cost`; None: not worth judging), for
+        ``damper`` (default :meth:`damper`)."""
         from pdamper.models import get_damper_model
 
-        fidelity = get_damper_model(model, "model").fidelity
+        cls = get_damper_model(model, "model")
+        d = self.damper() if damper is None else damper
+        return cls.excitation_cost(d, self.excitation.frequency, self.excitation.amplitude,
+                                   self.settings_of(cls), gravity=self.excitation.gravity,
+                                   usual=_USUAL_EXCITATION,
+                                   damper_drivers=self._damper_drivers(d, Scenario()))
+
+    @staticmethod
+    def _damper_drivers(damper, default) -> list[tuple]:
+        dm = default.damper()
+        return [("particles.count", damper.count / dm.count),
+                ("particles.radius", dm.particle_radius / damper.particle_radius, True)]
+
+    def _check_map(self, damper, cls, default, force: bool) -> None:
         (f0, f1, nf), (x0, x1, nx) = self.map_ranges()
         (_, _, nf0), (_, _, nx0) = default.map_ranges()
         counts = self.map_particles()
@@ -656,24 +703,13 @@ class Scenario(_Section):
         # the grid and the four result arrays, whichever the model
         resources.require(resources.Cost("the map", 0.0, points * 40.0,
                                          f"{points:.3g} points", axes), force)
-        if fidelity != "dem":
-            resources.require(resources.analytic_map_cost(points, axes), force)
-            return
-        resources.check_grid(damper, (f0, f1), (x0, x1), usual=_USUAL_EXCITATION,
-                             contact_law=True, gravity=self.excitation.gravity)
-        # a DEM point costs more at low frequency (more time per cycle): a sample, scaled
-        fs, xs = np.linspace(f0, f1, min(nf, 8)), np.linspace(x0, x1, min(nx, 8))
-        costs = [self._dem_level2_cost(damper, f, x, default, ("map.frequency", "map.amplitude"))
-                 for f in fs for x in xs]
-        seconds = float(np.mean([c.seconds for c in costs])) * points
-        worst = max(costs, key=lambda c: (c.seconds, c.memory))
-        rest = tuple(d for d in worst.drivers if not d[0].startswith("map."))
-        resources.require(resources.Cost(
-            "the DEM map", seconds, max(c.memory for c in costs),
-            f"{points:.3g} DEM runs, the longest {worst.detail}", axes + rest,
-            runs=int(min(points, 2**62)), longest=worst.seconds), force)
+        resources.require(cls.map_cost(damper, (f0, f1, nf), (x0, x1, nx), points,
+                                       self.settings_of(cls), gravity=self.excitation.gravity,
+                                       usual=_USUAL_EXCITATION, axes=axes,
+                                       damper_drivers=self._damper_drivers(damper, default)),
+                          force)
 
-    def _check_simulation(self, damper, fidelity: str, duration: float, sample_rate: float,
+    def _check_simulation(self, damper, cls, duration: float, sample_rate: float,
                           default, force: bool) -> None:
         structure = self.structure_model()
         ds = default.simulation
@@ -681,18 +717,12 @@ class Scenario(_Section):
                    ("simulation.sample_rate", sample_rate / ds.sample_rate),
                    ("structure.stiffness", structure.natural_frequency
                     / default.structure_model().natural_frequency)]
-        if fidelity != "dem":
-            resources.require(resources.pseudo_force_cost(
-                duration, sample_rate, structure.natural_frequency, drivers), force)
-            return
-        imp = resources.check_release(damper, structure.natural_frequency,
-                                      self.structure.initial_displacement, contact_law=True)
-        resources.require(resources.dem_cost(
-            damper, duration, imp.speed, sample_rate=sample_rate, safety=self.dem.safety,
-            drivers=[*drivers, *self._dem_drivers(damper, default)],
-            what="the DEM free vibration"), force)
+        resources.require(cls.free_vibration_cost(
+            damper, duration, sample_rate, structure.natural_frequency, self.settings_of(cls),
+            x0=self.structure.initial_displacement, drivers=drivers,
+            damper_drivers=self._damper_drivers(damper, default)), force)
 
-    def _check_optimization(self, damper, fidelity: str, default, force: bool) -> None:
+    def _check_optimization(self, damper, cls, default, force: bool) -> None:
         """Cost of the design study (:func:`pdamper.design.optimize_design`): one free
         vibration of ``at`` plus two periods, sampled at 200 Hz, per candidate (the
         particle counts of the paper's study, the grid of ``vary``, or the optimiser's
@@ -728,15 +758,11 @@ class Scenario(_Section):
             candidates = len(counts)
             drivers += (("optimization.step", (d0.per_layer / step)
                          * (damper.max_count / d0.max_count), True),)
-        if fidelity != "dem":
-            one = resources.pseudo_force_cost(duration, 200.0, structure.natural_frequency)
-        else:  # the DEM's time grows with the count: the mean count stands for all
-            imp = resources.check_release(damper, structure.natural_frequency,
-                                          self.structure.initial_displacement,
-                                          contact_law=True)
-            mean = damper.with_count(max(1, round(counts[-1] / 2)) if counts else 1)
-            one = resources.dem_cost(mean, duration, imp.speed, sample_rate=200.0,
-                                     safety=self.dem.safety)
+        # one candidate; where the time grows with the count, the mean count stands for all
+        one = cls.free_vibration_cost(damper, duration, 200.0, structure.natural_frequency,
+                                      self.settings_of(cls),
+                                      x0=self.structure.initial_displacement,
+                                      count=max(1, round(counts[-1] / 2)) if counts else 1)
         resources.require(resources.Cost(
             "the optimisation", one.seconds * candidates,
             one.memory + candidates * resources.BYTES_PER_CANDIDATE,
@@ -862,11 +888,20 @@ def _validate(sc: Scenario) -> None:
 
 
 def scenario_from_dict(data: dict) -> Scenario:
-    """Validate a dict (parsed TOML) into a :class:`Scenario`."""
+    """Validate a dict (parsed TOML) into a :class:`Scenario`; a value ``"value +- sd"``
+    is validated as its nominal value and kept as an uncertain input
+    (:meth:`Scenario.uncertain_inputs`, :mod:`pdamper.io.uncertain`)."""
+    import copy
+
+    from pdamper.io.uncertain import extract_uncertain
+
+    data = copy.deepcopy(data)  # the caller's dict stays as given
+    uncertain = extract_uncertain(data)
     try:
         sc = Scenario.model_validate(data)
     except ValidationError as exc:
         raise _first_error(exc) from None
+    sc._uncertain = uncertain
     _validate(sc)
     return sc
 
@@ -922,6 +957,12 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
         if isinstance(structure, dict) and isinstance(structure.get("modes"), str) \
                 and not Path(structure["modes"]).expanduser().is_absolute():
             structure["modes"] = str((p.parent / structure["modes"]).resolve())
+        loads = data.get("load")  # the load history, relative to the scenario file
+        if isinstance(loads, dict):
+            for key in ("force", "base_acceleration"):
+                if isinstance(loads.get(key), str) \
+                        and not Path(loads[key]).expanduser().is_absolute():
+                    loads[key] = str((p.parent / loads[key]).resolve())
     for key, value in (overrides or {}).items():
         if value is None:
             continue
@@ -962,6 +1003,8 @@ count = {p.count}                  # n_p; at most n_max (16 per layer x 12 layer
 radius = "{q(p.radius, 'mm')}"
 material = "{p.material}"
 friction = {p.friction}              # sliding friction coefficient mu of every contact (DEM)
+# friction = "0.1 +- 0.03"  # a value with its standard deviation (also lengths, masses, ...):
+#                           # --uncertainty N samples it (docs/design.md)
 
 [excitation]                # Level II: x_c = X sin(2 pi f t)
 frequency = "{q(x.frequency, 'Hz')}"

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import copy
+import inspect
 from abc import ABC, abstractmethod
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -138,6 +140,59 @@ class DamperModel(ABC):
                                  fields=("frequency", "amplitude"),
                                  contact_law=self.contact_law,
                                  gravity=getattr(self, "gravity", STANDARD_GRAVITY))
+
+    # -- parameters, scikit-learn style -------------------------------------------------
+    def get_params(self) -> dict[str, Any]:
+        """The parameters of the model by name (those of its constructor), e.g. to rebuild
+        it: ``type(m)(**m.get_params())``."""
+        names = [p for p in inspect.signature(type(self).__init__).parameters
+                 if p != "self"]
+        return {name: getattr(self, name) for name in names}
+
+    def clone(self, **changes: Any) -> DamperModel:
+        """A new model of the same fidelity with ``changes`` to :meth:`get_params`,
+        checked as at construction."""
+        return type(self)(**{**self.get_params(), **changes})
+
+    # -- what a run costs and needs: asked of the fidelity, never branched on its name ----
+    @classmethod
+    def excitation_cost(cls, damper: ParticleDamper, frequency: float, amplitude: float,
+                        settings: Any = None, *, gravity: float = STANDARD_GRAVITY,
+                        usual: tuple[float, float] = (10.0, 0.032),
+                        fields: tuple[str, str] = ("excitation.frequency",
+                                                   "excitation.amplitude"),
+                        damper_drivers: Sequence[tuple] = ()) -> resources.Cost | None:
+        """What one Level II response at f [Hz], X [m] costs with ``settings`` (the
+        fidelity's section of a scenario, or its settings object); None where it is not
+        worth judging (closed forms). Refuses what the fidelity's physics cannot run
+        (e.g. the DEM's contact law). ``usual``: the usual (f, X); ``damper_drivers``: the
+        damper's inputs and their ratios to their usual values, counted where the
+        fidelity's cost depends on them (:class:`pdamper.resources.Cost`)."""
+        return None
+
+    @classmethod
+    def map_cost(cls, damper: ParticleDamper, frequency: tuple[float, float, int],
+                 amplitude: tuple[float, float, int], points: float, settings: Any = None, *,
+                 gravity: float = STANDARD_GRAVITY, usual: tuple[float, float] = (10.0, 0.032),
+                 axes: Sequence[tuple] = (),
+                 damper_drivers: Sequence[tuple] = ()) -> resources.Cost:
+        """What a Level II map over ``frequency`` and ``amplitude`` (``(start, stop,
+        count)``, [Hz] and [m]) of ``points`` points costs (``axes``: the grid's drivers);
+        by default a vectorised evaluation of the grid."""
+        return resources.analytic_map_cost(points, axes)
+
+    @classmethod
+    def free_vibration_cost(cls, damper: ParticleDamper, duration: float, sample_rate: float,
+                            natural_frequency: float, settings: Any = None, *,
+                            x0: float = 0.0, drivers: Sequence[tuple] = (),
+                            damper_drivers: Sequence[tuple] = (),
+                            count: int | None = None) -> resources.Cost:
+        """What a Level III free vibration of ``duration`` [s] sampled at ``sample_rate``
+        [Hz] of a structure of ``natural_frequency`` [Hz] released from ``x0`` [m] costs
+        (``drivers``: the run's inputs; ``count``: judged at this particle count, e.g. the
+        mean of a design study's candidates); by default a pseudo-force run (one damper
+        update per cycle, whatever the damper)."""
+        return resources.pseudo_force_cost(duration, sample_rate, natural_frequency, drivers)
 
     @abstractmethod
     def response(self, frequency, amplitude) -> DamperResponse:

@@ -11,9 +11,11 @@ integrates the structure together with the particles through :meth:`DEMDamper.en
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import logging
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -22,45 +24,37 @@ from pdamper.analysis.dem_modes import BedSignals, ModeClassification, classify_
 from pdamper.analysis.modes import MotionMode
 from pdamper.analysis.stationarity import (
     Stationarity,
-    SteadyStateCriterion,
     cycle_loss_factors,
     cycle_symmetry,
     whole_cycles,
 )
 from pdamper.constants import STANDARD_GRAVITY
-from pdamper.contact.law import DEFAULT_MIN_IMPACT_VELOCITY, ContactParameters
+from pdamper.contact.law import ContactParameters
 from pdamper.damper import ParticleDamper
-from pdamper.dem.model import DEFAULT_GEAR_TOLERANCE, DEFAULT_SAFETY, INTEGRATORS
 from pdamper.errors import InputError, check_range
 from pdamper.models.base import DamperModel, DamperResponse
+from pdamper.models.settings import (  # noqa: F401 - the defaults, importable from here too
+    AUTO,
+    DEFAULT_ACCURACY,
+    DEFAULT_CYCLES,
+    DEFAULT_MAX_CYCLES,
+    DEFAULT_MAX_REFINEMENTS,
+    DEFAULT_SAMPLE_RATE,
+    DEFAULT_SKIP_CYCLES,
+    DEFAULT_TRANSIENT_TOLERANCE,
+    PACKINGS,
+    PAPER_CYCLES,
+    DEMSettings,
+    SteadyState,
+)
 
 logger = logging.getLogger(__name__)
 
 #: Motion-mode code of a point without a mode (kept for callers of the first DEM model).
 UNCLASSIFIED = -1
 
-#: ``cycles`` value that runs until the loss factor is steady (the default).
-AUTO = "auto"
-DEFAULT_CYCLES = AUTO
-#: The paper's procedure (Sect. 3.1.2): eight cycles, the first two cut off.
-PAPER_CYCLES = 8
-DEFAULT_SKIP_CYCLES = 2
-#: Upper bound of a run until steady [cycles]. The symmetric state of the benchmark lattice
-#: bed lasts up to ~30 cycles, the averaged window takes 12 more (docs/fields.md).
-DEFAULT_MAX_CYCLES = 60
-#: Samples per second of the force and container series of a Level II run [Hz].
-DEFAULT_SAMPLE_RATE = 4000.0
 
-#: Initial packings: the paper's square-lattice layers, random (seeded), or "auto": random
-#: where random sequential addition can place every sphere, else the lattice. Random
-#: addition jams near a solid fraction of 0.35 (about 103 spheres in the benchmark box, whose
-#: lattice holds 192), so a denser bed can only start from the lattice: "auto" lets a map
-#: or a particle-count sweep span 16-192 spheres; each run records the packing it used.
-PACKINGS = ("lattice", "random", "auto")
 
-#: Accuracy the error estimate is held to by default: 1 % of the loss factor (relative to
-#: ``max(|eta|, LOSS_FACTOR_FLOOR)``) and of the effective mass ratio.
-DEFAULT_ACCURACY = 0.01
 #: Loss factor below which the accuracy is absolute: solid-like points have eta ~ 0 [-].
 LOSS_FACTOR_FLOOR = 0.05
 #: The refined companion run of the error estimate: Gear's tolerance divided by 10 (its
@@ -73,8 +67,6 @@ REFINEMENT = {"gear": ("gear_tolerance", 10.0), "verlet": ("safety", 2.0)}
 #: most half the default's, which holds outside the asymptotic range too (the verification
 #: table of docs/dem.md checks the bound against converged runs).
 ERROR_REDUCTION = 0.5
-#: Default number of times a run whose estimate misses the target is redone refined.
-DEFAULT_MAX_REFINEMENTS = 2
 
 #: Settled beds a process keeps, the least recently used dropped first: a map's model and
 #: the refined companions of its error estimate, a particle-count axis.
@@ -95,30 +87,9 @@ _BEDS: dict = {}
 #: per process and shared by every point (SettledBed, _BEDS): ~1.4 s of CPU per worker.
 LEVEL2_SETTLE_EXTRA = 1.0
 
-#: Gear tolerance of the start from rest of a Level II run: the cycles that every averaged
-#: window skips (the first, running until steady) run at this tolerance instead of
-#: ``gear_tolerance`` (1e-5). No value is taken from them; the window starts from a
-#: slightly different state, i.e. another realisation of a chaotic bed. On the 14 x 24 map
-#: (docs/fields.md, section 6): 9.5 % fewer steps, 7.5 % less wall time; the cells' loss
-#: factors differ from the map without it as much as two realisations do (median 0.5 %,
-#: 90th percentile 2.1 %; quiet cells' mean 0.4705 against 0.4707), the same quiet cells
-#: (282 / 281), the ledger within 1.1e-3 (whole run). Gear's first cycle took 53 % of its
-#: steps at 1e-3 and 68 % at 1e-4 (eight points, 2-20 Hz).
-DEFAULT_TRANSIENT_TOLERANCE = 1e-3
 
-_STEADY = SteadyStateCriterion()
 #: Fewest cycles in each half of an averaged window whose motion modes must agree.
 MIN_HALF_WINDOW = 3
-
-
-def _whole(field: str, value, low: int) -> int:
-    try:
-        ok = not isinstance(value, bool) and int(value) == value and value >= low
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok:
-        raise InputError(field, f"must be a whole number >= {low}, got {value!r}")
-    return int(value)
 
 
 @dataclass(frozen=True)
@@ -235,56 +206,24 @@ class DEMDamper(DamperModel):
     damper
         Container, spheres and materials; its ``friction`` and COR curves
         (``restitution_pp``, ``restitution_pw``) set the contact law.
-    integrator
-        ``"gear"`` (variable step, the paper's) or ``"verlet"``.
-    cycles
-        Level II: ``"auto"`` (default) runs until the loss factor is steady
-        (:class:`~pdamper.analysis.stationarity.SteadyStateCriterion`), at most
-        ``max_cycles``; a whole number runs that many cycles (the paper: 8) and still
-        records whether the averaged window was steady.
-    skip_cycles
-        Cycles never averaged (the paper: the first 2).
-    max_cycles
-        Upper bound of a run until steady [cycles].
-    window_cycles, steady_windows, steady_rtol, steady_atol
-        The steady-state criterion: ``steady_windows`` windows of ``window_cycles`` cycles
-        whose loss factors agree within ``max(steady_rtol |eta|, steady_atol)``.
-    quiet_window_cycles, quiet_scatter, quiet_windows, quiet_skip_cycles
-        A quiet bed (cycle-to-cycle scatter at most ``quiet_scatter`` x that tolerance) is
-        judged on ``quiet_windows`` windows of ``quiet_window_cycles`` cycles (0: never)
-        after ``min(quiet_skip_cycles, skip_cycles)`` cycles;
-        :class:`~pdamper.analysis.stationarity.SteadyStateCriterion`, docs/fields.md.
-    packing, seed
-        ``"lattice"`` (the paper's 4 x 4 layers), ``"random"`` (uses ``seed``) or ``"auto"``
-        (random where every sphere can be placed at random, else the lattice:
-        :meth:`initial_packing`).
-    sample_rate
-        Samples per second of the force and container time series [Hz].
-    snapshot_rate
-        Particle snapshots per second [Hz] (None: first and last only).
-    damping_model
-        ``"exact"``, ``"gonthier"`` or ``"tsuji"``: the damping law of the normal force.
-    min_impact_velocity
-        Floor of the onset speed that sets the damping of the exact and Gonthier laws
-        [m/s] (default 0.01; see docs/dem.md on rattling columns).
-    safety
-        Time step / Hertz contact time (see :class:`pdamper.dem.DEMEngine`) [-].
-    error_estimate
-        Estimate the integration error of eta and m_eff / m_bed of every Level II run from a
-        refined companion run over the same cycles (:class:`AccuracyEstimate`; about twice
-        the cost). A run whose estimate misses ``accuracy`` is redone refined, at most
-        ``max_refinements`` times; the reported values are those of the last run.
-    accuracy
-        Target of the estimate, relative [-] (default 0.01).
-    max_refinements
-        Upper bound of the refinements [-].
-    transient_tolerance
-        Gear tolerance [-] of the cycles that every averaged window of a Level II run
-        skips (the first ``min(skip_cycles, quiet_skip_cycles)``, whatever the rule that
-        judges the run); None: ``gear_tolerance`` throughout. The start from rest is a
-        transient no value is taken from (:data:`DEFAULT_TRANSIENT_TOLERANCE`).
-    options
-        Further keyword arguments of :class:`pdamper.dem.DEMEngine` (``safety``, ...).
+    settings
+        :class:`~pdamper.models.settings.DEMSettings` (default: its defaults): the run plan,
+        the steady-state criterion, the accuracy target, the contact law's damping and the
+        engine's settings, each declared once in :mod:`pdamper.models.settings` and
+        :mod:`pdamper.dem.settings` with its unit, range and meaning.
+    **changes
+        Settings by name (``cycles=8``, ``integrator="verlet"``, ...) replacing those of
+        ``settings``: exactly the fields of ``DEMSettings`` (the signature lists them); each
+        is also an attribute of the model (``model.cycles``).
+
+    A Level II run goes on until the loss factor is steady (``cycles = "auto"``, at most
+    ``max_cycles``) or runs ``cycles`` cycles (the paper: 8) and still records whether the
+    averaged window was steady; ``error_estimate`` adds a refined companion run
+    (:class:`AccuracyEstimate`); ``transient_tolerance`` is the Gear tolerance of the
+    cycles every averaged window skips (the first ``min(skip_cycles,
+    quiet_skip_cycles)``, :data:`DEFAULT_TRANSIENT_TOLERANCE`); ``settle_time`` None
+    settles for the free fall over the container height plus
+    :data:`LEVEL2_SETTLE_EXTRA`.
 
     Examples
     --------
@@ -299,65 +238,31 @@ class DEMDamper(DamperModel):
     expensive = True
     contact_law = True
 
-    def __init__(self, damper: ParticleDamper, integrator: str = "gear",
-                 cycles: int | str = DEFAULT_CYCLES, skip_cycles: int = DEFAULT_SKIP_CYCLES,
-                 packing: str = "lattice", seed: int = 0,
-                 sample_rate: float = DEFAULT_SAMPLE_RATE, snapshot_rate: float | None = None,
-                 damping_model: str = "exact", safety: float = DEFAULT_SAFETY,
-                 max_cycles: int = DEFAULT_MAX_CYCLES,
-                 window_cycles: int = _STEADY.window_cycles,
-                 steady_windows: int = _STEADY.windows, steady_rtol: float = _STEADY.rtol,
-                 steady_atol: float = _STEADY.atol,
-                 quiet_window_cycles: int = _STEADY.quiet_window_cycles,
-                 quiet_scatter: float = _STEADY.quiet_scatter,
-                 quiet_windows: int = _STEADY.quiet_windows,
-                 quiet_skip_cycles: int = _STEADY.quiet_skip_cycles,
-                 min_impact_velocity: float = DEFAULT_MIN_IMPACT_VELOCITY,
-                 error_estimate: bool = False, accuracy: float = DEFAULT_ACCURACY,
-                 max_refinements: int = DEFAULT_MAX_REFINEMENTS,
-                 transient_tolerance: float | None = DEFAULT_TRANSIENT_TOLERANCE, **options):
+    def __init__(self, damper: ParticleDamper, settings: DEMSettings | None = None,
+                 **changes: Any):
         super().__init__(damper)
-        if integrator not in INTEGRATORS:
-            raise InputError("dem.integrator", f"must be one of {', '.join(INTEGRATORS)}, "
-                             f"got {integrator!r}")
-        if packing not in PACKINGS:
-            raise InputError("dem.packing", f"must be one of {', '.join(PACKINGS)}, "
-                             f"got {packing!r}")
-        if isinstance(cycles, str):
-            if cycles != AUTO:
-                raise InputError("dem.cycles", f"must be {AUTO!r} or a whole number >= 1, "
-                                 f"got {cycles!r}")
-            self.cycles: int | str = AUTO
-        else:
-            self.cycles = _whole("dem.cycles", cycles, 1)
-        self.skip_cycles = _whole("dem.skip_cycles", skip_cycles, 0)
-        self.steady = SteadyStateCriterion(
-            window_cycles=_whole("dem.window_cycles", window_cycles, 1),
-            windows=_whole("dem.steady_windows", steady_windows, 2),
-            rtol=check_range("dem.steady_rtol", steady_rtol, low=0.0),
-            atol=check_range("dem.steady_atol", steady_atol, low=0.0),
-            quiet_window_cycles=_whole("dem.quiet_window_cycles", quiet_window_cycles, 0),
-            quiet_scatter=check_range("dem.quiet_scatter", quiet_scatter, low=0.0),
-            quiet_windows=_whole("dem.quiet_windows", quiet_windows, 2),
-            quiet_skip_cycles=_whole("dem.quiet_skip_cycles", quiet_skip_cycles, 0),
-            skip_cycles=self.skip_cycles)
-        self.max_cycles = _whole("dem.max_cycles", max_cycles, 1)
-        if self.cycles == AUTO:
-            if self.max_cycles < self.steady.full_cycles:
+        unknown = sorted(set(changes) - set(DEMSettings.model_fields))
+        if unknown:
+            raise TypeError(f"DEMDamper() got an unexpected keyword argument {unknown[0]!r}")
+        if settings is None:
+            settings = DEMSettings(**changes)
+        elif not isinstance(settings, DEMSettings):
+            raise InputError("settings", f"must be a DEMSettings, got {type(settings).__name__}")
+        elif changes:
+            settings = settings.clone(**changes)
+        #: The settings (checked on their construction); the model reads them as its
+        #: attributes (:meth:`__getattr__`).
+        self.settings = settings
+        s = settings
+        self.steady = s.concern(SteadyState).criterion(s.skip_cycles)
+        if s.cycles == AUTO:
+            if s.max_cycles < self.steady.full_cycles:
                 raise InputError("dem.max_cycles", f"must be >= skip_cycles + steady_windows x "
                                  f"window_cycles = {self.steady.full_cycles}, got "
-                                 f"{self.max_cycles}")
-        elif self.skip_cycles >= self.cycles:
-            raise InputError("dem.skip_cycles", f"must be in [0, {self.cycles - 1}] for "
-                             f"{self.cycles} cycles, got {self.skip_cycles}")
-        self.seed = _whole("dem.seed", seed, 0)
-        self.integrator = integrator
-        self.packing = packing
-        self.sample_rate = check_range("dem.sample_rate", sample_rate, low=0.0,
-                                       low_inclusive=False, unit="Hz")
-        self.snapshot_rate = (None if snapshot_rate is None else
-                              check_range("dem.snapshot_rate", snapshot_rate, low=0.0,
-                                          low_inclusive=False, unit="Hz"))
+                                 f"{s.max_cycles}")
+        elif s.skip_cycles >= s.cycles:
+            raise InputError("dem.skip_cycles", f"must be in [0, {s.cycles - 1}] for "
+                             f"{s.cycles} cycles, got {s.skip_cycles}")
         for name in ("friction", "restitution_pp", "restitution_pw"):
             if getattr(damper, name) is None:
                 raise InputError(f"particles.{name}", "the DEM needs the friction coefficient "
@@ -368,24 +273,99 @@ class DEMDamper(DamperModel):
                                              restitution_pw=damper.restitution_pw,
                                              friction_pp=damper.friction,
                                              friction_pw=damper.friction,
-                                             damping_model=damping_model,
-                                             min_impact_velocity=min_impact_velocity)
+                                             damping_model=s.damping_model,
+                                             min_impact_velocity=s.min_impact_velocity)
         except InputError as exc:  # name the field as the [dem] section does
             raise InputError(f"dem.{exc.field}", exc.message) from None
-        self.safety = check_range("dem.safety", safety, low=0.0, high=1.0, low_inclusive=False)
-        if not isinstance(error_estimate, bool | np.bool_):
-            raise InputError("dem.error_estimate", f"must be true or false, got {error_estimate!r}")
-        self.error_estimate = bool(error_estimate)
-        self.accuracy = check_range("dem.accuracy", accuracy, low=0.0, high=1.0,
-                                    low_inclusive=False)
-        self.max_refinements = _whole("dem.max_refinements", max_refinements, 0)
-        self.transient_tolerance = (None if transient_tolerance is None else
-                                    check_range("dem.transient_tolerance", transient_tolerance,
-                                                low=0.0, low_inclusive=False))
-        self.options = options
-        # g [m/s^2] of the engine (its own check refuses what is not >= 0), for the
-        # physics checks of the excitation and the settling
-        self.gravity = float(options.get("gravity", STANDARD_GRAVITY))
+
+    def __getattr__(self, name: str):
+        # the settings as attributes (model.cycles, model.integrator, ...)
+        settings = self.__dict__.get("settings")
+        if settings is not None and name in type(settings).model_fields:
+            return getattr(settings, name)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def get_params(self) -> dict[str, Any]:
+        """The damper and every setting by name (:class:`DEMSettings`)."""
+        return {"damper": self.damper, **self.settings.get_params()}
+
+    def clone(self, **changes: Any) -> DEMDamper:
+        """A copy with ``changes`` (``damper`` and settings by name), checked as at
+        construction."""
+        damper = changes.pop("damper", self.damper)
+        return type(self)(damper, self.settings.clone(**changes) if changes else self.settings)
+
+    # ------------------------------------------------------------------ cost
+    @staticmethod
+    def _run_bound(settings) -> tuple[int, str]:
+        """Cycles a Level II run lasts at most, and the setting that says so."""
+        if settings.cycles == AUTO:
+            return settings.max_cycles, "dem.max_cycles"
+        return settings.cycles, "dem.cycles"
+
+    @staticmethod
+    def settings_drivers(settings) -> list[tuple]:
+        """The settings that drive a run's cost, and their ratios to their defaults."""
+        d = DEMSettings()
+        return [("dem.safety", d.safety / settings.safety, True),
+                ("dem.sample_rate", settings.sample_rate / d.sample_rate),
+                ("dem.snapshot_rate", (settings.snapshot_rate or 0.0) / d.sample_rate)]
+
+    @classmethod
+    def excitation_cost(cls, damper, frequency, amplitude, settings=None, *,
+                        gravity=STANDARD_GRAVITY, usual=(10.0, 0.032),
+                        fields=("excitation.frequency", "excitation.amplitude"),
+                        damper_drivers=()):
+        """One Level II run (at most ``max_cycles`` cycles until steady, else ``cycles``),
+        its settling included; refuses impacts beyond Hertz's law."""
+        settings = DEMSettings() if settings is None else settings
+        imp = resources.check_motion(damper, frequency, amplitude, fields=fields, usual=usual,
+                                     contact_law=cls.contact_law, gravity=gravity)
+        cycles, field = cls._run_bound(settings)
+        return resources.dem_cost(
+            damper, cycles / frequency, imp.speed, sample_rate=settings.sample_rate,
+            safety=settings.safety, snapshot_rate=settings.snapshot_rate, frequency=frequency,
+            gravity=gravity, drivers=[(field, cycles / cls._run_bound(DEMSettings())[0]),
+                                      (fields[0], usual[0] / frequency, True), *damper_drivers,
+                                      *cls.settings_drivers(settings)])
+
+    @classmethod
+    def map_cost(cls, damper, frequency, amplitude, points, settings=None, *,
+                 gravity=STANDARD_GRAVITY, usual=(10.0, 0.032), axes=(), damper_drivers=()):
+        """A DEM run per point: the mean over a sample of the grid (a point costs more at low
+        frequency, more time per cycle), scaled to ``points``; refuses a grid beyond
+        Hertz's law."""
+        (f0, f1, nf), (x0, x1, nx) = frequency, amplitude
+        resources.check_grid(damper, (f0, f1), (x0, x1), usual=usual,
+                             contact_law=cls.contact_law, gravity=gravity)
+        fs, xs = np.linspace(f0, f1, min(nf, 8)), np.linspace(x0, x1, min(nx, 8))
+        costs = [cls.excitation_cost(damper, f, x, settings, gravity=gravity, usual=usual,
+                                     fields=("map.frequency", "map.amplitude"),
+                                     damper_drivers=damper_drivers)
+                 for f in fs for x in xs]
+        seconds = float(np.mean([c.seconds for c in costs])) * points
+        worst = max(costs, key=lambda c: (c.seconds, c.memory))
+        rest = tuple(d for d in worst.drivers if not d[0].startswith("map."))
+        return resources.Cost(
+            "the DEM map", seconds, max(c.memory for c in costs),
+            f"{points:.3g} DEM runs, the longest {worst.detail}", tuple(axes) + rest,
+            runs=int(min(points, 2**62)), longest=worst.seconds)
+
+    @classmethod
+    def free_vibration_cost(cls, damper, duration, sample_rate, natural_frequency,
+                            settings=None, *, x0=0.0, drivers=(), damper_drivers=(),
+                            count=None):
+        """The DEM integrated with the structure (co-simulation) over ``duration``, its
+        time growing with the particle count; refuses a release whose impacts are beyond
+        Hertz's law."""
+        settings = DEMSettings() if settings is None else settings
+        imp = resources.check_release(damper, natural_frequency, x0,
+                                      contact_law=cls.contact_law)
+        return resources.dem_cost(
+            damper if count is None else damper.with_count(count), duration, imp.speed,
+            sample_rate=sample_rate, safety=settings.safety,
+            drivers=[*drivers, *damper_drivers, *cls.settings_drivers(settings)],
+            what="the DEM free vibration")
 
     @property
     def run_until_steady(self) -> bool:
@@ -404,15 +384,14 @@ class DEMDamper(DamperModel):
         return self._engine(self._particles()[1], motion)
 
     def _engine(self, particles, motion, **override):
-        """The engine; ``override``: engine options that replace the model's (the refined
-        companion runs of the error estimate)."""
+        """The engine; ``override``: engine settings that replace the model's (the refined
+        companion runs of the error estimate, the settling and start of Level II runs)."""
         from pdamper.dem import Container, DEMEngine
 
         d = self.damper
-        options = {"safety": self.safety, **self.options, **override}
         return DEMEngine(particles, Container(d.box, d.wall_material, d.container_mass),
-                         self.contact, motion, integrator=self.integrator, seed=self.seed,
-                         **options)
+                         self.contact, motion,
+                         self.settings.engine_settings(seed=self.seed, **override))
 
     def _transient(self) -> dict:
         """Engine options of the start from rest of a Level II run (``transient_tolerance``
@@ -425,14 +404,14 @@ class DEMDamper(DamperModel):
         return {"transient_cycles": skip, "gear_transient_tolerance": self.transient_tolerance}
 
     def _level2_settling(self) -> dict:
-        """The settling of Level II runs (:data:`LEVEL2_SETTLE_EXTRA`), unless the model's
-        options set one."""
+        """The settling of Level II runs (:data:`LEVEL2_SETTLE_EXTRA`), unless the settings
+        give ``settle_time``."""
         from pdamper.dem.simulation import free_fall_settling
 
-        if "settle_time" in self.options:
+        if self.settle_time is not None:
             return {}
-        g = float(self.options.get("gravity", STANDARD_GRAVITY))
-        return {"settle_time": free_fall_settling(self.damper.box[2], g, LEVEL2_SETTLE_EXTRA)}
+        return {"settle_time": free_fall_settling(self.damper.box[2], self.gravity,
+                                                  LEVEL2_SETTLE_EXTRA)}
 
     @staticmethod
     def _settled(engine):
@@ -528,7 +507,7 @@ class DEMDamper(DamperModel):
             kernel = "verlet" if res.verlet_time > 0.5 * res.simulated_time else "gear"
         setting, factor = REFINEMENT[kernel]
         value = (self.safety if setting == "safety"
-                 else float(self.options.get("gear_tolerance", DEFAULT_GEAR_TOLERANCE)))
+                 else float(self.gear_tolerance))
         for k in range(self.max_refinements + 1):
             st = run.stationarity
             skip, span = st.first_cycle - 1, st.last_cycle - st.first_cycle + 1
@@ -646,13 +625,34 @@ class DEMDamper(DamperModel):
                 f"packing={self.packing!r})")
 
 
+# the signature lists every setting as a keyword (help, inspection), from the declarations
+DEMDamper.__init__.__signature__ = inspect.Signature([  # type: ignore[attr-defined]
+    *list(inspect.signature(DEMDamper.__init__).parameters.values())[:3],
+    *(inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=info.default,
+                        annotation=info.annotation)
+      for name, info in DEMSettings.model_fields.items())])
+
+
+#: The keys of :meth:`DEMResult.summary <pdamper.dem.DEMResult.summary>` among a point's
+#: diagnostics (besides ``wall_seconds`` and ``steps``, which are the totals there).
+#: (The wall times beside ``wall_seconds`` stay out: a map's points are compared and
+#: reused without their timings.)
+RUN_KEYS = ("total_steps", "excitation_steps", "settle_steps", "energy_balance_error",
+            "max_overlap_ratio", "max_impact_velocity", "stepped_fraction")
+
+
 def point_diagnostics(run: SteadyRun) -> dict:
     """The per-point diagnostics of a Level II run, as plain values (SI units).
 
-    ``wall_seconds`` [s], ``steps``, ``energy_balance_error`` [-], ``max_overlap_ratio`` [-]
-    (largest overlap / radius), ``max_impact_velocity`` [m/s] (fastest impact),
-    ``stepped_fraction`` [-] (mean share of the spheres a Gear step integrated, the others in
-    free flight),
+    The run's keys come from :meth:`DEMResult.summary <pdamper.dem.DEMResult.summary>`:
+    ``wall_seconds`` [s] and ``steps`` are the point's whole run, settling included (the
+    same as ``total_wall_seconds`` and ``total_steps``; ``pdamper dem --json`` reports
+    the excitation's under these two names), ``total_steps``, ``excitation_steps``,
+    ``settle_steps`` (0 for a point that started from a bed settled once for the map),
+    ``energy_balance_error`` [-],
+    ``max_overlap_ratio`` [-] (largest overlap / radius), ``max_impact_velocity`` [m/s]
+    (fastest impact), ``stepped_fraction`` [-] (mean share of the spheres a Gear step
+    integrated, the others in free flight),
     ``random_packing`` (1: the run started from a random packing, 0: from the lattice),
     ``cycles`` (simulated), ``first_cycle``/``last_cycle`` (the averaged window),
     ``loss_factor_stderr``, ``loss_factor_spread``, ``loss_factor_drift``
@@ -665,13 +665,12 @@ def point_diagnostics(run: SteadyRun) -> dict:
     ``stationarity`` and ``motion`` (the records themselves, not numbers).
     """
     res, st, mo = run.result, run.stationarity, run.motion
+    s = res.summary()
     return {
-        "wall_seconds": float(res.wall_seconds + res.settle_seconds),
-        "steps": int(res.steps + res.settle_steps),
-        "energy_balance_error": float(res.energy_balance_error()),
-        "max_overlap_ratio": float(res.max_overlap_ratio),
-        "max_impact_velocity": float(res.max_impact_velocity),
-        "stepped_fraction": float(res.stepped_fraction),
+        # a map point's work, settling included (its long-standing meaning here)
+        "wall_seconds": s["total_wall_seconds"],
+        "steps": s["total_steps"],
+        **{k: s[k] for k in RUN_KEYS},
         "random_packing": int(run.packing == "random"),
         "cycles": int(st.cycles),
         "first_cycle": int(st.first_cycle),

@@ -252,6 +252,7 @@ class EffectiveFieldDamper(DamperModel):
             raise InputError("fields.file", "the fields model needs one effective-field map: "
                              "a NetCDF file from `pdamper map` (--fields FILE or [fields] file)")
         self.file = None if file is None else str(file)
+        self.field = field
         ds = _open(file) if field is None else field
         self._label = self.file or "the given map"
         self.map_attrs = dict(ds.attrs)

@@ -19,11 +19,17 @@ import logging
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from pdamper.contact.restitution import RestitutionCurve
 from pdamper.errors import InputError
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from pdamper.coupling import FreeVibrationResult
 
 logger = logging.getLogger(__name__)
 
@@ -149,23 +155,25 @@ class CORSensitivity:
         The variants, in order.
     """
 
-    level2: object
-    level3: object = None
-    runs: dict = field(default_factory=dict)
-    analytical_run: object = None
+    level2: xr.Dataset
+    level3: xr.Dataset | None = None
+    runs: dict[str, FreeVibrationResult] = field(default_factory=dict)
+    analytical_run: FreeVibrationResult | None = None
     variants: list = field(default_factory=list)
     wall_seconds: float = 0.0
     inputs: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         """JSON-ready summary."""
-        out = {"variants": [{"name": v.name, "cor": v.describe()} for v in self.variants],
-               "level2": [], "wall_seconds": self.wall_seconds}
+        level2: list[dict] = []
+        out: dict[str, Any] = {"variants": [{"name": v.name, "cor": v.describe()}
+                                            for v in self.variants],
+                               "level2": level2, "wall_seconds": self.wall_seconds}
         ds = self.level2
         for v in ds["variant"].values:
             for p in range(ds.sizes["point"]):
                 sel = ds.sel(variant=v).isel(point=p)
-                out["level2"].append({"variant": str(v), **{
+                level2.append({"variant": str(v), **{
                     k: (bool(sel[k]) if k == "stationary" else float(sel[k]))
                     for k in ("frequency", "amplitude", "loss_factor", "effective_mass_ratio",
                               "loss_factor_first_half", "loss_factor_second_half",
@@ -259,9 +267,7 @@ def run_cor_sensitivity(scenario=None, variants: Sequence[str | CORVariant] = DE
     """
     import xarray as xr
 
-    from pdamper.coupling import Simulation
     from pdamper.io.scenario import Scenario
-    from pdamper.parameters import vertical_dampers_paper as paper
 
     sc = study_scenario(Scenario() if scenario is None else scenario, cycles, skip_cycles)
     say = progress or (lambda _m: None)
@@ -284,7 +290,7 @@ def run_cor_sensitivity(scenario=None, variants: Sequence[str | CORVariant] = DE
     out = {k: np.full(shape, np.nan) for k in (
         "loss_factor", "effective_mass_ratio", "dissipated_energy_per_cycle",
         "loss_factor_first_half", "loss_factor_second_half", "energy_balance_error")}
-    model = None
+    model: Any = None
     for i, v in enumerate(vs):
         damper = base.with_restitution(v.restitution_pp, v.restitution_pw)
         model = sc.model("dem", damper)
@@ -326,31 +332,47 @@ def run_cor_sensitivity(scenario=None, variants: Sequence[str | CORVariant] = DE
                "integrator": model.integrator, "particle_count": base.count})
     cs = CORSensitivity(level2=level2, variants=vs, inputs=sc.model_dump(mode="json"))
     if level3:
-        structure = sc.structure_model()
-        x0 = sc.structure.initial_displacement
-        t_end = sc.simulation.duration if duration is None else float(duration)
-        t_cmp = paper.PAPER_COMPARISON_TIME
-        d3 = {k: np.full(len(vs), np.nan) for k in ("amplitude_0p75s", "zeta_53mm", "zeta_41mm")}
-        cs.analytical_run = Simulation(structure, AnalyticalDamper(base), x0).run(t_end)
-        for i, v in enumerate(vs):
-            say(f"Level III, DEM model 1, {v.name}")
-            damper = base.with_restitution(v.restitution_pp, v.restitution_pw)
-            run = Simulation(structure, sc.model("dem", damper), x0).run(t_end)
-            cs.runs[v.name] = run
-            if run.time[-1] >= t_cmp * (1 - 1e-9):
-                d3["amplitude_0p75s"][i] = run.amplitude_at(t_cmp)
-            d3["zeta_53mm"][i] = _zeta_near(run, 0.053)
-            d3["zeta_41mm"][i] = _zeta_near(run, 0.041)
-        cs.level3 = xr.Dataset(
-            {"amplitude_0p75s": ("variant", d3["amplitude_0p75s"], {"units": "m"}),
-             "zeta_53mm": ("variant", d3["zeta_53mm"], {"units": "1"}),
-             "zeta_41mm": ("variant", d3["zeta_41mm"], {"units": "1"})},
-            coords={"variant": names},
-            attrs={"duration": t_end, "initial_displacement": x0,
-                   "analytical_amplitude_0p75s": float(cs.analytical_run.amplitude_at(t_cmp))
-                   if cs.analytical_run.time[-1] >= t_cmp * (1 - 1e-9) else float("nan")})
+        _run_level3(cs, sc, base, duration, say)
     cs.wall_seconds = time.perf_counter() - t0
     return cs
+
+
+def _run_level3(cs: CORSensitivity, sc, base, duration: float | None,
+                say: Callable[[str], None]) -> None:
+    """The Level III part of :func:`run_cor_sensitivity`: DEM model 1 under each variant of
+    ``cs`` and the analytical model for reference, into ``cs.runs``, ``cs.analytical_run``
+    and ``cs.level3``."""
+    import xarray as xr
+
+    from pdamper.coupling import Simulation
+    from pdamper.models import AnalyticalDamper
+    from pdamper.parameters import vertical_dampers_paper as paper
+
+    vs = cs.variants
+    structure = sc.structure_model()
+    x0 = sc.structure.initial_displacement
+    t_end = sc.simulation.duration if duration is None else float(duration)
+    t_cmp = paper.PAPER_COMPARISON_TIME
+    d3 = {k: np.full(len(vs), np.nan) for k in ("amplitude_0p75s", "zeta_53mm", "zeta_41mm")}
+    reference = Simulation(structure, AnalyticalDamper(base), x0).run(t_end)
+    cs.analytical_run = reference
+    for i, v in enumerate(vs):
+        say(f"Level III, DEM model 1, {v.name}")
+        damper = base.with_restitution(v.restitution_pp, v.restitution_pw)
+        run = Simulation(structure, sc.model("dem", damper), x0).run(t_end)
+        cs.runs[v.name] = run
+        if run.time[-1] >= t_cmp * (1 - 1e-9):
+            d3["amplitude_0p75s"][i] = run.amplitude_at(t_cmp)
+        d3["zeta_53mm"][i] = _zeta_near(run, 0.053)
+        d3["zeta_41mm"][i] = _zeta_near(run, 0.041)
+    cs.level3 = xr.Dataset(
+        {"amplitude_0p75s": ("variant", d3["amplitude_0p75s"], {"units": "m"}),
+         "zeta_53mm": ("variant", d3["zeta_53mm"], {"units": "1"}),
+         "zeta_41mm": ("variant", d3["zeta_41mm"], {"units": "1"})},
+        coords={"variant": [v.name for v in vs]},
+        attrs={"duration": t_end, "initial_displacement": x0,
+               "analytical_amplitude_0p75s": float(reference.amplitude_at(t_cmp))
+               if reference.time[-1] >= t_cmp * (1 - 1e-9) else float("nan")})
 
 
 def sensitivity_figure(study: CORSensitivity, structure_envelope=None):

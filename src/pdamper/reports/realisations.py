@@ -38,18 +38,19 @@ USUAL_REALISATIONS = 5
 def run_summary(model, response) -> dict:
     """The scalar summary of one Level II DEM response (``pdamper dem --json``'s run keys):
     loss factor, effective mass ratio, dissipated energy per cycle [J], energy ledger [J],
-    stationarity, motion mode and the run's diagnostics (SI units)."""
+    stationarity, motion mode and the run's diagnostics (SI units): the keys of
+    :meth:`DEMResult.summary <pdamper.dem.DEMResult.summary>` (``steps`` and
+    ``wall_seconds`` are the excitation's; ``settle_steps``, ``settle_seconds`` the
+    settling's; ``total_steps``, ``total_wall_seconds`` both)."""
     r = response
     res = r.details.item()
     st = r.diagnostics["stationarity"].item()
     motion = r.diagnostics["motion"].item()
     skip, span = st.first_cycle - 1, st.last_cycle - st.first_cycle + 1
     out = {
-        "steps": res.steps,
-        "wall_seconds": res.wall_seconds,
+        **res.summary(),  # the run's own keys (steps, wall times, ...), one meaning each
         "loss_factor": float(r.loss_factor),
         "effective_mass_ratio": float(r.effective_mass_ratio),
-        "energy_balance_error": res.energy_balance_error(),
         "dissipated_energy_per_cycle": float(r.dissipated_energy_per_cycle),
         "ledger_per_cycle": res.ledger_per_cycle(skip, span),
         "stationary": bool(st.stationary),
@@ -61,12 +62,6 @@ def run_summary(model, response) -> dict:
         "motion_mode": motion.mode.label,
         "subharmonic_order": motion.subharmonic_order,
         "mode_reason": motion.reason,
-        "settle_steps": res.settle_steps,
-        "time_step": res.time_step,
-        "contact_time": res.contact_time,
-        "max_overlap_ratio": res.max_overlap_ratio,
-        "max_impact_velocity": res.max_impact_velocity,
-        "stepped_fraction": res.stepped_fraction,
     }
     if model.error_estimate:
         d = r.diagnostics
@@ -115,8 +110,7 @@ def check_realisations(count, scenario=None, *, force: bool = False) -> int:
     if n == 1 or scenario is None:
         return n
     # the count is judged before any run: N runs of one DEM run's cost each
-    one = scenario._dem_level2_cost(scenario.damper(), scenario.excitation.frequency,
-                                    scenario.excitation.amplitude, type(scenario)())
+    one = scenario.excitation_cost("dem")
     resources.require(resources.Cost(
         "the realisations", one.seconds * n, one.memory,
         f"{n:.3g} DEM runs, each {one.detail}",

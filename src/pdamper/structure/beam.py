@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -94,7 +94,7 @@ class TimoshenkoBeam:
     elements: int = 100
 
     def __post_init__(self) -> None:
-        pos = {"low": 0.0, "low_inclusive": False}
+        pos: dict[str, Any] = {"low": 0.0, "low_inclusive": False}
         check_range("beam.length", self.length, unit="m", **pos)
         check_range("beam.width", self.width, unit="m", **pos)
         check_range("beam.height", self.height, unit="m", **pos)

@@ -80,6 +80,10 @@ class ModalStructure:
         Mode shapes at the output and release points (default: the damper point).
     positions
         (damper, output, release) positions along the structure [m], for the record.
+    participation
+        Modal participation factors of a translation of the base, ``Gamma_i = phi_i^T M r``
+        [sqrt(kg)] (``r``: the rigid translation), for base motion; None where unknown
+        (:meth:`from_beam` computes them).
 
     Examples
     --------
@@ -94,9 +98,12 @@ class ModalStructure:
     frequencies: np.ndarray
     damping_ratios: np.ndarray
     damper_shape: np.ndarray
+    # None stands for the damper point; __post_init__ replaces it by the array, so every
+    # instance holds arrays (read them through _shapes() where the type must say so)
     output_shape: np.ndarray | None = None
     release_shape: np.ndarray | None = None
     positions: tuple[float, float, float] | None = field(default=None)
+    participation: np.ndarray | None = field(default=None)
 
     def __post_init__(self) -> None:
         f = np.atleast_1d(np.asarray(self.frequencies, float))
@@ -107,7 +114,7 @@ class ModalStructure:
         z = np.broadcast_to(np.asarray(self.damping_ratios, float), (n,)).copy()
         if not np.all(np.isfinite(z)) or np.any(z < 0):
             raise InputError("structure.damping_ratios", "must be finite and >= 0")
-        shapes = {}
+        shapes: dict[str, np.ndarray] = {}
         for name in ("damper_shape", "output_shape", "release_shape"):
             v = getattr(self, name)
             v = shapes["damper_shape"] if v is None else np.asarray(v, float).ravel()
@@ -117,6 +124,12 @@ class ModalStructure:
         if not np.any(shapes["damper_shape"] != 0):
             raise InputError("structure.damper_shape", "the damper point does not move in any "
                              "retained mode")
+        if self.participation is not None:
+            g = np.asarray(self.participation, float).ravel()
+            if g.size != n or not np.all(np.isfinite(g)):
+                raise InputError("structure.participation", f"must hold {n} finite values, "
+                                 "one per mode")
+            object.__setattr__(self, "participation", g)
         object.__setattr__(self, "frequencies", f)
         object.__setattr__(self, "damping_ratios", z)
         for name, v in shapes.items():
@@ -200,11 +213,12 @@ class ModalStructure:
         vecs = scale[:, None] * vecs[:, :modes]
         vecs = vecs / np.sqrt(np.einsum("ij,ik,kj->j", vecs, m_mat, vecs))  # m_i = 1
         w2 = np.array([_stiffness_form(beam, u, kr) for u in vecs.T])
-        pts = []
-        for name, pos in (("damper_position", damper_position),
-                          ("output_position", output_position),
-                          ("release_position", release_position)):
-            p = beam.length if pos is None else check_range(f"structure.{name}", pos, low=0.0,
+        pts: list[float] = []
+        given: tuple[tuple[str, float | None], ...] = (
+            ("damper_position", damper_position), ("output_position", output_position),
+            ("release_position", release_position))
+        for name, at in given:
+            p: float = beam.length if at is None else check_range(f"structure.{name}", at, low=0.0,
                                                             high=beam.length, unit="m")
             pts.append(p)
         shapes = [interpolation_vector(beam, p, compliant) @ vecs for p in pts]
@@ -212,8 +226,14 @@ class ModalStructure:
         ref = np.where(shapes[0] != 0, shapes[0], shapes[1])
         sign = np.where(ref < 0, -1.0, 1.0)
         zeta = np.broadcast_to(np.asarray(damping_ratio, float), (modes,))
+        # a translation of the clamp: every deflection DOF moves by 1, no rotation
+        rigid = np.zeros(2 * (beam.elements + 1))
+        rigid[0::2] = 1.0
+        rigid = rigid[1:] if compliant else rigid[2:]
+        gamma = vecs.T @ (m_mat @ rigid)
         return cls(np.sqrt(np.maximum(w2, 0.0)) / (2.0 * math.pi), zeta,
-                   shapes[0] * sign, shapes[1] * sign, shapes[2] * sign, tuple(pts))
+                   shapes[0] * sign, shapes[1] * sign, shapes[2] * sign, (pts[0], pts[1], pts[2]),
+                   gamma * sign)
 
     # ------------------------------------------------------------------ properties
     @property
@@ -253,7 +273,7 @@ class ModalStructure:
     def release_state(self, displacement: float) -> np.ndarray:
         """Modal coordinates q at rest under a static point load at the release point that
         deflects it by ``displacement`` [m] in this N-mode model."""
-        psi = self.release_shape
+        psi = self._filled(self.release_shape)
         flex = float(np.sum(psi**2 / self.angular_frequencies**2))
         if flex == 0.0:
             raise InputError("structure.release_shape", "the release point does not move in "
@@ -274,8 +294,14 @@ class ModalStructure:
     @property
     def coincident(self) -> bool:
         """Whether damper, output and release points coincide."""
-        return bool(np.array_equal(self.damper_shape, self.output_shape)
-                    and np.array_equal(self.damper_shape, self.release_shape))
+        return bool(np.array_equal(self.damper_shape, self._filled(self.output_shape))
+                    and np.array_equal(self.damper_shape, self._filled(self.release_shape)))
+
+    @staticmethod
+    def _filled(shape: np.ndarray | None) -> np.ndarray:
+        """A shape __post_init__ has filled in (never None on an instance)."""
+        assert shape is not None
+        return shape
 
     def __repr__(self) -> str:
         f = ", ".join(f"{v:.3g}" for v in self.frequencies)

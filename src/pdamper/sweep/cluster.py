@@ -15,6 +15,7 @@ import logging
 import multiprocessing
 import os
 from collections.abc import Iterator
+from typing import Any
 
 from pdamper.errors import InputError
 
@@ -73,7 +74,8 @@ def _stop_workers(cluster) -> None:
     async def stop():
         nannies = [w for w in list(cluster.workers.values()) if hasattr(w, "close")]
         # the worker processes (distributed's AsyncProcess), taken before close forgets them
-        procs = [getattr(getattr(w, "process", None), "process", None) for w in nannies]
+        procs: list[Any] = [getattr(getattr(w, "process", None), "process", None)
+                            for w in nannies]
         await asyncio.gather(*(w.close(timeout=STOP_WAIT) for w in nannies),
                              return_exceptions=True)
         procs = [p for p in procs if p is not None and getattr(p, "pid", None)]

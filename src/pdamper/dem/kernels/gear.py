@@ -347,7 +347,7 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
     keep the arrays alive. Not bit-identical to the earlier single function (one that
     allocated the work arrays itself and counted references): the compiled code rounds
     differently (3e-13 m at a run's first sample), and a chaotic bed then follows another
-    realisation (docs/dem.md, Kernels).
+    realisation (docs/performance.md, Kernels).
     """
     # arrays out of their bundles once (an access inside the loops counts references)
     frc = work.frc

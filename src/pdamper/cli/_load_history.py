@@ -1,0 +1,102 @@
+"""``pdamper simulate --load`` / ``--base-acceleration``: the structure carrying the damper
+under a load history (:mod:`pdamper.coupling.loads`, docs/forced.md)."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from pdamper.cli._common import emit, metadata, write_figure
+
+
+def response_payload(res, seconds: float) -> dict:
+    """JSON of one :class:`~pdamper.coupling.loads.LoadResponse` (SI units)."""
+    return {
+        "model": res.model,
+        **res.summary(),
+        "cycles": [{"time": c.time, "amplitude": c.amplitude, "frequency": c.frequency,
+                    "mode": c.mode.label if c.mode is not None else "unclassified",
+                    "effective_mass": c.effective_mass, "damping": c.damping,
+                    "loss_factor": c.loss_factor} for c in res.cycles],
+        "wall_seconds": seconds,
+    }
+
+
+def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | None,
+        as_json: bool) -> None:
+    """Run every model of ``models`` on ``history``; print, write and plot as the free
+    decay does."""
+    from pdamper.coupling.loads import check_model, run_load
+
+    for m in models.values():  # every compared model, before any run
+        check_model(m)
+    structure = sc.structure_model()
+    runs, seconds = {}, {}
+    for n, m in models.items():
+        t0 = time.perf_counter()
+        runs[n] = run_load(m, structure, history, sc.simulation.sample_rate, tail)
+        seconds[n] = time.perf_counter() - t0
+    names = list(models)
+    first = runs[names[0]]
+    meta = metadata(sc)
+    if out is not None:
+        from pdamper.files import atomic_write_netcdf
+
+        ds = first.to_dataset()
+        ds.attrs.update(pdamper_version=meta["version"])
+        atomic_write_netcdf(out, ds)
+    payload = {k: v for k, v in response_payload(first, seconds[names[0]]).items()
+               if k != "model"}
+    payload["load"] = {"file": history.source, "kind": history.kind,
+                       "unit": history.unit, "samples": int(history.time.size),
+                       "record_duration": history.duration, "tail": tail,
+                       "interpolation": "linear"}
+    payload["units"] = {"time": "s", "peak": "m", "rms": "m", "peak_acceleration": "m/s^2",
+                        "rms_acceleration": "m/s^2", "dissipated_energy": "J",
+                        "input_work": "J", "structural_dissipation": "J",
+                        "energy_change": "J", "energy_balance_error": "1", "amplitude": "m",
+                        "frequency": "Hz", "effective_mass": "kg", "damping": "kg/s",
+                        "record_duration": "s", "tail": "s", "wall_seconds": "s"}
+    if len(runs) > 1:
+        payload["models"] = {n: response_payload(r, seconds[n]) for n, r in runs.items()}
+    payload.update(meta)
+    if plot is not None:
+        _figure(plot, runs, history)
+    what = "force" if history.kind == "force" else "base acceleration"
+    lines = [f"{what} {history.source}: {history.time.size} samples over "
+             f"{history.duration:g} s (+ {tail:g} s free tail), linear between samples"]
+    for n, r in runs.items():
+        rel = " (relative to the base)" if history.kind != "force" else ""
+        lines.append(f"{models[n]!r} ({seconds[n]:.2f} s): peak {r.peak * 1e3:.3f} mm, "
+                     f"RMS {r.rms * 1e3:.3f} mm{rel}; acceleration peak "
+                     f"{r.peak_acceleration:.4g} m/s^2, RMS {r.rms_acceleration:.4g} m/s^2; "
+                     f"damper dissipated {r.dissipated_energy:.4g} J in "
+                     f"{len(r.cycles)} updates")
+    emit(payload, as_json, "\n".join(lines))
+
+
+def _figure(path: Path, runs: dict, history) -> None:
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(11, 10), layout="constrained")
+    axes = fig.subplots(3, 1, sharex=True)
+    t = history.time - history.time[0]
+    axes[0].plot(t, history.values, "k", lw=0.8)
+    axes[0].set_ylabel(f"{history.kind.replace('_', ' ')} [{history.unit}]")
+    axes[0].set_title("load history (linear between samples)")
+    for label, r in runs.items():
+        axes[1].plot(r.time, r.displacement * 1e3, lw=0.9,
+                     label=f"{label}: peak {r.peak * 1e3:.2f} mm, RMS {r.rms * 1e3:.2f} mm")
+        if r.cycles:
+            axes[2].plot([c.time for c in r.cycles], [c.loss_factor for c in r.cycles], ".-",
+                         lw=0.8, label=f"{label}: {r.dissipated_energy:.3g} J dissipated")
+    rel = " relative to the base" if history.kind != "force" else ""
+    axes[1].set_ylabel(f"displacement{rel} [mm]")
+    axes[1].set_title("response of the structure")
+    axes[1].legend(fontsize="x-small", loc="upper right")
+    axes[2].set_ylabel("damper loss factor eta [-]")
+    axes[2].set_xlabel("time t [s]")
+    axes[2].set_title("damper at its updates")
+    if any(r.cycles for r in runs.values()):
+        axes[2].legend(fontsize="x-small", loc="upper right")
+    write_figure(fig, path, dpi=110)

@@ -1,0 +1,114 @@
+"""Options and output of ``--uncertainty N`` (``pdamper analytic``, ``simulate``):
+the spread of the answers under the inputs given as ``"value +- sd"``
+(:mod:`pdamper.io.uncertain`)."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import typer
+
+UncertaintyOpt = Annotated[int | None, typer.Option(
+    "--uncertainty", help="Propagate the inputs given as 'value +- sd' (scenario or "
+    "--uncertain) with N quasi-Monte Carlo base points (a power of two; N (inputs + 2) "
+    "runs): mean, std, percentiles and Sobol' indices of the answers.")]
+UncertainOpt = Annotated[list[str] | None, typer.Option(
+    "--uncertain", help="An uncertain input FIELD=VALUE+-SD (sd: a standard deviation; "
+    "normal, truncated to the field's range), e.g. 'particles.friction=0.1+-0.03' or "
+    "'container.length=120mm+-0.1mm'; repeatable.")]
+UncertaintySeedOpt = Annotated[int, typer.Option(
+    "--uncertainty-seed", help="Seed of the scrambled Sobol' sequence (recorded).")]
+
+
+def overrides(items: list[str] | None) -> dict:
+    """``{"section.key": "value +- sd"}`` of the ``--uncertain`` items (checked)."""
+    from pdamper.errors import InputError
+    from pdamper.io.uncertain import is_uncertain, parse_uncertain
+
+    out = {}
+    for item in items or ():
+        key, eq, value = item.partition("=")
+        key = key.strip()
+        if not eq or not key:
+            raise InputError("uncertain", f"expected FIELD=VALUE+-SD such as "
+                             f"'particles.friction=0.1+-0.03', got {item!r}")
+        if not is_uncertain(value):
+            raise InputError(key, f"expected 'value +- sd' (sd: a standard deviation), got "
+                             f"{value.strip()!r}")
+        parse_uncertain(value, key)  # the field and the syntax, before the scenario
+        if key in out:
+            raise InputError(key, "given twice in --uncertain")
+        out[key] = value
+    return out
+
+
+def merged(options: dict, items: list[str] | None) -> dict:
+    """The command's scenario ``options`` (``section__key``) with the ``--uncertain``
+    items added; a field given both ways is an error."""
+    from pdamper.errors import InputError
+
+    out = dict(options)
+    for key, value in overrides(items).items():
+        name = key.replace(".", "__")
+        if out.get(name) is not None:
+            raise InputError(key, "given both with --uncertain and with its own option")
+        out[name] = value
+    return out
+
+
+def check(sc, level: str, n: int | None, force: bool) -> None:
+    """What ``--uncertainty N`` implies, judged before any run."""
+    if n is None:
+        return
+    from pdamper.design.uncertainty import check_points
+    from pdamper.errors import InputError
+    from pdamper.io.uncertain import check_cost
+
+    check_points(n)
+    if not sc.uncertain_inputs():
+        raise InputError("uncertainty", "no input carries an uncertainty: give one as "
+                         "'value +- sd' in the scenario (e.g. friction = \"0.1 +- 0.03\") or "
+                         "with --uncertain FIELD=VALUE+-SD")
+    check_cost(sc, level, n, force)
+
+
+def lines(result, scale: dict[str, tuple[float, str]]) -> list[str]:
+    """Human-readable summary of an :class:`~pdamper.design.uncertainty.UncertaintyResult`."""
+    out = [f"uncertainty: {result.runs} runs ({result.points} Sobol' base points, seed "
+           f"{result.seed}, {result.seconds:.2f} s); inputs "
+           + ", ".join(f"{u.field} = {u.value:.4g} +- {u.sd:.3g}" for u in result.inputs)]
+    for name, a in result.answers.items():
+        k, unit = scale.get(name, (1.0, "" if a.unit == "1" else a.unit))
+        out.append(f"  {name:28s} mean {a.mean * k:.4g}{' ' + unit if unit else ''}, std {a.std * k:.3g}, "
+                   f"5-95 % [{a.percentiles[5.0] * k:.4g}, {a.percentiles[95.0] * k:.4g}]; "
+                   f"driver {a.driver or 'none (no spread)'}"
+                   + ("" if a.driver is None else
+                      f" (total index {a.total_order[a.driver]:.2f})"))
+    return out
+
+
+def map_spread(sc, model: str, n: int, seed: int, ds, out):
+    """The map's spread under the uncertain inputs: ``<answer>_mean``, ``_std``, ``_p5``
+    ... ``_p95`` variables added to ``ds`` (and to the NetCDF file ``out``, written
+    again), and the result's JSON without the per-cell bands (they are in the file)."""
+    from pdamper.io.uncertain import MAP_BANDS, propagate_scenario
+
+    spread = propagate_scenario(sc, "map", n, seed, model=model)
+    dims = ds["loss_factor"].dims
+    new = {}
+    for name in MAP_BANDS:
+        for stat, values in spread.bands[name].items():
+            if stat == "nominal":
+                continue
+            new[f"{name}_{stat}"] = (dims, values, {
+                "long_name": f"{stat} of {name} under the uncertain inputs",
+                "units": "1", "uncertainty_seed": seed, "uncertainty_points": n})
+    ds = ds.assign(new)
+    if out is not None:
+        from pdamper.files import atomic_write_netcdf
+
+        atomic_write_netcdf(out, ds)
+    d = spread.as_dict()
+    d["bands"] = {k: sorted(v) for k, v in d["bands"].items()}  # names only: in the file
+    d["variables"] = sorted(new)
+    return spread, d

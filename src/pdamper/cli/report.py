@@ -1,0 +1,100 @@
+"""``pdamper report``: one self-contained report.html of the user's own damper."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import typer
+
+from pdamper.cli import _uncertainty
+from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, check_output_directory, emit, load
+
+
+def report(
+    out: Annotated[str, typer.Option(help="Directory for report.html and results.json "
+                                     "(created if missing; its parent must exist).")]
+    = "pdamper-report",
+    dem: Annotated[bool, typer.Option("--dem/--no-dem", help="Include the DEM: its Level II "
+                                      "map on [map] dem_frequency x dem_amplitude (cached in "
+                                      "the output directory) and Level III model 1 (minutes)."
+                                      )] = False,
+    uncertainty: Annotated[int | None, typer.Option(
+        "--uncertainty", help="Base points of the propagation of the inputs given as "
+        "'value +- sd' (a power of two; default 32 when there are any).")] = None,
+    uncertain: _uncertainty.UncertainOpt = None,
+    uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
+    workers: Annotated[int | None, typer.Option(
+        help="Worker processes of the DEM map (default: every core).")] = None,
+    force: ForceOpt = False,
+    scenario: ScenarioOpt = None,
+    as_json: JsonOpt = False,
+) -> None:
+    """Report of any scenario's damper: Level II map, free decay with the models compared,
+    design landscape with the Pareto front, uncertainty of the answers, run times.
+
+    Without --dem it runs the analytical and field models only (seconds to tens of
+    seconds). The results appear together: a new directory only when complete."""
+    import sys
+    import time
+
+    from rich.console import Console
+
+    from pdamper.cli._quiet import quiet
+    from pdamper.design.uncertainty import check_points
+    from pdamper.errors import InputError
+    from pdamper.files import atomic_directory
+    from pdamper.reports import damper_report
+
+    sc = load(scenario, runs=("map", "simulation", "optimization"), model="analytic",
+              force=force, **_uncertainty.merged({}, uncertain))
+    if dem:
+        sc.check_resources("simulation", "dem", force)
+    target = check_output_directory(out)
+    if workers is not None and workers < 1:
+        raise InputError("workers", f"must be a whole number >= 1, got {workers}")
+    if uncertainty is not None:
+        _uncertainty.check(sc, "level3", uncertainty, force)
+    elif sc.uncertain_inputs():
+        check_points(damper_report.DEFAULT_UNCERTAINTY_POINTS)
+        from pdamper.io.uncertain import check_cost
+
+        check_cost(sc, "level3", damper_report.DEFAULT_UNCERTAINTY_POINTS, force)
+    if sc.uncertain_inputs():  # its Level III answers (the time of the amplitude) judged
+        from pdamper.io.uncertain import level3_answers
+
+        level3_answers(sc, "analytic")
+    options = {} if workers is None else {"workers": workers}
+    t0 = time.perf_counter()
+    console = Console(file=sys.stderr)
+    with console.status("pdamper report", spinner="dots") if (
+            console.is_terminal and not quiet()) else _Nothing() as status:
+        def say(message: str) -> None:
+            if status is not None:
+                status.update(f"pdamper report: {message}")
+
+        with atomic_directory(target) as stage:
+            cache = target if target.is_dir() else stage
+            rep = damper_report.run_damper_report(
+                sc, dem=dem, uncertainty=uncertainty, uncertainty_seed=uncertainty_seed,
+                out=cache, progress=say, **options)
+            written = damper_report.write_damper_report(rep, stage)
+    files = [target / p.relative_to(stage) for p in written]
+    payload = {"out": str(target), "files": [str(p) for p in files],
+               "figures": [f.name for f in rep.figures], "seconds": time.perf_counter() - t0,
+               "version": rep.version, "seeds": rep.seeds}
+    st = rep.study
+    lines = [f"report of {sc.title!r} in {target}/ ({payload['seconds']:.1f} s)",
+             f"  best design: {damper_report._brief(st.best, [v.name for v in st.variables])}",
+             f"  lightest within {st.tolerance * 100:g} %: "
+             f"{damper_report._brief(st.lightest_within, [v.name for v in st.variables])}"]
+    for level, r in rep.uncertainty.items():
+        lines.append(f"  uncertainty ({level}): driver {r.driver or 'none (no spread)'}")
+    emit(payload, as_json, "\n".join(lines))
+
+
+class _Nothing:
+    def __enter__(self):
+        return None
+
+    def __exit__(self, *exc):
+        return False

@@ -1,0 +1,287 @@
+"""Inputs of a DEM run: container, particles, container motion (the contact parameters are
+:class:`pdamper.contact.law.ContactParameters`).
+
+All quantities are SI floats. The container frame has ``x in [0, Lx]``, ``y in [0, Ly]``,
+``z in [0, Lz]`` with ``z`` up (against gravity); particle positions given to
+:class:`ParticleSet` are in that frame.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from pdamper.errors import InputError, check_range
+from pdamper.materials import Material
+
+#: Integrators of :class:`pdamper.dem.DEMEngine`: variable-step fifth-order Gear (the
+#: paper's), fixed-step velocity Verlet, and "auto": Gear that hands the run over to Verlet
+#: where Verlet is cheaper (``pdamper.dem.simulation.AUTO_COST_RATIO``).
+INTEGRATORS = ("gear", "verlet", "auto")
+#: Default safety factor: time step = safety x Hertz contact duration at the reference speed.
+DEFAULT_SAFETY = 0.02
+#: Default tolerance of the Gear integrator's local error estimate [-].
+DEFAULT_GEAR_TOLERANCE = 1e-5
+#: Default velocity scale of the Gear error norm [m/s].
+DEFAULT_GEAR_VELOCITY_SCALE = 0.05
+#: Overlap / radius above which a run warns (:class:`LargeOverlapWarning`): Hertz's
+#: contact assumes strains small against one; at 5 % of the radius (a steel sphere on PVC
+#: at about 8 m/s) real materials yield, while the model stays elastic. A regime, not an
+#: error: the run goes on and reports ``max_overlap_ratio``.
+OVERLAP_WARNING_LIMIT = 0.05
+
+
+class LargeOverlapWarning(UserWarning):
+    """A DEM run had overlaps beyond :data:`OVERLAP_WARNING_LIMIT` of a radius."""
+
+
+def _floats(field: str, value, expected: str, ndmin: int = 0) -> np.ndarray:
+    """``value`` as a float array, or an InputError saying what was expected."""
+    if isinstance(value, str | bytes):
+        raise InputError(field, f"must be {expected}, got {value!r}")
+    try:
+        return np.array(value, dtype=float, ndmin=ndmin)
+    except (TypeError, ValueError):
+        raise InputError(field, f"must be {expected}, got {value!r}") from None
+
+
+@dataclass(frozen=True)
+class Container:
+    """A rectangular box container.
+
+    Parameters
+    ----------
+    box
+        Inner dimensions ``(Lx, Ly, Lz)`` [m]; ``Lz`` is vertical.
+    material
+        Wall material (all six walls).
+    mass
+        Container mass m_con [kg]; only enters the complex power's effective mass (Eq. 4).
+    """
+
+    box: tuple[float, float, float]
+    material: Material
+    mass: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.material, Material):
+            raise InputError("container.material", f"must be a Material, got {self.material!r}")
+        if isinstance(self.box, str | bytes) or not hasattr(self.box, "__len__") \
+                or len(self.box) != 3:
+            raise InputError("container.box", "needs three inner dimensions (Lx, Ly, Lz) in m, "
+                             f"got {self.box!r}")
+        for name, v in zip("xyz", self.box, strict=True):
+            check_range(f"container.box.L{name}", v, low=0.0, low_inclusive=False, unit="m")
+        check_range("container.mass", self.mass, low=0.0, unit="kg")
+        object.__setattr__(self, "box", tuple(float(v) for v in self.box))
+
+
+@dataclass
+class ParticleSet:
+    """Spheres with per-particle radius and material.
+
+    Parameters
+    ----------
+    positions
+        Centres in the container frame, shape ``(n, 3)`` [m].
+    radius
+        One radius or one per particle [m].
+    material
+        One material or one per particle.
+    velocities, angular_velocities
+        Initial values, shape ``(n, 3)`` [m/s], [rad/s]; zero if omitted.
+    """
+
+    positions: np.ndarray
+    radius: float | Sequence[float] | np.ndarray
+    material: Material | Sequence[Material]
+    velocities: np.ndarray | None = None
+    angular_velocities: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        pos = _floats("particles.positions", self.positions, "an (n, 3) array of centres in m",
+                      ndmin=2)
+        if pos.ndim != 2 or pos.shape[1] != 3 or pos.shape[0] < 1:
+            raise InputError("particles.positions", "must have shape (n, 3) with n >= 1")
+        if not np.all(np.isfinite(pos)):
+            raise InputError("particles.positions", "must be finite")
+        n = pos.shape[0]
+        self.positions = pos
+        r = _floats("particles.radius", self.radius, f"one radius or {n} of them in m")
+        if r.ndim > 1 or r.size not in (1, n):
+            raise InputError("particles.radius", f"one radius or {n} of them in m, got shape "
+                             f"{r.shape}")
+        r = np.broadcast_to(r, (n,)).copy()
+        if np.any(~np.isfinite(r)) or np.any(r <= 0):
+            raise InputError("particles.radius", "must be finite and > 0 m")
+        self.radius = r
+        for name in ("velocities", "angular_velocities"):
+            v = getattr(self, name)
+            v = (np.zeros((n, 3)) if v is None else
+                 _floats(f"particles.{name}", v, f"an ({n}, 3) array"))
+            if v.shape != (n, 3) or not np.all(np.isfinite(v)):
+                raise InputError(f"particles.{name}", f"must be finite with shape ({n}, 3)")
+            setattr(self, name, v)
+        if isinstance(self.material, Material):
+            mats = [self.material] * n
+        elif isinstance(self.material, str | bytes) or not hasattr(self.material, "__iter__"):
+            mats = []
+        else:
+            mats = list(self.material)
+        if len(mats) != n or not all(isinstance(m, Material) for m in mats):
+            raise InputError("particles.material", f"must be one Material or {n} of them "
+                             f"(pdamper.materials), got {self.material!r}")
+        self.material = mats
+
+    @property
+    def count(self) -> int:
+        """Number of particles n."""
+        return self.positions.shape[0]
+
+    @property
+    def masses(self) -> np.ndarray:
+        """m = 4/3 pi r^3 rho [kg]."""
+        rho = np.array([m.density for m in self.material])
+        return 4.0 / 3.0 * math.pi * self.radius**3 * rho
+
+    @property
+    def inertia(self) -> np.ndarray:
+        """Moment of inertia of a solid sphere, 2/5 m r^2 [kg m^2]."""
+        return 0.4 * self.masses * self.radius**2
+
+    @classmethod
+    def lattice(cls, n: int, box: Sequence[float], radius: float, material: Material,
+                gap: float = 0.0) -> ParticleSet:
+        """Regular square-lattice layers from the floor (the paper's 4 x 4 layers in its
+        benchmark box); see :func:`pdamper.dem.packing.lattice_layers`."""
+        from pdamper.dem.packing import lattice_layers
+
+        return cls(lattice_layers(n, radius, box, gap), radius, material)
+
+    @classmethod
+    def random(cls, n: int, box: Sequence[float], radius: float, material: Material,
+               seed: int = 0) -> ParticleSet:
+        """Random non-overlapping packing, reproducible from ``seed``."""
+        from pdamper.dem.packing import random_packing
+
+        return cls(random_packing(n, radius, box, seed), radius, material)
+
+
+@dataclass(frozen=True)
+class HarmonicMotion:
+    """Prescribed harmonic container motion x_c = X sin(W t), W = 2 pi f (paper Sect. 3).
+
+    Parameters
+    ----------
+    amplitude
+        X [m] (>= 0; 0 keeps the container at rest).
+    frequency
+        f [Hz].
+    """
+
+    amplitude: float = 0.0
+    frequency: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_range("amplitude", self.amplitude, low=0.0, unit="m")
+        check_range("frequency", self.frequency, low=0.0, unit="Hz")
+
+    @property
+    def angular_frequency(self) -> float:
+        """W = 2 pi f [rad/s]."""
+        return 2.0 * math.pi * self.frequency
+
+    def state(self, t):
+        """(x_c, v_c, a_c) at time(s) t [s]."""
+        w = self.angular_frequency
+        return (self.amplitude * np.sin(w * t), self.amplitude * w * np.cos(w * t),
+                -self.amplitude * w * w * np.sin(w * t))
+
+
+@dataclass(frozen=True)
+class PrescribedMotion:
+    """Any prescribed container motion x_c(t) along z.
+
+    The callables are sampled on a uniform grid of ``sample_interval`` for the kernels and
+    interpolated linearly there. Missing derivatives are taken numerically.
+
+    Parameters
+    ----------
+    position
+        ``x_c(t)`` [m], vectorised over a numpy array of times [s].
+    velocity, acceleration
+        Optional ``v_c(t)`` [m/s], ``a_c(t)`` [m/s^2].
+    sample_interval
+        Grid step [s] (default 1e-6 s).
+    """
+
+    position: Callable
+    velocity: Callable | None = None
+    acceleration: Callable | None = None
+    sample_interval: float = 1e-6
+
+    def table(self, duration: float):
+        """Sampled ``(t, z, v, a)`` over [0, duration]."""
+        h = float(self.sample_interval)
+        nt = int(math.ceil(duration / h)) + 3
+        t = np.arange(nt) * h
+        z = np.asarray(self.position(t), dtype=float) * np.ones(nt)
+        v = (np.gradient(z, h) if self.velocity is None
+             else np.asarray(self.velocity(t), dtype=float) * np.ones(nt))
+        a = (np.gradient(v, h) if self.acceleration is None
+             else np.asarray(self.acceleration(t), dtype=float) * np.ones(nt))
+        if not (np.all(np.isfinite(z)) and np.all(np.isfinite(v)) and np.all(np.isfinite(a))):
+            raise InputError("motion.position", "the container motion must be finite")
+        return t, z, v, a
+
+
+@dataclass(frozen=True)
+class StructureMotion:
+    """The container as the end effector of a 1-DOF structure (the paper's model 1).
+
+    ``M x'' + D x' + K x = F_z``, where ``F_z`` is the force that the particles exert on
+    the container; the structure is integrated together with the particles. ``x`` is measured
+    from the static equilibrium of the structure without particles, so gravity does not act
+    on M (the particles' weight acts through F_z).
+
+    Parameters
+    ----------
+    mass, damping, stiffness
+        M [kg], D [kg/s], K [N/m] (the paper's: ``pdamper.parameters.PAPER_STRUCTURE``).
+    x0, v0
+        Initial position [m] and velocity [m/s] at release.
+    force_amplitude, force_frequency, force_phase
+        A harmonic load ``F cos(2 pi f t + phi)`` on the structure, t from the start of the
+        run: F [N] (default 0: free vibration), f [Hz], phi [rad] (the forced response,
+        :mod:`pdamper.coupling.frf`).
+    """
+
+    mass: float
+    damping: float
+    stiffness: float
+    x0: float = 0.0
+    v0: float = 0.0
+    force_amplitude: float = 0.0
+    force_frequency: float = 0.0
+    force_phase: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_range("structure.mass", self.mass, low=0.0, low_inclusive=False, unit="kg")
+        check_range("structure.damping", self.damping, low=0.0, unit="kg/s")
+        check_range("structure.stiffness", self.stiffness, low=0.0, unit="N/m")
+        check_range("structure.x0", self.x0, unit="m")
+        check_range("structure.v0", self.v0, unit="m/s")
+        check_range("force", self.force_amplitude, low=0.0, unit="N")
+        check_range("frequency", self.force_frequency, low=0.0, unit="Hz")
+        check_range("force_phase", self.force_phase, unit="rad")
+
+    @property
+    def natural_frequency(self) -> float:
+        """sqrt(K/M) / (2 pi) [Hz]."""
+        return math.sqrt(self.stiffness / self.mass) / (2.0 * math.pi)
+
+
+Motion = HarmonicMotion | PrescribedMotion | StructureMotion

@@ -1,0 +1,247 @@
+"""Typed settings, each declared once: type, unit, default, constraint and docstring.
+
+A setting is a field of a frozen :class:`Settings` model declared with :func:`setting`; the
+declaration is the one place of its constraint (checked by one validator of the base class,
+with the messages of :func:`pdamper.errors.check_range`), its unit (SI inside; the scenario
+and the command line parse quantities with this unit at the edges) and its description
+(the docstring of the field, the scenario reference and the command line's help).
+
+- :class:`EngineSettings`: the DEM engine and its integrators (:class:`pdamper.dem.DEMEngine`).
+- The Level II settings of the DEM damper (run plan, steady-state criterion, accuracy target)
+  are in :mod:`pdamper.models.settings`; the scenario's ``[dem]`` section and the ``dem``
+  command derive from them.
+
+Settings objects list their values (:meth:`Settings.get_params`) and are copied with
+changes (:meth:`Settings.clone`), as scikit-learn's estimators are.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, ClassVar
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+from pdamper.constants import STANDARD_GRAVITY
+from pdamper.dem.inputs import (
+    DEFAULT_GEAR_TOLERANCE,
+    DEFAULT_GEAR_VELOCITY_SCALE,
+    DEFAULT_SAFETY,
+    INTEGRATORS,
+)
+from pdamper.errors import InputError, check_range, check_whole
+
+#: ``integrator="auto"`` runs Gear and hands over to velocity Verlet while Gear's mean step
+#: over a judgement window of the excitation is below AUTO_COST_RATIO x the step Verlet would
+#: take. At 1 the rule needs no cost model: Verlet then takes fewer steps, and each is
+#: cheaper (a variable Gear step costs 1.6-2.4 Verlet steps: 2.4 at 32 spheres, 1.6 at 176,
+#: where the force evaluation dominates). Gear's step falls below Verlet's where its
+#: stability limit holds it, whatever its tolerance: a jammed bed (the full container,
+#: 0.16 us against Verlet's 0.39 us). A ratio of 2.4 handed a Level III run of 176 spheres
+#: (impacts and flights alternating within each structure period) to Verlet for 0.7 of its
+#: 2 s and made it 14-80 % slower than Gear. Both integrators meet the verification table
+#: of docs/dem.md.
+AUTO_COST_RATIO = 1.0
+#: Kinds of value a setting holds (the check its declaration implies).
+KINDS = ("number", "whole", "flag", "choice", "cycles")
+
+
+def setting(default: Any, doc: str, *, unit: str = "", low: float | None = None,
+            high: float | None = None, low_inclusive: bool = True,
+            high_inclusive: bool = True, choices: tuple[str, ...] = (), kind: str = "",
+            infinite: bool = False, none: str = "") -> Any:
+    """Declare a setting: its ``default``, docstring ``doc`` and ``unit`` (SI, "" for
+    dimensionless), its range (``low``/``high`` as :func:`~pdamper.errors.check_range`;
+    ``infinite``: ``inf`` allowed too) or ``choices``; ``kind`` (default: from the
+    default's type) and ``none``: what None means (empty: None not allowed)."""
+    if not kind:
+        kind = ("choice" if choices else "flag" if isinstance(default, bool)
+                else "whole" if isinstance(default, int) else "number")
+    if kind not in KINDS:
+        raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
+    extra = {"unit": unit, "kind": kind, "low": low, "high": high,
+             "low_inclusive": low_inclusive, "high_inclusive": high_inclusive,
+             "choices": list(choices), "infinite": infinite, "none": none}
+    return Field(default, description=doc, json_schema_extra=extra)
+
+
+def declaration(cls: type[BaseModel], name: str) -> dict:
+    """The declaration (unit, kind, range, choices) of field ``name`` of ``cls``."""
+    extra = cls.model_fields[name].json_schema_extra
+    return dict(extra) if isinstance(extra, dict) else {}
+
+
+def allowed(decl: dict) -> str:
+    """The allowed values of a declaration, as the error messages write them."""
+    if decl["kind"] == "choice":
+        return "one of " + ", ".join(decl["choices"])
+    if decl["kind"] == "flag":
+        return "true or false"
+    if decl["kind"] == "cycles":
+        return "'auto' or a whole number >= 1"
+    lo = "[" if decl["low_inclusive"] else "("
+    hi = "]" if decl["high_inclusive"] else ")"
+    low, high = decl["low"], decl["high"]
+    text = f"{lo}{'-inf' if low is None else f'{low:g}'}, {'inf' if high is None else f'{high:g}'}{hi}"
+    return f"whole number >= {low:g}" if decl["kind"] == "whole" else text
+
+
+def check_setting(name: str, value: Any, decl: dict) -> Any:
+    """``value`` checked against the declaration ``decl`` of setting ``name``; raises
+    :class:`~pdamper.errors.InputError` naming ``name`` and the allowed range."""
+    if value is None and decl.get("none"):
+        return None
+    kind = decl["kind"]
+    if kind == "choice":
+        if value not in decl["choices"]:
+            raise InputError(name, f"must be one of {', '.join(decl['choices'])}, "
+                             f"got {value!r}")
+        return value
+    if kind == "flag":
+        import numpy as np
+
+        if not isinstance(value, bool | np.bool_):
+            raise InputError(name, f"must be true or false, got {value!r}")
+        return bool(value)
+    if kind == "cycles":
+        if value == "auto":
+            return "auto"
+        if isinstance(value, str):
+            raise InputError(name, f"must be 'auto' or a whole number >= 1, got {value!r}")
+        return check_whole(name, value, low=1)
+    if kind == "whole":
+        return check_whole(name, value, low=None if decl["low"] is None else int(decl["low"]))
+    if decl["infinite"] and isinstance(value, int | float) and value == math.inf:
+        return math.inf
+    return check_range(name, value, low=decl["low"], high=decl["high"],
+                       low_inclusive=decl["low_inclusive"],
+                       high_inclusive=decl["high_inclusive"], unit=decl["unit"])
+
+
+class Settings(BaseModel):
+    """Frozen settings of one concern; every field declared with :func:`setting`.
+
+    Construction checks every value against its declaration and raises
+    :class:`~pdamper.errors.InputError` (the field named with :attr:`prefix`).
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid", validate_default=False)
+
+    #: Prefix of the field names in errors (``"dem."``: as the scenario's section).
+    prefix: ClassVar[str] = ""
+
+    def __init__(self, **data: Any):
+        try:
+            super().__init__(**data)
+        except ValidationError as exc:
+            raise self._error(exc) from None
+
+    @classmethod
+    def _error(cls, exc: ValidationError) -> InputError:
+        err = exc.errors()[0]
+        name = ".".join(str(p) for p in err["loc"])
+        if err["type"] == "extra_forbidden":
+            return InputError(cls.prefix + name, f"unknown setting of {cls.__name__}; known: "
+                              f"{', '.join(cls.model_fields)}")
+        return InputError(cls.prefix + name, err["msg"].removeprefix("Value error, "))
+
+    @classmethod
+    def _edge(cls, name: str, value: Any, decl: dict) -> Any:
+        """A value as given at the edge, made a value of the setting (the scenario parses
+        quantities with units here); identity for the Python API (SI)."""
+        return value
+
+    @field_validator("*", mode="before")
+    @classmethod
+    def _declared(cls, value: Any, info) -> Any:
+        decl = declaration(cls, info.field_name)
+        if not decl:  # a field of a subclass not declared with setting()
+            return value
+        try:
+            return check_setting(info.field_name, cls._edge(info.field_name, value, decl), decl)
+        except InputError as exc:  # pydantic adds the location
+            raise ValueError(exc.message) from None
+
+    # -- scikit-learn style ------------------------------------------------------------
+    def get_params(self) -> dict[str, Any]:
+        """Every setting by name (the defaults included)."""
+        return {name: getattr(self, name) for name in type(self).model_fields}
+
+    def clone(self, **changes: Any):
+        """A copy with ``changes`` (checked as at construction)."""
+        return type(self)(**{**self.get_params(), **changes})
+
+    @classmethod
+    def declarations(cls) -> dict[str, dict]:
+        """Every field's declaration: ``unit``, ``kind``, range, ``choices``, ``doc`` and
+        ``default``."""
+        return {name: {**declaration(cls, name), "doc": f.description, "default": f.default}
+                for name, f in cls.model_fields.items()}
+
+
+class EngineSettings(Settings):
+    """Settings of the DEM engine (paper Sect. 3): integrator, step control, settling and
+    stops (:class:`pdamper.dem.DEMEngine`). SI units."""
+
+    integrator: str = setting(
+        "verlet", "``verlet`` (fixed-step velocity Verlet), ``gear`` (variable-step "
+        "fifth-order Gear predictor-corrector, the paper's) or ``auto`` (Gear, handing the "
+        "excitation over to Verlet where Gear's steps fall below ``auto_cost_ratio`` x "
+        "Verlet's).", choices=INTEGRATORS)
+    safety: float = setting(
+        DEFAULT_SAFETY, "Time step / Hertz contact duration at the reference speed (the "
+        "Gear integrator's step at a contact onset).", low=0.0, high=1.0,
+        low_inclusive=False)
+    gravity: float = setting(STANDARD_GRAVITY, "g, acting along -z.", unit="m/s^2", low=0.0)
+    gear_tolerance: float = setting(
+        DEFAULT_GEAR_TOLERANCE, "Error tolerance of the Gear step control.", low=0.0,
+        low_inclusive=False)
+    gear_velocity_scale: float = setting(
+        DEFAULT_GEAR_VELOCITY_SCALE, "Velocity scale of the Gear step control.", unit="m/s",
+        low=0.0, low_inclusive=False)
+    gear_adaptive: bool = setting(True, "False keeps the Gear step fixed (convergence "
+                                  "studies).")
+    max_step: float = setting(1e-4, "Upper bound of the Gear step.", unit="s", low=0.0,
+                              low_inclusive=False)
+    skin: float | None = setting(None, "Verlet-list skin.", unit="m", low=0.0,
+                                 low_inclusive=False, kind="number",
+                                 none="0.2 x the smallest radius")
+    settle_time: float | None = setting(
+        None, "Settling under gravity in the resting container before the excitation (0: "
+        "none).", unit="s", low=0.0, kind="number",
+        none="the free fall over the container height + 0.05 s (a Level II run of the DEM "
+        "damper: + 1 s)")
+    max_overlap: float | None = setting(
+        None, "Overlap / radius at which the run stops (large overlaps are a regime of fast "
+        "impacts, reported as ``max_overlap_ratio`` and warned about above "
+        "``OVERLAP_WARNING_LIMIT``).", low=0.0, high=1.0,
+        low_inclusive=False, kind="number",
+        none="never: large overlaps are reported as max_overlap_ratio and warned about")
+    reference_velocity: float | None = setting(
+        None, "Impact speed at which the contact duration is evaluated.", unit="m/s",
+        low=0.0, low_inclusive=False, kind="number",
+        none="from the excitation and the free fall over the container height")
+    gear_contact_bound: bool = setting(
+        False, "Bound the Gear step by the time to the next contact (never below 6 x the "
+        "Verlet step). Off by default: in a dense bed some pair is always about to touch, "
+        "and the bound doubled the steps at unchanged accuracy; the error control with "
+        "rejection resolves onsets (docs/dem.md).")
+    seed: int | None = setting(None, "Recorded in the results (the engine itself is "
+                               "deterministic).", low=0, kind="whole", none="none recorded")
+    auto_cost_ratio: float = setting(
+        AUTO_COST_RATIO, "``integrator = auto`` hands over to Verlet when Gear's mean step falls below "
+        "this times Verlet's (inf: at the first judgement, 0: never).", low=0.0,
+        infinite=True)
+    gear_free_flight: bool = setting(
+        True, "Take the spheres that cannot touch anything before a horizon out of the Gear "
+        "step (their free flight is an exact parabola): the same physics at a lower cost "
+        "per step where few spheres are in contact (pdamper.dem.kernels.flights).")
+    transient_cycles: int = setting(
+        0, "The first cycles of a harmonic excitation (the start from rest, which the "
+        "averaged window of a Level II run skips) that run at ``gear_transient_tolerance`` "
+        "instead of ``gear_tolerance``: the averaged window sees only the motion after "
+        "them, which for a chaotic bed starts another realisation (docs/fields.md, "
+        "section 1).", low=0)
+    gear_transient_tolerance: float | None = setting(
+        None, "Gear tolerance of the first ``transient_cycles`` cycles.", low=0.0,
+        low_inclusive=False, kind="number", none="gear_tolerance")

@@ -1,0 +1,507 @@
+"""A report of the user's own damper: one self-contained ``report.html`` for any scenario.
+
+:func:`run_damper_report` computes, from one :class:`~pdamper.io.scenario.Scenario`:
+
+- Level II: the analytical map (loss factor, effective mass, motion mode) over ``[map]``
+  and, when asked (``dem=True``), the DEM map on ``[map] dem_frequency x dem_amplitude``
+  (the sweep engine, cached in the output directory as ``pdamper paper`` does);
+- Level III: the structure's free decay (``[structure]``, one DOF or N modes) with the
+  models compared: the analytical formulas (model 3), the effective fields (model 2: the
+  scenario's ``[fields] file``, else the analytical map, clamped at its edges) and, with
+  ``dem=True``, the DEM (model 1);
+- the design landscape of ``[optimization]`` (its ``vary``, or the particle-count study)
+  with the analytical model, with the Pareto front of added mass against the objective, the
+  best design and the lightest within the tolerance;
+- the spread of the Level II and III answers under the inputs given as ``"value +- sd"``
+  (:mod:`pdamper.io.uncertain`), when the scenario has any;
+- the run time of each step, the version and the seeds.
+
+:func:`write_damper_report` writes ``report.html`` (the look of ``pdamper paper``'s page,
+:mod:`pdamper.reports.html`) and ``results.json``. :func:`merge_sections` is where further
+sections (the forced response, realisation bands) join the page.
+"""
+
+from __future__ import annotations
+
+import functools
+import io
+import json
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from pdamper.reports.html import _STYLE, ReportFigure, _e, _img, _table
+
+#: Base points of the report's uncertainty propagation (a power of two; N (d + 2) runs).
+DEFAULT_UNCERTAINTY_POINTS = 32
+
+
+@dataclass
+class DamperReport:
+    """What :func:`run_damper_report` computed."""
+
+    title: str
+    version: str
+    inputs: dict
+    damper: object = None
+    structure: object = None
+    level2_map: object = None  # xarray.Dataset (analytical)
+    dem_map: object = None  # xarray.Dataset (DEM), or None
+    runs: dict = field(default_factory=dict)  # label -> FreeVibrationResult
+    sources: dict = field(default_factory=dict)  # label -> what the model rests on
+    empty: object = None  # run without particles
+    study: object = None  # DesignStudyResult
+    study_model: str = "analytic"
+    uncertainty: dict = field(default_factory=dict)  # "level2"/"level3" -> result
+    timings: dict = field(default_factory=dict)
+    seeds: dict = field(default_factory=dict)
+    at: float = 0.0
+    figures: list = field(default_factory=list)
+    uncertain: tuple = ()  # the scenario's "value +- sd" inputs
+
+    def models(self) -> list[dict]:
+        """One row per Level III run: label, model, source, amplitude at ``at``, final
+        amplitude, wall time."""
+        out = []
+        for label, run in self.runs.items():
+            reached = run.time[-1] >= self.at * (1.0 - 1e-9)
+            out.append({"label": label, "model": run.model, "source": self.sources[label],
+                        "amplitude_at": run.amplitude_at(self.at) if reached else None,
+                        "final_amplitude": run.final_amplitude,
+                        "seconds": self.timings.get(f"Level III: {label}")})
+        return out
+
+    def as_dict(self) -> dict:
+        return {"title": self.title, "version": self.version, "seeds": self.seeds,
+                "at": self.at, "models": self.models(), "timings": self.timings,
+                "design_study": None if self.study is None else
+                {**self.study.as_dict(), "model": self.study_model},
+                "uncertainty": {k: v.as_dict() for k, v in self.uncertainty.items()},
+                "figures": [f.name for f in self.figures], "inputs": self.inputs}
+
+
+def _timed(rep: DamperReport, key: str, fn):
+    t0 = time.perf_counter()
+    out = fn()
+    rep.timings[key] = time.perf_counter() - t0
+    return out
+
+
+def _png(fig) -> bytes:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=100)
+    return buf.getvalue()
+
+
+def _one_count(ds, count: int):
+    """A map with a particle-count axis at the count nearest ``count`` (2-D for plots)."""
+    if "particles" in ds.dims:
+        return ds.sel(particles=count, method="nearest")
+    return ds
+
+
+def run_damper_report(scenario, *, dem: bool = False, uncertainty: int | None = None,
+                      uncertainty_seed: int = 0, out: Path | None = None,
+                      progress: Callable[[str], None] | None = None,
+                      **sweep_options) -> DamperReport:
+    """Compute the report of ``scenario`` (module docstring).
+
+    Parameters
+    ----------
+    scenario
+        The :class:`~pdamper.io.scenario.Scenario` (its resources judged by the caller).
+    dem
+        Add the DEM: its Level II map and Level III model 1.
+    uncertainty
+        Base points of the propagation of the ``"value +- sd"`` inputs (default
+        :data:`DEFAULT_UNCERTAINTY_POINTS` when the scenario has any; none without).
+    uncertainty_seed
+        Seed of its Sobol' sequence.
+    out
+        Directory of the DEM map's cache.
+    sweep_options
+        ``workers``, ``scheduler`` of the DEM map.
+    """
+    from pdamper import __version__
+    from pdamper.coupling import Simulation
+    from pdamper.models import AnalyticalDamper, EffectiveFieldDamper
+    from pdamper.reports.maps import run_map
+
+    sc = scenario
+    say = progress or (lambda _m: None)
+    damper, structure = sc.damper(), sc.structure_model()
+    x0, duration = sc.structure.initial_displacement, sc.simulation.duration
+    rep = DamperReport(sc.title, __version__, sc.model_dump(mode="json"), damper, structure,
+                       at=min(sc.optimization.at, duration))
+    rep.seeds = {"dem.seed": sc.dem.seed, "optimization.seed": sc.optimization.seed}
+    rep.uncertain = sc.uncertain_inputs()
+
+    say("Level II: analytical map")
+    rep.level2_map = _timed(rep, "Level II: analytical map",
+                            lambda: run_map(sc, "analytic").dataset)
+    if dem:
+        from pdamper.dem import warmup
+
+        say("compiling the DEM kernels (first run only, then cached)")
+        _timed(rep, "DEM kernels", lambda: warmup((sc.dem.integrator,)))
+        f, x = sc.dem_map_grid()
+        say(f"Level II: DEM map {len(f)} x {len(x)}")
+        target = None if out is None else Path(out) / "dem_map.nc"
+        rep.dem_map = _timed(rep, "Level II: DEM map", lambda: run_map(
+            sc, "dem", frequency=f, amplitude=x, particles=np.array([damper.count]),
+            out=target, cache=True, **sweep_options).dataset)
+
+    gravity = sc.excitation.gravity
+    models = {"analytical formulas (model 3)": (sc.model("analytic", damper), "Eqs. 5-22")}
+    if sc.fields.file is not None:
+        models["effective fields (model 2)"] = (sc.model("fields", damper),
+                                                f"map {sc.fields.file}")
+    else:
+        f, x = sc.map_grid()
+        fmap = effective_field_map(damper, f, x, gravity)
+        opts = {**sc.fields.options(), "file": None, "extrapolation": "clamp"}
+        models["effective fields (model 2)"] = (
+            EffectiveFieldDamper(damper, field=fmap, **opts),
+            "analytical map of [map], clamped at its edges")
+    if dem:
+        models["DEM (model 1)"] = (sc.model("dem", damper), "DEM co-simulation")
+    for label, (model, source) in models.items():
+        say(f"Level III: {label}")
+        rep.runs[label] = _timed(rep, f"Level III: {label}", lambda m=model: Simulation(
+            structure, m, x0).run(duration, sc.simulation.sample_rate))
+        rep.sources[label] = source
+    rep.empty = _timed(rep, "Level III: no particles", lambda: Simulation(
+        structure, AnalyticalDamper(damper.with_count(0), gravity=gravity), x0).run(
+        duration, sc.simulation.sample_rate))
+
+    say("design landscape")
+    rep.study = _timed(rep, "design study", lambda: design_study(sc, damper, structure))
+
+    if sc.uncertain_inputs():
+        from pdamper.io.uncertain import propagate_scenario
+
+        n = DEFAULT_UNCERTAINTY_POINTS if uncertainty is None else uncertainty
+        rep.seeds["uncertainty_seed"] = uncertainty_seed
+        for level in ("level2", "level3"):
+            say(f"uncertainty: {level}")
+            rep.uncertainty[level] = _timed(
+                rep, f"uncertainty ({level})", lambda lv=level: propagate_scenario(
+                    sc, lv, n, uncertainty_seed, model="analytic"))
+    say("figures")
+    rep.figures = _timed(rep, "figures", lambda: figures(rep))
+    return rep
+
+
+def effective_field_map(damper, frequency, amplitude, gravity: float):
+    """The analytical map of ``damper`` on a grid: model 2's fields without a map file."""
+    from pdamper.analysis.fields import effective_field
+    from pdamper.models import AnalyticalDamper
+
+    return effective_field(AnalyticalDamper(damper, gravity=gravity), frequency, amplitude)
+
+
+def design_study(sc, damper, structure):
+    """The design study of ``[optimization]`` (its ``vary``, or the particle count in
+    whole layers) with the analytical model, in-process."""
+    from pdamper.design.study import DesignVariable, optimize_design
+
+    o = sc.optimization
+    variables = o.variables()
+    if not variables:
+        step = damper.per_layer if o.step is None else o.step
+        counts = tuple(range(0, damper.max_count, step))
+        variables = [DesignVariable("particles", counts,
+                                    spec=f"particles={counts[0]}:{counts[-1]}:{step}")]
+    return optimize_design(structure, damper, sc.structure.initial_displacement, variables,
+                           o.objective, o.at, model=functools.partial(sc.model, "analytic"),
+                           threshold=o.threshold, method=o.method, max_grid=o.max_grid,
+                           max_evaluations=o.max_evaluations, seed=o.seed, workers=0,
+                           tolerance=o.tolerance)
+
+
+def figures(rep: DamperReport) -> list[ReportFigure]:
+    """The report's figures (PNG)."""
+    from matplotlib.figure import Figure
+
+    from pdamper import plots
+
+    out = []
+    ds = _one_count(rep.level2_map, rep.damper.count)
+    fig = Figure(figsize=(15, 4.4), layout="constrained")
+    a = fig.subplots(1, 3)
+    plots.plot_mode_map(ds, ax=a[0])
+    plots.plot_loss_factor_map(ds, ax=a[1])
+    plots.plot_effective_mass_map(ds, ax=a[2])
+    a[0].set_title("motion mode")
+    a[1].set_title("loss factor")
+    a[2].set_title("effective mass ratio")
+    out.append(ReportFigure("level2_map", f"Level II map of the analytical model, "
+                            f"{rep.damper.count} particles (Eqs. 5-22)", _png(fig)))
+    if rep.dem_map is not None:
+        dm = _one_count(rep.dem_map, rep.damper.count)
+        fig = Figure(figsize=(10, 4.4), layout="constrained")
+        a = fig.subplots(1, 2)
+        plots.plot_loss_factor_map(dm, ax=a[0])
+        plots.plot_effective_mass_map(dm, ax=a[1])
+        a[0].set_title("loss factor (DEM)")
+        a[1].set_title("effective mass ratio (DEM)")
+        out.append(ReportFigure("level2_dem_map", "Level II map of the DEM (complex power "
+                                "method, Eqs. 1-4)", _png(fig)))
+    fig = Figure(figsize=(11, 7.5), layout="constrained")
+    a = fig.subplots(2, 1)
+    plots.plot_model_trajectories(rep.runs, ax=a[0], envelope=rep.empty)
+    a[0].set_title("free decay of the structure with the damper")
+    plots.plot_model_damping_ratios(rep.runs, ax=a[1])
+    a[1].set_title("damping ratio per cycle (Eqs. 24-25)")
+    out.append(ReportFigure("free_decay", "free decay and damping ratio, the models compared",
+                            _png(fig)))
+    fig = Figure(figsize=(8, 5.2), layout="constrained")
+    plots.plot_design_landscape(rep.study, ax=fig.subplots())
+    out.append(ReportFigure("design_landscape", "design landscape (analytical model) with the "
+                            "Pareto front of added mass against the objective", _png(fig)))
+    if "level3" in rep.uncertainty:
+        out.append(ReportFigure("uncertainty", "spread of the answers under the uncertain "
+                                "inputs (histograms, the envelope's 5-95 % band) and the "
+                                "inputs' total Sobol' indices",
+                                _png(uncertainty_figure(rep.uncertainty))))
+    return out
+
+
+def uncertainty_figure(results: dict):
+    """Histograms of the Level III amplitude at t and the Level II loss factor with their
+    5-95 % band, the band of the Level III envelope over time, and the total Sobol' index
+    of each input per answer."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(15, 8.8), layout="constrained")
+    grid = fig.subplots(2, 2)
+    ax = [grid[0, 0], grid[0, 1], grid[1, 1]]
+    band = results["level3"].bands.get("envelope") if "level3" in results else None
+    if band is not None:
+        a, t = grid[1, 0], band["time"]
+        a.fill_between(t, band["p5"] * 1e3, band["p95"] * 1e3, color="C1", alpha=0.3,
+                       label="5-95 %")
+        a.plot(t, band["mean"] * 1e3, "k", lw=1, label="mean")
+        a.plot(t, band["nominal"] * 1e3, "C3--", lw=1, label="nominal inputs")
+        a.set_xlabel("time t [s]")
+        a.set_ylabel("amplitude envelope [mm]")
+        a.set_title("free decay under the uncertain inputs (analytical model)")
+        a.legend(fontsize="x-small")
+    else:
+        grid[1, 0].set_axis_off()
+    for a, (level, name, k, unit) in zip(ax[:2], (("level3", "amplitude_at", 1e3, "mm"),
+                                                  ("level2", "loss_factor", 1.0, "-")),
+                                         strict=True):
+        r = results.get(level)
+        if r is None:
+            a.set_axis_off()
+            continue
+        s = r.answers[name]
+        a.hist(r.values[name] * k, bins=20, color="C0", alpha=0.7)
+        a.axvspan(s.percentiles[5.0] * k, s.percentiles[95.0] * k, color="C1", alpha=0.2,
+                  label="5-95 %")
+        a.axvline(s.mean * k, color="k", label="mean")
+        a.axvline(s.nominal * k, color="C3", ls="--", label="nominal inputs")
+        a.set_xlabel(f"{name} [{unit}]")
+        a.set_ylabel("samples")
+        a.legend(fontsize="x-small")
+    names = [u.field for u in next(iter(results.values())).inputs]
+    answers = [(lv, n) for lv, r in results.items() for n in r.answers]
+    width = 0.8 / max(len(names), 1)
+    for i, inp in enumerate(names):
+        ax[2].bar(np.arange(len(answers)) + i * width,
+                  [results[lv].answers[n].total_order[inp] for lv, n in answers], width,
+                  label=inp)
+    ax[2].set_xticks(np.arange(len(answers)) + 0.4 - width / 2,
+                     [n for _, n in answers], rotation=30, ha="right", fontsize="small")
+    ax[2].set_ylabel("total Sobol' index")
+    ax[2].legend(fontsize="x-small")
+    return fig
+
+
+# ---------------------------------------------------------------------------- the page
+def merge_sections(forced_response: str | None = None,
+                   realisations: str | None = None) -> list[str]:
+    """MERGE POINT: the sections other features add to the page, in order: the forced
+    response (FRF) of the structure with the damper and the realisation bands of the DEM
+    answers. Each is an HTML fragment (``<h2>...</h2>`` and its content) or None (not
+    computed: left out)."""
+    return [s for s in (forced_response, realisations) if s]
+
+
+def _mm(v) -> str:
+    return "" if v is None else f"{v * 1e3:.2f}"
+
+
+def _uncertainty_html(rep: DamperReport) -> list[str]:
+    if not rep.uncertainty:
+        return ["<h2>Uncertainty</h2>", "<p>No input of this scenario carries an uncertainty. "
+                "Give one as <code>\"value +- sd\"</code> (a standard deviation; normal, "
+                "truncated to the field's range), e.g. <code>friction = \"0.1 +- 0.03\"</code> "
+                "or <code>length = \"120 mm +- 0.1 mm\"</code>, to see the spread of the "
+                "answers here.</p>"]
+    first = next(iter(rep.uncertainty.values()))
+    parts = ["<h2>Uncertainty</h2>",
+             f"<p>Quasi-Monte Carlo (scrambled Sobol', seed {first.seed}), "
+             f"{first.points} base points, analytical model; Sobol' indices by Saltelli "
+             "(first order) and Jansen (total) on the same runs, 95 % bootstrap intervals. "
+             "The driver of an answer is the input with the largest total index.</p>",
+             _table(["input", "nominal", "standard deviation", "unit", "range"],
+                    [[u.field, f"{u.value:.6g}", f"{u.sd:.3g}", u.unit or "1",
+                      f"[{u.low:g}, {u.high:g}]"] for u in first.inputs], "uncertain_inputs")]
+    rows, idx = [], []
+    for level, r in rep.uncertainty.items():
+        for name, a in r.answers.items():
+            rows.append([level, name, a.unit or "1", f"{a.nominal:.5g}", f"{a.mean:.5g}",
+                         f"{a.std:.3g}", f"{a.percentiles[5.0]:.5g}",
+                         f"{a.percentiles[50.0]:.5g}", f"{a.percentiles[95.0]:.5g}",
+                         a.driver or "none (no spread)"])
+            for inp in a.total_order:
+                lo, hi = a.total_order_interval[inp]
+                idx.append([level, name, inp, f"{a.first_order[inp]:.3f}",
+                            f"{a.total_order[inp]:.3f}", f"[{lo:.3f}, {hi:.3f}]"])
+    parts.append(_table(["level", "answer", "unit", "nominal", "mean", "std", "5 %", "50 %",
+                         "95 %", "driver"], rows, "uncertainty",
+                        [["", "", "", "num", "num", "num", "num", "num", "num", ""]]
+                        * len(rows)))
+    parts.append(_table(["level", "answer", "input", "first-order index", "total index",
+                         "total: 95 % interval"], idx, "sobol_indices",
+                        [["", "", "", "num", "num", ""]] * len(idx)))
+    return parts
+
+
+def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:
+    """The page as a string; ``extra``: the sections of :func:`merge_sections`."""
+    d = rep.damper
+    inputs = _table(["quantity", "value"], [
+        ["container (L x W x D)", f"{d.length * 1e3:g} x {d.width * 1e3:g} x "
+                                  f"{d.depth * 1e3:g} mm, {d.wall_material.name}"],
+        ["particles", f"{d.count} spheres of radius {d.particle_radius * 1e3:g} mm, "
+                      f"{d.particle_material.name}, bed mass {d.bed_mass * 1e3:.1f} g"],
+        ["clearance h, optimal stroke h/pi", f"{d.clearance * 1e3:.2f} mm, "
+                                             f"{d.optimal_stroke * 1e3:.2f} mm"],
+        ["friction mu", f"{d.friction:g}"],
+        ["excitation (Level II answers)", f"f = {rep.inputs['excitation']['frequency']:g} Hz, "
+                                          f"X = {rep.inputs['excitation']['amplitude'] * 1e3:g}"
+                                          f" mm, g = {rep.inputs['excitation']['gravity']:g} "
+                                          "m/s^2"],
+        ["structure", _structure_text(rep.structure)],
+        ["release x0, duration", f"{rep.inputs['structure']['initial_displacement'] * 1e3:g} "
+                                 f"mm, {rep.inputs['simulation']['duration']:g} s"],
+        *([["uncertain inputs (standard deviations)", "; ".join(
+            f"{u.field} = {u.value:.6g} +- {u.sd:.3g} {u.unit}".rstrip()
+            for u in rep.uncertain)]] if rep.uncertain else [])],
+        "inputs")
+    models = rep.models()
+    model_table = _table(["run", "model", "damper data", f"amplitude at {rep.at:g} s [mm]",
+                          "final amplitude [mm]", "wall time [s]"],
+                         [[m["label"], m["model"], m["source"], _mm(m["amplitude_at"]),
+                           _mm(m["final_amplitude"]),
+                           "" if m["seconds"] is None else f"{m['seconds']:.3f}"]
+                          for m in models], "models",
+                         [["", "", "", "num", "num", "num"]] * len(models))
+    st = rep.study
+    on_front = {id(c) for c in st.front}
+    light, best = st.lightest_within, st.best
+    names = [v.name for v in st.variables]
+    land_rows = []
+    for c in st.candidates:
+        mark = ", ".join(w for w, ok in (("best", c is best), ("lightest within "
+                                          f"{st.tolerance * 100:g} %", c is light),
+                                         ("front", id(c) in on_front)) if ok)
+        land_rows.append([*(_value(c.design.get(n)) for n in names),
+                          "" if c.mass is None else f"{c.mass * 1e3:.1f}",
+                          "" if c.objective is None else f"{c.objective:.5g}",
+                          c.status, mark])
+    land = _table([*names, "added mass [g]", f"{st.objective.name} [{st.objective.unit}]",
+                   "status", "on the front"], land_rows, "landscape",
+                  [["num"] * len(names) + ["num", "num", "", ""]] * len(land_rows))
+    summary = (f"best: {_brief(best, names)}; lightest within {st.tolerance * 100:g} % of "
+               f"the best: {_brief(light, names)}; {len(st.front)} designs on the Pareto "
+               "front.")
+    timings = _table(["step", "wall time [s]"],
+                     [[k, f"{v:.3f}"] for k, v in rep.timings.items()], "timings",
+                     [["", "num"]] * len(rep.timings))
+    seeds = ", ".join(f"{k} = {v}" for k, v in rep.seeds.items())
+    figs = {f.name: f for f in rep.figures}
+
+    def fig(name):
+        return [_img(figs[name])] if name in figs else []
+
+    parts = [
+        "<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
+        '<meta name="viewport" content="width=device-width, initial-scale=1">',
+        f"<title>{_e(rep.title)}</title>", f"<style>{_STYLE}</style>", "</head>", "<body>",
+        f"<h1>{_e(rep.title)}</h1>",
+        f'<p class="summary">pdamper {_e(rep.version)}; seeds: {_e(seeds)}.</p>',
+        "<h2>Inputs</h2>", inputs,
+        "<h2>Level II: the damper under harmonic excitation</h2>", *fig("level2_map"),
+        *fig("level2_dem_map"),
+        "<h2>Level III: free decay, the models compared</h2>", model_table,
+        *fig("free_decay"),
+        "<h2>Design landscape</h2>", f"<p>{_e(summary)}</p>", *fig("design_landscape"), land,
+        *_uncertainty_html(rep), *fig("uncertainty"),
+        *extra,
+        "<h2>Run times</h2>", timings,
+        "<h2>All inputs</h2>", f"<pre>{_e(json.dumps(rep.inputs, indent=2))}</pre>",
+        f"<p>Generated by pdamper {_e(rep.version)}.</p>", "</body>", "</html>"]
+    return "\n".join(parts) + "\n"
+
+
+def _value(v) -> str:
+    if isinstance(v, float):
+        return f"{v:.6g}"
+    return "" if v is None else str(v)
+
+
+def _brief(c, names) -> str:
+    if c is None:
+        return "none"
+    mass = "" if c.mass is None else f" ({c.mass * 1e3:.0f} g)"
+    return ", ".join(f"{n} = {_value(c.design.get(n))}" for n in names) + mass
+
+
+def _structure_text(s) -> str:
+    if hasattr(s, "mass") and hasattr(s, "stiffness"):
+        return f"1 DOF (Eq. 23): M = {s.mass:.4g} kg, K = {s.stiffness:g} N/m, " \
+               f"f = {s.natural_frequency:.3f} Hz"
+    return f"{s.modes} mode(s) at " + ", ".join(f"{f:.4g}" for f in s.frequencies) + " Hz"
+
+
+def write_damper_report(rep: DamperReport, out: Path, extra: Sequence[str] = ()) -> list[Path]:
+    """Write ``report.html`` and ``results.json`` under ``out``; returns the paths."""
+    from pdamper.files import atomic_write_text
+
+    out = Path(out)
+    page = render_damper_report(rep, extra or merge_sections())
+    html_path = atomic_write_text(out / "report.html", page, "out")
+    data = json.dumps(_finite(json.loads(json.dumps(rep.as_dict(), default=_json_default))),
+                      indent=2, allow_nan=False)
+    json_path = atomic_write_text(out / "results.json", data + "\n", "out")
+    return [html_path, json_path]
+
+
+def _finite(o):
+    """Non-finite floats as null: strict JSON."""
+    if isinstance(o, float):
+        return o if np.isfinite(o) else None
+    if isinstance(o, dict):
+        return {k: _finite(v) for k, v in o.items()}
+    if isinstance(o, list):
+        return [_finite(v) for v in o]
+    return o
+
+
+def _json_default(o):
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    raise TypeError(f"not JSON serialisable: {type(o)}")
+
+
+__all__ = ["DEFAULT_UNCERTAINTY_POINTS", "DamperReport", "merge_sections",
+           "render_damper_report", "run_damper_report", "write_damper_report"]
