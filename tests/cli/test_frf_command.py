@@ -68,3 +68,15 @@ def test_base_acceleration_in_g(cli):
     assert code == 0, err
     d = json.loads(out)
     assert d["load"]["acceleration"] and d["load"]["amplitude"] == pytest.approx(0.3 * 9.80665)
+
+
+def test_optimize_peak_frf(cli):
+    code, out, err = cli("optimize", "--objective", "peak-frf", "--frf-load", "2N", "--band",
+                         "4.5Hz:6.5Hz:11", "--vary", "particles=0:32:32", "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    zero = next(c for c in d["candidates"] if c["particles"] == 0)
+    f = np.linspace(4.5, 6.5, 11)
+    assert zero["objective"] == pytest.approx(np.abs(closed_form(2.0, f)).max(), rel=5e-3)
+    assert d["best"]["particles"] == 32
+    assert d["objective_name"] == "peak-frf" and d["frf_load"]["amplitude"] == 2.0
