@@ -40,6 +40,13 @@ every frequency used here). Three comparisons, each printing the cores each code
   of the same run (settling + 8 cycles), ``--repeat`` times interleaved; medians, ranges,
   and both loss factors (cycles 3-8).
 
+* ``--protocol lattice|random``: not the speed but the answers: loss factor and effective
+  mass of both codes at 12 points over 5-20 Hz x 10-80 mm (``--point HZ MM`` for others),
+  from the same jittered lattices or from ``--seeds N`` random packings of each code
+  (``agreement.py`` beside this file; the tables of docs/dem.md, "Agreement with
+  LIGGGHTS"); ``--law`` pdamper's damping law (repeatable; default tsuji and exact for the
+  lattice, tsuji for random beds), ``--out FILE`` the runs as JSON.
+
 ``--integrator`` sets pdamper's integrator (default the model's, Gear; ``auto`` hands a
 run over to velocity Verlet where Gear's steps are held by its stability limit).
 ``--packing`` sets pdamper's initial packing (default the deck's lattice; a map's default is
@@ -308,6 +315,17 @@ def main(argv=None) -> None:
     ap.add_argument("--single", type=float, nargs=2, default=None, metavar=("HZ", "MM"),
                     help="compare one `pdamper dem` run, the whole process, instead")
     ap.add_argument("--repeat", type=int, default=3, help="--single's rounds")
+    ap.add_argument("--protocol", choices=["lattice", "random"], default=None,
+                    help="compare the loss factors on this protocol instead (agreement.py)")
+    ap.add_argument("--seeds", type=int, default=2,
+                    help="--protocol: jitter seeds (lattice) or packings per code (random)")
+    ap.add_argument("--law", action="append", choices=["tsuji", "exact", "gonthier"],
+                    help="--protocol: pdamper's damping law (repeatable)")
+    ap.add_argument("--point", type=float, nargs=2, action="append", metavar=("HZ", "MM"),
+                    help="--protocol: this point instead of the grid (repeatable)")
+    ap.add_argument("--out", default=None, help="--protocol: write the runs as JSON here")
+    ap.add_argument("--converged", action="store_true",
+                    help="--protocol lattice: also pdamper converged (Verlet at 0.005)")
     args = ap.parse_args(argv)
     args.liggghts_step = args.liggghts_step or [USERS_STEP]
     if args.points < 1 or args.workers < 1 or args.repeat < 1:
@@ -316,7 +334,14 @@ def main(argv=None) -> None:
         sys.exit("liggghts not found (Debian: apt-get install liggghts)")
     for spec in args.liggghts_step:  # bad steps fail before any run
         liggghts_step(spec, 10.0, 32.0, 32)
-    if args.single:
+    if args.protocol:
+        import agreement
+
+        if args.seeds < 1:
+            ap.error("--seeds must be at least 1")
+        args.law = args.law or (["tsuji", "exact"] if args.protocol == "lattice" else ["tsuji"])
+        agreement.main(args)
+    elif args.single:
         single(args)
     elif args.map:
         whole_map(args)

@@ -70,13 +70,19 @@ def run_liggghts(frequency: float, amplitude: float, count: int = 32, dt: float 
                  cycles: int = 8, skip_cycles: int = 2, per_cycle: int = 400,
                  restitution_pp: float = 0.6, restitution_pw: float = 0.85,
                  friction: float = 0.1, tangential: str = "history",
-                 settle_time: float | None = None, block: int = 6) -> dict:
+                 settle_time: float | None = None, block: int = 6,
+                 positions: np.ndarray | None = None, insert_seed: int | None = None) -> dict:
     """One LIGGGHTS run of the benchmark damper at ``frequency`` [Hz], ``amplitude`` [m].
 
     The step is rounded so that ``per_cycle`` force windows of whole steps fill a cycle.
     Returns the wall and CPU time of the whole LIGGGHTS process (``wall``, ``cpu``), the
     steps, the loss factor and effective mass ratio over cycles ``skip_cycles + 1 ..
     cycles``, and the loss factor of consecutive blocks of ``block`` cycles (stationarity).
+
+    The spheres start from ``positions`` [m] (default: pdamper's lattice), or with
+    ``insert_seed`` (a prime > 10000, LIGGGHTS' rule) from a random packing that LIGGGHTS'
+    ``fix insert/pack`` places in the box (non-overlapping, seeded), which then settles for
+    ``settle_time`` like the lattice.
     """
     d = PAPER_DAMPER.with_count(count)
     box = d.box
@@ -88,12 +94,26 @@ def run_liggghts(frequency: float, amplitude: float, count: int = 32, dt: float 
     dt = period / per_cycle / nout
     nrun = cycles * per_cycle * nout
     nsettle = round(settle_time / dt)
-    pos = lattice_layers(count, d.particle_radius, box)
+    pos = lattice_layers(count, d.particle_radius, box) if positions is None else positions
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         _write_stl(tmp / "box.stl", box)
-        (tmp / "atoms.in").write_text("".join(
-            f"create_atoms 1 single {x:.12g} {y:.12g} {z:.12g} units box\n" for x, y, z in pos))
+        if insert_seed is None:
+            atoms = "".join(f"create_atoms 1 single {x:.12g} {y:.12g} {z:.12g} units box\n"
+                            for x, y, z in pos)
+            atoms += f"set group all density 7900 diameter {2 * d.particle_radius:.12g}\n"
+        else:  # a random packing: inserted at the first step of the settling run
+            r = d.particle_radius
+            atoms = (
+                f"fix pts all particletemplate/sphere 15485863 atom_type 1 density constant "
+                f"7900 radius constant {r:.12g}\n"
+                f"fix pdd all particledistribution/discrete 32452843 1 pts 1.0\n"
+                f"region ins block {r:.12g} {box[0] - r:.12g} {r:.12g} {box[1] - r:.12g} "
+                f"{r:.12g} {lz - r:.12g} units box\n"
+                f"fix ins all insert/pack seed {insert_seed} distributiontemplate pdd "
+                f"insert_every once overlapcheck yes all_in yes particles_in_region {count} "
+                f"region ins\n")
+        (tmp / "atoms.in").write_text(atoms)
         out = tmp / "force.txt"
         var = {"dt": f"{dt:.12g}", "nsettle": nsettle, "nrun": nrun, "nout": nout,
                "amp": f"{amplitude:.12g}", "period": f"{period:.12g}",
@@ -111,6 +131,9 @@ def run_liggghts(frequency: float, amplitude: float, count: int = 32, dt: float 
         cpu = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime)
         if proc.returncode != 0 or not out.exists():
             raise RuntimeError(f"LIGGGHTS failed: {proc.stdout[-2000:]} {proc.stderr[-2000:]}")
+        if insert_seed is not None and f"inserted {count} particle" not in proc.stdout:
+            raise RuntimeError(f"LIGGGHTS inserted fewer than {count} spheres: "
+                               f"{proc.stdout[-2000:]}")
         data = np.loadtxt(out, comments="#")
     step, fz = data[:, 0], data[:, 1]
     # window k covers the excitation steps (k - 1) nout + 1 .. k nout

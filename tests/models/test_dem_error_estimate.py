@@ -39,7 +39,8 @@ def test_estimate_comes_from_a_companion_run_at_a_tenth_of_the_gear_tolerance():
     run = model.steady_run(20.0, 0.032)
     acc = run.accuracy
     assert acc.setting == "gear_tolerance" and acc.refinements == 0
-    assert acc.value == 1e-5 and acc.reference == pytest.approx(1e-6)
+    # from the lattice Gear runs at LATTICE_GEAR_TOLERANCE (1e-6)
+    assert acc.value == 1e-6 and acc.reference == pytest.approx(1e-7)
     # the companion is a plain run at the refined tolerance, over the same window
     ref = DEMDamper(SMALL, cycles=3, skip_cycles=1,
                     gear_tolerance=acc.reference).steady_run(20.0, 0.032)
@@ -49,18 +50,43 @@ def test_estimate_comes_from_a_companion_run_at_a_tenth_of_the_gear_tolerance():
     rel = max(acc.loss_factor_error / max(eta, LOSS_FACTOR_FLOOR),
               acc.effective_mass_ratio_error / run.power.effective_mass_ratio)
     assert acc.relative_error == pytest.approx(rel)
-    assert acc.met == (rel <= DEFAULT_ACCURACY)
+    assert acc.met == (rel <= DEFAULT_ACCURACY and not acc.realisation_dependent)
+    # the realisation companion: the same run from spheres moved by up to 1e-9 m
+    assert acc.loss_factor_spread >= 0 and acc.effective_mass_ratio_spread >= 0
+    assert acc.realisation_dependent == (_rel(run, acc.loss_factor_spread,
+                                              acc.effective_mass_ratio_spread)
+                                         > DEFAULT_ACCURACY)
 
 
-def test_a_run_missing_the_target_is_redone_refined():
-    """An unreachable target: the run is redone at 1e-6 and 1e-7 and reported from the
-    1e-7 run (equal to a plain run at that tolerance), flagged as missing the target."""
+def _rel(run, d_eta, d_mass):
+    return max(d_eta / max(run.power.loss_factor, LOSS_FACTOR_FLOOR),
+               d_mass / run.power.effective_mass_ratio)
+
+
+def test_a_realisation_dependent_run_is_not_met_and_not_refined():
+    """A target below the realisation spread (any spread exceeds 1e-12): the point has no
+    answer to it from one run, whatever the step: not met, said so, and not refined."""
+    model = DEMDamper(SMALL, cycles=3, skip_cycles=1, error_estimate=True, accuracy=1e-12)
+    acc = model.steady_run(20.0, 0.032).accuracy
+    assert acc.realisation_dependent and not acc.met and acc.refinements == 0
+    assert _rel(model.steady_run(20.0, 0.032), acc.loss_factor_spread,
+                acc.effective_mass_ratio_spread) > 1e-12
+
+
+def test_a_run_missing_the_target_is_redone_refined(monkeypatch):
+    """An unreachable target, with the realisation companion made identical to the run (a
+    move of 0 m: no spread): the run is redone at 1e-7 and 1e-8 and reported from the
+    1e-8 run (equal to a plain run at that tolerance), flagged as missing the target."""
+    import pdamper.models.dem as dem
+
+    monkeypatch.setattr(dem, "REALISATION_MOVE", 0.0)
     model = DEMDamper(SMALL, cycles=3, skip_cycles=1, error_estimate=True, accuracy=1e-12,
                       max_refinements=2)
     run = model.steady_run(20.0, 0.032)
     acc = run.accuracy
+    assert acc.loss_factor_spread == 0 and not acc.realisation_dependent
     assert acc.refinements == 2 and not acc.met
-    assert acc.value == pytest.approx(1e-7) and acc.reference == pytest.approx(1e-8)
+    assert acc.value == pytest.approx(1e-8) and acc.reference == pytest.approx(1e-9)
     plain = DEMDamper(SMALL, cycles=3, skip_cycles=1, gear_tolerance=acc.value).steady_run(
         20.0, 0.032)
     assert run.power.loss_factor == plain.power.loss_factor
@@ -99,9 +125,12 @@ def test_dem_command_reports_the_estimate(cli):
     res = json.loads(out)
     assert res["inputs"]["dem"]["error_estimate"] is True
     assert res["loss_factor_error"] >= 0 and isinstance(res["accuracy_met"], bool)
+    assert res["realisation_loss_factor_spread"] >= 0
+    assert isinstance(res["realisation_dependent"], bool)
+    assert res["protocol"]["start"] == "lattice"
     code, out, err = cli("dem", "--particles", 16, "--cycles", 2, "--skip-cycles", 1,
                          "--frequency", "20Hz", "--error-estimate")
-    assert code == 0 and "integration error (estimate)" in out
+    assert code == 0 and "integration error (estimate)" in out and "realisation spread" in out
     code, _, err = cli("dem", "--accuracy", "2")
     assert code == 2 and "dem.accuracy" in err
 
@@ -151,3 +180,30 @@ def test_dem_map_stores_the_estimate_per_point(cli, tmp_path):
         assert (ds.loss_factor_error >= 0).all() and (ds.effective_mass_ratio_error >= 0).all()
         assert set(ds.accuracy_met.values.ravel()) <= {0, 1}
         assert ds.accuracy_refinements.dtype.kind == "i"
+
+
+@pytest.mark.long
+@pytest.mark.parametrize("f, x", [(10.0, 0.032), (8.0, 0.080)])
+def test_accuracy_is_met_only_where_a_converged_run_agrees(f, x):
+    """From the paper's lattice, cycles 3-8, the default law: ``accuracy_met`` is true only
+    where velocity Verlet at safety 0.005 (converged, computed here) is within the target.
+    10 Hz / 32 mm is reproducible (the lattice's ordered state; a 1e-9 m move changes
+    nothing): met, and within 1 % of the converged run. 8 Hz / 80 mm depends on the
+    trajectory (converged Verlet at safety 0.0049 / 0.0050 / 0.0051: 0.349 / 0.363 / 0.369,
+    docs/dem.md): not met, by the refined companion that now refines the start from rest
+    too (measured: error 0.025, spread of a 1e-9 m move 0.002); before, the estimate said
+    0.001 and met while Gear at 1e-3 over the first cycle gave 0.67 against the converged
+    0.35."""
+    kw = dict(cycles=8)
+    run = DEMDamper(PAPER_DAMPER, error_estimate=True, **kw).steady_run(f, x)
+    conv = DEMDamper(PAPER_DAMPER, integrator="verlet", safety=0.005, **kw).steady_run(f, x)
+    acc = run.accuracy
+    dev = _rel(run, abs(run.power.loss_factor - conv.power.loss_factor),
+               abs(run.power.effective_mass_ratio - conv.power.effective_mass_ratio))
+    assert not acc.met or dev <= acc.target, (acc, dev)
+    if f == 10.0:
+        assert acc.met and not acc.realisation_dependent
+        assert dev <= DEFAULT_ACCURACY
+    else:
+        assert not acc.met and acc.relative_error > acc.target
+        assert acc.loss_factor_spread >= 0 and acc.effective_mass_ratio_spread >= 0

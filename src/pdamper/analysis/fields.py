@@ -76,6 +76,12 @@ VARIABLES: dict[str, tuple[str, str]] = {
                                    "ratio (refined companion run)", "1"),
     "accuracy_met": ("error estimate within the accuracy target (1) or not (0)", "1"),
     "accuracy_refinements": ("times the run was redone refined for the accuracy target", "1"),
+    "realisation_loss_factor_spread": ("change of the loss factor when the spheres start "
+                                       "moved by 1e-9 m", "1"),
+    "realisation_effective_mass_ratio_spread": ("change of the effective mass ratio when "
+                                                "the spheres start moved by 1e-9 m", "1"),
+    "realisation_dependent": ("the state depends on the transient or the realisation beyond "
+                              "the accuracy target (1) or not (0)", "1"),
 }
 
 def _grid(field: str, values, unit: str) -> np.ndarray:
@@ -119,7 +125,7 @@ def _length(values) -> int:
 _INTEGER = {"subharmonic_order", "steps", "total_steps", "excitation_steps", "settle_steps",
             "cycles", "first_cycle", "last_cycle",
             "symmetric_state", "quiet_window", "period", "accuracy_met",
-            "accuracy_refinements"}
+            "accuracy_refinements", "realisation_dependent"}
 
 STATIONARY_ATTRS = {"long_name": "averaged window is a steady state", "units": "1",
                     "flag_values": [-1, 0, 1], "flag_meanings": "no_result transient steady"}

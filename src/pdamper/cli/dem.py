@@ -163,7 +163,12 @@ def dem(
             f"  integration error (estimate) eta +- {payload['loss_factor_error']:.2g}, "
             f"m_eff/m_bed +- {payload['effective_mass_ratio_error']:.2g}: "
             + ("within" if payload["accuracy_met"] else "NOT within")
-            + f" {100 * model.accuracy:g} % ({payload['accuracy_refinements']} refinements)\n")
+            + f" {100 * model.accuracy:g} % ({payload['accuracy_refinements']} refinements)\n"
+            f"  realisation spread (1e-9 m)  eta +- "
+            f"{payload['realisation_loss_factor_spread']:.2g}, m_eff/m_bed +- "
+            f"{payload['realisation_effective_mass_ratio_spread']:.2g}"
+            + (": the state depends on the transient or the realisation\n"
+               if payload["realisation_dependent"] else "\n"))
     attrs = {"inputs": json.dumps(meta["inputs"]), "pdamper_version": meta["version"]}
     if target is not None:
         res.write_netcdf(target, attrs=attrs)
@@ -173,7 +178,8 @@ def dem(
             pvd = res.write_vtk(stage)
         payload["vtk"] = str(vtk_dir / pvd.name)
     human = (
-        f"DEM ({model.integrator}), {damper.count} spheres, f = {f:g} Hz, X = {x * 1e3:g} mm, "
+        f"DEM ({model.integrator}, from the {payload['protocol']['start']}), "
+        f"{damper.count} spheres, f = {f:g} Hz, X = {x * 1e3:g} mm, "
         f"{st.cycles} cycles (complex power over cycles {st.first_cycle}-{st.last_cycle}, "
         + (("steady, a quiet bed)\n" if st.quiet else "steady)\n") if st.stationary
            else f"NOT steady: {st.reason})\n")
@@ -195,7 +201,8 @@ def dem(
 
 #: Keys of the integration error estimate (``--error-estimate``), last in the JSON.
 ACCURACY_KEYS = ("loss_factor_error", "effective_mass_ratio_error", "accuracy_met",
-                 "accuracy_refinements")
+                 "accuracy_refinements", "realisation_loss_factor_spread",
+                 "realisation_effective_mass_ratio_spread", "realisation_dependent")
 
 #: Units of the dimensional keys of ``pdamper dem --json``.
 UNITS = {"wall_seconds": "s", "dissipated_energy_per_cycle": "J", "time_step": "s",

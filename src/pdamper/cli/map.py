@@ -45,6 +45,10 @@ def map_(
         "--keep-partial", help="Keep <out>.partial/ (the per-point results) afterwards.")] = False,
     serial: Annotated[bool, typer.Option(
         "--serial", help="Run the points in this process, without dask.")] = False,
+    realisations: Annotated[str | None, typer.Option(
+        "--realisations", help="DEM: N independent random packings (seeds dem.seed ... "
+        "dem.seed + N - 1); the map's values are their means, with the spread (std, min, max) "
+        "of every cell and each realisation's values (dimension 'realisation').")] = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -97,9 +101,24 @@ def map_(
     if scheduler is not None:
         options["scheduler"] = scheduler
     meta = metadata(sc, model=model, seed=sc.dem.seed)
+    n_real = 1
+    if realisations is not None:
+        from pdamper.reports.realisations import check_map_realisations, parse_count
+
+        n_real = check_map_realisations(parse_count(realisations), sc, model, force=force)
+        if n_real > 1 and uncertainty is not None:
+            raise InputError("realisations", f"must be 1 with --uncertainty (the sampled "
+                             f"inputs are the map's spread there), got {n_real}")
     with _progress(sys.stderr, as_json or quiet()) as progress:
-        result = run_map(sc, model, out=out, keep_partial=keep_partial, progress=progress,
-                         **options)
+        if n_real > 1:
+            from pdamper.reports.realisations import run_map_realisations
+
+            result = run_map_realisations(sc, model, n_real, out=out,
+                                          keep_partial=keep_partial, progress=progress,
+                                          force=force, **options)
+        else:
+            result = run_map(sc, model, out=out, keep_partial=keep_partial,
+                             progress=progress, **options)
     ds = result.dataset
     eta = np.asarray(ds["loss_factor"].values, float)
     finite = np.isfinite(eta)
@@ -117,6 +136,11 @@ def map_(
         "max_loss_factor": float(np.nanmax(eta)) if finite.any() else None, "max_at": best,
         **meta,
     }
+    if n_real > 1:
+        from pdamper.reports.realisations import map_spread_record
+
+        payload["statistic"] = "mean"
+        payload["realisations"] = map_spread_record(ds)
     spread = None
     if uncertainty is not None:  # the spread of every cell, added to the map and its file
         spread, payload["uncertainty"] = _uncertainty.map_spread(
@@ -126,6 +150,9 @@ def map_(
              f"({result.computed} computed, {result.reused} reused, {result.failed} failed, "
              f"{steady} steady)"
              + (f"; max loss factor {np.nanmax(eta):.3f} at {where}" if finite.any() else "")
+             + (f"; mean of {n_real} realisations (seeds {sc.dem.seed}..."
+                f"{sc.dem.seed + n_real - 1}), spread per cell in the file"
+                if n_real > 1 else "")
              + (f"; written to {out}" if out else ""))
     if spread is not None:
         human += "\n" + "\n".join(_uncertainty.lines(spread, {}))

@@ -66,6 +66,11 @@ def optimize(
         "--base-acceleration", help="Base-acceleration history for peak and rms.")] = None,
     tail: Annotated[str | None, typer.Option(
         help="Free vibration after the load record, e.g. '1s' (default 0).")] = None,
+    realisations: Annotated[str | None, typer.Option(
+        "--realisations", help="Evaluate every design from N random packings (DEM; seeds "
+        "dem.seed ... dem.seed + N - 1): the objective is their mean, each candidate has "
+        "objective_std, objective_min, objective_max and objective_values (default 1).")
+    ] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -122,13 +127,33 @@ def optimize(
 
         parallel = proto.expensive and importlib.util.find_spec("distributed") is not None
         n_workers = (os.cpu_count() or 1) if parallel else 0
-    res = optimize_design(sc.structure_model(), damper, sc.structure.initial_displacement,
-                          variables, o.objective, o.at, model=functools.partial(sc.model, None),
-                          threshold=o.threshold, method=o.method, max_grid=o.max_grid,
-                          max_evaluations=o.max_evaluations, seed=o.seed,
-                          workers=n_workers, scheduler=o.scheduler, tolerance=o.tolerance,
-                          load=history, tail=sc.load.tail, band=o.frf_band(),
-                          frf_load=o.frf_load)
+    n_real = 1
+    if realisations is not None:
+        from pdamper.reports.realisations import check_design_realisations, parse_count
+
+        n_real = check_design_realisations(parse_count(realisations), sc, force=force)
+    if n_real > 1:
+        from pdamper.design.study import make_objective, run_design_study
+        from pdamper.reports.realisations import design_evaluator
+
+        obj = make_objective(o.objective, o.at, sc.structure.initial_displacement,
+                             sc.structure_model(), o.threshold, load=history,
+                             tail=sc.load.tail, band=o.frf_band(),
+                             frf_load=o.frf_load)
+        evaluate = design_evaluator(sc, n_real, obj)
+        res = run_design_study(evaluate, damper, variables, obj, method=o.method,
+                               max_grid=o.max_grid, max_evaluations=o.max_evaluations,
+                               seed=o.seed, workers=n_workers, scheduler=o.scheduler,
+                               tolerance=o.tolerance)
+    else:
+        res = optimize_design(sc.structure_model(), damper, sc.structure.initial_displacement,
+                              variables, o.objective, o.at,
+                              model=functools.partial(sc.model, None),
+                              threshold=o.threshold, method=o.method, max_grid=o.max_grid,
+                              max_evaluations=o.max_evaluations, seed=o.seed,
+                              workers=n_workers, scheduler=o.scheduler,
+                              tolerance=o.tolerance, load=history, tail=sc.load.tail,
+                              band=o.frf_band(), frf_load=o.frf_load)
     if plot is not None:
         from matplotlib.figure import Figure
 
@@ -143,6 +168,11 @@ def optimize(
                          "container_length": "m", "container_width": "m",
                          "container_depth": "m", "threshold": "m"},
                **metadata(sc)}
+    if n_real > 1:
+        payload["statistic"] = "mean"
+        payload["realisations"] = {"count": n_real, "seeds": evaluate.seeds, "std_ddof": 1,
+                                   "keys": ["objective_std", "objective_min",
+                                            "objective_max", "objective_values"]}
     names = [v.name for v in res.variables]
     shown = {"amplitude-at": (1e3, "amplitude [mm]"), "settling-time": (1.0, "settling [s]"),
              "mean-damping": (1.0, "mean zeta [-]"), "peak": (1e3, "peak [mm]"),
@@ -168,6 +198,8 @@ def optimize(
             cells.append(f"{v * 1e3:15.3f}mm" if isinstance(v, float) else f"{v!s:>17s}")
         value = (f"{c.objective * shown[0]:12.4g}" if c.objective is not None
                  else f"{c.status:>12s}")
+        if c.objective is not None and "objective_std" in c.extra:
+            value += f" +- {c.extra['objective_std'] * shown[0]:.2g}"
         mass = f"{c.mass * 1e3:8.1f}" if c.mass is not None else "       -"
         mark = "  <- best" if c is res.best else ""
         if c is light and c is not res.best:

@@ -82,6 +82,20 @@ def simulate(
                                     "'time [s], acceleration [m/s^2]').")] = None,
     tail: Annotated[str | None, typer.Option(
         help="Free vibration after the load record, e.g. '1s' (default 0).")] = None,
+    realisations: Annotated[str | None, typer.Option(
+        "--realisations", help="N realisations of each model that has them: the DEM from N "
+        "random packings (seeds dem.seed ... dem.seed + N - 1, in parallel), the effective "
+        "fields of a map with realisations from the first N of them; the JSON key "
+        "'realisations' holds the band (amplitude at [optimization] at, envelope, damping "
+        "ratio per amplitude), the plot shows it (default 1: one run).")] = None,
+    at: Annotated[str | None, typer.Option(
+        help="Time of the realisations' amplitude band, e.g. '0.75s' (default [optimization] "
+             "at, the objective time).")] = None,
+    workers: Annotated[int | None, typer.Option(
+        help="Worker processes of the local cluster for --realisations (default: every "
+             "core).")] = None,
+    serial: Annotated[bool, typer.Option(
+        "--serial", help="Run the realisations in this process, without dask.")] = False,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -99,7 +113,7 @@ def simulate(
         structure__modes=None if modes is None else str(modes),
         load__force=None if load_file is None else str(load_file),
         load__base_acceleration=None if base_acceleration is None
-        else str(base_acceleration), load__tail=tail), uncertain))
+        else str(base_acceleration), load__tail=tail, optimization__at=at), uncertain))
     _uncertainty.check(sc, "level3", uncertainty, force)
     if uncertainty is not None:  # the sampled model refused before any run
         from pdamper.io.uncertain import level3_answers
@@ -117,6 +131,16 @@ def simulate(
             sc.check_resources("simulation", n, force)
     damper = sc.damper()
     models = {n: sc.model(n, damper) for n in names}  # all built (and checked) before any run
+    n_real, banded = 1, []
+    if realisations is not None:
+        from pdamper.reports.realisations import parse_count
+
+        n_real = parse_count(realisations)
+    if n_real > 1 and (sc.load.given or uncertainty is not None):
+        raise InputError("realisations", "a band over random packings is of the release's "
+                         "free vibration alone: must be 1 with "
+                         + ("--load / --base-acceleration" if sc.load.given
+                            else "--uncertainty") + f", got {n_real}")
     if sc.load.given:  # a load history instead of the release (docs/forced.md)
         from pdamper.cli import _load_history
 
@@ -132,6 +156,18 @@ def simulate(
     if tail is not None:
         raise InputError("load.tail", "is the free vibration after a load history: give "
                          "--load or --base-acceleration")
+    if workers is not None and workers < 1:
+        raise InputError("workers", f"must be a whole number >= 1, got {workers}")
+    if n_real > 1:
+        from pdamper.reports.realisations import check_level3_realisations, level3_kind
+
+        # each model that has realisations gets a band; the others run once
+        banded = [n for n, m in models.items() if level3_kind(m) is not None]
+        if not banded:
+            raise InputError("realisations", f"must be 1 for {', '.join(names)} (no "
+                             f"random packing, no map with realisations), got {n_real}")
+        for n in banded:  # every count and cost judged before any run
+            check_level3_realisations(n_real, sc, n, force=force)
     aligned = None
     if measured is not None:
         from pdamper.coupling.measurement import align_measurement, check_release_scale
@@ -141,16 +177,25 @@ def simulate(
         check_release_scale(aligned, sc.structure.initial_displacement)  # before any run
     structure = sc.structure_model()
     x0 = sc.structure.initial_displacement
-    runs, seconds = {}, {}
+    runs, seconds, bands = {}, {}, {}
     for n, m in models.items():
         t0 = time.perf_counter()
-        runs[n] = Simulation(structure, m, x0).run(sc.simulation.duration,
-                                                   sc.simulation.sample_rate)
+        if n in banded:
+            from pdamper.reports.realisations import run_level3_realisations
+
+            bands[n] = run_level3_realisations(sc, n_real, n, workers=workers, serial=serial,
+                                               force=force)
+            runs[n] = bands[n].runs[0]  # the first realisation (seed dem.seed; map's 0)
+        else:
+            runs[n] = Simulation(structure, m, x0).run(sc.simulation.duration,
+                                                       sc.simulation.sample_rate)
         seconds[n] = time.perf_counter() - t0
     first = runs[names[0]]
     meta = metadata(sc)
     if out is not None:
         ds = first.to_dataset()
+        if names[0] in bands:  # the first realisation's trajectory and the band
+            ds = bands[names[0]].add_to(ds)
         ds.attrs.update(pdamper_version=meta["version"])
         from pdamper.files import atomic_write_netcdf
 
@@ -160,6 +205,10 @@ def simulate(
                         "effective_mass": "kg", "damping": "kg/s", "wall_seconds": "s"}
     if compare is not None:
         payload["models"] = {n: _run_payload(r, seconds[n]) for n, r in runs.items()}
+        for n, b in bands.items():
+            payload["models"][n]["realisations"] = b.as_dict()
+    if names[0] in bands:  # the run keys above are then the first realisation's
+        payload["realisations"] = bands[names[0]].as_dict()
     comparisons = {}
     if aligned is not None:
         from pdamper.coupling.comparison import compare_with_measurement
@@ -189,7 +238,7 @@ def simulate(
         payload["uncertainty"] = spread.as_dict()
     payload.update(meta)
     if plot is not None:
-        _figure(plot, runs, aligned, comparisons)
+        _figure(plot, runs, aligned, comparisons, bands)
     if hasattr(structure, "mass"):  # the 1-DOF of Eq. (23)
         on = f"M={structure.mass:.4g} kg, K={structure.stiffness:g} N/m"
     else:
@@ -197,7 +246,14 @@ def simulate(
                                                           structure.frequencies) + " Hz"
     lines = [f"on {on}; x0 = {x0 * 1e3:g} mm"]
     for n, r in runs.items():
-        lines += _table(f"{models[n]!r} ({seconds[n]:.2f} s)", r)
+        lines += _table(f"{models[n]!r} ({seconds[n]:.2f} s)"
+                        + (" first realisation" if n in bands else ""), r)
+        if n in bands:
+            b = bands[n]
+            a = b.amplitude_at()
+            lines.append(f"{b.count} realisations: amplitude at {b.at:g} s "
+                         f"{a['mean'] * 1e3:.2f} mm (std {a['std'] * 1e3:.2f}, "
+                         f"min {a['min'] * 1e3:.2f}, max {a['max'] * 1e3:.2f} mm)")
     if aligned is not None:
         lines.append(f"measured {aligned.source}: released at {aligned.time_offset:.4f} s, "
                      f"x0 = {aligned.initial_deflection * 1e3:.2f} mm")
@@ -212,7 +268,7 @@ def simulate(
     emit(payload, as_json, "\n".join(lines))
 
 
-def _figure(path: Path, runs: dict, aligned, comparisons: dict) -> None:
+def _figure(path: Path, runs: dict, aligned, comparisons: dict, bands: dict) -> None:
     from matplotlib.figure import Figure
 
     from pdamper import plots
@@ -220,9 +276,13 @@ def _figure(path: Path, runs: dict, aligned, comparisons: dict) -> None:
     panels = 3 if aligned is not None else 2
     fig = Figure(figsize=(11, 3.6 * panels), layout="constrained")
     axes = fig.subplots(panels, 1)
-    plots.plot_model_trajectories(runs, aligned, comparisons, ax=axes[0])
+    single = {n: r for n, r in runs.items() if n not in bands}
+    for n, b in bands.items():  # a model with realisations is drawn as its band
+        plots.plot_trajectory_band(b, ax=axes[0], label=n)
+        plots.plot_damping_ratio_band(b, ax=axes[1], label=n)
+    plots.plot_model_trajectories(single, aligned, comparisons, ax=axes[0])
     axes[0].set_title("end-effector trajectory (Fig. 7)")
-    plots.plot_model_damping_ratios(runs, aligned, comparisons, ax=axes[1])
+    plots.plot_model_damping_ratios(single, aligned, comparisons, ax=axes[1])
     axes[1].set_title("damping ratio (Fig. 8)")
     if aligned is not None:
         plots.plot_phase_drift(comparisons, ax=axes[2])

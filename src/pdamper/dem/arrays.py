@@ -17,8 +17,8 @@ from pdamper.contact.forces import DAMPING_CODES
 from pdamper.contact.hertz import contact_duration, effective_modulus, hertz_stiffness
 from pdamper.contact.law import ContactParameters
 from pdamper.dem.driver import Run
-from pdamper.dem.kernels import state as K
 from pdamper.dem.inputs import Container, ParticleSet
+from pdamper.dem.kernels import state as K
 
 
 class MaterialTables(NamedTuple):

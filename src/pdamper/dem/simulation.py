@@ -47,7 +47,6 @@ from pdamper.dem.driver import (  # noqa: F401 (AUTO_*, SettledBed: importable f
     collect_result,
     failure_message,
 )
-from pdamper.dem.kernels import state as K
 from pdamper.dem.inputs import (
     INTEGRATORS,
     OVERLAP_WARNING_LIMIT,
@@ -58,9 +57,10 @@ from pdamper.dem.inputs import (
     PrescribedMotion,
     StructureMotion,
 )
+from pdamper.dem.kernels import state as K
 from pdamper.dem.result import DEMResult
 from pdamper.dem.settings import AUTO_COST_RATIO, EngineSettings  # noqa: F401
-from pdamper.errors import InputError, SimulationError, check_range, check_whole
+from pdamper.errors import InputError, SimulationError, check_range
 
 log = logging.getLogger(__name__)
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 import functools
 import math
 import tomllib
+from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any, ClassVar, Literal
 
@@ -607,7 +608,8 @@ class Scenario(_Section):
         (f0, f1, _), (x0, x1, _) = self.map_ranges()
         resources.check_grid(d, (f0, f1), (x0, x1), usual=_USUAL_EXCITATION, gravity=g)
 
-    def check_resources(self, run: str, model: str | None = None, force: bool = False) -> None:
+    def check_resources(self, run: str, model: str | None = None, force: bool = False,
+                        require: Callable[..., Any] | None = None) -> None:
         """Refuse a run whose implied memory or time is above the limits of
         :mod:`pdamper.resources` (``force``: up to the hard limits), or for which its
         model's physics does not hold (the DEM's contact law).
@@ -625,6 +627,9 @@ class Scenario(_Section):
             model).
         force
             Allow more than the limits, up to what this machine can hold.
+        require
+            The judge of each cost, ``require(cost, force)`` (default
+            :func:`pdamper.resources.require`; e.g. one that counts N realisations of a run).
 
         Examples
         --------
@@ -639,35 +644,36 @@ class Scenario(_Section):
 
         if run not in _RUNS:
             raise InputError("run", f"must be one of {', '.join(_RUNS)}, got {run!r}")
+        req = resources.require if require is None else require
         damper = self.damper()
         default = Scenario()
         field = "model" if model else "simulation.model"
         if run == "excitation":
             cost = self.excitation_cost(model or "analytic", damper)
             if cost is not None:
-                resources.require(cost, force)
+                req(cost, force)
         elif run == "map":
             self._check_map(damper, get_damper_model(model or "analytic", "model"), default,
-                            force)
+                            force, req)
         elif run == "simulation":
             cls = get_damper_model(model or self.simulation.model, field)
             self._check_simulation(damper, cls, self.simulation.duration,
-                                   self.simulation.sample_rate, default, force)
+                                   self.simulation.sample_rate, default, force, req)
         elif run == "optimization":
             cls = get_damper_model(model or self.simulation.model, field)
-            self._check_optimization(damper, cls, default, force)
+            self._check_optimization(damper, cls, default, force, req)
         else:  # the paper's case study (pdamper.reports.paper_case_study)
             analytic = get_damper_model("analytic")
-            self._check_map(damper, analytic, default, force)
+            self._check_map(damper, analytic, default, force, req)
             for duration in (self.simulation.duration,
                              max(self.simulation.duration, paper.PAPER_DURATION)):
                 self._check_simulation(damper, analytic, duration,
-                                       self.simulation.sample_rate, default, force)
-            self._check_optimization(damper, analytic, default, force)
+                                       self.simulation.sample_rate, default, force, req)
+            self._check_optimization(damper, analytic, default, force, req)
             if run == "case_study_dem":
                 self._check_simulation(damper, get_damper_model("dem"),
                                        self.simulation.duration,
-                                       self.simulation.sample_rate, default, force)
+                                       self.simulation.sample_rate, default, force, req)
 
     def settings_of(self, cls):
         """The section of the scenario that holds the settings of fidelity ``cls`` (None:
@@ -693,7 +699,7 @@ class Scenario(_Section):
         return [("particles.count", damper.count / dm.count),
                 ("particles.radius", dm.particle_radius / damper.particle_radius, True)]
 
-    def _check_map(self, damper, cls, default, force: bool) -> None:
+    def _check_map(self, damper, cls, default, force: bool, req: Callable[..., Any]) -> None:
         (f0, f1, nf), (x0, x1, nx) = self.map_ranges()
         (_, _, nf0), (_, _, nx0) = default.map_ranges()
         counts = self.map_particles()
@@ -701,28 +707,29 @@ class Scenario(_Section):
                 ("map.particles", 1.0 if counts is None else float(counts.size)))
         points = float(nf) * float(nx) * (1.0 if counts is None else float(counts.size))
         # the grid and the four result arrays, whichever the model
-        resources.require(resources.Cost("the map", 0.0, points * 40.0,
+        req(resources.Cost("the map", 0.0, points * 40.0,
                                          f"{points:.3g} points", axes), force)
-        resources.require(cls.map_cost(damper, (f0, f1, nf), (x0, x1, nx), points,
+        req(cls.map_cost(damper, (f0, f1, nf), (x0, x1, nx), points,
                                        self.settings_of(cls), gravity=self.excitation.gravity,
                                        usual=_USUAL_EXCITATION, axes=axes,
                                        damper_drivers=self._damper_drivers(damper, default)),
                           force)
 
     def _check_simulation(self, damper, cls, duration: float, sample_rate: float,
-                          default, force: bool) -> None:
+                          default, force: bool, req: Callable[..., Any]) -> None:
         structure = self.structure_model()
         ds = default.simulation
         drivers = [("simulation.duration", duration / ds.duration),
                    ("simulation.sample_rate", sample_rate / ds.sample_rate),
                    ("structure.stiffness", structure.natural_frequency
                     / default.structure_model().natural_frequency)]
-        resources.require(cls.free_vibration_cost(
+        req(cls.free_vibration_cost(
             damper, duration, sample_rate, structure.natural_frequency, self.settings_of(cls),
             x0=self.structure.initial_displacement, drivers=drivers,
             damper_drivers=self._damper_drivers(damper, default)), force)
 
-    def _check_optimization(self, damper, cls, default, force: bool) -> None:
+    def _check_optimization(self, damper, cls, default, force: bool,
+                            req: Callable[..., Any]) -> None:
         """Cost of the design study (:func:`pdamper.design.optimize_design`): one free
         vibration of ``at`` plus two periods, sampled at 200 Hz, per candidate (the
         particle counts of the paper's study, the grid of ``vary``, or the optimiser's
@@ -741,7 +748,7 @@ class Scenario(_Section):
         if o.vary:
             sizes = o.sizes()
             for name, size in sizes:
-                resources.require(values_cost(name, size), force)
+                req(values_cost(name, size), force)
             grid = math.prod(size for _, size in sizes)
             method = o.method
             if method == "auto":
@@ -763,7 +770,7 @@ class Scenario(_Section):
                                       self.settings_of(cls),
                                       x0=self.structure.initial_displacement,
                                       count=max(1, round(counts[-1] / 2)) if counts else 1)
-        resources.require(resources.Cost(
+        req(resources.Cost(
             "the optimisation", one.seconds * candidates,
             one.memory + candidates * resources.BYTES_PER_CANDIDATE,
             f"{candidates:.3g} candidates, each {one.detail}", drivers,

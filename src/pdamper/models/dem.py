@@ -67,6 +67,10 @@ REFINEMENT = {"gear": ("gear_tolerance", 10.0), "verlet": ("safety", 2.0)}
 #: most half the default's, which holds outside the asymptotic range too (the verification
 #: table of docs/dem.md checks the bound against converged runs).
 ERROR_REDUCTION = 0.5
+#: Largest move of each sphere's start [m] of the error estimate's realisation companion
+#: (uniform in each coordinate, seeded by the run's seed): far below any integration error,
+#: it changes a reproducible point by < 0.2 % and a chaotic one by 3-40 % (docs/dem.md).
+REALISATION_MOVE = 1e-9
 
 #: Settled beds a process keeps, the least recently used dropped first: a map's model and
 #: the refined companions of its error estimate, a particle-count axis.
@@ -87,6 +91,18 @@ _BEDS: dict = {}
 #: per process and shared by every point (SettledBed, _BEDS): ~1.4 s of CPU per worker.
 LEVEL2_SETTLE_EXTRA = 1.0
 
+#: Gear tolerance of a run from the lattice (unless the model's options set
+#: ``gear_tolerance``), throughout: no transient tolerance. The lattice is one deterministic
+#: start whose ordered state the independent codes keep (LIGGGHTS 3.8 from the same jittered
+#: lattice, docs/dem.md "Agreement with LIGGGHTS"); at 1e-3 in the first cycles, or at 1e-5
+#: with the exact law, pdamper left it (10 Hz / 32 mm, Tsuji law: eta 1.100, m_eff/m_bed
+#: 1.110 at 1e-3 against LIGGGHTS' 0.949 / 1.922 and converged Verlet's 0.935 / 1.924;
+#: 18 Hz / 20 mm 0.331 against 1.749 and 1.734; 8 Hz / 80 mm at 1e-5 0.519 against 0.365 and
+#: 0.357). At 1e-6 it follows the converged trajectory and takes *fewer* steps than at
+#: 1e-3 (the kept order is a block in free flight: 36 700 against 489 000 at 10 Hz / 32 mm).
+#: Random beds keep gear_tolerance and the transient tolerance (their realisation spread
+#: covers what it changes).
+LATTICE_GEAR_TOLERANCE = 1e-6
 
 #: Fewest cycles in each half of an averaged window whose motion modes must agree.
 MIN_HALF_WINDOW = 3
@@ -166,9 +182,18 @@ class AccuracyEstimate:
     reference_loss_factor, reference_effective_mass_ratio
         The companion run's values [-].
 
-    Where a 1e-9 m move of the spheres changes the result by more than the target (a chaotic
-    bed, docs/dem.md), the two runs differ by that sensitivity and the estimate says so: such
-    a point has no answer to the target from one run, whatever the step.
+    loss_factor_spread, effective_mass_ratio_spread
+        How far the run moves when every sphere starts moved by up to
+        :data:`REALISATION_MOVE` (1e-9 m), at the same settings [-]: the spread of the
+        realisations of the point, next to the integration error. Where it exceeds the
+        target (``realisation_dependent``) the state the run ends in depends on the
+        transient or the realisation, not on the step: a converged run of the same inputs
+        may end in another state, so ``met`` is false and the run is not refined (a finer
+        step would not make it an answer to the target; an ensemble of random packings
+        does, ``pdamper dem --realisations N``).
+
+    The refined companion refines the whole run, the start from rest included (no transient
+    tolerance), so the error covers the state the transient chose.
     """
 
     loss_factor_error: float
@@ -182,6 +207,15 @@ class AccuracyEstimate:
     refinements: int
     reference_loss_factor: float
     reference_effective_mass_ratio: float
+    loss_factor_spread: float = 0.0
+    effective_mass_ratio_spread: float = 0.0
+    realisation_dependent: bool = False
+
+
+def _relative(eta: float, ratio: float, d_eta: float, d_mass: float) -> float:
+    """The larger of ``d_eta / max(|eta|, LOSS_FACTOR_FLOOR)`` and ``d_mass / |ratio|``."""
+    return max(d_eta / max(abs(eta), LOSS_FACTOR_FLOOR),
+               d_mass / abs(ratio) if ratio != 0 else math.inf)
 
 
 def truncate_result(result, cycles: int):
@@ -393,15 +427,41 @@ class DEMDamper(DamperModel):
                          self.contact, motion,
                          self.settings.engine_settings(seed=self.seed, **override))
 
-    def _transient(self) -> dict:
-        """Engine options of the start from rest of a Level II run (``transient_tolerance``
-        over the cycles every averaged window skips)."""
+    def _transient(self, packing: str) -> dict:
+        """Engine options of the start from rest of a Level II run from ``packing``: from a
+        random bed ``transient_tolerance`` over the cycles every averaged window skips; from
+        the lattice none, and Gear at :data:`LATTICE_GEAR_TOLERANCE` throughout (where
+        ``gear_tolerance`` is at its default; another value is taken as given)."""
+        from pdamper.dem.model import DEFAULT_GEAR_TOLERANCE
+
+        if packing == "lattice":
+            # per-start rule: the lattice is integrated converged (see the constant)
+            return ({"gear_tolerance": LATTICE_GEAR_TOLERANCE}
+                    if self.gear_tolerance == DEFAULT_GEAR_TOLERANCE else {})
         # the same cycles however the run is judged: a run of the paper's 8 cycles, one
         # until steady and one with the rule for quiet beds off follow the same trajectory
         skip = min(self.skip_cycles, self.steady.quiet_skip_cycles)
         if self.transient_tolerance is None or skip == 0:
             return {}
         return {"transient_cycles": skip, "gear_transient_tolerance": self.transient_tolerance}
+
+    def protocol(self, packing: str | None = None) -> dict:
+        """What a Level II run from ``packing`` (default :meth:`initial_packing`) does: the
+        start (``"lattice"`` or ``"random"``, with the seed of a random one), the integrator,
+        Gear's tolerance, the transient tolerance and its cycles (None, 0: none), the safety
+        factor and whether Gear's free flights are on (``pdamper dem --json``'s
+        ``protocol``)."""
+        packing = packing or self.initial_packing()
+        opts = {"gear_tolerance": self.gear_tolerance, **self._transient(packing)}
+        gear = self.integrator != "verlet"
+        return {"start": packing, "seed": self.seed if packing == "random" else None,
+                "integrator": self.integrator,
+                "gear_tolerance": float(opts["gear_tolerance"]) if gear else None,
+                "transient_tolerance": (float(opts["gear_transient_tolerance"])
+                                        if gear and "gear_transient_tolerance" in opts else None),
+                "transient_cycles": int(opts.get("transient_cycles", 0)) if gear else 0,
+                "safety": float(self.safety),
+                "free_flight": bool(self.gear_free_flight) if gear else False}
 
     def _level2_settling(self) -> dict:
         """The settling of Level II runs (:data:`LEVEL2_SETTLE_EXTRA`), unless the settings
@@ -475,7 +535,7 @@ class DEMDamper(DamperModel):
             force=True)
         packing, particles = self._particles()
         engine = self._engine(particles, HarmonicMotion(amplitude=x, frequency=f),
-                              **self._level2_settling(), **self._transient())
+                              **self._level2_settling(), **self._transient(packing))
         if self.run_until_steady:
             need = self.steady.min_cycles
 
@@ -496,37 +556,62 @@ class DEMDamper(DamperModel):
         return self._estimate(run, particles, f, x) if self.error_estimate else run
 
     def _estimate(self, run: SteadyRun, particles, f: float, x: float) -> SteadyRun:
-        """:class:`AccuracyEstimate` of ``run`` from refined companion runs over the same
-        cycles; a run missing the target is replaced by its companion, at most
-        ``max_refinements`` times."""
-        from pdamper.dem import HarmonicMotion
+        """:class:`AccuracyEstimate` of ``run``: a realisation companion (the spheres moved by
+        up to :data:`REALISATION_MOVE`, same settings) gives the spread of the point; refined
+        companion runs over the same cycles, refined from the start (no transient tolerance),
+        give the integration error; a run missing the target on the latter alone is
+        replaced by its refined companion, at most ``max_refinements`` times."""
+        from pdamper.dem import HarmonicMotion, ParticleSet
 
         kernel = self.integrator
         if kernel == "auto":
             res = run.result
             kernel = "verlet" if res.verlet_time > 0.5 * res.simulated_time else "gear"
         setting, factor = REFINEMENT[kernel]
+        start = self._transient(run.packing)
         value = (self.safety if setting == "safety"
-                 else float(self.gear_tolerance))
+                 else float(start.get("gear_tolerance", self.gear_tolerance)))
+        # the refined companions refine the start from rest too: the transient tolerance
+        # would otherwise steer both runs into the same state (8 Hz / 80 mm from the
+        # lattice: error 0.001 reported where converged runs differ by 0.3)
+        refined = {k: v for k, v in start.items()
+                   if k not in ("transient_cycles", "gear_transient_tolerance")}
+        motion = HarmonicMotion(amplitude=x, frequency=f)
+        st = run.stationarity
+        skip, span = st.first_cycle - 1, st.last_cycle - st.first_cycle + 1
+        # the realisation companion: same settings, every sphere moved by up to 1e-9 m
+        rng = np.random.default_rng(self.seed)
+        moved = ParticleSet(particles.positions + rng.uniform(
+            -REALISATION_MOVE, REALISATION_MOVE, particles.positions.shape),
+            particles.radius, particles.material)
+        engine = self._engine(moved, motion, **self._level2_settling(), **start)
+        alt = engine.run(st.cycles / f, sample_rate=self.sample_rate,
+                         snapshot_rate=self.snapshot_rate, start=self._settled(engine))
+        cp_alt = alt.complex_power(skip, span)
+        eta0, ratio0 = run.power.loss_factor, run.power.effective_mass_ratio
+        s_eta = abs(eta0 - cp_alt.loss_factor)
+        s_mass = abs(ratio0 - cp_alt.effective_mass_ratio)
+        dependent = bool(_relative(eta0, ratio0, s_eta, s_mass) > self.accuracy)
         for k in range(self.max_refinements + 1):
             st = run.stationarity
             skip, span = st.first_cycle - 1, st.last_cycle - st.first_cycle + 1
             reference = value / factor
-            engine = self._engine(particles, HarmonicMotion(amplitude=x, frequency=f),
-                                  **{setting: reference}, **self._level2_settling(),
-                                  **self._transient())
+            engine = self._engine(particles, motion, **self._level2_settling(),
+                                  **{**refined, setting: reference})
             comp = engine.run(st.cycles / f, sample_rate=self.sample_rate,
                               snapshot_rate=self.snapshot_rate, start=self._settled(engine))
             cp = comp.complex_power(skip, span)
             eta, ratio = run.power.loss_factor, run.power.effective_mass_ratio
             e_eta = error_bound(eta, cp.loss_factor)
             e_mass = error_bound(ratio, cp.effective_mass_ratio)
-            rel = max(e_eta / max(abs(eta), LOSS_FACTOR_FLOOR),
-                      e_mass / abs(ratio) if ratio != 0 else math.inf)
-            est = AccuracyEstimate(e_eta, e_mass, rel, self.accuracy, bool(rel <= self.accuracy),
-                                   setting, value, reference, k, cp.loss_factor,
-                                   cp.effective_mass_ratio)
-            if est.met or k == self.max_refinements:
+            rel = _relative(eta, ratio, e_eta, e_mass)
+            met = bool(rel <= self.accuracy) and not dependent
+            est = AccuracyEstimate(e_eta, e_mass, rel, self.accuracy, met, setting, value,
+                                   reference, k, cp.loss_factor, cp.effective_mass_ratio,
+                                   s_eta, s_mass, dependent)
+            # a realisation-dependent point is no integration problem: a finer step would
+            # only pick another realisation
+            if met or dependent or k == self.max_refinements:
                 return dataclasses.replace(run, accuracy=est)
             logger.info("DEM f=%.3g Hz X=%.3g m: estimated error %.2g > %.2g; redone with "
                         "%s = %.3g", f, x, rel, self.accuracy, setting, reference)
@@ -661,7 +746,9 @@ def point_diagnostics(run: SteadyRun) -> dict:
     ``period`` [cycles], ``periodicity_residual``, ``lift`` [m], ``contact_fraction``,
     ``lid_contacts_per_cycle`` [-] (:class:`~pdamper.analysis.dem_modes.ModeClassification`),
     with an error estimate also ``loss_factor_error``, ``effective_mass_ratio_error`` [-],
-    ``accuracy_met`` (0/1) and ``accuracy_refinements`` (:class:`AccuracyEstimate`),
+    ``accuracy_met`` (0/1), ``accuracy_refinements``, ``realisation_loss_factor_spread``,
+    ``realisation_effective_mass_ratio_spread`` [-] and ``realisation_dependent`` (0/1)
+    (:class:`AccuracyEstimate`),
     ``stationarity`` and ``motion`` (the records themselves, not numbers).
     """
     res, st, mo = run.result, run.stationarity, run.motion
@@ -689,7 +776,11 @@ def point_diagnostics(run: SteadyRun) -> dict:
             "loss_factor_error": float(run.accuracy.loss_factor_error),
             "effective_mass_ratio_error": float(run.accuracy.effective_mass_ratio_error),
             "accuracy_met": int(run.accuracy.met),
-            "accuracy_refinements": int(run.accuracy.refinements)}),
+            "accuracy_refinements": int(run.accuracy.refinements),
+            "realisation_loss_factor_spread": float(run.accuracy.loss_factor_spread),
+            "realisation_effective_mass_ratio_spread": float(
+                run.accuracy.effective_mass_ratio_spread),
+            "realisation_dependent": int(run.accuracy.realisation_dependent)}),
         "stationarity": st,
         "motion": mo,
     }

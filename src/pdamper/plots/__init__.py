@@ -17,11 +17,13 @@ from pdamper.plots.figures import (
     plot_step_profile,
 )
 from pdamper.plots.level3 import (
+    plot_damping_ratio_band,
     plot_design_landscape,
     plot_mode_study,
     plot_model_damping_ratios,
     plot_model_trajectories,
     plot_phase_drift,
+    plot_trajectory_band,
 )
 from pdamper.plots.restitution import (
     plot_cor_check,
@@ -50,4 +52,6 @@ __all__ = [
     "plot_optimization",
     "plot_particle_snapshots",
     "plot_phase_drift",
+    "plot_damping_ratio_band",
+    "plot_trajectory_band",
 ]

@@ -93,8 +93,9 @@ def plot_design_landscape(study, ax=None):
     added mass against the objective ringed, the lightest design within the study's
     tolerance of the best as a green diamond.
 
-    One variable: objective against it. Two or more: the first two variables as axes,
-    the objective as colour (categorical variables by index).
+    One variable: objective against it (designs evaluated from several realisations:
+    their mean, the min-max shaded). Two or more: the first two variables as axes, the
+    objective as colour (categorical variables by index).
     """
     ax = _axes(ax)
     names = [v.name for v in study.variables]
@@ -121,8 +122,14 @@ def plot_design_landscape(study, ax=None):
     v0 = study.variables[0]
     if len(names) == 1:
         pts = sorted(ok, key=lambda c: coord(v0, c))
-        ax.plot([coord(v0, c) for c in pts], [c.objective * unit for c in pts], "o-",
-                label="designs")
+        line, = ax.plot([coord(v0, c) for c in pts], [c.objective * unit for c in pts], "o-",
+                        label="designs")
+        if pts and all("objective_min" in c.extra for c in pts):  # realisations: their band
+            ax.fill_between([coord(v0, c) for c in pts],
+                            [c.extra["objective_min"] * unit for c in pts],
+                            [c.extra["objective_max"] * unit for c in pts],
+                            color=line.get_color(), alpha=0.25, lw=0,
+                            label="min-max of the realisations (line: their mean)")
         if bad:
             y0 = min((c.objective * unit for c in ok), default=0.0)
             for status, color in (("infeasible", "0.5"), ("failed", "r")):
@@ -200,4 +207,51 @@ def plot_mode_study(study, ax=None):
     ax.legend(fontsize="small")
     if not math.isnan(study.at):
         ax.set_title("when is one mode enough?", fontsize="medium")
+    return ax
+
+
+def plot_trajectory_band(band, ax=None, label: str | None = None):
+    """End-effector trajectory of N realisations as a band (Fig. 7): the mean of the
+    sampled trajectories as a line, their pointwise min-max shaded, and the amplitude at
+    ``band.at`` as a point with its min-max bar (drawn at -X, on the negative peaks' side).
+
+    ``band``: a :class:`~pdamper.reports.realisations.Level3Band` (``trajectory()``,
+    ``amplitude_at()``, ``at``, ``count``).
+    """
+    ax = _axes(ax)
+    tr = band.trajectory()
+    name = label or band.model
+    line, = ax.plot(tr["time"], tr["mean"] * 1e3, lw=1,
+                    label=f"{name}: mean of {band.count} realisations, min-max shaded")
+    ax.fill_between(tr["time"], tr["min"] * 1e3, tr["max"] * 1e3, color=line.get_color(),
+                    alpha=0.3, lw=0)
+    a = band.amplitude_at()
+    ax.errorbar([band.at], [-a["mean"] * 1e3],
+                yerr=[[(a["max"] - a["mean"]) * 1e3], [(a["mean"] - a["min"]) * 1e3]],
+                fmt="o", color=line.get_color(), ms=4, capsize=4,
+                label=f"{name}: X({band.at:g} s) = {a['mean'] * 1e3:.2f} mm "
+                      f"[{a['min'] * 1e3:.2f}, {a['max'] * 1e3:.2f}]")
+    ax.set_xlabel("time t [s]")
+    ax.set_ylabel("end-effector displacement x [mm]")
+    ax.legend(fontsize="x-small", loc="lower right")
+    return ax
+
+
+def plot_damping_ratio_band(band, ax=None, label: str | None = None):
+    """Damping ratio per amplitude of N realisations (Fig. 8): the mean line over the
+    amplitudes every realisation covers, the min-max of the realisations shaded."""
+    ax = _axes(ax)
+    rows = band.damping_ratio()
+    name = label or band.model
+    if rows:
+        a = np.array([r["amplitude"] for r in rows]) * 1e3
+        line, = ax.plot(a, [r["mean"] for r in rows], "o-", ms=3,
+                        label=f"{name}: mean of {band.count} realisations, min-max shaded")
+        ax.fill_between(a, [r["min"] for r in rows], [r["max"] for r in rows],
+                        color=line.get_color(), alpha=0.3, lw=0)
+    ax.set_xlabel("mean amplitude X_n+1/2 [mm]")
+    ax.set_ylabel("damping ratio zeta [-]")
+    if not ax.xaxis_inverted():
+        ax.invert_xaxis()
+    ax.legend(fontsize="x-small")
     return ax

@@ -52,6 +52,8 @@ logger = logging.getLogger(__name__)
 _HIGH_FREQUENCY = 200.0
 #: The DEM map's file in the output directory (also its cache).
 DEM_MAP_FILE = "fig5_dem_map.nc"
+#: Random packings of DEM model 1's band in Figs. 7/8 (``pdamper paper --realisations``).
+PAPER_REALISATIONS = 5
 #: Fig. 3: the modes it shows, at Fig. 4 points (label, f [Hz], X [m]); the double CaC
 #: at the benchmark point X_opt (10 Hz, 32 mm).
 FIG3_POINTS = (("a) solid-like", 4.0, 0.015), ("b) single CaC", 6.0, 0.015),
@@ -112,6 +114,8 @@ class CaseStudy:
     inputs: dict = field(default_factory=dict)
     #: Wall time of each step and of each Level III model's run [s].
     timings: dict = field(default_factory=dict)
+    #: DEM model 1 from random packings (:class:`pdamper.reports.realisations.Level3Band`)
+    dem_band: object = None
 
     def models(self) -> list[dict]:
         """The Level III runs of Figs. 7/8 (and the no-particle envelope) for the tables."""
@@ -134,6 +138,21 @@ class CaseStudy:
                         "amplitude_0p75": run.amplitude_at(t_cmp) if long_enough else None,
                         "final_amplitude": run.final_amplitude,
                         "seconds": self.timings.get(key)})
+        b = self.dem_band
+        if b is not None:  # the means, the band in the source column and its own keys
+            a, fin = b.amplitude_at(), b.final_amplitude()
+            at = b.at >= t_cmp * (1.0 - 1e-9)
+            band = (f"; at 0.75 s std {a['std'] * 1e3:.2f} mm, min {a['min'] * 1e3:.2f}, "
+                    f"max {a['max'] * 1e3:.2f} mm" if at else "")
+            out.append({"label": f"DEM (model 1), mean of {b.count} random packings",
+                        "model": b.model,
+                        "source": f"DEM co-simulation, seeds {b.seeds[0]}-{b.seeds[-1]}"
+                                  + band,
+                        "amplitude_0p75": a["mean"] if at else None,
+                        "amplitude_0p75_band": {k: a[k] for k in ("std", "min", "max")}
+                        if at else None,
+                        "final_amplitude": fin["mean"],
+                        "seconds": self.timings.get(f"model 1, {b.count} random packings")})
         return out
 
 
@@ -181,7 +200,8 @@ def _amplitude_row(key: str, res: FreeVibrationResult, t: float, extra: str = ""
 
 def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
                    dem: bool = True, out: Path | None = None,
-                   map_progress: Callable | None = None, **sweep_options) -> CaseStudy:
+                   map_progress: Callable | None = None, realisations: int = 1,
+                   **sweep_options) -> CaseStudy:
     """Compute the paper's case study for ``scenario`` (default: the paper's case).
 
     The scenario sets the damper, the structure, the release, the duration of Figs. 7/8,
@@ -191,7 +211,9 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     when ``out`` is given, so that a rerun does not recompute it; ``map_progress`` gets
     its points), the Fig. 3 snapshots, the Fig. 2 check (the paper's COR curves in single
     DEM impacts) and DEM model 1, run with the scenario's COR and with the paper's Fig. 2
-    curves.
+    curves; ``realisations`` N > 1 adds DEM model 1 from N random packings (seeds
+    ``dem.seed + k``, on the sweep engine: in this process unless ``sweep_options`` name
+    ``workers`` or a ``scheduler``), drawn as a band in Figs. 7/8.
     """
     from pdamper.io.scenario import Scenario
 
@@ -295,6 +317,8 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
 
     if dem:
         _dem_rows(cs, sc, damper, structure, x0, duration, say)
+        if realisations > 1:
+            _dem_band(cs, sc, realisations, say, sweep_options)
 
     say("Sect. 4.2.2: optimisation of the particle count")
     opt = _timed(cs, "optimisation", lambda: optimize_particle_count(
@@ -421,6 +445,30 @@ def _dem_rows(cs: CaseStudy, sc, damper, structure, x0: float, duration: float, 
             cs.rows.append(_row(key, f"{z:.4f} at {a * 1e3:.1f} mm", z, cor=cor))
 
 
+def band_scenario(sc):
+    """The scenario of DEM model 1's realisations: ``sc`` from a random packing (the
+    lattice is one realisation), the band's amplitude at the paper's comparison time
+    (the end of a shorter run)."""
+    at = min(paper.PAPER_COMPARISON_TIME, sc.simulation.duration)
+    return sc.model_copy(update={
+        "dem": sc.dem.model_copy(update={"packing": "random"}),
+        "optimization": sc.optimization.model_copy(update={"at": at})})
+
+
+def _dem_band(cs: CaseStudy, sc, n: int, say, sweep_options) -> None:
+    """DEM model 1 from ``n`` random packings on the sweep engine (:func:`band_scenario`)."""
+    from pdamper.reports.realisations import run_level3_realisations
+
+    say(f"Fig. 7/8: DEM model 1 from {n} random packings")
+    opts = {k: v for k, v in sweep_options.items() if k in ("workers", "scheduler", "serial")}
+    if not opts.get("workers") and not opts.get("scheduler"):
+        # a few runs of seconds each: in this process, whose kernels are loaded, they cost
+        # less than a new cluster's start and its workers' kernel loads
+        opts["serial"] = True
+    cs.dem_band = _timed(cs, f"model 1, {n} random packings",
+                         lambda: run_level3_realisations(band_scenario(sc), n, "dem", **opts))
+
+
 def _markdown(rows: list[Row]) -> str:
     mark = {True: "yes", False: "**no**", None: ""}
     lines = ["| quantity | paper | pdamper | agrees | source | note |",
@@ -502,6 +550,9 @@ def _figures(cs: CaseStudy):
                                   label=f"effective fields (model 2, {cs.fields_source})")
     for label, run in _dem_runs(cs):
         plots.plot_free_vibration(run, ax=ax, label=f"{label}, {n} spheres")
+    if cs.dem_band is not None:
+        plots.plot_trajectory_band(cs.dem_band, ax=ax,
+                                   label=f"DEM (model 1), random packings, {n} spheres")
     ax.set_title("Fig. 7: end-effector trajectory, damper models 1-3")
     yield "fig7_trajectory.png", fig
     fig = Figure(figsize=(6, 4), layout="constrained")
@@ -511,6 +562,9 @@ def _figures(cs: CaseStudy):
         plots.plot_damping_ratio(cs.run_fields, ax=ax, label="effective fields (model 2)")
     for label, run in _dem_runs(cs):
         plots.plot_damping_ratio(run, ax=ax, label=f"{label}, {n} spheres")
+    if cs.dem_band is not None:
+        plots.plot_damping_ratio_band(cs.dem_band, ax=ax,
+                                      label=f"DEM (model 1), random packings, {n} spheres")
     ax.set_title("Fig. 8: damping ratio, damper models 1-3")
     yield "fig8_damping_ratio.png", fig
     fig = Figure(figsize=(12, 4), layout="constrained")
@@ -646,6 +700,7 @@ def write_case_study(cs: CaseStudy, out: Path,
                                           ("dem_paper_cor_curves", cs.run_dem_curves),
                                           ("fields", cs.run_fields))
                         if run is not None},
+        **({"dem_realisations": cs.dem_band.as_dict()} if cs.dem_band is not None else {}),
         "restitution": {
             "scenario": {"particle_particle": cs.damper.restitution_pp.describe(),
                          "particle_wall": cs.damper.restitution_pw.describe()},
