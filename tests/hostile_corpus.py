@@ -85,6 +85,9 @@ SCENARIOS = {
     "load_tail_negative": '[load]\nforce = "load_force.csv"\ntail = "-1 s"\n',
     # -- realisations: a random packing (several realisations)
     "dem_random": '[dem]\npacking = "random"\n',
+    # -- forced response (frf): loads, frequency grids, structures
+    "frf_dem_three_modes": '[simulation]\nmodel = "dem"\n[structure]\n'
+                           'beam = { modes = 3, elements = 20 }\n',
 }
 
 
@@ -531,6 +534,45 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("simulate-realisations-with-load", ["simulate", "--model", "dem", "--realisations", "2",
                                          "--scenario", "{scenario:load_force}"],
      Error("realisations")),
+    # -- forced response (frf): the load, the frequency grid, the sweep, the structure
+    ("frf-force-negative", ["frf", "--force", "-2N"], Error("force")),
+    ("frf-force-zero", ["frf", "--force", "0N"], Error("force")),
+    ("frf-force-a-length", ["frf", "--force", "2mm"], Error("force")),
+    ("frf-force-infinite", ["frf", "--force", "inf N"], Error("force")),
+    ("frf-force-and-base", ["frf", "--force", "2N", "--base", "1mm"], Error("base")),
+    ("frf-base-a-duration", ["frf", "--base", "3 s"], Error("base")),
+    ("frf-base-negative", ["frf", "--base", "-1mm"], Error("base")),
+    ("frf-base-on-three-modes", ["frf", "--base", "0.3g", "--frequency", "5Hz",
+                                 "--scenario", "{scenario:beam_three_modes}"], Error("base")),
+    ("frf-frequency-zero", ["frf", "--frequency", "0Hz:9Hz:3"], Error("frequency")),
+    ("frf-frequency-a-length", ["frf", "--frequency", "3mm:9mm:3"], Error("frequency")),
+    ("frf-frequency-no-count", ["frf", "--frequency", "3Hz:9Hz"], Error("frequency")),
+    ("frf-frequency-negative-one", ["frf", "--frequency", "-5Hz"], Error("frequency")),
+    ("frf-frequency-count-1e9", ["frf", "--frequency", "3Hz:9Hz:1000000000"],
+     Error("frequency")),
+    ("frf-force-huge", ["frf", "--force", "1e6N", "--frequency", "5Hz"], Error("force")),
+    ("frf-base-huge", ["frf", "--base", "100m", "--frequency", "5Hz"], Error("base")),
+    ("frf-sweep-sideways", ["frf", "--sweep", "sideways"], Error("sweep")),
+    ("frf-max-cycles-zero", ["frf", "--max-cycles", "0"], Error("max_cycles")),
+    ("frf-dem-three-modes", ["frf", "--frequency", "5Hz", "--scenario",
+                             "{scenario:frf_dem_three_modes}"], Error("structure")),
+    ("frf-out-directory", ["frf", "--frequency", "5Hz", "--out", "{tmp}/dir"], Error("out")),
+    ("frf-plot-no-suffix", ["frf", "--frequency", "5Hz", "--plot", "{tmp}/figure"],
+     Error("plot")),
+    ("frf-modes-nan", ["frf", "--frequency", "5Hz", "--modes", "{tmp}/modes_nan.csv"],
+     Error("structure.modes")),
+    ("ok-frf-base-acceleration", ["frf", "--base", "0.05g", "--frequency", "4Hz:7Hz:4",
+                                  "--json"], OK()),
+    ("ok-frf-modes-one", ["frf", "--frequency", "5Hz:6Hz:3", "--modes",
+                          "{tmp}/modes_one.csv", "--json"], OK()),
+    ("ok-frf-beam-three-modes", ["frf", "--frequency", "5Hz:7Hz:3", "--scenario",
+                                 "{scenario:beam_three_modes}", "--json"], OK()),
+    ("optimize-frf-load-a-duration", ["optimize", "--objective", "peak-frf", "--frf-load",
+                                      "3 s"], Error("optimization.frf_load")),
+    ("optimize-frf-band-zero", ["optimize", "--objective", "rms-frf", "--band", "0Hz:9Hz:3"],
+     Error("optimization.band")),
+    ("optimize-objective-unknown-frf", ["optimize", "--objective", "peak-frff"],
+     Error("optimization.objective")),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds
@@ -541,3 +583,5 @@ HEADROOM: dict[str, float] = {
         "cor-velocity-count-1e9", "cor-velocity-count-1e9-forced", "cor-velocity-count-1e7",
         "optimize-vary-particles-1e9", "optimize-vary-particles-1e9-scenario",
         "optimize-vary-radius-1e8", "ok-analytic-scenario-vary-particles-1e9")}
+# forced response (frf): a frequency count judged before the grid is built
+HEADROOM["frf-frequency-count-1e9"] = 2**30

@@ -93,6 +93,7 @@ def _register() -> None:
         cor,
         cor_sensitivity,
         dem,
+        frf,
         map,
         optimize,
         paper,
@@ -106,7 +107,7 @@ def _register() -> None:
                            ("dem", dem.dem), ("paper", paper.paper),
                            ("example-scenario", scenario.example_scenario), ("cor", cor.cor),
                            ("cor-sensitivity", cor_sensitivity.cor_sensitivity),
-                           ("report", report.report)):
+                           ("report", report.report), ("frf", frf.frf)):
         app.command(name, cls=_Command, short_help=_summary(function))(function)
     _registered = True
 

@@ -31,7 +31,14 @@ def optimize(
         "'particle-material=S235,PVC'. Default: the particle count.")] = None,
     objective: Annotated[str | None, typer.Option(
         help="amplitude-at (min), settling-time (min) or mean-damping (max) of the free "
-             "decay; peak or rms (min) of the response to --load / --base-acceleration.")] = None,
+             "decay; peak or rms (min) of the response to --load / --base-acceleration; "
+             "peak-frf or rms-frf (min) of the forced response to --frf-load.")] = None,
+    band: Annotated[str | None, typer.Option(
+        help="Frequencies of peak-frf and rms-frf, 'start:stop:count', e.g. '3Hz:9Hz:41' "
+             "(default 0.5-1.5 times the first natural frequency).")] = None,
+    frf_load: Annotated[str | None, typer.Option(
+        "--frf-load", help="Harmonic load of peak-frf and rms-frf: a force ('2N', default) "
+                           "or a base motion ('1mm', '0.3g').")] = None,
     threshold: Annotated[str | None, typer.Option(
         help="Settling threshold, e.g. '15mm' (default |x0| / 4).")] = None,
     method: Annotated[str | None, typer.Option(
@@ -87,7 +94,8 @@ def optimize(
               optimization__threshold=threshold, optimization__method=method,
               optimization__workers=workers, optimization__scheduler=scheduler,
               optimization__max_evaluations=max_evaluations, optimization__seed=seed,
-              optimization__tolerance=tolerance,
+              optimization__tolerance=tolerance, optimization__band=band,
+              optimization__frf_load=frf_load,
               structure__modes=None if modes is None else str(modes),
               load__force=None if load_file is None else str(load_file),
               load__base_acceleration=None if base_acceleration is None
@@ -130,7 +138,8 @@ def optimize(
 
         obj = make_objective(o.objective, o.at, sc.structure.initial_displacement,
                              sc.structure_model(), o.threshold, load=history,
-                             tail=sc.load.tail)
+                             tail=sc.load.tail, band=o.frf_band(),
+                             frf_load=o.frf_load)
         evaluate = design_evaluator(sc, n_real, obj)
         res = run_design_study(evaluate, damper, variables, obj, method=o.method,
                                max_grid=o.max_grid, max_evaluations=o.max_evaluations,
@@ -143,7 +152,8 @@ def optimize(
                               threshold=o.threshold, method=o.method, max_grid=o.max_grid,
                               max_evaluations=o.max_evaluations, seed=o.seed,
                               workers=n_workers, scheduler=o.scheduler,
-                              tolerance=o.tolerance, load=history, tail=sc.load.tail)
+                              tolerance=o.tolerance, load=history, tail=sc.load.tail,
+                              band=o.frf_band(), frf_load=o.frf_load)
     if plot is not None:
         from matplotlib.figure import Figure
 
@@ -166,13 +176,18 @@ def optimize(
     names = [v.name for v in res.variables]
     shown = {"amplitude-at": (1e3, "amplitude [mm]"), "settling-time": (1.0, "settling [s]"),
              "mean-damping": (1.0, "mean zeta [-]"), "peak": (1e3, "peak [mm]"),
-             "rms": (1e3, "RMS [mm]")}[res.objective.name]
+             "rms": (1e3, "RMS [mm]"), "peak-frf": (1e3, "peak [mm]"),
+             "rms-frf": (1e3, "RMS [mm]")}[res.objective.name]
     head = f"{res.objective.name} (t = {res.at:g} s" if res.objective.name != "settling-time" \
         else f"settling-time (to {res.objective.threshold * 1e3:g} mm"
     if history is not None:
         head = f"{res.objective.name} (response to {history.source}"
         payload["load"] = {"file": history.source, "kind": history.kind,
                            "record_duration": history.duration, "tail": sc.load.tail}
+    if res.objective.frf_load is not None:
+        b, ld = res.objective.band, res.objective.frf_load
+        head = (f"{res.objective.name} ({b[0]:g}-{b[-1]:g} Hz in {len(b)}, {ld.kind} "
+                f"{ld.amplitude:g} {ld.unit}")
     lines = [f"{head}, {sc.simulation.model} model, {res.method}: {len(res.candidates)} designs)",
              "  " + "  ".join(f"{n:>17s}" for n in names) + f"  mass [g]  {shown[1]}"]
     light = res.lightest_within

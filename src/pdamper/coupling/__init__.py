@@ -8,6 +8,8 @@ runs any :class:`~pdamper.models.DamperModel` on a structure with the strategy t
 names; the damping ratio follows from the logarithmic decrement (Eqs. 24-25).
 :func:`run_load` runs a damper model on a structure under a load history (a force or a base
 acceleration, :mod:`pdamper.coupling.loads`).
+The forced response under a harmonic force or base motion (harmonic balance and stepped
+sines) is :mod:`pdamper.coupling.frf`.
 """
 
 from pdamper.coupling.decrement import damping_ratio_from_peaks, negative_peaks

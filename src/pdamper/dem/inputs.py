@@ -266,6 +266,10 @@ class StructureMotion:
         M [kg], D [kg/s], K [N/m] (the paper's: ``pdamper.parameters.PAPER_STRUCTURE``).
     x0, v0
         Initial position [m] and velocity [m/s] at release.
+    force_amplitude, force_frequency, force_phase
+        A harmonic load ``F cos(2 pi f t + phi)`` on the structure, t from the start of the
+        run: F [N] (default 0: free vibration), f [Hz], phi [rad] (the forced response,
+        :mod:`pdamper.coupling.frf`).
     """
 
     mass: float
@@ -273,6 +277,9 @@ class StructureMotion:
     stiffness: float
     x0: float = 0.0
     v0: float = 0.0
+    force_amplitude: float = 0.0
+    force_frequency: float = 0.0
+    force_phase: float = 0.0
 
     def __post_init__(self) -> None:
         check_range("structure.mass", self.mass, low=0.0, low_inclusive=False, unit="kg")
@@ -280,6 +287,9 @@ class StructureMotion:
         check_range("structure.stiffness", self.stiffness, low=0.0, unit="N/m")
         check_range("structure.x0", self.x0, unit="m")
         check_range("structure.v0", self.v0, unit="m/s")
+        check_range("force", self.force_amplitude, low=0.0, unit="N")
+        check_range("frequency", self.force_frequency, low=0.0, unit="Hz")
+        check_range("force_phase", self.force_phase, unit="rad")
 
     @property
     def natural_frequency(self) -> float:

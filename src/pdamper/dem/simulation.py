@@ -266,6 +266,10 @@ class DEMEngine:
             v += 2.0 * m.amplitude * m.angular_frequency
         elif isinstance(m, StructureMotion):
             v += 2.0 * (abs(m.x0) * 2 * math.pi * m.natural_frequency + abs(m.v0))
+            if m.force_amplitude > 0:  # the load's steady speed without particles
+                w = 2.0 * math.pi * m.force_frequency
+                v += 2.0 * m.force_amplitude * w / abs(complex(m.stiffness - m.mass * w * w,
+                                                               w * m.damping))
         elif isinstance(m, PrescribedMotion):
             _, _, vv, _ = m.table(0.5)
             v += 2.0 * float(np.max(np.abs(vv)))
@@ -468,8 +472,10 @@ class DEMEngine:
             _, tz, tv, ta = m.table(grid.duration + 2 * grid.interval)
             drive = _drive(K.MOTION_TABLE, table_dt=m.sample_interval, table=(tz, tv, ta))
         else:
+            # a harmonic load rides on the harmonic fields (amplitude [N], omega, phase)
             drive = _drive(K.MOTION_STRUCTURE, mass=m.mass, damping=m.damping,
-                           stiffness=m.stiffness)
+                           stiffness=m.stiffness, amplitude=m.force_amplitude,
+                           omega=2.0 * math.pi * m.force_frequency, z0=m.force_phase)
             rs[0]["zc"], rs[0]["vc"] = m.x0, m.v0
         nsnap = (grid.nsamp - 1) // grid.snap_every + 1
         return Phase(stp, drive, K.empty_samples(grid.nsamp),
@@ -568,6 +574,10 @@ class DEMEngine:
             d.update(structure_mass_kg=m.mass, structure_damping_kg_s=m.damping,
                      structure_stiffness_n_m=m.stiffness, structure_x0_m=m.x0,
                      structure_v0_m_s=m.v0)
+            if m.force_amplitude > 0:
+                d.update(structure_force_n=m.force_amplitude,
+                         structure_force_frequency_hz=m.force_frequency,
+                         structure_force_phase_rad=m.force_phase)
         return d
 
 

@@ -13,7 +13,11 @@ particle material) and ranks the designs by one objective (:data:`OBJECTIVES`):
   (maximised) [-];
 - ``peak``, ``rms``: largest |displacement| and RMS displacement of the output point under
   a load history (:mod:`pdamper.coupling.loads`; a force or base acceleration from rest,
-  over the record and its free tail; minimised) [m].
+  over the record and its free tail; minimised) [m];
+- ``peak-frf``: largest steady amplitude of the output point over a frequency band under
+  a harmonic load (the forced response of :mod:`pdamper.coupling.frf`, stepped sines up
+  and down; minimised) [m];
+- ``rms-frf``: RMS over the band's frequencies of that amplitude (minimised) [m].
 
 Search
 ------
@@ -393,10 +397,18 @@ class Objective:
     load: Any = field(default=None, repr=False, compare=False)
     tail: float = 0.0
     sample_rate: float = LOAD_SAMPLE_RATE
+    #: the forced-response objectives: the frequencies [Hz] of the band and the
+    #: :class:`~pdamper.coupling.frf.HarmonicLoad`
+    band: tuple[float, ...] | None = None
+    frf_load: Any = None
 
     def evaluate(self, res) -> tuple[float, dict]:
         """Objective value of a :class:`~pdamper.coupling.FreeVibrationResult` (of a
         :class:`~pdamper.coupling.loads.LoadResponse` for ``peak``, ``rms``) and extras."""
+        if self.name in FRF_OBJECTIVES:
+            value = res.peak() if self.name == "peak-frf" else res.rms()
+            steady = all(bool(np.all(c.steady)) for c in res.sweeps.values())
+            return value, {"steady": steady}
         if self.name in LOAD_OBJECTIVES:
             extras = {"peak_acceleration": res.peak_acceleration,
                       "rms_acceleration": res.rms_acceleration,
@@ -446,12 +458,24 @@ OBJECTIVES = {"amplitude-at": ("min", "m"), "settling-time": ("min", "s"),
 #: Objectives on the response to a load history (module docstring).
 LOAD_OBJECTIVES = {"peak": ("min", "m"), "rms": ("min", "m")}
 OBJECTIVES.update(LOAD_OBJECTIVES)
+#: Objectives on the forced response (pdamper.coupling.frf) over a frequency band.
+FRF_OBJECTIVES = {"peak-frf": ("min", "m"), "rms-frf": ("min", "m")}
+OBJECTIVES.update(FRF_OBJECTIVES)
+#: Default band of the forced-response objectives: this fraction of the structure's first
+#: natural frequency below and above it, in this many frequencies; default load 2 N.
+FRF_BAND = (0.5, 1.5, 41)
+FRF_LOAD = "2 N"
 
 
 def make_objective(name: str, at: float, initial_displacement: float, structure,
                    threshold: float | None = None, duration: float | None = None,
-                   load=None, tail: float = 0.0) -> Objective:
+                   load=None, tail: float = 0.0, band=None, frf_load=None) -> Objective:
     """The :class:`Objective` ``name`` with its defaults (module docstring).
+
+    ``peak-frf`` and ``rms-frf`` take ``band`` (frequencies [Hz]; default :data:`FRF_BAND`
+    around the first natural frequency) and ``frf_load`` (a
+    :class:`~pdamper.coupling.frf.HarmonicLoad` or its text, e.g. ``"2N"``, ``"0.3g"``;
+    default :data:`FRF_LOAD`).
 
     ``peak`` and ``rms`` need ``load`` (a :class:`~pdamper.coupling.loads.LoadHistory`) and
     run over the record plus ``tail`` [s]; the free-decay objectives ignore a load.
@@ -465,6 +489,22 @@ def make_objective(name: str, at: float, initial_displacement: float, structure,
                          f"got {name!r}")
     check_range("optimization.at", at, low=0.0, low_inclusive=False, unit="s")
     sense, unit = OBJECTIVES[name]
+    if name in FRF_OBJECTIVES:
+        from pdamper.coupling.frf import HarmonicLoad
+
+        if band is None:
+            lo, hi, n = FRF_BAND
+            band = np.linspace(lo * structure.natural_frequency,
+                               hi * structure.natural_frequency, n)
+        f = np.atleast_1d(np.asarray(band, float))
+        if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
+            raise InputError("optimization.band", "must be one or more finite frequencies "
+                             "> 0 Hz")
+        if not isinstance(frf_load, HarmonicLoad):
+            frf_load = HarmonicLoad.parse(FRF_LOAD if frf_load is None else frf_load,
+                                          field="optimization.frf_load")
+        return Objective(name, sense, unit, at, band=tuple(float(v) for v in np.unique(f)),
+                         frf_load=frf_load)
     if name in LOAD_OBJECTIVES:
         if load is None:
             raise InputError("optimization.objective", f"{name!r} is an objective on the "
@@ -563,6 +603,8 @@ class DesignStudyResult:
             "objective_name": self.objective.name,
             "sense": self.objective.sense,
             "threshold": self.objective.threshold,
+            **({"band": list(self.objective.band), "frf_load": self.objective.frf_load.as_dict()}
+               if self.objective.frf_load is not None else {}),
             "method": self.method,
             "seed": self.seed,
             "evaluations": len(self.candidates),
@@ -672,6 +714,13 @@ class DesignEvaluator:
 
     def __call__(self, design: dict) -> tuple[float, dict]:
         o = self.objective
+        if o.frf_load is not None:  # a forced response, both sweep directions
+            from pdamper.coupling.frf import frequency_response
+
+            sim = self.simulation(design)  # the same physics limits as every design
+            return o.evaluate(frequency_response(sim.model, self.structure, o.frf_load,
+                                                 o.band, sweep="both",
+                                                 with_harmonic_balance=False))
         if o.load is not None:  # the response to the load history
             from pdamper.coupling.loads import run_load
 
@@ -928,6 +977,8 @@ def optimize_design(
     duration: float | None = None,
     load=None,
     tail: float = 0.0,
+    band=None,
+    frf_load=None,
     **options,
 ) -> DesignStudyResult:
     """A design study of ``damper`` on ``structure`` (module docstring).
@@ -943,7 +994,7 @@ def optimize_design(
         x0 [m] (paper: -58 mm).
     variables
         :class:`DesignVariable` objects or specifications (``"particles=16:176:16"``).
-    objective, at, threshold, duration, load, tail
+    objective, at, threshold, duration, load, tail, band, frf_load
         See :func:`make_objective` (``load``: the history of ``peak`` and ``rms``).
     model
         Damper model factory taking a :class:`ParticleDamper` (default: the analytical model).
@@ -964,6 +1015,6 @@ def optimize_design(
         model = AnalyticalDamper
     variables = [parse_variable(v) if isinstance(v, str) else v for v in variables]
     obj = make_objective(objective, at, initial_displacement, structure, threshold, duration,
-                         load, tail)
+                         load, tail, band, frf_load)
     evaluate = DesignEvaluator(structure, damper, initial_displacement, obj, model)
     return run_design_study(evaluate, damper, variables, obj, **options)

@@ -304,7 +304,17 @@ class OptimizationSpec(_Section):
     at: Duration = paper.PAPER_OBJECTIVE_TIME
     step: Annotated[int, Field(ge=1, strict=True)] | None = None
     objective: Literal["amplitude-at", "settling-time", "mean-damping",
-                       "peak", "rms"] = "amplitude-at"
+                       "peak", "rms", "peak-frf", "rms-frf"] = "amplitude-at"
+    #: frequencies of peak-frf and rms-frf, "start:stop:count" (default 0.5-1.5 times the
+    #: first natural frequency in 41)
+    band: str | None = None
+    #: harmonic load of peak-frf and rms-frf: a force ("2 N", the default) or a base motion
+    #: ("1 mm", "0.3 g")
+    frf_load: str | None = None
+
+    def frf_band(self):
+        """The frequencies [Hz] of ``band`` (None: the objective's default)."""
+        return None if self.band is None else grid(self.band, "Hz", "optimization.band")
     vary: list[str] = []
     method: Literal["auto", "grid", "optimize"] = "auto"
     threshold: PositiveLength | None = None

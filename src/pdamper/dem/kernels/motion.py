@@ -40,10 +40,13 @@ def prescribed_state(t, drive):
 
 
 @njit(cache=True)
-def structure_acceleration(fz, zc, vc, drive):
-    """1-DOF structure (paper Eq. 23): ``M a = -K z - D v + F_z``, ``F_z`` the force of the
-    particles on the container [m/s^2]."""
-    return (fz - drive.stiffness * zc - drive.damping * vc) / drive.mass
+def structure_acceleration(fz, zc, vc, drive, t):
+    """1-DOF structure (paper Eq. 23): ``M a = -K z - D v + F_z + F cos(W t + phi)``,
+    ``F_z`` the force of the particles on the container, the last term a harmonic load at
+    time ``t`` [s] (``drive.amplitude`` F [N], ``drive.omega`` W, ``drive.z0`` phi; F = 0:
+    the free structure) [m/s^2]."""
+    load = drive.amplitude * math.cos(drive.omega * t + drive.z0)
+    return (fz - drive.stiffness * zc - drive.damping * vc + load) / drive.mass
 
 
 @njit(cache=True, inline="always")

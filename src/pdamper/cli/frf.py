@@ -1,0 +1,165 @@
+"""``pdamper frf``: forced response of the structure carrying the damper (docs/forced.md)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from pdamper.cli._common import (
+    JsonOpt,
+    ModelOpt,
+    ScenarioOpt,
+    check_output,
+    check_plot,
+    emit,
+    load,
+    metadata,
+    plot_option,
+    write_figure,
+)
+
+#: Default load and frequency grid (the paper's structure, resonance near 5.5 Hz).
+DEFAULT_FORCE = "2N"
+DEFAULT_FREQUENCY = "3Hz:9Hz:121"
+
+
+def parse_load(force: str | None, base: str | None):
+    """The :class:`~pdamper.coupling.frf.HarmonicLoad` of ``--force`` or ``--base``
+    (a length, or an acceleration: ``0.3g`` is 0.3 standard gravities)."""
+    from pdamper.coupling.frf import HarmonicLoad
+    from pdamper.errors import InputError
+
+    if force is not None and base is not None:
+        raise InputError("base", "give either --force or --base, not both")
+    if base is None:
+        return HarmonicLoad.parse(DEFAULT_FORCE if force is None else force, "force")
+    return HarmonicLoad.parse(base, "base")
+
+
+def frf(
+    model: ModelOpt = None,
+    force: Annotated[str | None, typer.Option(
+        "--force", help="Harmonic force amplitude on the structure at the damper's point, "
+                        "e.g. '2N' (default 2 N).")] = None,
+    base: Annotated[str | None, typer.Option(
+        help="Harmonic base motion instead: displacement ('1mm') or acceleration ('0.3g') "
+             "amplitude (one-mode structures).")] = None,
+    frequency: Annotated[str | None, typer.Option(
+        help="Frequencies 'start:stop:count', e.g. '3Hz:9Hz:121' (default), or one.")] = None,
+    sweep: Annotated[str, typer.Option(
+        help="Stepped-sine direction: up, down or both.")] = "both",
+    particles: Annotated[int | None, typer.Option(help="Number of spheres.")] = None,
+    fields: Annotated[Path | None, typer.Option(
+        help="Effective-field map (NetCDF from `pdamper map`) of the fields model.")] = None,
+    max_cycles: Annotated[int | None, typer.Option(
+        "--max-cycles", help="Most load cycles per frequency step of the stepped sine "
+                             "(default 2000; the DEM 60).")] = None,
+    plot: plot_option("the amplitude and phase against frequency") = None,
+    out: Annotated[str | None, typer.Option(help="NetCDF file of the response.")] = None,
+    modes: Annotated[Path | None, typer.Option(
+        help="The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
+             "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF.")] = None,
+    scenario: ScenarioOpt = None,
+    as_json: JsonOpt = False,
+) -> None:
+    """Steady amplitude and phase under a harmonic force or base motion against frequency:
+    harmonic balance (every branch) and stepped sines up and down."""
+    from pdamper.coupling.frf import frequency_response
+    from pdamper.errors import InputError, check_whole
+    from pdamper.io.scenario import grid
+
+    load_ = parse_load(force, base)
+    text = DEFAULT_FREQUENCY if frequency is None else frequency
+    freqs = None
+    if ":" in str(text):
+        from pdamper.coupling.frf import MAX_FREQUENCIES
+        from pdamper.io.scenario import parse_axis
+
+        count = parse_axis(text, "Hz", "frequency")[2]  # judged before the grid is built
+        if count > MAX_FREQUENCIES:
+            raise InputError("frequency", f"at most {MAX_FREQUENCIES} frequencies, got {count}")
+        freqs = grid(text, "Hz", "frequency")
+    if freqs is None:
+        from pdamper.units import parse_quantity
+
+        value = parse_quantity(text, "Hz", "frequency")
+        if not value > 0:
+            raise InputError("frequency", f"must be > 0 Hz, got {text!r}")
+        freqs = [value]
+    if sweep not in ("up", "down", "both"):
+        raise InputError("sweep", f"must be up, down or both, got {sweep!r}")
+    if max_cycles is not None:
+        check_whole("max_cycles", max_cycles, 1)
+    sc = load(scenario, simulation__model=model, particles__count=particles,
+              fields__file=None if fields is None else str(fields),
+              structure__modes=None if modes is None else str(modes))
+    out = check_output(out)
+    plot = check_plot(plot)
+    damper = sc.damper()
+    m = sc.model(None, damper)
+    structure = sc.structure_model()
+    res = frequency_response(m, structure, load_, freqs, sweep=sweep, max_cycles=max_cycles)
+    meta = metadata(sc)
+    if out is not None:
+        from pdamper.files import atomic_write_netcdf
+
+        ds = res.to_dataset()
+        ds.attrs["inputs"] = json.dumps(meta["inputs"])
+        ds.attrs["frf_inputs"] = json.dumps(res.inputs)
+        atomic_write_netcdf(out, ds)
+    if plot is not None:
+        from matplotlib.figure import Figure
+
+        from pdamper.plots.frf import plot_frf
+
+        fig = Figure(figsize=(8, 6.5), layout="constrained")
+        plot_frf(res, axes=fig.subplots(2, 1, sharex=True))
+        write_figure(fig, plot, dpi=110)
+    payload = res.as_dict()
+    payload["frf_inputs"] = payload.pop("inputs")  # "inputs" is the scenario's, as everywhere
+    payload["units"] = {"frequency": "Hz", "amplitude": "m", "stroke": "m", "phase": "rad",
+                        "loss_factor": "1", "effective_mass": "kg", "wall_seconds": "s",
+                        "load": load_.unit}
+    payload.update(meta)
+    emit(payload, as_json, "\n".join(_table(res)))
+
+
+def _table(res) -> list[str]:
+    from pdamper.coupling.pseudo_force import motion_mode
+
+    ld = res.load
+    unit = {"N": ("N", 1.0), "m": ("mm", 1e3), "m/s^2": ("m/s^2", 1.0)}[ld.unit]
+    walls = ", ".join(f"{k} {v:.2f} s" for k, v in res.wall_seconds.items())
+    lines = [f"forced response, {res.model} model, {ld.kind} {ld.amplitude * unit[1]:g} "
+             f"{unit[0]}; amplitudes [mm] of the output point ({walls})"]
+    head = "    f [Hz]  linear"
+    if res.harmonic_balance is not None:
+        head += "   harmonic balance (s stable, u unstable, e edge)"
+    for name in res.sweeps:
+        head += f"   {name:>5s}"
+    lines.append(head)
+    for i, f in enumerate(res.frequency):
+        row = f"  {f:8.3f}  {abs(res.linear[i]) * 1e3:6.2f}"
+        if res.harmonic_balance is not None:
+            hb = res.harmonic_balance
+            cells = [f"{a * 1e3:.2f}{b[0]}" for a, b in zip(hb.amplitude[i], hb.branch[i],
+                                                            strict=True) if b]
+            row += "   " + f"{' '.join(cells):45s}"
+        for c in res.sweeps.values():
+            flag = "" if c.steady[i] else "*"
+            row += f"  {c.amplitude[i] * 1e3:6.2f}{flag}"
+        lines.append(row)
+    for name, c in res.sweeps.items():
+        k = int(np.argmax(c.amplitude))
+        md = motion_mode(c.mode[k])
+        lines.append(f"{name}: peak {c.amplitude[k] * 1e3:.2f} mm at {res.frequency[k]:g} Hz "
+                     f"(stroke {c.stroke[k] * 1e3:.2f} mm, eta {c.loss_factor[k]:.3g}, "
+                     f"m_eff {c.effective_mass[k] * 1e3:.1f} g, "
+                     f"{md.title if md is not None else 'unclassified'}); "
+                     f"{int(np.count_nonzero(~c.steady))} point(s) not steady (*)")
+    return lines
+

@@ -1,0 +1,961 @@
+"""Forced response of a structure carrying a damper: frequency response under a harmonic load.
+
+The structure (a :class:`~pdamper.structure.SingleDOFStructure` or an N-mode
+:class:`~pdamper.structure.modal.ModalStructure`, mass-normalised modes) is loaded
+harmonically at angular frequency W, either by a force ``F cos(W t)`` at the damper's point
+(:class:`HarmonicLoad` ``"force"``) or, for a one-mode structure, by a base motion
+``y = Y cos(W t)`` (``"base"``, given as displacement or acceleration amplitude; its spring
+and dashpot pass the force ``(K + i W D) Y`` to the mass, Eq. 23 in absolute coordinates).
+The damper acts at its point as the pseudo force of Sect. 4.1, ``F_d = -(m_eff x'' + d x')``
+with ``d = E~ / (pi W X^2)`` (Eq. 2), i.e. as the amplitude- and frequency-dependent complex
+stiffness (the describing function of the complex power method, Eqs. 1-4)
+
+    k_d(f, X) = -m_eff(f, X) W^2 + i W d(f, X).
+
+Three solutions are computed:
+
+**Linear FRF** (no particles): ``x_o = H_od F`` with the receptances
+``H_ab(W) = sum_i phi_a,i phi_b,i / (w_i^2 - W^2 + 2 i zeta_i w_i W)``; closed form.
+
+**Harmonic balance** (models with the pseudo-force coupling): with the damper at stroke X
+the damper point moves as ``x_d = F / (1 / H_dd + k_d)``, so the steady amplitudes are the
+roots of
+
+    G(X) = X |1 / H_dd(W) + k_d(f, X)| - |F| = 0,
+
+found at each frequency by scanning X on a logarithmic grid (the describing function
+tabulated there in one call of the model) and refining every sign change with Brent's
+method on the model itself. *Every* root is reported: ``dG/dX > 0`` is a stable branch,
+``dG/dX < 0`` an unstable one (the middle branch of an S-shaped amplitude curve, between
+the two saddle-nodes where up and down sweeps jump). Where the model's describing function
+is discontinuous in X (a motion-mode boundary of the analytical model) G can change sign
+across the discontinuity without a root: such a crossing is reported as an *edge* point
+(neither a steady solution nor a branch), where a real structure sits on the mode boundary.
+The observation point follows as ``x_o = H_od (F - k_d x_d)``.
+
+**Stepped sine** (every model): the load is stepped through the frequencies, each step
+starting from the state the previous step ended in (the phase of the load continuous) and
+running until the amplitude of the damper point, judged cycle by cycle by
+:class:`~pdamper.analysis.stationarity.SteadyStateCriterion` (the criterion of the maps,
+here on the per-cycle amplitude relative to its last value), is steady. Pseudo-force
+models integrate the modal equations exactly between once-per-cycle updates of m_eff and d
+(as the free vibration of :mod:`pdamper.coupling.modal`, here with the load as two more
+states of a harmonic oscillator); the DEM integrates structure and particles together (the
+co-simulation of model 1 with the load added). An up sweep that starts below a jump stays
+on the lower branch until it ends, then jumps; a down sweep the other way round.
+
+Limits: the describing function is the damper's response to a *harmonic* container motion
+(Level II). Harmonic balance and the pseudo-force stepped sine therefore assume that the
+damper point moves near-harmonically at the load's frequency: true near a resonance of a
+lightly damped structure, not where higher harmonics or subharmonics of the structure's
+motion are strong (far below resonance with the structure's higher modes excited by the
+impacts, subharmonic bed motion near 2 f_0, or a damper that dominates the structure). The
+DEM stepped sine makes no such assumption; docs/forced.md compares them.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from pdamper.analysis.stationarity import SteadyStateCriterion
+from pdamper.errors import InputError, SimulationError, check_range
+
+#: Strokes of the harmonic-balance scan and of the stepped sine's table per frequency.
+DEFAULT_STROKES = 800
+#: Default most cycles a frequency step of the stepped sine may take before it is reported
+#: as not steady.
+DEFAULT_MAX_CYCLES = 2000
+#: Steady-state criterion of the stepped sine on the per-cycle amplitude over its last
+#: value: the windows of the maps, tolerance 0.1 %.
+DEFAULT_STEADY = SteadyStateCriterion(rtol=1e-3, atol=1e-3, quiet_window_cycles=0)
+#: Most frequencies of one response (a typo guard: a 121-point response takes seconds).
+MAX_FREQUENCIES = 100_000
+LOAD_KINDS = ("force", "base")
+SWEEPS = ("up", "down", "both")
+
+
+# ----------------------------------------------------------------------------- inputs
+@dataclass(frozen=True)
+class HarmonicLoad:
+    """A harmonic load: ``kind`` ``"force"`` (``amplitude`` [N] at the damper's point) or
+    ``"base"`` (base motion of a one-mode structure: ``amplitude`` [m] of displacement, or
+    with ``acceleration=True`` [m/s^2] of acceleration, the displacement being
+    ``A / W^2`` at each frequency)."""
+
+    kind: str
+    amplitude: float
+    acceleration: bool = False
+
+    def __post_init__(self) -> None:
+        if self.kind not in LOAD_KINDS:
+            raise InputError("load", f"must be one of {', '.join(LOAD_KINDS)}, got {self.kind!r}")
+        unit = "N" if self.kind == "force" else ("m/s^2" if self.acceleration else "m")
+        check_range(self.kind, self.amplitude, low=0.0, low_inclusive=False, unit=unit)
+        object.__setattr__(self, "amplitude", float(self.amplitude))
+
+    @property
+    def unit(self) -> str:
+        return "N" if self.kind == "force" else ("m/s^2" if self.acceleration else "m")
+
+    @classmethod
+    def parse(cls, text: str, kind: str | None = None, field: str | None = None) -> HarmonicLoad:
+        """The load of a quantity with units: a force (``"2N"``) or a base motion, as
+        displacement (``"1mm"``) or acceleration (``"0.3g"``: g is the standard gravity
+        here, ``"3 m/s^2"``). ``kind`` (``"force"``, ``"base"``) restricts it; ``field``
+        names the input in errors (default the kind, or ``load``).
+
+        >>> HarmonicLoad.parse("0.3g").amplitude
+        2.941995
+        """
+        if field is None:
+            return cls._parse(text, kind, kind or "load")
+        try:
+            return cls._parse(text, kind, field)
+        except InputError as exc:  # the amplitude's own check names the kind
+            if exc.field == field:
+                raise
+            raise InputError(field, exc.message) from None
+
+    @classmethod
+    def _parse(cls, text: str, kind: str | None, name: str) -> HarmonicLoad:
+        from pdamper.units import parse_quantity
+
+        if kind in (None, "force"):
+            try:
+                return cls("force", parse_quantity(text, "N", name))
+            except InputError as exc:
+                if kind == "force" or "convertible" not in exc.message:
+                    raise
+        try:
+            return cls("base", parse_quantity(text, "m", name))
+        except InputError as exc:
+            if "convertible" not in exc.message:
+                raise
+        # "0.3g": g is the standard gravity (pint reads a bare g as gram)
+        accel = re.sub(r"(?<=[\d.\s])g$", " g0", str(text).strip())
+        try:
+            return cls("base", parse_quantity(accel, "m/s^2", name), acceleration=True)
+        except InputError:
+            what = "a force (e.g. '2N'), or a base " if kind is None else "a base "
+            raise InputError(name, f"must be {what}displacement (e.g. '1mm') or acceleration "
+                             f"(e.g. '0.3g', '3m/s^2') amplitude, got {text!r}") from None
+
+    def reference(self, omega: float) -> float:
+        """Amplitude of the reference signal the phase is measured against: the force [N]
+        or the base displacement [m]."""
+        if self.kind == "base" and self.acceleration:
+            return self.amplitude / (omega * omega)
+        return self.amplitude
+
+    def as_dict(self) -> dict:
+        return {"kind": self.kind, "amplitude": self.amplitude, "unit": self.unit,
+                "acceleration": self.acceleration}
+
+
+def _modal(structure):
+    """The :class:`ModalStructure` of ``structure`` (a 1-DOF as its one mode)."""
+    from pdamper.structure import SingleDOFStructure
+    from pdamper.structure.modal import ModalStructure
+
+    if isinstance(structure, SingleDOFStructure):
+        return ModalStructure.from_single_dof(structure)
+    if isinstance(structure, ModalStructure):
+        return structure
+    raise InputError("structure", "must be a SingleDOFStructure (e.g. "
+                     "pdamper.parameters.PAPER_STRUCTURE) or a ModalStructure, got "
+                     f"{type(structure).__name__}")
+
+
+def receptance(structure, frequency, a: str = "damper", b: str = "damper") -> np.ndarray:
+    """``H_ab(W)`` [m/N]: displacement of point ``a`` per unit force at point ``b``
+    (``"damper"`` or ``"output"``) at frequencies f [Hz], closed form over the modes.
+
+    >>> from pdamper.parameters import PAPER_STRUCTURE as s
+    >>> h = receptance(s, 0.0)
+    >>> bool(np.isclose(h.real, 1 / s.stiffness))
+    True
+    """
+    s = _modal(structure)
+    w = s.angular_frequencies
+    om = 2.0 * math.pi * np.asarray(frequency, float)[..., None]
+    pa = getattr(s, f"{a}_shape")
+    pb = getattr(s, f"{b}_shape")
+    den = w * w - om * om + 2j * s.damping_ratios * w * om
+    return np.sum(pa * pb / den, axis=-1)
+
+
+def load_force(structure, load: HarmonicLoad, frequency: float) -> complex:
+    """Complex amplitude [N] of the force at the damper's point, relative to the reference
+    signal (:meth:`HarmonicLoad.reference`, phase 0)."""
+    om = 2.0 * math.pi * frequency
+    ref = load.reference(om)
+    if load.kind == "force":
+        return complex(ref)
+    s = _modal(structure)
+    if s.modes != 1 or not s.coincident:
+        raise InputError("base", "a base motion needs a one-mode structure with the damper at "
+                         "the output point (a 1-DOF); N-mode base excitation needs the modes' "
+                         "participation factors, which the modal input does not carry")
+    e = s.equivalent_single_dof()
+    return complex(e.stiffness, om * e.damping) * ref
+
+
+def linear_frf(structure, load: HarmonicLoad, frequency) -> np.ndarray:
+    """Complex amplitude of the output point [m] without particles, closed form, relative
+    to the load's reference signal (amplitude ``abs``, phase ``angle``)."""
+    f = np.atleast_1d(np.asarray(frequency, float))
+    force = np.array([load_force(structure, load, v) for v in f])
+    return receptance(structure, f, "output", "damper") * force
+
+
+# ----------------------------------------------------------------------------- damper
+@dataclass(frozen=True)
+class DescribingFunction:
+    """The damper's describing function at one frequency on a grid of strokes.
+
+    Attributes
+    ----------
+    frequency
+        f [Hz].
+    stroke
+        Strokes X [m], ascending (log-spaced).
+    effective_mass
+        m_eff [kg].
+    damping
+        d = E~ / (pi W X^2) [kg/s].
+    loss_factor, mode
+        eta [-] and the motion-mode codes.
+    """
+
+    frequency: float
+    stroke: np.ndarray
+    effective_mass: np.ndarray
+    damping: np.ndarray
+    loss_factor: np.ndarray
+    mode: np.ndarray
+
+    @property
+    def omega(self) -> float:
+        return 2.0 * math.pi * self.frequency
+
+    def stiffness(self) -> np.ndarray:
+        """k_d = -m_eff W^2 + i W d [N/m] on the grid."""
+        w = self.omega
+        return -self.effective_mass * w * w + 1j * w * self.damping
+
+    def at(self, x: float) -> tuple[float, float, int, float]:
+        """(m_eff, d, mode, eta) at stroke x, interpolated linearly in log X (clamped to
+        the grid: below it the damper is as at its smallest stroke)."""
+        g = self.stroke
+        if x <= g[0]:
+            i, w = 0, 0.0
+        elif x >= g[-1]:
+            i, w = g.size - 2, 1.0
+        else:
+            i = int(np.searchsorted(g, x)) - 1
+            w = math.log(x / g[i]) / math.log(g[i + 1] / g[i])
+        m = self.effective_mass[i] + w * (self.effective_mass[i + 1] - self.effective_mass[i])
+        d = self.damping[i] + w * (self.damping[i + 1] - self.damping[i])
+        e = self.loss_factor[i] + w * (self.loss_factor[i + 1] - self.loss_factor[i])
+        return float(m), float(d), int(self.mode[i if w < 0.5 else i + 1]), float(e)
+
+
+def _coefficients(model, frequency, stroke):
+    """m_eff [kg], d [kg/s], eta, mode codes of ``model`` at (f, X) arrays (Sect. 4.1)."""
+    f = np.asarray(frequency, float)
+    x = np.asarray(stroke, float)
+    if model.damper.count == 0:  # no particles: the damper adds nothing
+        z = np.zeros(np.broadcast(f, x).shape)
+        return z, z.copy(), z.copy(), np.full(z.shape, -1)
+    r = model.response(f, x)
+    w = 2.0 * math.pi * f
+    d = np.asarray(r.dissipated_energy_per_cycle, float) / (math.pi * w * x * x)
+    return (np.asarray(r.effective_mass, float), d, np.asarray(r.loss_factor, float),
+            np.asarray(r.mode))
+
+
+def stroke_bounds(structure, load: HarmonicLoad, model, frequency: float) -> tuple[float, float]:
+    """Strokes that bracket every steady stroke of the damper point at ``frequency`` [m].
+
+    Above: the particles add mass between 0 and m_bed and never negative damping, so the
+    stroke is at most the largest ``|F| / |1/H_dd - m W^2|`` over m in [0, m_bed] (the
+    bare structure's resonance bounds it when m_eff can tune it). Below: the damper force
+    is at most about ``(1 + 4/pi) m_bed W^2 X`` (the zero-gravity optimum of Eq. 3), so the
+    stroke is at least ``|F| / (|1/H_dd| + 3 m_bed W^2)``; both widened by two."""
+    s = _modal(structure)
+    om = 2.0 * math.pi * frequency
+    force = abs(load_force(s, load, frequency))
+    h = complex(receptance(s, frequency))
+    mb = model.bed_mass
+    if s.modes == 1:  # the 1-DOF's resonance can be tuned by any mass in [0, m_bed]
+        e = s.equivalent_single_dof()
+        masses = np.linspace(0.0, mb, 65)
+        den = np.abs(e.stiffness - (e.mass + masses) * om * om + 1j * om * e.damping)
+        wm = e.stiffness / om**2 - e.mass
+        if 0.0 <= wm <= mb:
+            den = np.append(den, om * e.damping)
+        upper = force / float(np.min(den))
+    else:
+        masses = np.linspace(0.0, mb, 65)
+        den = np.abs(1.0 / h - masses * om * om)
+        upper = force / float(np.min(den))
+        # a mass may also tune another mode onto W: bound by the damped modal peaks
+        phi = s.damper_shape
+        w = s.angular_frequencies
+        peaks = np.abs(phi * phi / (2.0 * np.maximum(s.damping_ratios, 1e-6) * w * om))
+        upper = max(upper, force * float(np.sum(peaks)))
+    lower = force / (abs(1.0 / h) + 3.0 * mb * om * om)
+    return 0.5 * lower, 2.0 * upper
+
+
+def describing_function(model, frequency: float, low: float, high: float,
+                        points: int = DEFAULT_STROKES, field: str = "load") -> DescribingFunction:
+    """The damper of ``model`` at ``frequency`` [Hz] on ``points`` log-spaced strokes in
+    [low, high] [m], one call of the model (clipped to a map's range when its policy
+    refuses points outside it); ``field`` names the load in errors."""
+    lo, hi = low, high
+    rng = getattr(model, "amplitude_range", None)
+    if rng is not None and getattr(model, "extrapolation", "") == "error":
+        lo, hi = max(lo, rng[0]), min(hi, rng[1])
+        if not lo < hi:
+            raise InputError("frequency", f"at {frequency:g} Hz the strokes the load can cause "
+                             f"({low * 1e3:.3g}-{high * 1e3:.3g} mm) are outside the map's "
+                             f"({rng[0] * 1e3:.3g}-{rng[1] * 1e3:.3g} mm); use a map over "
+                             "these strokes or fields.extrapolation = 'analytic'")
+    x = np.geomspace(lo, hi, points)
+    try:
+        m, d, eta, mode = _coefficients(model, np.full(points, frequency), x)
+    except InputError as exc:  # the physics limits of the model's runs, judged on the load
+        if exc.field not in ("amplitude", "frequency"):
+            raise
+        raise InputError(field, f"at {frequency:g} Hz the load can drive the damper through "
+                         f"strokes up to {hi:.3g} m, outside the limits of the "
+                         f"{model.fidelity} model ({exc.field}: {exc.message}); lower the "
+                         "load or the frequencies") from None
+    return DescribingFunction(frequency, x, m, d, eta, mode)
+
+
+# ----------------------------------------------------------------------------- results
+#: Branch kinds of the harmonic-balance points.
+STABLE, UNSTABLE, EDGE = "stable", "unstable", "edge"
+
+
+@dataclass(frozen=True)
+class FRFCurve:
+    """Per-frequency results of one solution (a harmonic-balance solution slot or a sweep).
+
+    Arrays of shape (frequencies, solutions) for harmonic balance (NaN-padded where a
+    frequency has fewer solutions), (frequencies,) for a sweep, in the order of
+    ``frequency`` ascending.
+
+    Attributes
+    ----------
+    amplitude, phase
+        Output point's amplitude [m] and phase [rad] against the load's reference signal.
+    stroke
+        Damper point's (container's) amplitude [m].
+    loss_factor, effective_mass, mode
+        The damper there: eta [-], m_eff [kg], motion-mode code (-1: none).
+    steady
+        Whether the point is a steady state (harmonic balance: the stable branch; sweep:
+        the stationarity criterion passed).
+    branch
+        Harmonic balance: ``"stable"``, ``"unstable"``, ``"edge"`` or ``""`` (padding).
+    cycles
+        Sweep: load cycles run at the frequency [-].
+    """
+
+    amplitude: np.ndarray
+    phase: np.ndarray
+    stroke: np.ndarray
+    loss_factor: np.ndarray
+    effective_mass: np.ndarray
+    mode: np.ndarray
+    steady: np.ndarray
+    branch: np.ndarray | None = None
+    cycles: np.ndarray | None = None
+    diagnostics: dict = field(default_factory=dict, repr=False, compare=False)
+
+
+@dataclass(frozen=True)
+class FRFResult:
+    """Frequency response of a structure with a damper (module docstring).
+
+    Attributes
+    ----------
+    frequency
+        f [Hz], ascending.
+    load
+        The :class:`HarmonicLoad`.
+    linear
+        Complex output amplitude without particles (closed form) [m].
+    harmonic_balance
+        :class:`FRFCurve` of every harmonic-balance solution, or None (models without the
+        pseudo-force coupling).
+    sweeps
+        ``{"up": FRFCurve, "down": FRFCurve}`` of the stepped sines run.
+    model
+        Fidelity of the damper model.
+    inputs
+        What was run (for the record).
+    wall_seconds
+        ``{"harmonic_balance": s, "up": s, "down": s}``.
+    """
+
+    frequency: np.ndarray
+    load: HarmonicLoad
+    linear: np.ndarray
+    harmonic_balance: FRFCurve | None
+    sweeps: dict
+    model: str
+    inputs: dict = field(default_factory=dict)
+    wall_seconds: dict = field(default_factory=dict)
+
+    def peak(self, band: tuple[float, float] | None = None, source: str | None = None) -> float:
+        """Largest steady output amplitude over ``band`` [Hz] (default all) [m]: of the
+        sweeps (both directions) by default, of the harmonic balance's stable branches if
+        there is no sweep or ``source="harmonic_balance"``."""
+        return float(np.nanmax(self._band_values(band, source)))
+
+    def rms(self, band: tuple[float, float] | None = None, source: str | None = None) -> float:
+        """RMS over the frequencies in ``band`` of the largest steady output amplitude at
+        each frequency [m] (amplitudes, not RMS values of the motion: divide by sqrt 2)."""
+        v = self._band_values(band, source)
+        return float(np.sqrt(np.nanmean(v**2)))
+
+    def _band_values(self, band, source) -> np.ndarray:
+        f = self.frequency
+        sel = np.ones(f.shape, bool) if band is None else (f >= band[0]) & (f <= band[1])
+        if not np.any(sel):
+            raise InputError("optimization.band", f"holds none of the frequencies "
+                             f"{f[0]:g}-{f[-1]:g} Hz")
+        if source is None:
+            source = "sweeps" if self.sweeps else "harmonic_balance"
+        if source == "harmonic_balance":
+            hb = self.harmonic_balance
+            a = np.where(hb.steady, hb.amplitude, np.nan)
+            return np.nanmax(np.where(np.isnan(a).all(axis=1, keepdims=True), 0.0, a),
+                             axis=1)[sel]
+        per = [np.where(c.steady, c.amplitude, np.nan) for c in self.sweeps.values()]
+        stack = np.vstack(per)
+        stack = np.where(np.isnan(stack).all(axis=0), np.vstack([c.amplitude for c in
+                                                                 self.sweeps.values()]).max(0),
+                         stack)
+        return np.nanmax(stack, axis=0)[sel]
+
+    def to_dataset(self):
+        """xarray Dataset (CF units) with dimensions ``frequency``, ``solution`` (harmonic
+        balance) and ``sweep``."""
+        import xarray as xr
+
+        from pdamper import __version__
+
+        ds = xr.Dataset(coords={"frequency": ("frequency", self.frequency,
+                                              {"units": "Hz", "long_name": "load frequency"})})
+        ds["linear_amplitude"] = ("frequency", np.abs(self.linear),
+                                  {"units": "m", "long_name": "output amplitude without "
+                                   "particles (closed form)"})
+        ds["linear_phase"] = ("frequency", np.angle(self.linear),
+                              {"units": "rad", "long_name": "output phase without particles"})
+        meta = {
+            "amplitude": ("m", "output point amplitude"),
+            "phase": ("rad", "output point phase against the load's reference signal"),
+            "stroke": ("m", "container (damper point) amplitude"),
+            "loss_factor": ("1", "damper loss factor eta (Eq. 3)"),
+            "effective_mass": ("kg", "damper effective mass (Eq. 4)"),
+            "mode": ("1", "motion mode code (pdamper.analysis.modes.MotionMode; -1 none)"),
+            "steady": ("1", "steady state"),
+        }
+        if self.harmonic_balance is not None:
+            hb = self.harmonic_balance
+            for k, (unit, name) in meta.items():
+                v = getattr(hb, k)
+                ds[f"hb_{k}"] = (("frequency", "solution"),
+                                 v.astype("i1") if k == "steady" else v,
+                                 {"units": unit, "long_name": f"harmonic balance: {name}"})
+            ds["hb_branch"] = (("frequency", "solution"), hb.branch.astype(str),
+                               {"long_name": "harmonic balance branch: stable, unstable, edge"})
+        if self.sweeps:
+            ds = ds.assign_coords(sweep=("sweep", list(self.sweeps)))
+            for k, (unit, name) in {**meta, "cycles": ("1", "load cycles run")}.items():
+                v = np.stack([getattr(c, k) for c in self.sweeps.values()])
+                ds[f"sweep_{k}"] = (("sweep", "frequency"),
+                                    v.astype("i1") if k == "steady" else v,
+                                    {"units": unit, "long_name": f"stepped sine: {name}"})
+        ds.attrs.update(title="pdamper forced response", model=self.model,
+                        load_kind=self.load.kind, load_amplitude=self.load.amplitude,
+                        load_unit=self.load.unit, pdamper_version=__version__,
+                        Conventions="CF-1.8")
+        return ds
+
+    def as_dict(self) -> dict:
+        """JSON-ready payload: one record per frequency and solution."""
+        from pdamper.coupling.pseudo_force import motion_mode
+
+        def rows(c: FRFCurve, i, j=None) -> dict:
+            idx = (i,) if j is None else (i, j)
+            m = motion_mode(c.mode[idx])
+            out = {"amplitude": float(c.amplitude[idx]), "phase": float(c.phase[idx]),
+                   "stroke": float(c.stroke[idx]), "loss_factor": float(c.loss_factor[idx]),
+                   "effective_mass": float(c.effective_mass[idx]),
+                   "mode": m.label if m is not None else "unclassified",
+                   "steady": bool(c.steady[idx])}
+            if c.branch is not None:
+                out["branch"] = str(c.branch[idx])
+            if c.cycles is not None:
+                out["cycles"] = int(c.cycles[idx])
+            return out
+
+        points = []
+        for i, f in enumerate(self.frequency):
+            p = {"frequency": float(f), "linear_amplitude": float(abs(self.linear[i])),
+                 "linear_phase": float(np.angle(self.linear[i]))}
+            if self.harmonic_balance is not None:
+                hb = self.harmonic_balance
+                p["harmonic_balance"] = [rows(hb, i, j) for j in range(hb.amplitude.shape[1])
+                                         if hb.branch[i, j]]
+            for name, c in self.sweeps.items():
+                p[name] = rows(c, i)
+            points.append(p)
+        return {"model": self.model, "load": self.load.as_dict(), "points": points,
+                "inputs": self.inputs, "wall_seconds": self.wall_seconds}
+
+
+# ----------------------------------------------------------------------------- harmonic balance
+def harmonic_balance(model, structure, load: HarmonicLoad, frequency,
+                     strokes: int = DEFAULT_STROKES, tables: dict | None = None) -> FRFCurve:
+    """Every steady solution of the describing-function equation at each frequency (module
+    docstring); ``tables`` collects the :class:`DescribingFunction` per frequency."""
+    from scipy.optimize import brentq
+
+    s = _modal(structure)
+    freqs = np.atleast_1d(np.asarray(frequency, float))
+    sols: list[list[tuple]] = []
+    for f in freqs:
+        om = 2.0 * math.pi * f
+        force = load_force(s, load, f)
+        fa = abs(force)
+        h_dd = complex(receptance(s, f))
+        h_od = complex(receptance(s, f, "output", "damper"))
+        lo, hi = stroke_bounds(s, load, model, f)
+        table = describing_function(model, f, lo, hi, strokes, load.kind)
+        if tables is not None:
+            tables[float(f)] = table
+        x = table.stroke
+        g = x * np.abs(1.0 / h_dd + table.stiffness()) - fa
+
+        def g_of(v: float, f=f, h_dd=h_dd, fa=fa, om=om) -> float:
+            m, d, _, _ = (float(a) for a in _coefficients(model, f, v))
+            return v * abs(1.0 / h_dd - m * om * om + 1j * om * d) - fa
+
+        here = []
+        for i in np.flatnonzero(np.sign(g[:-1]) * np.sign(g[1:]) < 0):
+            a, b = float(x[i]), float(x[i + 1])
+            root = brentq(g_of, a, b, xtol=1e-14, rtol=1e-12, maxiter=200)
+            # a root, or a jump of the describing function across zero (an edge)
+            width = 1e-7 * root
+            ga, gb = g_of(max(root - width, a)), g_of(min(root + width, b))
+            slope = (gb - ga) / (min(root + width, b) - max(root - width, a))
+            scale = fa / root  # |dG/dX| of the bare linear problem
+            kind = (EDGE if abs(gb - ga) > 1e-3 * fa and abs(slope) > 1e4 * scale
+                    else STABLE if g[i + 1] > g[i] else UNSTABLE)
+            m, d, eta, mode = (np.asarray(v).item() for v in _coefficients(model, f, root))
+            kd = -m * om * om + 1j * om * d
+            xd = force / (1.0 / h_dd + kd)
+            xd = xd * (root / abs(xd))  # on the root exactly
+            xo = h_od * (force - kd * xd) if not s.coincident else xd
+            here.append((abs(xo), float(np.angle(xo / load.reference(om))), root, eta, m,
+                         int(mode), kind == STABLE, kind))
+        sols.append(here)
+    k = max(1, max(len(v) for v in sols))
+    n = freqs.size
+    arr = {name: np.full((n, k), np.nan) for name in ("amplitude", "phase", "stroke",
+                                                       "loss_factor", "effective_mass")}
+    mode = np.full((n, k), -1)
+    steady = np.zeros((n, k), bool)
+    branch = np.full((n, k), "", dtype=object)
+    for i, here in enumerate(sols):
+        for j, (a, ph, st, eta, m, md, ok, kind) in enumerate(sorted(here, key=lambda r: r[2])):
+            arr["amplitude"][i, j], arr["phase"][i, j], arr["stroke"][i, j] = a, ph, st
+            arr["loss_factor"][i, j], arr["effective_mass"][i, j] = eta, m
+            mode[i, j], steady[i, j], branch[i, j] = md, ok, kind
+    return FRFCurve(mode=mode, steady=steady, branch=branch.astype(str), **arr)
+
+
+# ----------------------------------------------------------------------------- stepped sine
+def _sweep_order(frequency: np.ndarray, direction: str) -> np.ndarray:
+    order = np.argsort(frequency)
+    return order if direction == "up" else order[::-1]
+
+
+def judge_amplitudes(amplitudes: Sequence[float], criterion: SteadyStateCriterion):
+    """The stationarity verdict on per-cycle amplitudes (relative to the last one, so that
+    the criterion's tolerances are relative)."""
+    a = np.asarray(amplitudes, float)
+    if a.size == 0 or not a[-1] > 0:
+        return criterion.evaluate(np.zeros(a.size))
+    return criterion.evaluate(a / a[-1])
+
+
+def steady_amplitudes(amplitudes: Sequence[float], criterion: SteadyStateCriterion) -> bool:
+    """Whether per-cycle amplitudes are steady: every cycle of the criterion's full window
+    within its ``rtol`` of the last (a structure's transient is a slow *beat* of free and
+    forced motion, which the criterion's scatter allowance, made for chaotic beds, would
+    pass), and :func:`judge_amplitudes` accepts them."""
+    a = np.asarray(amplitudes, float)
+    if a.size < criterion.min_cycles or not a[-1] > 0:
+        return False
+    tail = a[-criterion.span:] / a[-1]
+    if np.max(np.abs(tail - 1.0)) > criterion.rtol:
+        return False
+    return bool(judge_amplitudes(a, criterion).stationary)
+
+
+def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
+                              direction: str, *, tables: dict | None = None,
+                              criterion: SteadyStateCriterion = DEFAULT_STEADY,
+                              max_cycles: int = DEFAULT_MAX_CYCLES,
+                              strokes: int = DEFAULT_STROKES) -> FRFCurve:
+    """Stepped sine of a pseudo-force model (module docstring), in ``direction`` ``"up"``
+    or ``"down"``; results in ascending frequency order.
+
+    m_eff and d are held over each load cycle, taken at the damper point's first-harmonic
+    amplitude of the previous cycle (interpolated in the damper's describing function at
+    the frequency, :class:`DescribingFunction`). Over a cycle the modal state
+    ``z = (q, q')`` then obeys ``z' = A z + Re(b e^{i W t})`` exactly: ``z(t) =
+    Re(Z e^{i W t}) + e^{A t} (z_0 - Re Z)`` with ``Z = (i W - A)^-1 b``, and its first
+    harmonic over the cycle is ``Z + (2 / T) (A - i W)^-1 (e^{A T} - 1)(z_0 - Re Z)``: no
+    time step, no sampling. Cycles start at load phase 0, so the load's phase runs on
+    continuously from one frequency to the next. A step is steady when
+    :func:`steady_amplitudes` accepts the per-cycle amplitudes (the maps'
+    :class:`~pdamper.analysis.stationarity.SteadyStateCriterion`, every cycle of the window
+    within ``rtol`` of the last) and the transient left, ``z_0 - Re Z``, is below ``rtol``
+    of the steady motion in the modal energy norm ``sqrt(sum w_i^2 q_i^2 + q_i'^2)``: on a
+    lightly damped structure the beat of free and forced motion near resonance is slower
+    than any window of cycles.
+    """
+    s = _modal(structure)
+    n = s.modes
+    freqs = np.atleast_1d(np.asarray(frequency, float))
+    w = s.angular_frequencies
+    phi, psi = s.damper_shape, s.output_shape
+    c0 = np.diag(2.0 * s.damping_ratios * w)
+    k0 = np.diag(w * w)
+    eye = np.eye(2 * n)
+    z = np.zeros(2 * n)
+    out = {k: np.full(freqs.size, np.nan) for k in ("amplitude", "phase", "stroke",
+                                                    "loss_factor", "effective_mass")}
+    mode = np.full(freqs.size, -1)
+    steady = np.zeros(freqs.size, bool)
+    cycles = np.zeros(freqs.size, int)
+    x_prev = 0.0
+    for i in _sweep_order(freqs, direction):
+        f = float(freqs[i])
+        om = 2.0 * math.pi * f
+        period = 1.0 / f
+        force = load_force(s, load, f)
+        table = None if tables is None else tables.get(f)
+        if table is None:
+            lo, hi = stroke_bounds(s, load, model, f)
+            table = describing_function(model, f, lo, hi, strokes, load.kind)
+            if tables is not None:
+                tables[f] = table
+        amps: list[float] = []
+        xo_hat = xd_hat = 0j
+        ok = False
+        m = dm = eta = 0.0
+        md = -1
+        for _ in range(max_cycles):
+            m, dm, md, eta = table.at(max(x_prev, table.stroke[0]))
+            minv = np.linalg.inv(np.eye(n) + m * np.outer(phi, phi))
+            a = np.zeros((2 * n, 2 * n))
+            a[:n, n:] = np.eye(n)
+            a[n:, :n] = -minv @ k0
+            a[n:, n:] = -minv @ (c0 + dm * np.outer(phi, phi))
+            b = np.concatenate([np.zeros(n), minv @ phi * force])
+            zp = np.linalg.solve(1j * om * eye - a, b)
+            h0 = z - zp.real
+            # what is left of the transient: its energy norm against the steady motion's
+            transient = math.sqrt(float(np.sum(w * w * h0[:n] ** 2 + h0[n:] ** 2)))
+            forced = math.sqrt(float(np.sum(w * w * np.abs(zp[:n]) ** 2
+                                            + np.abs(zp[n:]) ** 2)))
+            e, g = _propagators(a, period, om, eye)
+            hat = zp + (2.0 / period) * (g @ h0)
+            z = zp.real + e @ h0
+            if not np.all(np.isfinite(z)):
+                raise SimulationError(f"the stepped sine diverged at {f:g} Hz")
+            xd_hat, xo_hat = complex(phi @ hat[:n]), complex(psi @ hat[:n])
+            x_prev = abs(xd_hat)
+            amps.append(x_prev)
+            if transient <= criterion.rtol * forced and steady_amplitudes(amps, criterion):
+                ok = True
+                break
+        cycles[i] = len(amps)
+        steady[i] = ok
+        out["amplitude"][i] = abs(xo_hat)
+        out["phase"][i] = float(np.angle(xo_hat))  # against the reference signal
+        out["stroke"][i] = abs(xd_hat)
+        out["loss_factor"][i], out["effective_mass"][i], mode[i] = eta, m, md
+    return FRFCurve(mode=mode, steady=steady, cycles=cycles, **out)
+
+
+def _propagators(a: np.ndarray, period: float, om: float, eye: np.ndarray):
+    """``e^{A T}`` and ``(A - i W)^-1 (e^{A T} - 1)`` from the eigen-decomposition of A
+    (a matrix exponential if A is defective: critical damping)."""
+    lam, vec = np.linalg.eig(a)
+    if np.linalg.cond(vec) < 1e10:
+        vinv = np.linalg.inv(vec)
+        ex = np.exp(lam * period)
+        e = ((vec * ex) @ vinv).real
+        g = (vec * ((ex - 1.0) / (lam - 1j * om))) @ vinv
+        return e, g
+    import scipy.linalg
+
+    e = scipy.linalg.expm(a * period)
+    return e, np.linalg.solve(a - 1j * om * eye, e - eye)
+
+
+# ----------------------------------------------------------------------------- the DEM
+def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
+                               direction: str, *, criterion: SteadyStateCriterion | None = None,
+                               max_cycles: int = 60, sample_rate_per_cycle: int = 64,
+                               progress: Callable[[float, dict], None] | None = None,
+                               **_) -> FRFCurve:
+    """Stepped sine of the DEM (model 1): structure and particles integrated together
+    with the load on the structure; each step continues from the previous step's particles
+    and structure state, and runs until the container's per-cycle amplitude is steady or
+    ``max_cycles`` load cycles have run."""
+    from pdamper.analysis.complex_power import complex_power
+    from pdamper.dem import StructureMotion
+
+    s = _modal(structure)
+    if s.modes != 1 or not s.coincident:
+        raise InputError("structure", f"the co_simulation of {type(model).__name__} needs a "
+                         "single-DOF structure (or one mode with the damper at the output "
+                         "point); use a pseudo-force model (analytic, fields) for N modes")
+    e = s.equivalent_single_dof()
+    criterion = criterion or SteadyStateCriterion(rtol=0.02, atol=0.02, quiet_window_cycles=0,
+                                                  window_cycles=3, skip_cycles=2)
+    freqs = np.atleast_1d(np.asarray(frequency, float))
+    out = {k: np.full(freqs.size, np.nan) for k in ("amplitude", "phase", "stroke",
+                                                    "loss_factor", "effective_mass")}
+    mode = np.full(freqs.size, -1)
+    steady = np.zeros(freqs.size, bool)
+    cycles = np.zeros(freqs.size, int)
+    walls = np.zeros(freqs.size)
+    steps = np.zeros(freqs.size)
+    particles = None
+    x0 = v0 = 0.0
+    phase0 = 0.0
+    for i in _sweep_order(freqs, direction):
+        f = float(freqs[i])
+        om = 2.0 * math.pi * f
+        force = load_force(s, load, f)
+        motion = StructureMotion(mass=e.mass, damping=e.damping, stiffness=e.stiffness,
+                                 x0=x0, v0=v0, force_amplitude=abs(force), force_frequency=f,
+                                 force_phase=phase0 + float(np.angle(force)))
+        if particles is None:
+            engine = model.engine(motion)
+            settle = True
+        else:
+            engine = model._engine(particles, motion)
+            settle = False
+        period = 1.0 / f
+
+        def stop(res, period=period, f=f):
+            t = res.time
+            k = int((t[-1] - t[0]) / period + 1e-9)
+            if k < criterion.min_cycles:
+                return False
+            amps = _cycle_amplitudes(t, res.container_position, f, k)
+            return steady_amplitudes(amps, criterion)
+
+        t0 = time.perf_counter()
+        res = engine.run(max_cycles * period, sample_rate=sample_rate_per_cycle * f,
+                         settle=settle, stop=stop)
+        walls[i] = time.perf_counter() - t0
+        steps[i] = res.steps
+        t = res.time
+        k = int((t[-1] - t[0]) / period + 1e-9)
+        amps = _cycle_amplitudes(t, res.container_position, f, k)
+        verdict = judge_amplitudes(amps, criterion)
+        cycles[i] = k
+        steady[i] = steady_amplitudes(amps, criterion)
+        # the last whole cycles (the window judged) for the amplitudes and the damper
+        last = max(1, min(k, verdict.last_cycle - verdict.first_cycle + 1 if
+                          verdict.stationary else 3))
+        sel = t >= t[0] + (k - last) * period - 1e-12
+        sel &= t <= t[0] + k * period + 1e-12
+        tt = t[sel]
+        th = om * (tt - t[0]) + phase0  # load phase at the samples
+        x = res.container_position[sel]
+        hat = 2.0 / (tt[-1] - tt[0]) * np.trapezoid(x * np.exp(-1j * th), tt)
+        out["amplitude"][i] = out["stroke"][i] = abs(hat)
+        out["phase"][i] = float(np.angle(hat))  # against the reference signal (th)
+        try:  # Eqs. (1)-(4) over the same cycles, the particles' force on the container
+            cp = complex_power(tt, -res.force[sel, 2], res.container_velocity[sel],
+                               res.container_acceleration[sel], f, model.bed_mass)
+            out["loss_factor"][i], out["effective_mass"][i] = cp.loss_factor, cp.effective_mass
+        except InputError:  # too few samples: left NaN
+            pass
+        mode[i] = _dem_mode(res, f, k, last)
+        # the next step starts where this one ended
+        particles = _final_particles(engine, res)
+        x0, v0 = float(res.container_position[-1]), float(res.container_velocity[-1])
+        phase0 = float(th[-1] + om * (t[-1] - tt[-1])) % (2 * math.pi)
+        if progress is not None:
+            progress(f, {"cycles": k, "steady": bool(steady[i]), "wall_seconds": walls[i]})
+    return FRFCurve(mode=mode, steady=steady, cycles=cycles,
+                    diagnostics={"wall_seconds": walls, "steps": steps}, **out)
+
+
+def _dem_mode(res, f: float, cycles: int, last: int) -> int:
+    """Motion-mode code of the bed over the last ``last`` of ``cycles`` load cycles (the
+    DEM classifier of the maps, :mod:`pdamper.analysis.dem_modes`); -1 if it cannot say."""
+    from pdamper.analysis.dem_modes import BedSignals, classify_motion
+    from pdamper.constants import STANDARD_GRAVITY
+
+    box = res.attrs.get("box_m")
+    if box is None or cycles < 1:
+        return -1
+    try:
+        sig = BedSignals(time=np.asarray(res.time),
+                         height=np.asarray(res.center_of_mass[:, 2] - res.container_position),
+                         force_z=np.asarray(res.force[:, 2]), frequency=f,
+                         bed_mass=float(res.bed_mass), particle_radius=float(np.max(res.radius)),
+                         container_height=float(box[2]),
+                         gravity=float(res.attrs.get("gravity_m_s2", STANDARD_GRAVITY)))
+        return int(classify_motion(sig, cycles - last + 1, cycles).mode)
+    except InputError:
+        return -1
+
+
+def _cycle_amplitudes(t: np.ndarray, x: np.ndarray, f: float, k: int) -> list[float]:
+    """First-harmonic amplitude of ``x`` over each of the ``k`` whole cycles of ``t``."""
+    om = 2.0 * math.pi * f
+    out = []
+    for c in range(k):
+        sel = (t >= t[0] + c / f - 1e-12) & (t <= t[0] + (c + 1) / f + 1e-12)
+        if np.count_nonzero(sel) < 3:
+            continue
+        tt = t[sel]
+        out.append(abs(2.0 * f * np.trapezoid(x[sel] * np.exp(-1j * om * tt), tt)))
+    return out
+
+
+def _final_particles(engine, res):
+    """The spheres where ``res`` ended, in the container frame (the next step's start)."""
+    from pdamper.dem.model import ParticleSet
+
+    p = engine.particles
+    pos = np.array(res.snapshot_positions[-1], float)
+    pos[:, 2] -= float(res.container_position[-1])
+    return ParticleSet(pos, p.radius, p.material, velocities=np.array(res.snapshot_velocities[-1]),
+                       angular_velocities=np.array(res.snapshot_angular_velocities[-1]))
+
+
+# ----------------------------------------------------------------------------- driver
+#: Stepped-sine strategies by the model's coupling name (as :data:`pdamper.coupling.COUPLINGS`).
+STEPPED_SINES: dict[str, Callable[..., FRFCurve]] = {
+    "pseudo_force": stepped_sine_pseudo_force,
+    "co_simulation": stepped_sine_co_simulation,
+}
+#: Couplings whose damper has a describing function cheap enough for harmonic balance.
+HARMONIC_BALANCE = ("pseudo_force",)
+
+
+def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
+                       sweep: str = "both", with_harmonic_balance: bool = True,
+                       strokes: int = DEFAULT_STROKES, max_cycles: int | None = None,
+                       criterion: SteadyStateCriterion | None = None,
+                       progress: Callable | None = None) -> FRFResult:
+    """The forced response of ``structure`` carrying ``model`` under ``load`` at
+    ``frequency`` [Hz] (module docstring): the linear FRF, harmonic balance (where the
+    model's coupling has one) and the stepped sines of ``sweep`` (``"up"``, ``"down"``,
+    ``"both"`` or ``"none"``).
+
+    Parameters
+    ----------
+    model
+        Any :class:`~pdamper.models.DamperModel`; its ``coupling`` picks the stepped sine
+        (:data:`STEPPED_SINES`) and whether harmonic balance runs (:data:`HARMONIC_BALANCE`).
+    structure
+        :class:`~pdamper.structure.SingleDOFStructure` or
+        :class:`~pdamper.structure.modal.ModalStructure`.
+    load
+        The :class:`HarmonicLoad`.
+    with_harmonic_balance
+        Solve harmonic balance too (default).
+    strokes
+        Strokes of the describing-function table per frequency.
+    max_cycles, criterion
+        Most load cycles per step and the steady-state criterion of the stepped sine
+        (defaults: :data:`DEFAULT_MAX_CYCLES`, :data:`DEFAULT_STEADY`; the DEM 60 cycles
+        and 2 %).
+    progress
+        ``progress(frequency, info)`` after each DEM step.
+
+    Examples
+    --------
+    >>> from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE
+    >>> from pdamper.models import AnalyticalDamper
+    >>> r = frequency_response(AnalyticalDamper(PAPER_DAMPER.with_count(0)), PAPER_STRUCTURE,
+    ...                        HarmonicLoad("force", 2.0), [5.0], sweep="none")
+    >>> bool(np.isclose(r.harmonic_balance.amplitude[0, 0], abs(r.linear[0]), rtol=1e-9))
+    True
+    """
+    from pdamper.models.base import DamperModel
+
+    if not isinstance(model, DamperModel):
+        raise InputError("model", "must be a DamperModel (e.g. AnalyticalDamper(damper)), "
+                         f"got {type(model).__name__}")
+    if not isinstance(load, HarmonicLoad):
+        raise InputError("load", f"must be a HarmonicLoad, got {type(load).__name__}")
+    s = _modal(structure)
+    f = np.atleast_1d(np.asarray(frequency, float))
+    if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
+        raise InputError("frequency", "must be one or more finite frequencies > 0 Hz")
+    f = np.unique(f)
+    if f.size > MAX_FREQUENCIES:
+        raise InputError("frequency", f"at most {MAX_FREQUENCIES} frequencies, got {f.size}")
+    if sweep not in (*SWEEPS, "none"):
+        raise InputError("sweep", f"must be up, down or both, got {sweep!r}")
+    if model.coupling not in STEPPED_SINES:
+        raise InputError("model", f"coupling {model.coupling!r} of {type(model).__name__} "
+                         f"has no stepped sine; available: {', '.join(STEPPED_SINES)}")
+    load_force(s, load, float(f[0]))  # a base motion on N modes is refused before any run
+    lin = linear_frf(s, load, f)
+    tables: dict = {}
+    walls: dict = {}
+    hb = None
+    if with_harmonic_balance and model.coupling in HARMONIC_BALANCE:
+        t0 = time.perf_counter()
+        hb = harmonic_balance(model, s, load, f, strokes=strokes, tables=tables)
+        walls["harmonic_balance"] = time.perf_counter() - t0
+    directions = {"both": ("up", "down"), "none": ()}.get(sweep, (sweep,))
+    sweeps = {}
+    options: dict[str, Any] = {}
+    if max_cycles is not None:
+        options["max_cycles"] = max_cycles
+    if criterion is not None:
+        options["criterion"] = criterion
+    if model.coupling in HARMONIC_BALANCE:
+        options.update(tables=tables, strokes=strokes)
+    elif progress is not None:
+        options["progress"] = progress
+    for d in directions:
+        t0 = time.perf_counter()
+        sweeps[d] = STEPPED_SINES[model.coupling](model, s, load, f, d, **options)
+        walls[d] = time.perf_counter() - t0
+    return FRFResult(frequency=f, load=load, linear=lin, harmonic_balance=hb, sweeps=sweeps,
+                     model=model.fidelity, wall_seconds=walls,
+                     inputs={"frequency": f.tolist(), "sweep": sweep, "load": load.as_dict(),
+                             "modes": s.modes, "strokes": strokes,
+                             "particles": model.damper.count})
