@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import base64
 import json
+import math
 import shutil
 import subprocess
 from html.parser import HTMLParser
@@ -114,20 +115,20 @@ def test_every_figure_and_table_is_in_the_page(reports, name):
     page = _page(out)
     figures = payload["figures"]
     expected = ["level2_map", "free_decay", "design_landscape"] + (
-        ["uncertainty"] if name == "user" else [])
+        ["uncertainty"] if name == "user" else []) + ["forced_response"]
     assert figures == expected
     assert len(page.images) == len(figures)
     for img in page.images:
         data = base64.b64decode(img["src"].split(",", 1)[1], validate=True)
         assert img["src"].startswith("data:image/png;base64,") and data[:8] == b"\x89PNG\r\n\x1a\n"
     assert page.links == [] and page.scripts == 0  # self-contained
-    tables = ["inputs", "models", "landscape", "timings"] + (
+    tables = ["inputs", "models", "landscape", "timings", "forced_response"] + (
         ["uncertain_inputs", "uncertainty", "sobol_indices"] if name == "user" else [])
     assert sorted(page.tables) == sorted(tables)
     assert page.rows["models"] == 1 + 2  # models 3 and 2
     for h in ("Inputs", "Level II: the damper under harmonic excitation",
               "Level III: free decay, the models compared", "Design landscape", "Uncertainty",
-              "Run times", "All inputs"):
+              "Forced response", "Run times", "All inputs"):
         assert h in page.headings
     text = " ".join(page.text)
     assert f"pdamper {__version__}" in text and "dem.seed = 0" in text
@@ -222,6 +223,54 @@ def test_report_renders_in_headless_chromium(reports, name, tmp_path):
     assert np.mean(grey < 0.5) > 0.002  # text and lines
     assert np.mean((img.max(axis=2) - img.min(axis=2)) > 0.25) > 0.002  # the figures' colours
     assert grey.std() > 0.05  # not a blank page
+
+
+def test_forced_response_of_the_example_damper(reports):
+    """The load drives the bare 1-DOF to the release amplitude at resonance: |F| = D w_n |x0|
+    (|H(w_n)| = 1 / (D w_n) of Eq. 23); the bare peak is then |x0| (the grid holds f_n;
+    the damped peak lies a hair below it, at most 1 + zeta^2 higher); the damper lowers it."""
+    _, payload = reports["example"]
+    out, _ = reports["example"]
+    fr = json.loads((out / "results.json").read_text())["forced_response"]
+    from pdamper.parameters import vertical_dampers_paper as paper
+
+    s = paper.PAPER_STRUCTURE
+    w_n = math.sqrt(s.stiffness / s.mass)
+    x0 = 0.058
+    assert fr["load"]["amplitude"] == pytest.approx(s.damping * w_n * x0, rel=1e-9)
+    assert fr["no_particles"]["peak_amplitude"] == pytest.approx(x0, rel=1e-3)
+    assert fr["no_particles"]["peak_frequency"] == pytest.approx(w_n / (2 * math.pi), rel=0.01)
+    for label in ("analytical formulas (model 3)", "effective fields (model 2)"):
+        m = fr["models"][label]
+        assert m["points"] == 81
+        assert 0.1 * x0 < m["peak_amplitude"] < 0.5 * x0  # 32 spheres damp the resonance
+
+
+@pytest.mark.long
+def test_dem_realisations_band_in_the_report(tmp_path, cli):
+    """--dem --realisations 2: model 1 from two random packings, its band in the page and
+    in results.json (each realisation equals that seed's run alone: the Level III
+    realisation tests; here the band reaches the report)."""
+    (tmp_path / "s.toml").write_text(
+        '[particles]\ncount = 16\n[simulation]\nduration = "0.6 s"\n[optimization]\n'
+        'at = "0.3 s"\n[map]\ndem_frequency = "5Hz:6Hz:2"\ndem_amplitude = "20mm:40mm:2"\n'
+        '[dem]\npacking = "random"\ncycles = 4\n')
+    code, out, err = cli("report", "--scenario", tmp_path / "s.toml", "--out", tmp_path / "r",
+                         "--dem", "--realisations", "2", "--workers", "1", "--json")
+    assert code == 0, err
+    payload = json.loads(out)
+    assert "realisations" in payload["figures"]
+    res = json.loads((tmp_path / "r" / "results.json").read_text())["realisations"]
+    assert res["count"] == 2 and res["seeds"] == [0, 1]
+    a = res["amplitude_at"]
+    assert a["min"] <= a["mean"] <= a["max"] and len(a["values"]) == 2
+    assert "realisations" in _page(tmp_path / "r").tables
+
+
+def test_realisations_need_the_dem(tmp_path, cli):
+    code, _, err = cli("report", "--out", tmp_path / "r", "--realisations", "3")
+    assert code == 2 and err.startswith("error: realisations:")
+    assert not (tmp_path / "r").exists()
 
 
 def test_merge_sections_joins_the_page(reports):

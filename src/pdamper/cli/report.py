@@ -18,6 +18,9 @@ def report(
                                       "map on [map] dem_frequency x dem_amplitude (cached in "
                                       "the output directory) and Level III model 1 (minutes)."
                                       )] = False,
+    realisations: Annotated[str | None, typer.Option(
+        "--realisations", help="With --dem: also run DEM model 1 from N random packings and "
+        "show their band (default: none).")] = None,
     uncertainty: Annotated[int | None, typer.Option(
         "--uncertainty", help="Base points of the propagation of the inputs given as "
         "'value +- sd' (a power of two; default 32 when there are any).")] = None,
@@ -49,6 +52,14 @@ def report(
               force=force, **_uncertainty.merged({}, uncertain))
     if dem:
         sc.check_resources("simulation", "dem", force)
+    n_real = None
+    if realisations is not None:
+        from pdamper.reports.realisations import check_level3_realisations, parse_count
+
+        if not dem:
+            raise InputError("realisations", "needs --dem (the realisations are those of the "
+                             "DEM's random packings)")
+        n_real = check_level3_realisations(parse_count(realisations), sc, "dem", force=force)
     target = check_output_directory(out)
     if workers is not None and workers < 1:
         raise InputError("workers", f"must be a whole number >= 1, got {workers}")
@@ -76,7 +87,7 @@ def report(
             cache = target if target.is_dir() else stage
             rep = damper_report.run_damper_report(
                 sc, dem=dem, uncertainty=uncertainty, uncertainty_seed=uncertainty_seed,
-                out=cache, progress=say, **options)
+                out=cache, progress=say, realisations=n_real, **options)
             written = damper_report.write_damper_report(rep, stage)
     files = [target / p.relative_to(stage) for p in written]
     payload = {"out": str(target), "files": [str(p) for p in files],

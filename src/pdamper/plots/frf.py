@@ -6,13 +6,16 @@ from __future__ import annotations
 import numpy as np
 
 
-def plot_frf(res, axes=None, label: str | None = None, linear: bool = True):
+def plot_frf(res, axes=None, label: str | None = None, linear: bool = True,
+             color: str = "C0"):
     """Amplitude [mm] (top) and phase [deg] (bottom) of the output point against f [Hz].
 
     Harmonic balance: stable solutions as a solid line of dots, unstable ones hollow, edges
     (describing-function discontinuities) as crosses; stepped sines as lines with
     triangles pointing in their direction (points that did not become steady hollow).
-    ``axes``: two matplotlib Axes (a new figure when None). Returns them.
+    ``axes``: two matplotlib Axes (a new figure when None); ``color``: of the stable
+    harmonic-balance solutions (another per model where several share the axes). Returns
+    them.
     """
     if axes is None:
         from matplotlib.figure import Figure
@@ -27,7 +30,7 @@ def plot_frf(res, axes=None, label: str | None = None, linear: bool = True):
         ph_ax.plot(f, np.degrees(np.angle(res.linear)), color="0.6", lw=1, ls="--")
     hb = res.harmonic_balance
     if hb is not None:
-        style = {"stable": dict(marker="o", ms=3, ls="none", color="C0"),
+        style = {"stable": dict(marker="o", ms=3, ls="none", color=color),
                  "unstable": dict(marker="o", ms=4, ls="none", mfc="none", color="C3"),
                  "edge": dict(marker="x", ms=4, ls="none", color="C7")}
         for kind, st in style.items():

@@ -71,6 +71,9 @@ class DamperReport:
     at: float = 0.0
     figures: list = field(default_factory=list)
     uncertain: tuple = ()  # the scenario's "value +- sd" inputs
+    forced: dict = field(default_factory=dict)  # label -> FRFResult (harmonic balance)
+    forced_load: Any = None  # the HarmonicLoad of the forced response
+    band: Any = None  # Level3Band of the DEM's realisations (with dem and realisations)
 
     def models(self) -> list[dict]:
         """One row per Level III run: label, model, source, amplitude at ``at``, final
@@ -84,12 +87,41 @@ class DamperReport:
                         "seconds": self.timings.get(f"Level III: {label}")})
         return out
 
+    def forced_summary(self) -> dict | None:
+        """The forced response in brief: the load and, per model, the largest steady
+        amplitude of the output point and its frequency (harmonic balance, every stable
+        branch), next to the structure's without particles."""
+        if not self.forced:
+            return None
+        out: dict[str, Any] = {"load": self.forced_load.as_dict(), "models": {}}
+        for label, r in self.forced.items():
+            f = r.frequency
+            hb = r.harmonic_balance
+            # the largest stable solution per frequency (-inf where there is none)
+            best = np.max(np.where(hb.steady & np.isfinite(hb.amplitude), hb.amplitude,
+                                   -np.inf), axis=1)
+            i = int(np.argmax(best))
+            lin = np.abs(r.linear)
+            j = int(np.argmax(lin))
+            out["models"][label] = {
+                "peak_amplitude": float(best[i]) if np.isfinite(best[i]) else None,
+                "peak_frequency": float(f[i]) if np.isfinite(best[i]) else None,
+                "several_solutions": bool((np.isin(hb.branch, ("stable", "unstable"))
+                                           .sum(axis=1) > 1).any()),
+                "frequency_range": [float(f[0]), float(f[-1])], "points": int(f.size)}
+            out["no_particles"] = {"peak_amplitude": float(lin[j]),
+                                   "peak_frequency": float(f[j])}
+        out["units"] = {"peak_amplitude": "m", "peak_frequency": "Hz"}
+        return out
+
     def as_dict(self) -> dict:
         return {"title": self.title, "version": self.version, "seeds": self.seeds,
                 "at": self.at, "models": self.models(), "timings": self.timings,
                 "design_study": None if self.study is None else
                 {**self.study.as_dict(), "model": self.study_model},
                 "uncertainty": {k: v.as_dict() for k, v in self.uncertainty.items()},
+                "forced_response": self.forced_summary(),
+                "realisations": None if self.band is None else self.band.as_dict(),
                 "figures": [f.name for f in self.figures], "inputs": self.inputs}
 
 
@@ -115,6 +147,7 @@ def _one_count(ds, count: int):
 
 def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int | None = None,
                       uncertainty_seed: int = 0, out: Path | None = None,
+                      realisations: int | None = None,
                       progress: Callable[[str], None] | None = None,
                       **sweep_options: Any) -> DamperReport:
     """Compute the report of ``scenario`` (module docstring).
@@ -130,6 +163,10 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
         :data:`DEFAULT_UNCERTAINTY_POINTS` when the scenario has any; none without).
     uncertainty_seed
         Seed of its Sobol' sequence.
+    realisations
+        With ``dem``: also run DEM model 1 from this many random packings (seeds
+        ``dem.seed + k``) and show their band (:class:`~pdamper.reports.realisations.
+        Level3Band`).
     out
         Directory of the DEM map's cache.
     sweep_options
@@ -187,6 +224,16 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
         structure, AnalyticalDamper(damper.with_count(0), gravity=gravity), x0).run(
         duration, sc.simulation.sample_rate))
 
+    say("forced response (harmonic balance)")
+    _timed(rep, "forced response", lambda: forced_response(rep, models, structure, x0))
+    if dem and realisations is not None and realisations > 1:
+        from pdamper.reports.realisations import run_level3_realisations
+
+        say(f"Level III: DEM model 1, {realisations} realisations")
+        rep.band = _timed(rep, "Level III: DEM realisations", lambda: run_level3_realisations(
+            sc, realisations, "dem", **sweep_options))
+        rep.seeds["realisation_seeds"] = rep.band.seeds
+
     say("design landscape")
     rep.study = _timed(rep, "design study", lambda: design_study(sc, damper, structure))
 
@@ -203,6 +250,46 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
     say("figures")
     rep.figures = _timed(rep, "figures", lambda: figures(rep))
     return rep
+
+
+#: Frequencies of the report's forced response, over (1 -+ FORCED_SPAN) x the structure's
+#: first natural frequency.
+FORCED_POINTS = 81
+FORCED_SPAN = 0.4
+
+
+def forced_load(structure: Any, x0: float) -> Any:
+    """The harmonic force of the report's forced response: the amplitude [N] that drives
+    the structure without particles, at its first natural frequency, to the release
+    amplitude ``|x0|`` (so that the damper works in the range of strokes of the free
+    decay)."""
+    from pdamper.coupling.frf import HarmonicLoad, linear_frf
+
+    f_n = float(_first_frequency(structure))
+    unit = abs(complex(linear_frf(structure, HarmonicLoad("force", 1.0), [f_n])[0]))
+    return HarmonicLoad("force", abs(x0) / unit)
+
+
+def _first_frequency(structure: Any) -> float:
+    from pdamper.coupling.frf import _modal
+
+    return float(_modal(structure).frequencies[0])
+
+
+def forced_response(rep: DamperReport, models: dict, structure: Any, x0: float) -> None:
+    """Harmonic balance of every report model that has one (the pseudo-force coupling:
+    the analytical formulas and the effective fields) under :func:`forced_load`, over
+    :data:`FORCED_POINTS` frequencies around the first natural frequency; into
+    ``rep.forced`` and ``rep.forced_load``."""
+    from pdamper.coupling.frf import HARMONIC_BALANCE, frequency_response
+
+    load = forced_load(structure, x0)
+    f_n = _first_frequency(structure)
+    f = np.linspace((1.0 - FORCED_SPAN) * f_n, (1.0 + FORCED_SPAN) * f_n, FORCED_POINTS)
+    rep.forced_load = load
+    for label, (model, _source) in models.items():
+        if model.coupling in HARMONIC_BALANCE:
+            rep.forced[label] = frequency_response(model, structure, load, f, sweep="none")
 
 
 def effective_field_map(damper: ParticleDamper, frequency: np.ndarray, amplitude: np.ndarray,
@@ -279,6 +366,25 @@ def figures(rep: DamperReport) -> list[ReportFigure]:
                                 "inputs (histograms, the envelope's 5-95 % band) and the "
                                 "inputs' total Sobol' indices",
                                 _png(uncertainty_figure(rep.uncertainty))))
+    if rep.forced:
+        from pdamper.plots.frf import plot_frf
+
+        fig = Figure(figsize=(9, 6.5), layout="constrained")
+        axes = fig.subplots(2, 1, sharex=True)
+        for i, (label, r) in enumerate(rep.forced.items()):
+            plot_frf(r, axes=axes, label=label, linear=i == 0, color=("C0", "C4", "C5")[i % 3])
+        axes[0].set_title(f"forced response, {rep.forced_load.amplitude:.3g} N at the "
+                          "damper's point")
+        out.append(ReportFigure("forced_response", "amplitude and phase of the structure "
+                                "under a harmonic force, the models compared (harmonic "
+                                "balance)", _png(fig)))
+    if rep.band is not None:
+        fig = Figure(figsize=(11, 7.5), layout="constrained")
+        a = fig.subplots(2, 1)
+        plots.plot_trajectory_band(rep.band, ax=a[0], label="DEM (model 1)")
+        plots.plot_damping_ratio_band(rep.band, ax=a[1], label="DEM (model 1)")
+        out.append(ReportFigure("realisations", "DEM model 1 over random packings: the "
+                                "band of the free decay and of the damping ratio", _png(fig)))
     return out
 
 
@@ -337,11 +443,57 @@ def uncertainty_figure(results: dict) -> Figure:
 # ---------------------------------------------------------------------------- the page
 def merge_sections(forced_response: str | None = None,
                    realisations: str | None = None) -> list[str]:
-    """MERGE POINT: the sections other features add to the page, in order: the forced
-    response (FRF) of the structure with the damper and the realisation bands of the DEM
-    answers. Each is an HTML fragment (``<h2>...</h2>`` and its content) or None (not
-    computed: left out)."""
+    """Further HTML sections (``<h2>...</h2>`` and content) to add after the computed ones,
+    in order; None: left out."""
     return [s for s in (forced_response, realisations) if s]
+
+
+def _forced_html(rep: DamperReport) -> list[str]:
+    summary = rep.forced_summary()
+    if summary is None:
+        return []
+    load = rep.forced_load
+    rows = [[label, _mm(m["peak_amplitude"]), "" if m["peak_frequency"] is None
+             else f"{m['peak_frequency']:.3f}",
+             "yes" if m["several_solutions"] else "no"]
+            for label, m in summary["models"].items()]
+    rows.append(["no particles (linear FRF)",
+                 f"{summary['no_particles']['peak_amplitude'] * 1e3:.2f}",
+                 f"{summary['no_particles']['peak_frequency']:.3f}", "no"])
+    first = next(iter(rep.forced.values()))
+    return ["<h2>Forced response</h2>",
+            f"<p>Harmonic force of {load.amplitude:.4g} N at the damper's point (the amplitude "
+            "that drives the structure without particles to the release amplitude at its "
+            f"natural frequency), {first.frequency.size} frequencies over "
+            f"{first.frequency[0]:.3g}-{first.frequency[-1]:.3g} Hz; harmonic balance with "
+            "the damper's describing function (Eqs. 1-4), every stable solution "
+            "(docs/forced.md). Where a model has several solutions at a frequency, up and "
+            "down sweeps jump between them.</p>",
+            _table(["model", "largest steady amplitude [mm]", "at f [Hz]",
+                    "several solutions somewhere"], rows, "forced_response",
+                   [["", "num", "num", ""]] * len(rows)), *_fig(rep, "forced_response")]
+
+
+def _band_html(rep: DamperReport) -> list[str]:
+    band = rep.band
+    if band is None:
+        return []
+    a = band.amplitude_at()
+    fa = band.final_amplitude()
+    rows = [[f"amplitude at {band.at:g} s", f"{a['mean'] * 1e3:.2f}", f"{a['std'] * 1e3:.2f}",
+             f"{a['min'] * 1e3:.2f}", f"{a['max'] * 1e3:.2f}"],
+            ["final amplitude", f"{fa['mean'] * 1e3:.2f}", f"{fa['std'] * 1e3:.2f}",
+             f"{fa['min'] * 1e3:.2f}", f"{fa['max'] * 1e3:.2f}"]]
+    return ["<h2>Realisations of the DEM (model 1)</h2>",
+            f"<p>{band.count} random packings (seeds {', '.join(map(str, band.seeds or []))}) "
+            "of the chaotic bed: mean, standard deviation (divisor N - 1), min and max; the "
+            "figure shades min-max around the mean.</p>",
+            _table(["answer [mm]", "mean", "std", "min", "max"], rows, "realisations",
+                   [["", "num", "num", "num", "num"]] * len(rows)), *_fig(rep, "realisations")]
+
+
+def _fig(rep: DamperReport, name: str) -> list[str]:
+    return [_img(f) for f in rep.figures if f.name == name]
 
 
 def _mm(v) -> str:
@@ -458,6 +610,7 @@ def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:
         *fig("free_decay"),
         "<h2>Design landscape</h2>", f"<p>{_e(summary)}</p>", *fig("design_landscape"), land,
         *_uncertainty_html(rep), *fig("uncertainty"),
+        *_forced_html(rep), *_band_html(rep),
         *extra,
         "<h2>Run times</h2>", timings,
         "<h2>All inputs</h2>", f"<pre>{_e(json.dumps(rep.inputs, indent=2))}</pre>",
