@@ -96,6 +96,24 @@ def test_analytic_damper_reaches_the_harmonic_balance_amplitude(tmp_path, f):
     assert _steady(direct, 3, f) == pytest.approx(_steady(res, 3, f), rel=1e-3)
 
 
+@pytest.mark.parametrize("f", [4.0, 6.5])
+def test_a_harmonic_load_history_reproduces_the_frf_point(tmp_path, f):
+    """The record of 2 N sin(2 pi f t) run as a load history lands on the steady amplitude
+    `pdamper frf` reports at f for the same damper and structure (its stable harmonic-balance
+    solution and its stepped sine), within 0.5 %."""
+    from pdamper.coupling.frf import HarmonicLoad, frequency_response
+
+    model = AnalyticalDamper(PAPER_DAMPER)
+    res = simulate_load(model, PAPER_STRUCTURE, read_load(_harmonic_csv(tmp_path, 2.0, f, 40.0)))
+    frf = frequency_response(model, PAPER_STRUCTURE, HarmonicLoad("force", 2.0), [f],
+                             sweep="up")
+    hb = frf.harmonic_balance
+    stable = hb.amplitude[0][hb.branch[0] == "stable"]
+    assert stable.size == 1
+    assert _steady(res, 3, f) == pytest.approx(float(stable[0]), rel=5e-3)
+    assert _steady(res, 3, f) == pytest.approx(float(frf.sweeps["up"].amplitude[0]), rel=5e-3)
+
+
 @pytest.mark.parametrize("f", [3.0, 5.56, 9.0])
 def test_base_acceleration_without_particles_is_the_transmissibility(tmp_path, f):
     """0.3 g sin(2 pi f t) at the base: the absolute acceleration amplitude is
