@@ -23,6 +23,7 @@ from typing import Annotated
 
 import typer
 
+from pdamper.cli import _uncertainty
 from pdamper.cli._common import (
     ForceOpt,
     JsonOpt,
@@ -94,6 +95,9 @@ def dem(
              "core).")] = None,
     serial: Annotated[bool, typer.Option(
         "--serial", help="Run the realisations in this process, without dask.")] = False,
+    uncertainty: _uncertainty.UncertaintyOpt = None,
+    uncertain: _uncertainty.UncertainOpt = None,
+    uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -114,7 +118,14 @@ def dem(
             raise InputError("dem.cycles", f"must be 'auto' or a whole number >= 1, "
                              f"got {cycles!r}") from None
     sc = load(scenario, runs=("excitation",), model="dem", force=force,
-              **{key.replace(".", "__"): value for key, value in flags.items()})
+              **_uncertainty.merged({key.replace(".", "__"): value
+                                     for key, value in flags.items()}, uncertain,
+                                    allow_fits=True))
+    fitted = _uncertainty.fits(uncertain)
+    if fitted:  # the fitted COR curves become uncertain inputs (their principal axes)
+        from pdamper.io.uncertain import add_fit_inputs
+
+        add_fit_inputs(sc, fitted)
     n_real = 1
     if realisations is not None:
         from pdamper.reports.realisations import check_realisations
@@ -127,6 +138,14 @@ def dem(
         n_real = check_realisations(n_real, sc, force=force)
     if workers is not None and workers < 1:
         raise InputError("workers", f"must be a whole number >= 1, got {workers}")
+    if uncertainty is not None:
+        for name, value in (("realisations", n_real > 1 or None), ("out", out),
+                            ("vtk", vtk)):
+            if value is not None:
+                raise InputError("uncertainty", f"cannot be combined with --{name} (the "
+                                 "samples run from one packing and keep no time series)")
+        _uncertainty.check(sc, "dem", uncertainty, force)
+        return _uncertainty_run(sc, uncertainty, uncertainty_seed, as_json)
     if n_real > 1:
         for name, value in (("out", out), ("vtk", vtk)):
             if value is not None:
@@ -236,4 +255,27 @@ def _realisations(sc, n: int, *, workers, serial: bool, force: bool, as_json: bo
         f"range {eta['min']:.4g} - {eta['max']:.4g}\n"
         f"  effective mass ratio         mean {mass['mean']:.4g}, std {mass['std']:.2g}, "
         f"range {mass['min']:.4g} - {mass['max']:.4g}")
+    emit(payload, as_json, human)
+
+
+def _uncertainty_run(sc, n: int, seed: int, as_json: bool) -> None:
+    """``--uncertainty N``: the DEM at the excitation for every sample of the uncertain
+    inputs (N (inputs + 2) + 1 runs, one after another, all from the scenario's seed);
+    the top-level keys are the nominal run's answers, the spread under ``uncertainty``."""
+    from pdamper.errors import InputError
+    from pdamper.io.uncertain import propagate_scenario
+
+    damper = sc.damper()
+    if damper.count < 1:
+        raise InputError("particles.count", f"must be in [1, {damper.max_count}] for the DEM, "
+                         f"got {damper.count}")
+    spread = propagate_scenario(sc, "dem", n, seed)
+    nominal = {k: a.nominal for k, a in spread.answers.items()}
+    payload = {**nominal, "statistic": "nominal", "uncertainty": spread.as_dict(),
+               "units": UNITS, **metadata(sc, seed=int(sc.dem.seed))}
+    human = (f"DEM, {damper.count} spheres, f = {sc.excitation.frequency:g} Hz, "
+             f"X = {sc.excitation.amplitude * 1e3:g} mm, nominal loss factor "
+             f"{nominal['loss_factor']:.4g}\n"
+             + "\n".join(_uncertainty.lines(spread, {
+                 "effective_mass": (1e3, "g"), "dissipated_energy_per_cycle": (1e3, "mJ")})))
     emit(payload, as_json, human)

@@ -102,11 +102,94 @@ def extract_uncertain(data: dict) -> dict:
     return out
 
 
+#: The ``--uncertain`` value that makes a fitted COR curve an uncertain input
+#: (``--uncertain restitution.particle_wall=fit``).
+FIT_VALUE = "fit"
+
+
+def fit_uncertainty(scenario, pair: str):
+    """The :class:`~pdamper.design.uncertainty.ParameterFit` of the COR curve that the
+    scenario fits for ``pair`` (``"particle_particle"`` or ``"particle_wall"``): the fit's
+    parameters with their covariance (:func:`pdamper.contact.fit.fit_restitution`), the
+    curves built with the entry's ``scale``."""
+    import numpy as np
+
+    from pdamper.contact.fit import fit_restitution
+    from pdamper.design.uncertainty import ParameterFit
+    from pdamper.io.restitution import PAIRS, TableCOR, read_cor_table
+
+    field = f"restitution.{pair}"
+    if pair not in PAIRS:
+        raise InputError("uncertain", f"'{FIT_VALUE}' is for a fitted COR curve: "
+                         f"{' or '.join('restitution.' + p for p in PAIRS)}, got {field!r}")
+    spec = getattr(scenario.restitution, pair)
+    if not isinstance(spec, TableCOR) or spec.fit is None:
+        raise InputError(field, "carries no fitted curve whose uncertainty could be sampled: "
+                         "give it as { model = \"table\", file = \"cor.csv\", fit = "
+                         "\"exponential\" } (or \"thornton\", \"linear\")")
+    table = read_cor_table(spec.file, f"{field}.file")
+    try:
+        fit = fit_restitution(table.velocity, table.restitution, table.std, spec.fit,
+                              name=f"{spec.fit} fit of {table.source} "
+                                   f"({len(table.velocity)} points), sampled")
+    except InputError as exc:
+        raise InputError(field, exc.message) from None
+
+    def build(params):
+        return fit.curve_at(params).scaled(spec.scale)
+
+    return ParameterFit(field, tuple(fit.parameters), tuple(fit.curve.UNITS),
+                        np.asarray(fit.values, float), np.asarray(fit.covariance, float),
+                        build)
+
+
+def add_fit_inputs(scenario, fields) -> tuple:
+    """Make the fitted COR curves ``fields`` (``"restitution.<pair>"``) uncertain inputs of
+    ``scenario`` (changed in place): one per principal axis of each fit's parameters,
+    ``restitution.<pair>[pc1]``, ... (:class:`~pdamper.design.uncertainty.ParameterFit`).
+    Returns the inputs added."""
+    added = []
+    for f in fields:
+        section, _, pair = f.partition(".")
+        if section != "restitution":
+            raise InputError(f, f"only a fitted COR curve (restitution.particle_wall, "
+                             f"restitution.particle_particle) takes '{FIT_VALUE}'; give "
+                             "other fields as 'value +- sd'")
+        added.extend(fit_uncertainty(scenario, pair).inputs())
+    scenario._uncertain = {**scenario._uncertain, **{u.field: u for u in added}}
+    return tuple(added)
+
+
+def sampled_damper(scenario, values: dict[str, float]):
+    """The damper of ``scenario`` at the sample ``values``: plain fields set
+    (:func:`with_values`), the fitted COR curves of the principal-axis inputs
+    (:class:`~pdamper.design.uncertainty.FitAxis`) replaced by the sampled curves."""
+    import dataclasses
+
+    from pdamper.design.uncertainty import fit_groups
+
+    damper = with_values(scenario, values).damper()
+    for group, axes in fit_groups(scenario.uncertain_inputs()).items():
+        z = [values.get(u.field, 0.0) for u in axes]
+        try:
+            curve = axes[0].fit.sample(z)
+        except InputError as exc:
+            raise InputError(group, f"sampled parameters give no valid COR: "
+                             f"{exc.message}") from None
+        pair = group.removeprefix("restitution.")
+        key = "restitution_pp" if pair == "particle_particle" else "restitution_pw"
+        damper = dataclasses.replace(damper, **{key: curve})
+    return damper
+
+
 def with_values(scenario, values: dict[str, float]):
     """``scenario`` with the fields of ``values`` (``{"section.key": SI value}``) set (not
-    validated again: the models and runs judge the values)."""
+    validated again: the models and runs judge the values); the principal axes of a fitted
+    curve (``restitution.<pair>[pcK]``) are left to :func:`sampled_damper`."""
     sections: dict[str, dict] = {}
     for field, v in values.items():
+        if "[" in field:
+            continue
         section, _, key = field.partition(".")
         sections.setdefault(section, {})[key] = v
     return scenario.model_copy(update={
@@ -197,6 +280,24 @@ def map_answers(scenario, model: str = "analytic"):
     return evaluate
 
 
+def dem_answers(scenario):
+    """``evaluate(values) -> answers`` of one DEM run at ``[excitation]`` (Level II): loss
+    factor, effective mass ratio and kg, dissipated energy per cycle
+    (:data:`LEVEL2_UNITS`). Every sample runs from the scenario's seed (the same packing):
+    the spread is the inputs', not the packing's (``--realisations`` gives that)."""
+
+    def evaluate(values: dict[str, float]) -> dict[str, float]:
+        sc = with_values(scenario, values)
+        r = sc.model("dem", sampled_damper(scenario, values)).response(
+            sc.excitation.frequency, sc.excitation.amplitude)
+        return {"loss_factor": float(r.loss_factor),
+                "effective_mass_ratio": float(r.effective_mass_ratio),
+                "effective_mass": float(r.effective_mass),
+                "dissipated_energy_per_cycle": float(r.dissipated_energy_per_cycle)}
+
+    return evaluate
+
+
 #: The map's answers whose bands become variables of its NetCDF file.
 MAP_BANDS = ("loss_factor", "effective_mass_ratio")
 MAP_UNITS = {"max_loss_factor": "1", "mean_loss_factor": "1", "loss_factor": "1",
@@ -215,6 +316,8 @@ def check_cost(scenario, level: str, n: int, force: bool = False) -> None:
         counts = scenario.map_particles()
         one = resources.analytic_map_cost(float(nf) * nx * (1 if counts is None
                                                             else counts.size))
+    elif level == "dem":  # N (d + 2) + 1 DEM runs at the excitation, one after another
+        one = scenario.excitation_cost("dem")
     elif level == "level3":
         one = resources.pseudo_force_cost(scenario.simulation.duration, _SAMPLE_RATE,
                                           scenario.structure_model().natural_frequency)
@@ -239,6 +342,8 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
         evaluate, units = level2_answers(scenario, model), LEVEL2_UNITS
     elif level == "map":
         evaluate, units = map_answers(scenario, model or "analytic"), MAP_UNITS
+    elif level == "dem":
+        evaluate, units = dem_answers(scenario), LEVEL2_UNITS
     else:
         evaluate, units = level3_answers(scenario, model), LEVEL3_UNITS
 
@@ -260,6 +365,7 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
     return result
 
 
-__all__ = ["MAP_BANDS", "UNCERTAIN_FIELDS", "check_cost", "extract_uncertain",
-           "is_uncertain", "level2_answers", "level3_answers", "map_answers",
-           "parse_uncertain", "propagate_scenario", "with_values"]
+__all__ = ["FIT_VALUE", "MAP_BANDS", "UNCERTAIN_FIELDS", "add_fit_inputs", "check_cost",
+           "dem_answers", "extract_uncertain", "fit_uncertainty", "is_uncertain",
+           "level2_answers", "level3_answers", "map_answers", "parse_uncertain",
+           "propagate_scenario", "sampled_damper", "with_values"]
