@@ -85,6 +85,10 @@ SCENARIOS = {
     "load_tail_negative": '[load]\nforce = "load_force.csv"\ntail = "-1 s"\n',
     # -- realisations: a random packing (several realisations)
     "dem_random": '[dem]\npacking = "random"\n',
+    # -- COR fit uncertainty through the DEM (--uncertain restitution.PAIR=fit)
+    "cor_fit_small": '[particles]\ncount = 4\n[dem]\ncycles = 2\nskip_cycles = 1\n'
+                     '[restitution]\nparticle_wall = { model = "table", file = "cor.csv", '
+                     'fit = "linear" }\n',
 }
 
 
@@ -531,6 +535,41 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("simulate-realisations-with-load", ["simulate", "--model", "dem", "--realisations", "2",
                                          "--scenario", "{scenario:load_force}"],
      Error("realisations")),
+    # -- COR fit uncertainty through the DEM (--uncertain restitution.PAIR=fit)
+    ("dem-fit-uncertainty-table-without-fit", [
+        "dem", "--scenario", "{scenario:cor_table_small_map}", "--uncertain",
+        "restitution.particle_wall=fit", "--uncertainty", "4"],
+     Error("restitution.particle_wall")),
+    ("dem-fit-uncertainty-no-curve", ["dem", "--uncertain", "restitution.particle_wall=fit",
+                                      "--uncertainty", "4"], Error("restitution.particle_wall")),
+    ("dem-fit-uncertainty-unknown-pair", ["dem", "--uncertain", "restitution.particle_sky=fit",
+                                          "--uncertainty", "4"], Error("uncertain")),
+    ("dem-fit-uncertainty-not-a-curve", ["dem", "--uncertain", "particles.friction=fit",
+                                         "--uncertainty", "4"], Error("particles.friction")),
+    ("dem-fit-uncertainty-twice", [
+        "dem", "--scenario", "{scenario:cor_fit_small}", "--uncertain",
+        "restitution.particle_wall=fit", "--uncertain", "restitution.particle_wall=FIT",
+        "--uncertainty", "4"], Error("restitution.particle_wall")),
+    ("analytic-fit-uncertainty", ["analytic", "--scenario", "{scenario:cor_fit_small}",
+                                  "--uncertain", "restitution.particle_wall=fit",
+                                  "--uncertainty", "4"], Error("restitution.particle_wall")),
+    ("dem-uncertainty-with-out", [
+        "dem", "--scenario", "{scenario:cor_fit_small}", "--uncertain",
+        "restitution.particle_wall=fit", "--uncertainty", "4", "--out", "{tmp}/x.nc"],
+     Error("uncertainty")),
+    ("dem-uncertainty-odd", ["dem", "--scenario", "{scenario:cor_fit_small}", "--uncertain",
+                             "restitution.particle_wall=fit", "--uncertainty", "6"],
+     Error("uncertainty")),
+    ("dem-uncertainty-without-input", ["dem", "--scenario", "{scenario:cor_fit_small}",
+                                       "--uncertainty", "4"], Error("uncertainty")),
+    ("dem-uncertainty-65536-forced", ["dem", "--uncertain", "particles.friction=0.1+-0.03",
+                                      "--uncertainty", "65536", "--force"],
+     Error("uncertainty")),
+    ("ok-dem-fit-uncertainty", ["dem", "--scenario", "{scenario:cor_fit_small}",
+                                "--uncertain", "restitution.particle_wall=fit",
+                                "--uncertainty", "4", "--json"], OK()),
+    ("ok-dem-fit-nominal", ["dem", "--scenario", "{scenario:cor_fit_small}", "--uncertain",
+                            "restitution.particle_wall=fit", "--json"], OK()),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds
