@@ -30,7 +30,8 @@ def test_cor_fit_uncertainty_moves_the_dem_loss_factor(tmp_path, cli):
     assert code == 0, err
     plain = json.loads(out)
     code, out, err = cli("dem", "--scenario", p, "--uncertain",
-                         "restitution.particle_wall=fit", "--uncertainty", "4", "--json")
+                         "restitution.particle_wall=fit", "--uncertainty", "4", "--serial",
+                         "--json")
     assert code == 0, err
     d = json.loads(out)
     u = d["uncertainty"]
@@ -48,6 +49,19 @@ def test_cor_fit_uncertainty_moves_the_dem_loss_factor(tmp_path, cli):
     assert set(eta["groups"]["restitution.particle_wall"]["inputs"]) == set(fields)
     # the record: each axis' direction in the parameters
     assert set(d["uncertain_inputs"][0]["direction"]) == {"e0", "e_inf", "v_c"}
+
+
+def test_dem_uncertainty_on_the_sweep_engine_as_in_this_process(tmp_path, cli):
+    # two worker processes run the same samples from the same seed: the same answers
+    p = _files(tmp_path)
+    answers = []
+    for how in (["--serial"], ["--workers", "2"]):
+        code, out, err = cli("dem", "--scenario", p, "--uncertain",
+                             "restitution.particle_wall=fit", "--uncertainty", "4", *how,
+                             "--json")
+        assert code == 0, err
+        answers.append(json.loads(out)["uncertainty"]["answers"]["loss_factor"])
+    assert answers[0]["mean"] == answers[1]["mean"] and answers[0]["std"] == answers[1]["std"]
 
 
 def test_cor_fit_uncertainty_refused_where_no_dem_runs(tmp_path, cli):

@@ -413,7 +413,9 @@ def _group_sums(inputs, first: dict[str, float], total: dict[str, float]) -> dic
 def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
               inputs: Sequence[UncertainInput], n: int, seed: int = 0, *,
               units: dict[str, str] | None = None,
-              progress: Callable[[int, int], None] | None = None) -> UncertaintyResult:
+              progress: Callable[[int, int], None] | None = None,
+              batch: Callable[[list[dict[str, float]]], list[dict]] | None = None
+              ) -> UncertaintyResult:
     """Propagate ``inputs`` through ``evaluate`` (module docstring).
 
     Parameters
@@ -433,6 +435,10 @@ def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
         Unit of each answer, for the record.
     progress
         ``progress(done, total)`` after each evaluation.
+    batch
+        ``batch([values, ...]) -> [answers, ...]``: every point at once (the nominal
+        point first, then A, B and the AB^(i)), e.g. in parallel on the sweep engine;
+        ``evaluate`` is then not called. Default: ``evaluate`` one point after another.
 
     Examples
     --------
@@ -453,6 +459,16 @@ def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
     t0 = time.perf_counter()
     a, b = design_matrices(inputs, n, seed)
     d = len(inputs)
+    if batch is not None:  # every point at once; then served from the list, in order
+        mats = [a, b] + [np.where(np.arange(d)[:, None] == i, b, a) for i in range(d)]
+        points = [{u.field: u.value for u in inputs}] + [
+            {u.field: float(x[i, j]) for i, u in enumerate(inputs)}
+            for x in mats for j in range(n)]
+        answered = iter(batch(points))
+
+        def evaluate(values):  # noqa: ARG001 - the batch's answers, in the points' order
+            return next(answered)
+
     nominal = evaluate({u.field: u.value for u in inputs})
     answers = [k for k, v in nominal.items() if np.ndim(v) == 0]
     arrays = {k: np.asarray(v, float) for k, v in nominal.items() if np.ndim(v) > 0}

@@ -135,12 +135,16 @@ def fit_uncertainty(scenario, pair: str):
     except InputError as exc:
         raise InputError(field, exc.message) from None
 
-    def build(params):
-        return fit.curve_at(params).scaled(spec.scale)
+    import functools
 
     return ParameterFit(field, tuple(fit.parameters), tuple(fit.curve.UNITS),
                         np.asarray(fit.values, float), np.asarray(fit.covariance, float),
-                        build)
+                        functools.partial(_fitted_curve, fit=fit, scale=spec.scale))
+
+
+def _fitted_curve(params, *, fit, scale: float):
+    """The curve of ``fit``'s family at ``params``, scaled (picklable: for the workers)."""
+    return fit.curve_at(params).scaled(scale)
 
 
 def add_fit_inputs(scenario, fields) -> tuple:
@@ -298,6 +302,35 @@ def dem_answers(scenario):
     return evaluate
 
 
+def dem_point(params: dict, *, scenario) -> dict:
+    """One sample of :func:`dem_answers` on a sweep worker (``params``: the sample)."""
+    return dem_answers(scenario)(params)
+
+
+def dem_batch(scenario, *, workers: int | None = None, serial: bool = False, progress=None):
+    """``batch(points) -> answers`` of :func:`dem_answers` on the sweep engine
+    (:func:`pdamper.sweep.run_sweep`: a local cluster of ``workers`` processes, default
+    every core, or ``serial`` in this process): the DEM runs of a propagation in
+    parallel (:func:`pdamper.design.uncertainty.propagate`'s ``batch``)."""
+    import functools
+
+    def batch(points: list[dict]) -> list[dict]:
+        from pdamper.sweep import run_sweep
+
+        res = run_sweep(functools.partial(dem_point, scenario=scenario), points, retries=0,
+                        workers=workers, serial=serial,
+                        progress=None if progress is None else
+                        (lambda done, total, _p: progress(done, total)))
+        bad = [p for p in res.points if not p.ok]
+        if bad:
+            shown = ", ".join(f"{k} = {v:.6g}" for k, v in bad[0].params.items())
+            raise InputError("uncertainty", f"the DEM run of the sample {shown} failed: "
+                             f"{bad[0].error}")
+        return [p.values for p in res.points]
+
+    return batch
+
+
 #: The map's answers whose bands become variables of its NetCDF file.
 MAP_BANDS = ("loss_factor", "effective_mass_ratio")
 MAP_UNITS = {"max_loss_factor": "1", "mean_loss_factor": "1", "loss_factor": "1",
@@ -330,7 +363,7 @@ def check_cost(scenario, level: str, n: int, force: bool = False) -> None:
 
 
 def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str | None = None,
-                       progress=None):
+                       progress=None, batch=None):
     """Propagate the scenario's uncertain inputs to its ``"level2"``, ``"map"`` or
     ``"level3"`` answers with ``n`` base points (:func:`pdamper.design.uncertainty.propagate`). A
     sample the models refuse is an error naming its field and the sample."""
@@ -356,7 +389,7 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
             raise InputError(exc.field, f"at the uncertainty sample {shown}: "
                              f"{exc.message}{hint}") from None
 
-    result = propagate(checked, inputs, n, seed, units=units, progress=progress)
+    result = propagate(checked, inputs, n, seed, units=units, progress=progress, batch=batch)
     if "envelope" in result.bands:  # its times: release to the end of the run [s]
         import numpy as np
 
@@ -366,6 +399,6 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
 
 
 __all__ = ["FIT_VALUE", "MAP_BANDS", "UNCERTAIN_FIELDS", "add_fit_inputs", "check_cost",
-           "dem_answers", "extract_uncertain", "fit_uncertainty", "is_uncertain",
+           "dem_answers", "dem_batch", "dem_point", "extract_uncertain", "fit_uncertainty", "is_uncertain",
            "level2_answers", "level3_answers", "map_answers", "parse_uncertain",
            "propagate_scenario", "sampled_damper", "with_values"]
