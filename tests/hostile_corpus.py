@@ -567,7 +567,7 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
      Error("uncertainty")),
     ("ok-dem-fit-uncertainty", ["dem", "--scenario", "{scenario:cor_fit_small}",
                                 "--uncertain", "restitution.particle_wall=fit",
-                                "--uncertainty", "4", "--json"], OK()),
+                                "--uncertainty", "4", "--serial", "--json"], OK()),
     ("ok-dem-fit-nominal", ["dem", "--scenario", "{scenario:cor_fit_small}", "--uncertain",
                             "restitution.particle_wall=fit", "--json"], OK()),
 ]
