@@ -1,5 +1,6 @@
-"""Options and output of ``--uncertainty N`` (``pdamper analytic``, ``simulate``):
-the spread of the answers under the inputs given as ``"value +- sd"``
+"""Options and output of ``--uncertainty N`` (``pdamper analytic``, ``map``,
+``simulate``, ``report``, ``dem``): the spread of the answers under the inputs given as
+``"value +- sd"``, and for the DEM a fitted COR curve given as ``FIELD=fit``
 (:mod:`pdamper.io.uncertain`)."""
 
 from __future__ import annotations

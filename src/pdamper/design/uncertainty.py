@@ -22,6 +22,11 @@ the optimum), so a derivative at the nominal point can rank the inputs wrongly; 
 variance-based indices take the whole distribution and the interactions (total index), and
 they reuse the samples that give the band. The input that drives an answer's spread most
 is the one with the largest total index.
+
+Correlated inputs (a fitted curve's parameters, :class:`ParameterFit`) enter as
+independent standard normals along the principal axes of their covariance
+(:class:`FitAxis`), truncated to the box of valid curves; the answers then also carry, per
+curve, the sums of its axes' indices (:attr:`AnswerSpread.groups`).
 """
 
 from __future__ import annotations

@@ -13,6 +13,9 @@ The fields that may carry an uncertainty are those of :data:`UNCERTAIN_FIELDS`; 
 fit of a ``[restitution]`` table carries its own (its parameters' covariance,
 :mod:`pdamper.contact.fit`), which only the DEM feels: the analytical and field models do
 not depend on friction or restitution, and their answers show these inputs' Sobol' index 0.
+``pdamper dem --uncertainty N --uncertain restitution.particle_wall=fit`` samples it
+(:func:`add_fit_inputs`: one input per principal axis of the covariance,
+:class:`pdamper.design.uncertainty.ParameterFit`) through the DEM (:func:`dem_answers`).
 """
 
 from __future__ import annotations
