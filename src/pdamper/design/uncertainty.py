@@ -31,6 +31,7 @@ curve, the sums of its axes' indices (:attr:`AnswerSpread.groups`).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -111,7 +112,7 @@ class FitAxis(UncertainInput):
 
     group: str = ""
     axis: int = 0
-    fit: ParameterFit | None = field(default=None, compare=False, repr=False)
+    fit: ParameterFit | None = dataclasses.field(default=None, compare=False, repr=False)
 
     def as_dict(self) -> dict:
         d = super().as_dict()
@@ -152,7 +153,7 @@ class ParameterFit:
     units: tuple[str, ...]
     values: np.ndarray
     covariance: np.ndarray
-    build: Callable[[np.ndarray], object] = field(repr=False, compare=False, default=None)
+    build: Callable[[np.ndarray], object] = dataclasses.field(repr=False, compare=False)
     truncation: float = FIT_TRUNCATION
 
     def axes(self) -> tuple[np.ndarray, np.ndarray]:

@@ -178,8 +178,11 @@ def sampled_damper(scenario, values: dict[str, float]):
     damper = with_values(scenario, values).damper()
     for group, axes in fit_groups(scenario.uncertain_inputs()).items():
         z = [values.get(u.field, 0.0) for u in axes]
+        fit = axes[0].fit
+        if fit is None:  # an axis made by hand, without its fit: nothing to sample from
+            raise InputError(group, "principal-axis input without its fit")
         try:
-            curve = axes[0].fit.sample(z)
+            curve = fit.sample(z)
         except InputError as exc:
             raise InputError(group, f"sampled parameters give no valid COR: "
                              f"{exc.message}") from None
