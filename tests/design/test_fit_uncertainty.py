@@ -8,6 +8,7 @@ from scipy.stats import truncnorm
 
 from pdamper.contact.fit import fit_restitution
 from pdamper.contact.restitution import ExponentialRestitution, LinearRestitution
+from pdamper.contact.thornton import ThorntonRestitution
 from pdamper.design.uncertainty import (
     FitAxis,
     ParameterFit,
@@ -131,3 +132,17 @@ def test_group_of_a_fit_in_the_answers():
     assert g["total_order_sum"] == pytest.approx(1.0, abs=0.05)
     # equal weights 0.1 sqrt(1.6 / 2), 0.1 sqrt(0.4 / 2): the major axis drives y (0.8)
     assert y.driver == "g[pc1]" and y.total_order["g[pc1]"] == pytest.approx(0.8, abs=0.05)
+
+
+def test_thornton_fit_sampled_around_its_yield_velocity():
+    v = np.linspace(0.5, 3.0, 8)
+    e = ThorntonRestitution(0.5)(v) + np.array([0.01, -0.01, 0.02, 0, -0.02, 0.01, 0, -0.01])
+    fit = fit_restitution(v, e, model="thornton")
+    pf = ParameterFit("restitution.particle_wall", fit.parameters, fit.curve.UNITS,
+                      fit.values, fit.covariance, fit.curve_at)
+    (axis,) = pf.inputs()
+    a, b = design_matrices([axis], 2048, seed=4)
+    vy = np.array([pf.sample([z]).yield_velocity for z in np.concatenate([a, b], axis=1)[0]])
+    sd = float(fit.uncertainty[0]) * truncnorm(axis.low, axis.high).std()
+    assert abs(vy.mean() - fit.values[0]) < 3 * sd / math.sqrt(vy.size)
+    assert vy.std(ddof=1) == pytest.approx(sd, rel=0.05) and vy.min() > 0

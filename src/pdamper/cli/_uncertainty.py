@@ -94,7 +94,9 @@ def check(sc, level: str, n: int | None, force: bool) -> None:
     if not sc.uncertain_inputs():
         raise InputError("uncertainty", "no input carries an uncertainty: give one as "
                          "'value +- sd' in the scenario (e.g. friction = \"0.1 +- 0.03\") or "
-                         "with --uncertain FIELD=VALUE+-SD")
+                         "with --uncertain FIELD=VALUE+-SD"
+                         + (" (or a fitted COR curve: --uncertain restitution.particle_wall="
+                            "fit)" if level == "dem" else ""))
     check_cost(sc, level, n, force)
 
 
