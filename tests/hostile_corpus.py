@@ -88,6 +88,10 @@ SCENARIOS = {
     # -- forced response (frf): loads, frequency grids, structures
     "frf_dem_three_modes": '[simulation]\nmodel = "dem"\n[structure]\n'
                            'beam = { modes = 3, elements = 20 }\n',
+    # -- COR fit uncertainty through the DEM (--uncertain restitution.PAIR=fit)
+    "cor_fit_small": '[particles]\ncount = 4\n[dem]\ncycles = 2\nskip_cycles = 1\n'
+                     '[restitution]\nparticle_wall = { model = "table", file = "cor.csv", '
+                     'fit = "linear" }\n',
 }
 
 
@@ -573,6 +577,41 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
      Error("optimization.band")),
     ("optimize-objective-unknown-frf", ["optimize", "--objective", "peak-frff"],
      Error("optimization.objective")),
+    # -- COR fit uncertainty through the DEM (--uncertain restitution.PAIR=fit)
+    ("dem-fit-uncertainty-table-without-fit", [
+        "dem", "--scenario", "{scenario:cor_table_small_map}", "--uncertain",
+        "restitution.particle_wall=fit", "--uncertainty", "4"],
+     Error("restitution.particle_wall")),
+    ("dem-fit-uncertainty-no-curve", ["dem", "--uncertain", "restitution.particle_wall=fit",
+                                      "--uncertainty", "4"], Error("restitution.particle_wall")),
+    ("dem-fit-uncertainty-unknown-pair", ["dem", "--uncertain", "restitution.particle_sky=fit",
+                                          "--uncertainty", "4"], Error("uncertain")),
+    ("dem-fit-uncertainty-not-a-curve", ["dem", "--uncertain", "particles.friction=fit",
+                                         "--uncertainty", "4"], Error("particles.friction")),
+    ("dem-fit-uncertainty-twice", [
+        "dem", "--scenario", "{scenario:cor_fit_small}", "--uncertain",
+        "restitution.particle_wall=fit", "--uncertain", "restitution.particle_wall=FIT",
+        "--uncertainty", "4"], Error("restitution.particle_wall")),
+    ("analytic-fit-uncertainty", ["analytic", "--scenario", "{scenario:cor_fit_small}",
+                                  "--uncertain", "restitution.particle_wall=fit",
+                                  "--uncertainty", "4"], Error("restitution.particle_wall")),
+    ("dem-uncertainty-with-out", [
+        "dem", "--scenario", "{scenario:cor_fit_small}", "--uncertain",
+        "restitution.particle_wall=fit", "--uncertainty", "4", "--out", "{tmp}/x.nc"],
+     Error("uncertainty")),
+    ("dem-uncertainty-odd", ["dem", "--scenario", "{scenario:cor_fit_small}", "--uncertain",
+                             "restitution.particle_wall=fit", "--uncertainty", "6"],
+     Error("uncertainty")),
+    ("dem-uncertainty-without-input", ["dem", "--scenario", "{scenario:cor_fit_small}",
+                                       "--uncertainty", "4"], Error("uncertainty")),
+    ("dem-uncertainty-65536-forced", ["dem", "--uncertain", "particles.friction=0.1+-0.03",
+                                      "--uncertainty", "65536", "--force"],
+     Error("uncertainty")),
+    ("ok-dem-fit-uncertainty", ["dem", "--scenario", "{scenario:cor_fit_small}",
+                                "--uncertain", "restitution.particle_wall=fit",
+                                "--uncertainty", "4", "--serial", "--json"], OK()),
+    ("ok-dem-fit-nominal", ["dem", "--scenario", "{scenario:cor_fit_small}", "--uncertain",
+                            "restitution.particle_wall=fit", "--json"], OK()),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

@@ -1,5 +1,6 @@
-"""Options and output of ``--uncertainty N`` (``pdamper analytic``, ``simulate``):
-the spread of the answers under the inputs given as ``"value +- sd"``
+"""Options and output of ``--uncertainty N`` (``pdamper analytic``, ``map``,
+``simulate``, ``report``, ``dem``): the spread of the answers under the inputs given as
+``"value +- sd"``, and for the DEM a fitted COR curve given as ``FIELD=fit``
 (:mod:`pdamper.io.uncertain`)."""
 
 from __future__ import annotations
@@ -15,15 +16,34 @@ UncertaintyOpt = Annotated[int | None, typer.Option(
 UncertainOpt = Annotated[list[str] | None, typer.Option(
     "--uncertain", help="An uncertain input FIELD=VALUE+-SD (sd: a standard deviation; "
     "normal, truncated to the field's range), e.g. 'particles.friction=0.1+-0.03' or "
-    "'container.length=120mm+-0.1mm'; repeatable.")]
+    "'container.length=120mm+-0.1mm'; repeatable. 'pdamper dem' also takes "
+    "'restitution.particle_wall=fit': the fitted COR curve's parameter covariance.")]
 UncertaintySeedOpt = Annotated[int, typer.Option(
     "--uncertainty-seed", help="Seed of the scrambled Sobol' sequence (recorded).")]
 
 
-def overrides(items: list[str] | None) -> dict:
-    """``{"section.key": "value +- sd"}`` of the ``--uncertain`` items (checked)."""
+def fits(items: list[str] | None) -> list[str]:
+    """The fields of the ``--uncertain FIELD=fit`` items (fitted COR curves), in order."""
     from pdamper.errors import InputError
-    from pdamper.io.uncertain import is_uncertain, parse_uncertain
+    from pdamper.io.uncertain import FIT_VALUE
+
+    out: list[str] = []
+    for item in items or ():
+        key, eq, value = item.partition("=")
+        if eq and value.strip().lower() == FIT_VALUE:
+            key = key.strip()
+            if key in out:
+                raise InputError(key, "given twice in --uncertain")
+            out.append(key)
+    return out
+
+
+def overrides(items: list[str] | None, allow_fits: bool = False) -> dict:
+    """``{"section.key": "value +- sd"}`` of the ``--uncertain`` items (checked);
+    ``FIELD=fit`` items are left to :func:`fits` where ``allow_fits`` (the DEM), refused
+    elsewhere."""
+    from pdamper.errors import InputError
+    from pdamper.io.uncertain import FIT_VALUE, is_uncertain, parse_uncertain
 
     out = {}
     for item in items or ():
@@ -32,6 +52,12 @@ def overrides(items: list[str] | None) -> dict:
         if not eq or not key:
             raise InputError("uncertain", f"expected FIELD=VALUE+-SD such as "
                              f"'particles.friction=0.1+-0.03', got {item!r}")
+        if value.strip().lower() == FIT_VALUE:
+            if allow_fits:
+                continue
+            raise InputError(key, f"'{FIT_VALUE}' (a COR fit's uncertainty) only moves the "
+                             "DEM, which this command does not sample; use pdamper dem "
+                             "--uncertainty N")
         if not is_uncertain(value):
             raise InputError(key, f"expected 'value +- sd' (sd: a standard deviation), got "
                              f"{value.strip()!r}")
@@ -42,13 +68,13 @@ def overrides(items: list[str] | None) -> dict:
     return out
 
 
-def merged(options: dict, items: list[str] | None) -> dict:
+def merged(options: dict, items: list[str] | None, allow_fits: bool = False) -> dict:
     """The command's scenario ``options`` (``section__key``) with the ``--uncertain``
     items added; a field given both ways is an error."""
     from pdamper.errors import InputError
 
     out = dict(options)
-    for key, value in overrides(items).items():
+    for key, value in overrides(items, allow_fits).items():
         name = key.replace(".", "__")
         if out.get(name) is not None:
             raise InputError(key, "given both with --uncertain and with its own option")
@@ -68,15 +94,21 @@ def check(sc, level: str, n: int | None, force: bool) -> None:
     if not sc.uncertain_inputs():
         raise InputError("uncertainty", "no input carries an uncertainty: give one as "
                          "'value +- sd' in the scenario (e.g. friction = \"0.1 +- 0.03\") or "
-                         "with --uncertain FIELD=VALUE+-SD")
+                         "with --uncertain FIELD=VALUE+-SD"
+                         + (" (or a fitted COR curve: --uncertain restitution.particle_wall="
+                            "fit)" if level == "dem" else ""))
     check_cost(sc, level, n, force)
 
 
 def lines(result, scale: dict[str, tuple[float, str]]) -> list[str]:
     """Human-readable summary of an :class:`~pdamper.design.uncertainty.UncertaintyResult`."""
+    from pdamper.design.uncertainty import FitAxis
+
     out = [f"uncertainty: {result.runs} runs ({result.points} Sobol' base points, seed "
            f"{result.seed}, {result.seconds:.2f} s); inputs "
-           + ", ".join(f"{u.field} = {u.value:.4g} +- {u.sd:.3g}" for u in result.inputs)]
+           + ", ".join(f"{u.field} (fit's principal axis, z in [{u.low:.2g}, {u.high:.2g}])"
+                       if isinstance(u, FitAxis) else f"{u.field} = {u.value:.4g} +- {u.sd:.3g}"
+                       for u in result.inputs)]
     for name, a in result.answers.items():
         k, unit = scale.get(name, (1.0, "" if a.unit == "1" else a.unit))
         out.append(f"  {name:28s} mean {a.mean * k:.4g}{' ' + unit if unit else ''}, std {a.std * k:.3g}, "
@@ -84,6 +116,9 @@ def lines(result, scale: dict[str, tuple[float, str]]) -> list[str]:
                    f"driver {a.driver or 'none (no spread)'}"
                    + ("" if a.driver is None else
                       f" (total index {a.total_order[a.driver]:.2f})"))
+        for group, g in a.groups.items():
+            out.append(f"    {group} (its axes' indices summed): first order "
+                       f"{g['first_order_sum']:.2f}, total {g['total_order_sum']:.2f}")
     return out
 
 

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Annotated, cast
 
 import typer
 
+from pdamper.cli import _uncertainty
 from pdamper.cli._common import (
     ForceOpt,
     JsonOpt,
@@ -96,10 +97,14 @@ def dem(
              "the loss factor and effective mass ratio become their mean, with the spread "
              "under 'realisations' (default 1: one run).")] = None,
     workers: Annotated[int | None, typer.Option(
-        help="Worker processes of the local cluster for --realisations (default: every "
-             "core).")] = None,
+        help="Worker processes of the local cluster for --realisations and --uncertainty "
+             "(default: every core).")] = None,
     serial: Annotated[bool, typer.Option(
-        "--serial", help="Run the realisations in this process, without dask.")] = False,
+        "--serial", help="Run the realisations (or the --uncertainty samples) in this "
+                         "process, without dask.")] = False,
+    uncertainty: _uncertainty.UncertaintyOpt = None,
+    uncertain: _uncertainty.UncertainOpt = None,
+    uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
@@ -111,10 +116,26 @@ def dem(
 
     _check_cycles(flags)
     sc = load(scenario, runs=("excitation",), model="dem", force=force,
-              **{key.replace(".", "__"): value for key, value in flags.items()})
+              **_uncertainty.merged({key.replace(".", "__"): value
+                                     for key, value in flags.items()}, uncertain,
+                                    allow_fits=True))
+    fitted = _uncertainty.fits(uncertain)
+    if fitted:  # the fitted COR curves become uncertain inputs (their principal axes)
+        from pdamper.io.uncertain import add_fit_inputs
+
+        add_fit_inputs(sc, fitted)
     n_real = _realisation_count(realisations, sc, force)
     if workers is not None and workers < 1:
         raise InputError("workers", f"must be a whole number >= 1, got {workers}")
+    if uncertainty is not None:
+        for name, value in (("realisations", n_real > 1 or None), ("out", out),
+                            ("vtk", vtk)):
+            if value is not None:
+                raise InputError("uncertainty", f"cannot be combined with --{name} (the "
+                                 "samples run from one packing and keep no time series)")
+        _uncertainty.check(sc, "dem", uncertainty, force)
+        return _uncertainty_run(sc, uncertainty, uncertainty_seed, as_json, workers=workers,
+                                serial=serial)
     if n_real > 1:
         for name, value in (("out", out), ("vtk", vtk)):
             if value is not None:
@@ -269,4 +290,30 @@ def _realisations(sc: Scenario, n: int, *, workers: int | None, serial: bool, fo
         f"range {eta['min']:.4g} - {eta['max']:.4g}\n"
         f"  effective mass ratio         mean {mass['mean']:.4g}, std {mass['std']:.2g}, "
         f"range {mass['min']:.4g} - {mass['max']:.4g}")
+    emit(payload, as_json, human)
+
+
+def _uncertainty_run(sc, n: int, seed: int, as_json: bool, *, workers, serial: bool) -> None:
+    """``--uncertainty N``: the DEM at the excitation for every sample of the uncertain
+    inputs (N (inputs + 2) + 1 runs on the sweep engine, ``--workers``/``--serial``, all
+    from the scenario's seed); the top-level keys are the nominal run's answers, the
+    spread under ``uncertainty``."""
+    from pdamper.errors import InputError
+    from pdamper.io.uncertain import dem_batch, propagate_scenario
+
+    damper = sc.damper()
+    if damper.count < 1:
+        raise InputError("particles.count", f"must be in [1, {damper.max_count}] for the DEM, "
+                         f"got {damper.count}")
+    spread = propagate_scenario(sc, "dem", n, seed,
+                                batch=dem_batch(sc, workers=workers, serial=serial))
+    nominal = {k: a.nominal for k, a in spread.answers.items()}
+    payload = {**nominal, "statistic": "nominal", "uncertainty": spread.as_dict(),
+               "units": UNITS, **metadata(sc, seed=int(sc.dem.seed))}
+    human = (f"DEM, {damper.count} spheres, f = {sc.excitation.frequency:g} Hz, "
+             f"X = {sc.excitation.amplitude * 1e3:g} mm, nominal loss factor "
+             f"{nominal['loss_factor']:.4g} ("
+             + ("in this process" if serial else "on the sweep engine") + ")\n"
+             + "\n".join(_uncertainty.lines(spread, {
+                 "effective_mass": (1e3, "g"), "dissipated_energy_per_cycle": (1e3, "mJ")})))
     emit(payload, as_json, human)

@@ -103,6 +103,16 @@ class RestitutionFit:
         e = self.curve(v)
         return e - k * sd, e + k * sd
 
+    def curve_at(self, params) -> ParametricRestitution:
+        """The curve of this fit family with parameters ``params`` (e.g. a sample of their
+        uncertainty) for the same data; :class:`~pdamper.errors.InputError` where they
+        give no valid COR (outside (0, 1])."""
+        p = tuple(float(x) for x in np.asarray(params, float))
+        if len(p) != len(self.parameters) or not all(np.isfinite(p)):
+            raise InputError("restitution.fit", f"expected {len(self.parameters)} finite "
+                             f"parameters {self.parameters}, got {p}")
+        return type(self.curve).from_fit(p, self.velocity, name=getattr(self.curve, "name", ""))
+
     def _fixed(self) -> tuple:
         return (self.curve.v_hold,) if isinstance(self.curve, LinearRestitution) else ()
 

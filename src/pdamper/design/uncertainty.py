@@ -22,10 +22,16 @@ the optimum), so a derivative at the nominal point can rank the inputs wrongly; 
 variance-based indices take the whole distribution and the interactions (total index), and
 they reuse the samples that give the band. The input that drives an answer's spread most
 is the one with the largest total index.
+
+Correlated inputs (a fitted curve's parameters, :class:`ParameterFit`) enter as
+independent standard normals along the principal axes of their covariance
+(:class:`FitAxis`), truncated to the box of valid curves; the answers then also carry, per
+curve, the sums of its axes' indices (:attr:`AnswerSpread.groups`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -93,6 +99,162 @@ class UncertainInput:
                 "mean": float(d.mean()), "std": float(d.std())}
 
 
+#: Truncation of each principal axis of a fit's parameters [standard deviations]: wide
+#: enough that the truncation changes the variance by about 0.1 %.
+FIT_TRUNCATION = 4.0
+
+
+@dataclass(frozen=True)
+class FitAxis(UncertainInput):
+    """One principal axis of a fitted curve's parameters (:class:`ParameterFit`): a
+    standard normal coordinate ``z`` (``value`` 0, ``sd`` 1), truncated to the box of
+    valid curves ``[low, high]``; ``group`` is the fitted curve's field, ``axis`` the
+    axis' index (largest variance first)."""
+
+    group: str = ""
+    axis: int = 0
+    fit: ParameterFit | None = dataclasses.field(default=None, compare=False, repr=False)
+
+    def as_dict(self) -> dict:
+        d = super().as_dict()
+        d["distribution"] = ("standard normal along a principal axis of the fit's parameter "
+                             "covariance, truncated to the box of valid curves")
+        d["group"], d["axis"] = self.group, self.axis
+        if self.fit is not None:  # the parameters' change per unit z along this axis
+            d["direction"] = dict(zip(self.fit.parameters,
+                                      self.fit.axes()[1][:, self.axis].tolist(), strict=True))
+        return d
+
+
+@dataclass(frozen=True)
+class ParameterFit:
+    """The parameters of a fitted curve as an uncertain input: multivariate normal with
+    the fit's ``values`` and ``covariance``, sampled along the covariance's principal axes.
+
+    With ``covariance = V diag(lambda) V^T`` (eigen-decomposition, largest eigenvalue
+    first; each eigenvector's largest component positive, for a stable sign), the
+    parameters are ``p = values + V diag(sqrt(lambda)) z`` with ``z`` independent standard
+    normals: one :class:`FitAxis` each, so the quasi-Monte Carlo inputs stay independent
+    as Sobol' indices need. Axes of zero variance (a parameter on a bound of the fit) are
+    left out.
+
+    Truncation: ``build(p)`` returns the curve or raises
+    :class:`~pdamper.errors.InputError` where ``p`` gives no valid curve (a COR outside
+    (0, 1]). Each ``z_k`` is truncated to ``[-a_k, b_k]``: at most
+    :data:`FIT_TRUNCATION` standard deviations, and no farther along the axis than the
+    curve stays valid (bisection); the box is then shrunk by a common factor until its
+    corners give valid curves. Where the valid parameters form a convex set (true of the
+    exponential, linear and Thornton forms: bounds linear in the parameters) every sample
+    inside the box is valid, so no sample is rejected at run time and the design stays
+    balanced. The distribution sampled is thus the normal truncated to that box.
+    """
+
+    field: str
+    parameters: tuple[str, ...]
+    units: tuple[str, ...]
+    values: np.ndarray
+    covariance: np.ndarray
+    build: Callable[[np.ndarray], object] = dataclasses.field(repr=False, compare=False)
+    truncation: float = FIT_TRUNCATION
+
+    def axes(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(sd, directions)``: the standard deviation along each principal axis (the
+        square roots of the covariance's eigenvalues, largest first) and the parameters'
+        change per unit ``z`` along it, ``V diag(sd)`` (columns; parameter units)."""
+        cov = np.asarray(self.covariance, float)
+        lam, vec = np.linalg.eigh(0.5 * (cov + cov.T))
+        order = np.argsort(lam)[::-1]
+        lam, vec = lam[order], vec[:, order]
+        keep = lam > 1e-12 * max(float(lam[0]), 1e-300)
+        lam, vec = lam[keep], vec[:, keep]
+        sign = np.sign(vec[np.argmax(np.abs(vec), axis=0), np.arange(vec.shape[1])])
+        vec = vec * sign
+        sd = np.sqrt(lam)
+        return sd, vec * sd
+
+    def parameters_at(self, z) -> np.ndarray:
+        """The parameters at principal-axis coordinates ``z`` (one per axis)."""
+        return np.asarray(self.values, float) + self.axes()[1] @ np.asarray(z, float)
+
+    def _valid(self, z) -> bool:
+        try:
+            self.build(self.parameters_at(z))
+        except InputError:
+            return False
+        return True
+
+    def limits(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(a, b)``: the truncation ``z_k in [-a_k, b_k]`` (class docstring)."""
+        m = self.axes()[0].size
+        if m == 0:
+            raise InputError(self.field, "the fit's parameters have no uncertainty (zero "
+                             "covariance): nothing to sample")
+        if not self._valid(np.zeros(m)):
+            raise InputError(self.field, "the fitted curve itself is no valid COR")
+        t = self.truncation
+
+        def reach(direction) -> float:  # how far from 0 along direction the curve is valid
+            if self._valid(t * direction):
+                return t
+            lo, hi = 0.0, t
+            for _ in range(40):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if self._valid(mid * direction) else (lo, mid)
+            return lo
+
+        eye = np.eye(m)
+        a = np.array([reach(-eye[k]) for k in range(m)])
+        b = np.array([reach(eye[k]) for k in range(m)])
+
+        def box_ok(c: float) -> bool:
+            return all(self._valid(c * np.where(np.array(bits, bool), b, -a))
+                       for bits in np.ndindex(*(2,) * m))
+
+        if m <= 6 and not box_ok(1.0):  # 2^m corners: a fit has a few parameters
+            lo, hi = 0.0, 1.0
+            for _ in range(40):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if box_ok(mid) else (lo, mid)
+            a, b = a * lo, b * lo
+        if not np.all(a + b > 1e-9):
+            k = int(np.argmin(a + b))
+            raise InputError(self.field, f"the fitted curve is on the edge of valid CORs "
+                             f"along principal axis {k + 1}: its uncertainty cannot be "
+                             "sampled (refit with more points, or another fit form)")
+        return a, b
+
+    def inputs(self) -> tuple[FitAxis, ...]:
+        """One :class:`FitAxis` per principal axis, named ``field[pc1]``, ``field[pc2]``,
+        ... (largest variance first)."""
+        a, b = self.limits()
+        return tuple(FitAxis(f"{self.field}[pc{k + 1}]", 0.0, 1.0, -float(a[k]),
+                             float(b[k]), "1", group=self.field, axis=k, fit=self)
+                     for k in range(a.size))
+
+    def sample(self, z) -> object:
+        """The curve at principal-axis coordinates ``z``."""
+        return self.build(self.parameters_at(z))
+
+    def as_dict(self) -> dict:
+        sd, directions = self.axes()
+        return {"field": self.field, "parameters": list(self.parameters),
+                "units": list(self.units),
+                "values": np.asarray(self.values, float).tolist(),
+                "std": np.sqrt(np.diag(np.asarray(self.covariance, float))).tolist(),
+                "covariance": np.asarray(self.covariance, float).tolist(),
+                "axes_sd": sd.tolist(), "axes": directions.T.tolist(),
+                "truncation": self.truncation}
+
+
+def fit_groups(inputs: Sequence[UncertainInput]) -> dict[str, list[FitAxis]]:
+    """The :class:`FitAxis` inputs by fitted curve (``group``), in axis order."""
+    out: dict[str, list[FitAxis]] = {}
+    for u in inputs:
+        if isinstance(u, FitAxis):
+            out.setdefault(u.group, []).append(u)
+    return {g: sorted(v, key=lambda u: u.axis) for g, v in out.items()}
+
+
 @dataclass(frozen=True)
 class AnswerSpread:
     """The spread of one answer and what drives it."""
@@ -110,6 +272,10 @@ class AnswerSpread:
     total_order: dict[str, float] = field(default_factory=dict)
     first_order_interval: dict[str, tuple[float, float]] = field(default_factory=dict)
     total_order_interval: dict[str, tuple[float, float]] = field(default_factory=dict)
+    #: per fitted curve (:func:`fit_groups`): its axes, the sum of their first-order
+    #: indices (a lower bound of the curve's own first-order index) and of their total
+    #: indices (an upper bound of the curve's total index): no extra run
+    groups: dict[str, dict] = field(default_factory=dict)
 
     @property
     def ranking(self) -> list[str]:
@@ -132,7 +298,8 @@ class AnswerSpread:
                                          self.first_order_interval.items()},
                 "total_order_interval": {k: list(v) for k, v in
                                          self.total_order_interval.items()},
-                "ranking": self.ranking, "driver": self.driver}
+                "ranking": self.ranking, "driver": self.driver,
+                **({"groups": self.groups} if self.groups else {})}
 
 
 @dataclass(frozen=True)
@@ -242,10 +409,20 @@ def _intervals(f_a, f_b, f_ab, seed: int):
             (lo[k:].reshape(s, d), hi[k:].reshape(s, d)))
 
 
+def _group_sums(inputs, first: dict[str, float], total: dict[str, float]) -> dict:
+    """Bounds of each fitted curve's own indices from those of its axes (no extra run)."""
+    return {g: {"inputs": [u.field for u in axes],
+                "first_order_sum": float(sum(first[u.field] for u in axes)),
+                "total_order_sum": float(sum(total[u.field] for u in axes))}
+            for g, axes in fit_groups(inputs).items()}
+
+
 def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
               inputs: Sequence[UncertainInput], n: int, seed: int = 0, *,
               units: dict[str, str] | None = None,
-              progress: Callable[[int, int], None] | None = None) -> UncertaintyResult:
+              progress: Callable[[int, int], None] | None = None,
+              batch: Callable[[list[dict[str, float]]], list[dict]] | None = None
+              ) -> UncertaintyResult:
     """Propagate ``inputs`` through ``evaluate`` (module docstring).
 
     Parameters
@@ -265,6 +442,10 @@ def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
         Unit of each answer, for the record.
     progress
         ``progress(done, total)`` after each evaluation.
+    batch
+        ``batch([values, ...]) -> [answers, ...]``: every point at once (the nominal
+        point first, then A, B and the AB^(i)), e.g. in parallel on the sweep engine;
+        ``evaluate`` is then not called. Default: ``evaluate`` one point after another.
 
     Examples
     --------
@@ -285,6 +466,16 @@ def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
     t0 = time.perf_counter()
     a, b = design_matrices(inputs, n, seed)
     d = len(inputs)
+    if batch is not None:  # every point at once; then served from the list, in order
+        mats = [a, b] + [np.where(np.arange(d)[:, None] == i, b, a) for i in range(d)]
+        points = [{u.field: u.value for u in inputs}] + [
+            {u.field: float(x[i, j]) for i, u in enumerate(inputs)}
+            for x in mats for j in range(n)]
+        answered = iter(batch(points))
+
+        def evaluate(values):  # noqa: ARG001 - the batch's answers, in the points' order
+            return next(answered)
+
     nominal = evaluate({u.field: u.value for u in inputs})
     answers = [k for k, v in nominal.items() if np.ndim(v) == 0]
     arrays = {k: np.asarray(v, float) for k, v in nominal.items() if np.ndim(v) > 0}
@@ -338,7 +529,8 @@ def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
             {u: (0.0, 0.0) if flat else (float(ci_f[0][s, i]), float(ci_f[1][s, i]))
              for i, u in enumerate(names)},
             {u: (0.0, 0.0) if flat else (float(ci_t[0][s, i]), float(ci_t[1][s, i]))
-             for i, u in enumerate(names)})
+             for i, u in enumerate(names)},
+            _group_sums(inputs, per_input(first), per_input(totl)))
     bands = {}
     for k, rows in series.items():
         v = np.stack(rows)
@@ -350,5 +542,6 @@ def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
                              {k: both[s] for s, k in enumerate(answers)}, bands)
 
 
-__all__ = ["PERCENTILES", "AnswerSpread", "UncertainInput", "UncertaintyResult",
-           "check_points", "design_matrices", "propagate"]
+__all__ = ["FIT_TRUNCATION", "PERCENTILES", "AnswerSpread", "FitAxis", "ParameterFit",
+           "UncertainInput", "UncertaintyResult", "check_points", "design_matrices",
+           "fit_groups", "propagate"]

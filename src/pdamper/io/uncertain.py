@@ -13,6 +13,9 @@ The fields that may carry an uncertainty are those of :data:`UNCERTAIN_FIELDS`; 
 fit of a ``[restitution]`` table carries its own (its parameters' covariance,
 :mod:`pdamper.contact.fit`), which only the DEM feels: the analytical and field models do
 not depend on friction or restitution, and their answers show these inputs' Sobol' index 0.
+``pdamper dem --uncertainty N --uncertain restitution.particle_wall=fit`` samples it
+(:func:`add_fit_inputs`: one input per principal axis of the covariance,
+:class:`pdamper.design.uncertainty.ParameterFit`) through the DEM (:func:`dem_answers`).
 """
 
 from __future__ import annotations
@@ -102,11 +105,101 @@ def extract_uncertain(data: dict) -> dict:
     return out
 
 
+#: The ``--uncertain`` value that makes a fitted COR curve an uncertain input
+#: (``--uncertain restitution.particle_wall=fit``).
+FIT_VALUE = "fit"
+
+
+def fit_uncertainty(scenario, pair: str):
+    """The :class:`~pdamper.design.uncertainty.ParameterFit` of the COR curve that the
+    scenario fits for ``pair`` (``"particle_particle"`` or ``"particle_wall"``): the fit's
+    parameters with their covariance (:func:`pdamper.contact.fit.fit_restitution`), the
+    curves built with the entry's ``scale``."""
+    import numpy as np
+
+    from pdamper.contact.fit import fit_restitution
+    from pdamper.design.uncertainty import ParameterFit
+    from pdamper.io.restitution import PAIRS, TableCOR, read_cor_table
+
+    field = f"restitution.{pair}"
+    if pair not in PAIRS:
+        raise InputError("uncertain", f"'{FIT_VALUE}' is for a fitted COR curve: "
+                         f"{' or '.join('restitution.' + p for p in PAIRS)}, got {field!r}")
+    spec = getattr(scenario.restitution, pair)
+    if not isinstance(spec, TableCOR) or spec.fit is None:
+        raise InputError(field, "carries no fitted curve whose uncertainty could be sampled: "
+                         "give it as { model = \"table\", file = \"cor.csv\", fit = "
+                         "\"exponential\" } (or \"thornton\", \"linear\")")
+    table = read_cor_table(spec.file, f"{field}.file")
+    try:
+        fit = fit_restitution(table.velocity, table.restitution, table.std, spec.fit,
+                              name=f"{spec.fit} fit of {table.source} "
+                                   f"({len(table.velocity)} points), sampled")
+    except InputError as exc:
+        raise InputError(field, exc.message) from None
+
+    import functools
+
+    return ParameterFit(field, tuple(fit.parameters), tuple(fit.curve.UNITS),
+                        np.asarray(fit.values, float), np.asarray(fit.covariance, float),
+                        functools.partial(_fitted_curve, fit=fit, scale=spec.scale))
+
+
+def _fitted_curve(params, *, fit, scale: float):
+    """The curve of ``fit``'s family at ``params``, scaled (picklable: for the workers)."""
+    return fit.curve_at(params).scaled(scale)
+
+
+def add_fit_inputs(scenario, fields) -> tuple:
+    """Make the fitted COR curves ``fields`` (``"restitution.<pair>"``) uncertain inputs of
+    ``scenario`` (changed in place): one per principal axis of each fit's parameters,
+    ``restitution.<pair>[pc1]``, ... (:class:`~pdamper.design.uncertainty.ParameterFit`).
+    Returns the inputs added."""
+    added = []
+    for f in fields:
+        section, _, pair = f.partition(".")
+        if section != "restitution":
+            raise InputError(f, f"only a fitted COR curve (restitution.particle_wall, "
+                             f"restitution.particle_particle) takes '{FIT_VALUE}'; give "
+                             "other fields as 'value +- sd'")
+        added.extend(fit_uncertainty(scenario, pair).inputs())
+    scenario._uncertain = {**scenario._uncertain, **{u.field: u for u in added}}
+    return tuple(added)
+
+
+def sampled_damper(scenario, values: dict[str, float]):
+    """The damper of ``scenario`` at the sample ``values``: plain fields set
+    (:func:`with_values`), the fitted COR curves of the principal-axis inputs
+    (:class:`~pdamper.design.uncertainty.FitAxis`) replaced by the sampled curves."""
+    import dataclasses
+
+    from pdamper.design.uncertainty import fit_groups
+
+    damper = with_values(scenario, values).damper()
+    for group, axes in fit_groups(scenario.uncertain_inputs()).items():
+        z = [values.get(u.field, 0.0) for u in axes]
+        fit = axes[0].fit
+        if fit is None:  # an axis made by hand, without its fit: nothing to sample from
+            raise InputError(group, "principal-axis input without its fit")
+        try:
+            curve = fit.sample(z)
+        except InputError as exc:
+            raise InputError(group, f"sampled parameters give no valid COR: "
+                             f"{exc.message}") from None
+        pair = group.removeprefix("restitution.")
+        key = "restitution_pp" if pair == "particle_particle" else "restitution_pw"
+        damper = dataclasses.replace(damper, **{key: curve})
+    return damper
+
+
 def with_values(scenario, values: dict[str, float]):
     """``scenario`` with the fields of ``values`` (``{"section.key": SI value}``) set (not
-    validated again: the models and runs judge the values)."""
+    validated again: the models and runs judge the values); the principal axes of a fitted
+    curve (``restitution.<pair>[pcK]``) are left to :func:`sampled_damper`."""
     sections: dict[str, dict] = {}
     for field, v in values.items():
+        if "[" in field:
+            continue
         section, _, key = field.partition(".")
         sections.setdefault(section, {})[key] = v
     return scenario.model_copy(update={
@@ -197,6 +290,53 @@ def map_answers(scenario, model: str = "analytic"):
     return evaluate
 
 
+def dem_answers(scenario):
+    """``evaluate(values) -> answers`` of one DEM run at ``[excitation]`` (Level II): loss
+    factor, effective mass ratio and kg, dissipated energy per cycle
+    (:data:`LEVEL2_UNITS`). Every sample runs from the scenario's seed (the same packing):
+    the spread is the inputs', not the packing's (``--realisations`` gives that)."""
+
+    def evaluate(values: dict[str, float]) -> dict[str, float]:
+        sc = with_values(scenario, values)
+        r = sc.model("dem", sampled_damper(scenario, values)).response(
+            sc.excitation.frequency, sc.excitation.amplitude)
+        return {"loss_factor": float(r.loss_factor),
+                "effective_mass_ratio": float(r.effective_mass_ratio),
+                "effective_mass": float(r.effective_mass),
+                "dissipated_energy_per_cycle": float(r.dissipated_energy_per_cycle)}
+
+    return evaluate
+
+
+def dem_point(params: dict, *, scenario) -> dict:
+    """One sample of :func:`dem_answers` on a sweep worker (``params``: the sample)."""
+    return dem_answers(scenario)(params)
+
+
+def dem_batch(scenario, *, workers: int | None = None, serial: bool = False, progress=None):
+    """``batch(points) -> answers`` of :func:`dem_answers` on the sweep engine
+    (:func:`pdamper.sweep.run_sweep`: a local cluster of ``workers`` processes, default
+    every core, or ``serial`` in this process): the DEM runs of a propagation in
+    parallel (:func:`pdamper.design.uncertainty.propagate`'s ``batch``)."""
+    import functools
+
+    def batch(points: list[dict]) -> list[dict]:
+        from pdamper.sweep import run_sweep
+
+        res = run_sweep(functools.partial(dem_point, scenario=scenario), points, retries=0,
+                        workers=workers, serial=serial,
+                        progress=None if progress is None else
+                        (lambda done, total, _p: progress(done, total)))
+        bad = [p for p in res.points if not p.ok]
+        if bad:
+            shown = ", ".join(f"{k} = {v:.6g}" for k, v in bad[0].params.items())
+            raise InputError("uncertainty", f"the DEM run of the sample {shown} failed: "
+                             f"{bad[0].error}")
+        return [p.values for p in res.points]
+
+    return batch
+
+
 #: The map's answers whose bands become variables of its NetCDF file.
 MAP_BANDS = ("loss_factor", "effective_mass_ratio")
 MAP_UNITS = {"max_loss_factor": "1", "mean_loss_factor": "1", "loss_factor": "1",
@@ -215,6 +355,8 @@ def check_cost(scenario, level: str, n: int, force: bool = False) -> None:
         counts = scenario.map_particles()
         one = resources.analytic_map_cost(float(nf) * nx * (1 if counts is None
                                                             else counts.size))
+    elif level == "dem":  # N (d + 2) + 1 DEM runs at the excitation, one after another
+        one = scenario.excitation_cost("dem")
     elif level == "level3":
         one = resources.pseudo_force_cost(scenario.simulation.duration, _SAMPLE_RATE,
                                           scenario.structure_model().natural_frequency)
@@ -227,7 +369,7 @@ def check_cost(scenario, level: str, n: int, force: bool = False) -> None:
 
 
 def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str | None = None,
-                       progress=None):
+                       progress=None, batch=None):
     """Propagate the scenario's uncertain inputs to its ``"level2"``, ``"map"`` or
     ``"level3"`` answers with ``n`` base points (:func:`pdamper.design.uncertainty.propagate`). A
     sample the models refuse is an error naming its field and the sample."""
@@ -239,6 +381,8 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
         evaluate, units = level2_answers(scenario, model), LEVEL2_UNITS
     elif level == "map":
         evaluate, units = map_answers(scenario, model or "analytic"), MAP_UNITS
+    elif level == "dem":
+        evaluate, units = dem_answers(scenario), LEVEL2_UNITS
     else:
         evaluate, units = level3_answers(scenario, model), LEVEL3_UNITS
 
@@ -251,7 +395,7 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
             raise InputError(exc.field, f"at the uncertainty sample {shown}: "
                              f"{exc.message}{hint}") from None
 
-    result = propagate(checked, inputs, n, seed, units=units, progress=progress)
+    result = propagate(checked, inputs, n, seed, units=units, progress=progress, batch=batch)
     if "envelope" in result.bands:  # its times: release to the end of the run [s]
         import numpy as np
 
@@ -260,6 +404,7 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
     return result
 
 
-__all__ = ["MAP_BANDS", "UNCERTAIN_FIELDS", "check_cost", "extract_uncertain",
-           "is_uncertain", "level2_answers", "level3_answers", "map_answers",
-           "parse_uncertain", "propagate_scenario", "with_values"]
+__all__ = ["FIT_VALUE", "MAP_BANDS", "UNCERTAIN_FIELDS", "add_fit_inputs", "check_cost",
+           "dem_answers", "dem_batch", "dem_point", "extract_uncertain", "fit_uncertainty", "is_uncertain",
+           "level2_answers", "level3_answers", "map_answers", "parse_uncertain",
+           "propagate_scenario", "sampled_damper", "with_values"]
