@@ -9,7 +9,7 @@ landscape is visible.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sized
 from dataclasses import asdict, dataclass
 
 from pdamper import resources
@@ -87,7 +87,7 @@ def optimize_particle_count(
         counts = range(0, damper.max_count, step)
     # one period past T so that the envelope at T is bracketed by two peaks
     duration = at + 2.0 / structure.natural_frequency
-    if hasattr(counts, "__len__"):  # what no run can do, judged before the list is read
+    if isinstance(counts, Sized):  # what no run can do, judged before the list is read
         one = resources.pseudo_force_cost(duration, 200.0, structure.natural_frequency)
         resources.require(resources.count_cost(
             len(counts), "the optimisation", "candidates",

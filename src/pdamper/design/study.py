@@ -237,10 +237,10 @@ def _parse(spec: str) -> _Spec:
         if ":" in text:
             parts = text.split(":")
             try:
-                a, b, step = (int(p) for p in parts) if len(parts) == 3 else (None,) * 3
+                a, b, step = (int(p) for p in parts) if len(parts) == 3 else (0, -1, 0)
             except ValueError:
-                a = b = step = None
-            if a is None or step < 1 or b < a:
+                a, b, step = 0, -1, 0  # not three whole numbers: refused just below
+            if step < 1 or b < a:
                 raise InputError(where, f"expected 'start:stop:step' of whole numbers with "
                                  f"stop >= start and step >= 1, got {text!r}")
             if (b - a) % step:
@@ -270,14 +270,14 @@ def _parse(spec: str) -> _Spec:
     elif len(parts) == 3:
         lo, hi = (parse_quantity(p, kind.unit, where) for p in parts[:2])
         try:
-            n = int(parts[2])
+            count = int(parts[2])
         except ValueError:
             raise InputError(where, f"count {parts[2]!r} of {text!r} must be a whole "
                              "number") from None
-        if n < 1 or not lo <= hi or (n == 1 and lo != hi):
+        if count < 1 or not lo <= hi or (count == 1 and lo != hi):
             raise InputError(where, f"expected 'start:stop:count' with start <= stop and "
                              f"count >= 1, got {text!r}")
-        out = _Spec(name, "grid", start=lo, stop=hi, count=n)
+        out = _Spec(name, "grid", start=lo, stop=hi, count=count)
     else:
         raise InputError(where, f"expected 'start:stop:count', 'start:stop' or a list, "
                          f"got {text!r}")
@@ -423,6 +423,7 @@ class Objective:
             if not np.any(sel):
                 return float("nan"), {"cycles": 0}
             return float(np.mean(zeta[sel])), {"cycles": int(np.count_nonzero(sel))}
+        assert self.threshold is not None  # make_objective gives settling-time its threshold
         t = settling_time(res.peak_times, res.peak_amplitudes, self.threshold)
         if t is None:
             return float(res.time[-1]), {"settled": False}
@@ -603,7 +604,8 @@ class DesignStudyResult:
             "objective_name": self.objective.name,
             "sense": self.objective.sense,
             "threshold": self.objective.threshold,
-            **({"band": list(self.objective.band), "frf_load": self.objective.frf_load.as_dict()}
+            **({"band": list(self.objective.band or ()),
+                "frf_load": self.objective.frf_load.as_dict()}
                if self.objective.frf_load is not None else {}),
             "method": self.method,
             "seed": self.seed,
@@ -727,6 +729,7 @@ class DesignEvaluator:
             sim = self.simulation(design)  # the same physics limits as every design
             return o.evaluate(run_load(sim.model, self.structure, o.load, o.sample_rate,
                                        o.tail))
+        assert o.duration is not None  # make_objective gives a free vibration its duration
         res = self.simulation(design).run(o.duration, sample_rate=_SAMPLE_RATE)
         return o.evaluate(res)
 
@@ -767,10 +770,14 @@ def check_ranges(damper: ParticleDamper, variables: Sequence[DesignVariable],
     sphere radius, the container height in the impact speed), so the ends decide. A value
     that does not fit the container is left to its candidates (infeasible, listed)."""
     for v in variables:
-        if v.kind == "categorical":
+        ends: tuple
+        if v.values is None:  # an interval (DesignVariable refuses neither values nor bounds)
+            assert v.bounds is not None
+            ends = v.bounds
+        elif v.kind == "categorical":
             ends = v.values
         else:
-            ends = v.bounds if v.values is None else (min(v.values), max(v.values))
+            ends = (min(v.values), max(v.values))
         for value in dict.fromkeys(ends):
             design = {v.name: value}
             try:
@@ -804,7 +811,7 @@ class _Landscape:
         """Evaluate ``designs`` (feasible ones together, in parallel); the landscape keeps
         them in the order given, each distinct design once."""
         out: list[DesignCandidate | None] = [None] * len(designs)
-        fresh = []  # (index, key) of designs first seen in this batch
+        fresh: list[tuple[int, tuple]] = []  # (index, key) of designs first seen in this batch
         todo = []
         for k, design in enumerate(designs):
             key = _canonical(design)
@@ -829,8 +836,10 @@ class _Landscape:
                 out[k] = DesignCandidate(values, values["particles"], mass, None, "failed",
                                          oc.error or "objective is not a finite number")
         for k, key in fresh:
-            self._seen[key] = out[k]
-            self.candidates.append(out[k])
+            cand = out[k]
+            assert cand is not None  # every design first seen here got its candidate above
+            self._seen[key] = cand
+            self.candidates.append(cand)
         return [self._seen[_canonical(d)] for d in designs]
 
 
@@ -912,15 +921,22 @@ def run_design_study(
         import itertools
 
         designs = [dict(zip(names, combo, strict=True))
-                   for combo in itertools.product(*(v.values for v in variables))]
+                   for combo in itertools.product(*(v.values for v in variables
+                                                    if v.values is not None))]
         land.batch(designs)
     else:
         _differential_evolution(land, variables, objective, max_evaluations, seed)
     sign = 1.0 if objective.sense == "min" else -1.0
     ok = [c for c in land.candidates if c.status == "ok"]
-    best = min(ok, key=lambda c: sign * c.objective) if ok else None
+    best = min(ok, key=lambda c: _score(c, sign)) if ok else None
     return DesignStudyResult(best, tuple(land.candidates), variables, objective, method,
                              seed if method == "optimize" else None, tolerance)
+
+
+def _score(c: DesignCandidate, sign: float) -> float:
+    """The value minimised: ``sign`` times an evaluated candidate's objective, the penalty
+    for an infeasible or failed one."""
+    return sign * c.objective if c.status == "ok" and c.objective is not None else _PENALTY
 
 
 def _differential_evolution(land: _Landscape, variables, objective, max_evaluations, seed):
@@ -955,7 +971,7 @@ def _differential_evolution(land: _Landscape, variables, objective, max_evaluati
 
     def batch(xs):  # vectorised: xs has shape (n_variables, n_designs)
         cands = land.batch([decode(x) for x in np.atleast_2d(xs).T])
-        return np.array([sign * c.objective if c.status == "ok" else _PENALTY for c in cands])
+        return np.array([_score(c, sign) for c in cands])
 
     popsize = max(5, min(15, max_evaluations // (4 * len(free))))
     per_generation = popsize * len(free)
@@ -1013,8 +1029,8 @@ def optimize_design(
         from pdamper.models.analytical import AnalyticalDamper
 
         model = AnalyticalDamper
-    variables = [parse_variable(v) if isinstance(v, str) else v for v in variables]
+    parsed = [parse_variable(v) if isinstance(v, str) else v for v in variables]
     obj = make_objective(objective, at, initial_displacement, structure, threshold, duration,
                          load, tail, band, frf_load)
     evaluate = DesignEvaluator(structure, damper, initial_displacement, obj, model)
-    return run_design_study(evaluate, damper, variables, obj, **options)
+    return run_design_study(evaluate, damper, parsed, obj, **options)
