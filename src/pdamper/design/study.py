@@ -74,7 +74,7 @@ import logging
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, Protocol, TypeVar
 
 import numpy as np
 
@@ -643,7 +643,21 @@ def parse_tolerance(value: Any) -> float:
     return tol
 
 
-def _ranked(candidates, sense: str) -> list[tuple[float, float, DesignCandidate]]:
+class _Scored(Protocol):
+    """What the mass rules read of a candidate: a :class:`DesignCandidate` or the paper
+    study's :class:`~pdamper.design.optimize.Candidate`."""
+
+    @property
+    def mass(self) -> float | None: ...
+
+    @property
+    def objective(self) -> float | None: ...
+
+
+_C = TypeVar("_C", bound=_Scored)
+
+
+def _ranked(candidates: Sequence[_C], sense: str) -> list[tuple[float, float, _C]]:
     """``(mass, signed objective, candidate)`` of the evaluated designs: both minimised
     (a candidate without ``status``, the paper study's, counts as evaluated)."""
     sign = 1.0 if sense == "min" else -1.0
@@ -680,9 +694,9 @@ def pareto_front(candidates: Sequence[DesignCandidate],
     return tuple(front)
 
 
-def lightest_within(candidates: Sequence[DesignCandidate], best: DesignCandidate | None,
+def lightest_within(candidates: Sequence[_C], best: _C | None,
                     tolerance: float = DEFAULT_TOLERANCE,
-                    sense: str = "min") -> DesignCandidate | None:
+                    sense: str = "min") -> _C | None:
     """The lightest design whose objective is within ``tolerance`` (relative, of |best|)
     of ``best``'s: at most ``best * (1 + tol)`` for a minimised objective, at least
     ``best * (1 - tol)`` for a maximised one (for a positive best). Of equally light ones,

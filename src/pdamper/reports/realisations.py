@@ -439,7 +439,7 @@ def run_map_realisations(scenario, model_name: str, count: int, *, frequency=Non
     path = None
     if out is not None:
         path = atomic_write_netcdf(out, ds)
-        if not keep_partial:
+        if not keep_partial and store is not None:  # (a store exactly when out is given)
             from pdamper.sweep import PointStore
 
             PointStore(store).remove()
@@ -474,7 +474,9 @@ def map_spread_record(ds) -> dict:
 
     def cells(v):
         a = np.asarray(v.values, float)
-        return np.where(np.isfinite(a), a, None).tolist()
+        cell = a.astype(object)
+        cell[~np.isfinite(a)] = None
+        return cell.tolist()
 
     for name in MAP_SPREAD:
         if f"{name}_std" in ds:
