@@ -11,12 +11,17 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable, Iterable, Sized
 from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING
 
 from pdamper import resources
 from pdamper.coupling.simulation import Simulation
 from pdamper.damper import ParticleDamper
 from pdamper.errors import InputError, check_range, check_whole
 from pdamper.models.analytical import AnalyticalDamper
+
+if TYPE_CHECKING:
+    from pdamper.structure import SingleDOFStructure
+    from pdamper.structure.modal import ModalStructure
 
 logger = logging.getLogger(__name__)
 
@@ -48,7 +53,7 @@ class OptimizationResult:
 
 
 def optimize_particle_count(
-    structure,
+    structure: SingleDOFStructure | ModalStructure,
     damper: ParticleDamper,
     initial_displacement: float,
     at: float,

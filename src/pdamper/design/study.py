@@ -74,7 +74,7 @@ import logging
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any, Protocol, TypeVar
+from typing import TYPE_CHECKING, Any, Protocol, TypeVar, cast
 
 import numpy as np
 
@@ -87,6 +87,16 @@ from pdamper.resources import (  # noqa: F401 - the study's defaults
     DEFAULT_MAX_GRID,
     DEFAULT_TOLERANCE,
 )
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from pdamper.coupling import FreeVibrationResult
+    from pdamper.coupling.frf import FRFResult, HarmonicLoad
+    from pdamper.coupling.loads import LoadHistory, LoadResponse
+    from pdamper.resources import Cost
+    from pdamper.structure import SingleDOFStructure
+    from pdamper.structure.modal import ModalStructure
 
 logger = logging.getLogger(__name__)
 
@@ -299,7 +309,7 @@ def variable_size(spec: str) -> tuple[str, float]:
     return p.name, p.size
 
 
-def values_cost(name: str, size: float):
+def values_cost(name: str, size: float) -> Cost:
     """The memory the values of variable ``name`` take (a :class:`pdamper.resources.Cost`),
     from their number."""
     from pdamper import resources
@@ -402,18 +412,25 @@ class Objective:
     band: tuple[float, ...] | None = None
     frf_load: Any = None
 
-    def evaluate(self, res) -> tuple[float, dict]:
+    def evaluate(self, res: FreeVibrationResult | LoadResponse | FRFResult
+                 ) -> tuple[float, dict]:
         """Objective value of a :class:`~pdamper.coupling.FreeVibrationResult` (of a
-        :class:`~pdamper.coupling.loads.LoadResponse` for ``peak``, ``rms``) and extras."""
+        :class:`~pdamper.coupling.loads.LoadResponse` for ``peak``, ``rms``; of a
+        :class:`~pdamper.coupling.frf.FRFResult` for ``peak-frf``, ``rms-frf``) and
+        extras."""
+        # the objective's name says which result it reads (DesignEvaluator runs that one)
         if self.name in FRF_OBJECTIVES:
-            value = res.peak() if self.name == "peak-frf" else res.rms()
-            steady = all(bool(np.all(c.steady)) for c in res.sweeps.values())
+            frf = cast("FRFResult", res)
+            value = frf.peak() if self.name == "peak-frf" else frf.rms()
+            steady = all(bool(np.all(c.steady)) for c in frf.sweeps.values())
             return value, {"steady": steady}
         if self.name in LOAD_OBJECTIVES:
-            extras = {"peak_acceleration": res.peak_acceleration,
-                      "rms_acceleration": res.rms_acceleration,
-                      "dissipated_energy": res.dissipated_energy}
-            return (res.peak if self.name == "peak" else res.rms), extras
+            forced = cast("LoadResponse", res)
+            extras = {"peak_acceleration": forced.peak_acceleration,
+                      "rms_acceleration": forced.rms_acceleration,
+                      "dissipated_energy": forced.dissipated_energy}
+            return (forced.peak if self.name == "peak" else forced.rms), extras
+        res = cast("FreeVibrationResult", res)
         if self.name == "amplitude-at":
             return res.amplitude_at(self.at), {}
         if self.name == "mean-damping":
@@ -430,7 +447,8 @@ class Objective:
         return t, {"settled": True}
 
 
-def settling_time(peak_times, peak_amplitudes, threshold: float) -> float | None:
+def settling_time(peak_times: ArrayLike, peak_amplitudes: ArrayLike,
+                  threshold: float) -> float | None:
     """First time [s] the exponential envelope of the negative peaks reaches ``threshold``
     [m] (interpolated as :meth:`FreeVibrationResult.amplitude_at`); None if it never does.
 
@@ -468,9 +486,12 @@ FRF_BAND = (0.5, 1.5, 41)
 FRF_LOAD = "2 N"
 
 
-def make_objective(name: str, at: float, initial_displacement: float, structure,
+def make_objective(name: str, at: float, initial_displacement: float,
+                   structure: SingleDOFStructure | ModalStructure,
                    threshold: float | None = None, duration: float | None = None,
-                   load=None, tail: float = 0.0, band=None, frf_load=None) -> Objective:
+                   load: LoadHistory | None = None, tail: float = 0.0,
+                   band: ArrayLike | None = None,
+                   frf_load: HarmonicLoad | str | None = None) -> Objective:
     """The :class:`Objective` ``name`` with its defaults (module docstring).
 
     ``peak-frf`` and ``rms-frf`` take ``band`` (frequencies [Hz]; default :data:`FRF_BAND`
@@ -996,7 +1017,7 @@ def _differential_evolution(land: _Landscape, variables, objective, max_evaluati
 
 
 def optimize_design(
-    structure,
+    structure: SingleDOFStructure | ModalStructure,
     damper: ParticleDamper,
     initial_displacement: float,
     variables: Sequence[DesignVariable | str],
@@ -1005,11 +1026,11 @@ def optimize_design(
     model: Callable[[ParticleDamper], Any] | None = None,
     threshold: float | None = None,
     duration: float | None = None,
-    load=None,
+    load: LoadHistory | None = None,
     tail: float = 0.0,
-    band=None,
-    frf_load=None,
-    **options,
+    band: ArrayLike | None = None,
+    frf_load: HarmonicLoad | str | None = None,
+    **options: Any,
 ) -> DesignStudyResult:
     """A design study of ``damper`` on ``structure`` (module docstring).
 
