@@ -9,14 +9,19 @@ landscape is visible.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sized
 from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING
 
 from pdamper import resources
 from pdamper.coupling.simulation import Simulation
 from pdamper.damper import ParticleDamper
 from pdamper.errors import InputError, check_range, check_whole
 from pdamper.models.analytical import AnalyticalDamper
+
+if TYPE_CHECKING:
+    from pdamper.structure import SingleDOFStructure
+    from pdamper.structure.modal import ModalStructure
 
 logger = logging.getLogger(__name__)
 
@@ -48,7 +53,7 @@ class OptimizationResult:
 
 
 def optimize_particle_count(
-    structure,
+    structure: SingleDOFStructure | ModalStructure,
     damper: ParticleDamper,
     initial_displacement: float,
     at: float,
@@ -87,7 +92,7 @@ def optimize_particle_count(
         counts = range(0, damper.max_count, step)
     # one period past T so that the envelope at T is bracketed by two peaks
     duration = at + 2.0 / structure.natural_frequency
-    if hasattr(counts, "__len__"):  # what no run can do, judged before the list is read
+    if isinstance(counts, Sized):  # what no run can do, judged before the list is read
         one = resources.pseudo_force_cost(duration, 200.0, structure.natural_frequency)
         resources.require(resources.count_cost(
             len(counts), "the optimisation", "candidates",

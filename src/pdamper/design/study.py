@@ -74,7 +74,7 @@ import logging
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any, Protocol, TypeVar, cast
 
 import numpy as np
 
@@ -87,6 +87,16 @@ from pdamper.resources import (  # noqa: F401 - the study's defaults
     DEFAULT_MAX_GRID,
     DEFAULT_TOLERANCE,
 )
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from pdamper.coupling import FreeVibrationResult
+    from pdamper.coupling.frf import FRFResult, HarmonicLoad
+    from pdamper.coupling.loads import LoadHistory, LoadResponse
+    from pdamper.resources import Cost
+    from pdamper.structure import SingleDOFStructure
+    from pdamper.structure.modal import ModalStructure
 
 logger = logging.getLogger(__name__)
 
@@ -237,10 +247,10 @@ def _parse(spec: str) -> _Spec:
         if ":" in text:
             parts = text.split(":")
             try:
-                a, b, step = (int(p) for p in parts) if len(parts) == 3 else (None,) * 3
+                a, b, step = (int(p) for p in parts) if len(parts) == 3 else (0, -1, 0)
             except ValueError:
-                a = b = step = None
-            if a is None or step < 1 or b < a:
+                a, b, step = 0, -1, 0  # not three whole numbers: refused just below
+            if step < 1 or b < a:
                 raise InputError(where, f"expected 'start:stop:step' of whole numbers with "
                                  f"stop >= start and step >= 1, got {text!r}")
             if (b - a) % step:
@@ -270,14 +280,14 @@ def _parse(spec: str) -> _Spec:
     elif len(parts) == 3:
         lo, hi = (parse_quantity(p, kind.unit, where) for p in parts[:2])
         try:
-            n = int(parts[2])
+            count = int(parts[2])
         except ValueError:
             raise InputError(where, f"count {parts[2]!r} of {text!r} must be a whole "
                              "number") from None
-        if n < 1 or not lo <= hi or (n == 1 and lo != hi):
+        if count < 1 or not lo <= hi or (count == 1 and lo != hi):
             raise InputError(where, f"expected 'start:stop:count' with start <= stop and "
                              f"count >= 1, got {text!r}")
-        out = _Spec(name, "grid", start=lo, stop=hi, count=n)
+        out = _Spec(name, "grid", start=lo, stop=hi, count=count)
     else:
         raise InputError(where, f"expected 'start:stop:count', 'start:stop' or a list, "
                          f"got {text!r}")
@@ -299,7 +309,7 @@ def variable_size(spec: str) -> tuple[str, float]:
     return p.name, p.size
 
 
-def values_cost(name: str, size: float):
+def values_cost(name: str, size: float) -> Cost:
     """The memory the values of variable ``name`` take (a :class:`pdamper.resources.Cost`),
     from their number."""
     from pdamper import resources
@@ -402,18 +412,25 @@ class Objective:
     band: tuple[float, ...] | None = None
     frf_load: Any = None
 
-    def evaluate(self, res) -> tuple[float, dict]:
+    def evaluate(self, res: FreeVibrationResult | LoadResponse | FRFResult
+                 ) -> tuple[float, dict]:
         """Objective value of a :class:`~pdamper.coupling.FreeVibrationResult` (of a
-        :class:`~pdamper.coupling.loads.LoadResponse` for ``peak``, ``rms``) and extras."""
+        :class:`~pdamper.coupling.loads.LoadResponse` for ``peak``, ``rms``; of a
+        :class:`~pdamper.coupling.frf.FRFResult` for ``peak-frf``, ``rms-frf``) and
+        extras."""
+        # the objective's name says which result it reads (DesignEvaluator runs that one)
         if self.name in FRF_OBJECTIVES:
-            value = res.peak() if self.name == "peak-frf" else res.rms()
-            steady = all(bool(np.all(c.steady)) for c in res.sweeps.values())
+            frf = cast("FRFResult", res)
+            value = frf.peak() if self.name == "peak-frf" else frf.rms()
+            steady = all(bool(np.all(c.steady)) for c in frf.sweeps.values())
             return value, {"steady": steady}
         if self.name in LOAD_OBJECTIVES:
-            extras = {"peak_acceleration": res.peak_acceleration,
-                      "rms_acceleration": res.rms_acceleration,
-                      "dissipated_energy": res.dissipated_energy}
-            return (res.peak if self.name == "peak" else res.rms), extras
+            forced = cast("LoadResponse", res)
+            extras = {"peak_acceleration": forced.peak_acceleration,
+                      "rms_acceleration": forced.rms_acceleration,
+                      "dissipated_energy": forced.dissipated_energy}
+            return (forced.peak if self.name == "peak" else forced.rms), extras
+        res = cast("FreeVibrationResult", res)
         if self.name == "amplitude-at":
             return res.amplitude_at(self.at), {}
         if self.name == "mean-damping":
@@ -423,13 +440,15 @@ class Objective:
             if not np.any(sel):
                 return float("nan"), {"cycles": 0}
             return float(np.mean(zeta[sel])), {"cycles": int(np.count_nonzero(sel))}
+        assert self.threshold is not None  # make_objective gives settling-time its threshold
         t = settling_time(res.peak_times, res.peak_amplitudes, self.threshold)
         if t is None:
             return float(res.time[-1]), {"settled": False}
         return t, {"settled": True}
 
 
-def settling_time(peak_times, peak_amplitudes, threshold: float) -> float | None:
+def settling_time(peak_times: ArrayLike, peak_amplitudes: ArrayLike,
+                  threshold: float) -> float | None:
     """First time [s] the exponential envelope of the negative peaks reaches ``threshold``
     [m] (interpolated as :meth:`FreeVibrationResult.amplitude_at`); None if it never does.
 
@@ -467,9 +486,12 @@ FRF_BAND = (0.5, 1.5, 41)
 FRF_LOAD = "2 N"
 
 
-def make_objective(name: str, at: float, initial_displacement: float, structure,
+def make_objective(name: str, at: float, initial_displacement: float,
+                   structure: SingleDOFStructure | ModalStructure,
                    threshold: float | None = None, duration: float | None = None,
-                   load=None, tail: float = 0.0, band=None, frf_load=None) -> Objective:
+                   load: LoadHistory | None = None, tail: float = 0.0,
+                   band: ArrayLike | None = None,
+                   frf_load: HarmonicLoad | str | None = None) -> Objective:
     """The :class:`Objective` ``name`` with its defaults (module docstring).
 
     ``peak-frf`` and ``rms-frf`` take ``band`` (frequencies [Hz]; default :data:`FRF_BAND`
@@ -603,7 +625,8 @@ class DesignStudyResult:
             "objective_name": self.objective.name,
             "sense": self.objective.sense,
             "threshold": self.objective.threshold,
-            **({"band": list(self.objective.band), "frf_load": self.objective.frf_load.as_dict()}
+            **({"band": list(self.objective.band or ()),
+                "frf_load": self.objective.frf_load.as_dict()}
                if self.objective.frf_load is not None else {}),
             "method": self.method,
             "seed": self.seed,
@@ -641,7 +664,21 @@ def parse_tolerance(value: Any) -> float:
     return tol
 
 
-def _ranked(candidates, sense: str) -> list[tuple[float, float, DesignCandidate]]:
+class _Scored(Protocol):
+    """What the mass rules read of a candidate: a :class:`DesignCandidate` or the paper
+    study's :class:`~pdamper.design.optimize.Candidate`."""
+
+    @property
+    def mass(self) -> float | None: ...
+
+    @property
+    def objective(self) -> float | None: ...
+
+
+_C = TypeVar("_C", bound=_Scored)
+
+
+def _ranked(candidates: Sequence[_C], sense: str) -> list[tuple[float, float, _C]]:
     """``(mass, signed objective, candidate)`` of the evaluated designs: both minimised
     (a candidate without ``status``, the paper study's, counts as evaluated)."""
     sign = 1.0 if sense == "min" else -1.0
@@ -678,9 +715,9 @@ def pareto_front(candidates: Sequence[DesignCandidate],
     return tuple(front)
 
 
-def lightest_within(candidates: Sequence[DesignCandidate], best: DesignCandidate | None,
+def lightest_within(candidates: Sequence[_C], best: _C | None,
                     tolerance: float = DEFAULT_TOLERANCE,
-                    sense: str = "min") -> DesignCandidate | None:
+                    sense: str = "min") -> _C | None:
     """The lightest design whose objective is within ``tolerance`` (relative, of |best|)
     of ``best``'s: at most ``best * (1 + tol)`` for a minimised objective, at least
     ``best * (1 - tol)`` for a maximised one (for a positive best). Of equally light ones,
@@ -727,6 +764,7 @@ class DesignEvaluator:
             sim = self.simulation(design)  # the same physics limits as every design
             return o.evaluate(run_load(sim.model, self.structure, o.load, o.sample_rate,
                                        o.tail))
+        assert o.duration is not None  # make_objective gives a free vibration its duration
         res = self.simulation(design).run(o.duration, sample_rate=_SAMPLE_RATE)
         return o.evaluate(res)
 
@@ -767,10 +805,14 @@ def check_ranges(damper: ParticleDamper, variables: Sequence[DesignVariable],
     sphere radius, the container height in the impact speed), so the ends decide. A value
     that does not fit the container is left to its candidates (infeasible, listed)."""
     for v in variables:
-        if v.kind == "categorical":
+        ends: tuple
+        if v.values is None:  # an interval (DesignVariable refuses neither values nor bounds)
+            assert v.bounds is not None
+            ends = v.bounds
+        elif v.kind == "categorical":
             ends = v.values
         else:
-            ends = v.bounds if v.values is None else (min(v.values), max(v.values))
+            ends = (min(v.values), max(v.values))
         for value in dict.fromkeys(ends):
             design = {v.name: value}
             try:
@@ -804,7 +846,7 @@ class _Landscape:
         """Evaluate ``designs`` (feasible ones together, in parallel); the landscape keeps
         them in the order given, each distinct design once."""
         out: list[DesignCandidate | None] = [None] * len(designs)
-        fresh = []  # (index, key) of designs first seen in this batch
+        fresh: list[tuple[int, tuple]] = []  # (index, key) of designs first seen in this batch
         todo = []
         for k, design in enumerate(designs):
             key = _canonical(design)
@@ -829,8 +871,10 @@ class _Landscape:
                 out[k] = DesignCandidate(values, values["particles"], mass, None, "failed",
                                          oc.error or "objective is not a finite number")
         for k, key in fresh:
-            self._seen[key] = out[k]
-            self.candidates.append(out[k])
+            cand = out[k]
+            assert cand is not None  # every design first seen here got its candidate above
+            self._seen[key] = cand
+            self.candidates.append(cand)
         return [self._seen[_canonical(d)] for d in designs]
 
 
@@ -912,15 +956,22 @@ def run_design_study(
         import itertools
 
         designs = [dict(zip(names, combo, strict=True))
-                   for combo in itertools.product(*(v.values for v in variables))]
+                   for combo in itertools.product(*(v.values for v in variables
+                                                    if v.values is not None))]
         land.batch(designs)
     else:
         _differential_evolution(land, variables, objective, max_evaluations, seed)
     sign = 1.0 if objective.sense == "min" else -1.0
     ok = [c for c in land.candidates if c.status == "ok"]
-    best = min(ok, key=lambda c: sign * c.objective) if ok else None
+    best = min(ok, key=lambda c: _score(c, sign)) if ok else None
     return DesignStudyResult(best, tuple(land.candidates), variables, objective, method,
                              seed if method == "optimize" else None, tolerance)
+
+
+def _score(c: DesignCandidate, sign: float) -> float:
+    """The value minimised: ``sign`` times an evaluated candidate's objective, the penalty
+    for an infeasible or failed one."""
+    return sign * c.objective if c.status == "ok" and c.objective is not None else _PENALTY
 
 
 def _differential_evolution(land: _Landscape, variables, objective, max_evaluations, seed):
@@ -955,7 +1006,7 @@ def _differential_evolution(land: _Landscape, variables, objective, max_evaluati
 
     def batch(xs):  # vectorised: xs has shape (n_variables, n_designs)
         cands = land.batch([decode(x) for x in np.atleast_2d(xs).T])
-        return np.array([sign * c.objective if c.status == "ok" else _PENALTY for c in cands])
+        return np.array([_score(c, sign) for c in cands])
 
     popsize = max(5, min(15, max_evaluations // (4 * len(free))))
     per_generation = popsize * len(free)
@@ -966,7 +1017,7 @@ def _differential_evolution(land: _Landscape, variables, objective, max_evaluati
 
 
 def optimize_design(
-    structure,
+    structure: SingleDOFStructure | ModalStructure,
     damper: ParticleDamper,
     initial_displacement: float,
     variables: Sequence[DesignVariable | str],
@@ -975,11 +1026,11 @@ def optimize_design(
     model: Callable[[ParticleDamper], Any] | None = None,
     threshold: float | None = None,
     duration: float | None = None,
-    load=None,
+    load: LoadHistory | None = None,
     tail: float = 0.0,
-    band=None,
-    frf_load=None,
-    **options,
+    band: ArrayLike | None = None,
+    frf_load: HarmonicLoad | str | None = None,
+    **options: Any,
 ) -> DesignStudyResult:
     """A design study of ``damper`` on ``structure`` (module docstring).
 
@@ -1013,8 +1064,8 @@ def optimize_design(
         from pdamper.models.analytical import AnalyticalDamper
 
         model = AnalyticalDamper
-    variables = [parse_variable(v) if isinstance(v, str) else v for v in variables]
+    parsed = [parse_variable(v) if isinstance(v, str) else v for v in variables]
     obj = make_objective(objective, at, initial_displacement, structure, threshold, duration,
                          load, tail, band, frf_load)
     evaluate = DesignEvaluator(structure, damper, initial_displacement, obj, model)
-    return run_design_study(evaluate, damper, variables, obj, **options)
+    return run_design_study(evaluate, damper, parsed, obj, **options)

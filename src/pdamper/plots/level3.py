@@ -4,13 +4,40 @@ landscape, and the one-mode-enough study."""
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from pdamper.plots.figures import _axes
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
-def _label(name: str, comparison) -> str:
+    from pdamper.coupling import FreeVibrationResult
+    from pdamper.coupling.comparison import ModelComparison
+    from pdamper.coupling.measurement import AlignedMeasurement
+    from pdamper.coupling.modal import ModeCountStudy
+    from pdamper.design.study import DesignCandidate, DesignStudyResult, DesignVariable
+
+
+class _Band(Protocol):
+    """What the band figures read of N realisations of one run (a
+    :class:`~pdamper.reports.realisations.Level3Band`)."""
+
+    model: str
+    at: float
+
+    @property
+    def count(self) -> int: ...
+
+    def trajectory(self) -> dict: ...
+
+    def amplitude_at(self) -> dict: ...
+
+    def damping_ratio(self) -> list[dict]: ...
+
+
+def _label(name: str, comparison: ModelComparison | None) -> str:
     if comparison is None:
         return name
     return (f"{name} (peaks RMS {comparison.peak_rms_error * 1e3:.2f} mm, "
@@ -18,8 +45,11 @@ def _label(name: str, comparison) -> str:
             f"drift {comparison.final_phase_drift:+.2f} rad)")
 
 
-def plot_model_trajectories(results: dict, measured=None, comparisons: dict | None = None,
-                            ax=None, envelope=None):
+def plot_model_trajectories(results: dict[str, FreeVibrationResult],
+                            measured: AlignedMeasurement | None = None,
+                            comparisons: dict[str, ModelComparison] | None = None,
+                            ax: Axes | None = None,
+                            envelope: FreeVibrationResult | None = None) -> Axes:
     """End-effector trajectories of several models (Fig. 7 with models 1-3), optionally
     with the aligned measurement and each model's error metrics in its label.
 
@@ -52,8 +82,10 @@ def plot_model_trajectories(results: dict, measured=None, comparisons: dict | No
     return ax
 
 
-def plot_model_damping_ratios(results: dict, measured=None, comparisons: dict | None = None,
-                              ax=None):
+def plot_model_damping_ratios(results: dict[str, FreeVibrationResult],
+                              measured: AlignedMeasurement | None = None,
+                              comparisons: dict[str, ModelComparison] | None = None,
+                              ax: Axes | None = None) -> Axes:
     """Damping ratio over the mean cycle amplitude (Fig. 8, Eqs. 24-25) for several models
     and the measurement, with the amplitude bands of the comparison shaded."""
     ax = _axes(ax)
@@ -74,7 +106,7 @@ def plot_model_damping_ratios(results: dict, measured=None, comparisons: dict | 
     return ax
 
 
-def plot_phase_drift(comparisons: dict, ax=None):
+def plot_phase_drift(comparisons: dict[str, ModelComparison], ax: Axes | None = None) -> Axes:
     """Phase drift of each model's negative peaks against the measurement [rad]."""
     ax = _axes(ax)
     for label, c in comparisons.items():
@@ -86,7 +118,7 @@ def plot_phase_drift(comparisons: dict, ax=None):
     return ax
 
 
-def plot_design_landscape(study, ax=None):
+def plot_design_landscape(study: DesignStudyResult, ax: Axes | None = None) -> Axes:
     """Objective over the design variables of a design study
     (:class:`~pdamper.design.DesignStudyResult`); infeasible designs as grey crosses,
     failed ones as red crosses, the best as a star, the designs on the Pareto front of
@@ -103,90 +135,112 @@ def plot_design_landscape(study, ax=None):
     ylabel = {"amplitude-at": f"amplitude at t = {study.at:g} s [mm]",
               "settling-time": "settling time [s]",
               "mean-damping": "mean damping ratio [-]"}[study.objective.name]
-
-    def coord(v, c):
-        value = c.design[v.name]
-        if v.kind == "categorical":
-            return float(list(v.values).index(value)) if v.values else 0.0
-        return value * 1e3 if v.kind == "continuous" else float(value)
-
-    def axis_label(v):
-        return {"particles": "particle count n_p", "radius": "sphere radius [mm]",
-                "container_length": "container length [mm]",
-                "container_width": "container width [mm]",
-                "container_depth": "container depth [mm]",
-                "particle_material": "particle material"}[v.name]
-
-    ok = [c for c in study.candidates if c.status == "ok"]
-    bad = [c for c in study.candidates if c.status != "ok"]
-    v0 = study.variables[0]
     if len(names) == 1:
-        pts = sorted(ok, key=lambda c: coord(v0, c))
-        line, = ax.plot([coord(v0, c) for c in pts], [c.objective * unit for c in pts], "o-",
-                        label="designs")
-        if pts and all("objective_min" in c.extra for c in pts):  # realisations: their band
-            ax.fill_between([coord(v0, c) for c in pts],
-                            [c.extra["objective_min"] * unit for c in pts],
-                            [c.extra["objective_max"] * unit for c in pts],
-                            color=line.get_color(), alpha=0.25, lw=0,
-                            label="min-max of the realisations (line: their mean)")
-        if bad:
-            y0 = min((c.objective * unit for c in ok), default=0.0)
-            for status, color in (("infeasible", "0.5"), ("failed", "r")):
-                sel = [c for c in bad if c.status == status]
-                if sel:
-                    ax.plot([coord(v0, c) for c in sel], [y0] * len(sel), "x", color=color,
-                            label=status)
-        if study.best is not None:
-            ax.plot([coord(v0, study.best)], [study.best.objective * unit], "r*", ms=14,
-                    label=f"best: {_describe(study.best, names)}")
-        front, light = study.front, study.lightest_within
-        if front:
-            ax.plot([coord(v0, c) for c in front], [c.objective * unit for c in front], "o",
-                    ms=11, mfc="none", mec="k", label="Pareto front (mass vs objective)")
-        if light is not None:
-            ax.plot([coord(v0, light)], [light.objective * unit], "gD", ms=9,
-                    label=f"lightest within {study.tolerance * 100:g} %: "
-                          f"{_describe(light, names)}")
-        ax.set_xlabel(axis_label(v0))
-        ax.set_ylabel(ylabel)
+        _landscape_of_one(ax, study, names, unit, ylabel)
     else:
-        v1 = study.variables[1]
-        if ok:
-            m = ax.scatter([coord(v0, c) for c in ok], [coord(v1, c) for c in ok],
-                           c=[c.objective * unit for c in ok], cmap="viridis_r"
-                           if study.objective.sense == "min" else "viridis", s=60,
-                           edgecolors="k", linewidths=0.3)
-            ax.figure.colorbar(m, ax=ax, label=ylabel)
-        for status, color in (("infeasible", "0.5"), ("failed", "r")):
-            sel = [c for c in bad if c.status == status]
-            if sel:
-                ax.plot([coord(v0, c) for c in sel], [coord(v1, c) for c in sel], "x",
-                        color=color, label=status)
-        if study.best is not None:
-            ax.plot([coord(v0, study.best)], [coord(v1, study.best)], "r*", ms=16,
-                    label=f"best: {_describe(study.best, names)}")
-        front, light = study.front, study.lightest_within
-        if front:
-            ax.plot([coord(v0, c) for c in front], [coord(v1, c) for c in front], "o", ms=13,
-                    mfc="none", mec="k", label="Pareto front (mass vs objective)")
-        if light is not None:
-            ax.plot([coord(v0, light)], [coord(v1, light)], "gD", ms=9,
-                    label=f"lightest within {study.tolerance * 100:g} %: "
-                          f"{_describe(light, names)}")
-        for v, setter in ((v0, ax.set_xticks), (v1, ax.set_yticks)):
-            if v.kind == "categorical":
-                setter(range(len(v.values)), list(v.values))
-        ax.set_xlabel(axis_label(v0))
-        ax.set_ylabel(axis_label(v1))
-        if len(names) > 2:
-            ax.set_title(f"{len(names) - 2} more variable(s) not shown on the axes",
-                         fontsize="small")
+        _landscape_of_two(ax, study, names, unit, ylabel)
     ax.legend(fontsize="x-small")
     return ax
 
 
-def _describe(c, names) -> str:
+def _coord(v: DesignVariable, c: DesignCandidate) -> float:
+    """The axis coordinate of design ``c`` along ``v`` (mm, a count, a material's index)."""
+    value = c.design[v.name]
+    if v.kind == "categorical":
+        return float(list(v.values).index(value)) if v.values else 0.0
+    return value * 1e3 if v.kind == "continuous" else float(value)
+
+
+def _axis_label(v: DesignVariable) -> str:
+    return {"particles": "particle count n_p", "radius": "sphere radius [mm]",
+            "container_length": "container length [mm]",
+            "container_width": "container width [mm]",
+            "container_depth": "container depth [mm]",
+            "particle_material": "particle material"}[v.name]
+
+
+def _objective(c: DesignCandidate) -> float:
+    """The objective of an evaluated (``"ok"``) design, which has one."""
+    assert c.objective is not None
+    return c.objective
+
+
+def _landscape_of_one(ax: Axes, study: DesignStudyResult, names: list[str], unit: float,
+                      ylabel: str) -> None:
+    """One variable: the objective against it, with its realisations' band."""
+    ok = [c for c in study.candidates if c.status == "ok"]
+    bad = [c for c in study.candidates if c.status != "ok"]
+    v0 = study.variables[0]
+    pts = sorted(ok, key=lambda c: _coord(v0, c))
+    line, = ax.plot([_coord(v0, c) for c in pts], [_objective(c) * unit for c in pts], "o-",
+                    label="designs")
+    if pts and all("objective_min" in c.extra for c in pts):  # realisations: their band
+        ax.fill_between([_coord(v0, c) for c in pts],
+                        [c.extra["objective_min"] * unit for c in pts],
+                        [c.extra["objective_max"] * unit for c in pts],
+                        color=line.get_color(), alpha=0.25, lw=0,
+                        label="min-max of the realisations (line: their mean)")
+    if bad:
+        y0 = min((_objective(c) * unit for c in ok), default=0.0)
+        for status, color in (("infeasible", "0.5"), ("failed", "r")):
+            sel = [c for c in bad if c.status == status]
+            if sel:
+                ax.plot([_coord(v0, c) for c in sel], [y0] * len(sel), "x", color=color,
+                        label=status)
+    if study.best is not None:
+        ax.plot([_coord(v0, study.best)], [_objective(study.best) * unit], "r*", ms=14,
+                label=f"best: {_describe(study.best, names)}")
+    front, light = study.front, study.lightest_within
+    if front:
+        ax.plot([_coord(v0, c) for c in front], [_objective(c) * unit for c in front], "o",
+                ms=11, mfc="none", mec="k", label="Pareto front (mass vs objective)")
+    if light is not None:
+        ax.plot([_coord(v0, light)], [_objective(light) * unit], "gD", ms=9,
+                label=f"lightest within {study.tolerance * 100:g} %: "
+                      f"{_describe(light, names)}")
+    ax.set_xlabel(_axis_label(v0))
+    ax.set_ylabel(ylabel)
+
+
+def _landscape_of_two(ax: Axes, study: DesignStudyResult, names: list[str], unit: float,
+                      ylabel: str) -> None:
+    """Two or more variables: the first two as axes, the objective as colour."""
+    ok = [c for c in study.candidates if c.status == "ok"]
+    bad = [c for c in study.candidates if c.status != "ok"]
+    v0, v1 = study.variables[0], study.variables[1]
+    if ok:
+        m = ax.scatter([_coord(v0, c) for c in ok], [_coord(v1, c) for c in ok],
+                       c=[_objective(c) * unit for c in ok], cmap="viridis_r"
+                       if study.objective.sense == "min" else "viridis", s=60,
+                       edgecolors="k", linewidths=0.3)
+        ax.figure.colorbar(m, ax=ax, label=ylabel)
+    for status, color in (("infeasible", "0.5"), ("failed", "r")):
+        sel = [c for c in bad if c.status == status]
+        if sel:
+            ax.plot([_coord(v0, c) for c in sel], [_coord(v1, c) for c in sel], "x",
+                    color=color, label=status)
+    if study.best is not None:
+        ax.plot([_coord(v0, study.best)], [_coord(v1, study.best)], "r*", ms=16,
+                label=f"best: {_describe(study.best, names)}")
+    front, light = study.front, study.lightest_within
+    if front:
+        ax.plot([_coord(v0, c) for c in front], [_coord(v1, c) for c in front], "o", ms=13,
+                mfc="none", mec="k", label="Pareto front (mass vs objective)")
+    if light is not None:
+        ax.plot([_coord(v0, light)], [_coord(v1, light)], "gD", ms=9,
+                label=f"lightest within {study.tolerance * 100:g} %: "
+                      f"{_describe(light, names)}")
+    for v, setter in ((v0, ax.set_xticks), (v1, ax.set_yticks)):
+        if v.kind == "categorical" and v.values is not None:  # (a categorical has values)
+            setter(range(len(v.values)), list(v.values))
+    ax.set_xlabel(_axis_label(v0))
+    ax.set_ylabel(_axis_label(v1))
+    if len(names) > 2:
+        ax.set_title(f"{len(names) - 2} more variable(s) not shown on the axes",
+                     fontsize="small")
+
+
+def _describe(c: DesignCandidate, names: list[str]) -> str:
     parts = []
     for n in names:
         v = c.design[n]
@@ -194,7 +248,7 @@ def _describe(c, names) -> str:
     return ", ".join(parts)
 
 
-def plot_mode_study(study, ax=None):
+def plot_mode_study(study: ModeCountStudy, ax: Axes | None = None) -> Axes:
     """Amplitude at T against the number of retained modes, one line per damper position
     (a :class:`~pdamper.coupling.modal.ModeCountStudy`)."""
     ax = _axes(ax)
@@ -210,7 +264,7 @@ def plot_mode_study(study, ax=None):
     return ax
 
 
-def plot_trajectory_band(band, ax=None, label: str | None = None):
+def plot_trajectory_band(band: _Band, ax: Axes | None = None, label: str | None = None) -> Axes:
     """End-effector trajectory of N realisations as a band (Fig. 7): the mean of the
     sampled trajectories as a line, their pointwise min-max shaded, and the amplitude at
     ``band.at`` as a point with its min-max bar (drawn at -X, on the negative peaks' side).
@@ -237,7 +291,8 @@ def plot_trajectory_band(band, ax=None, label: str | None = None):
     return ax
 
 
-def plot_damping_ratio_band(band, ax=None, label: str | None = None):
+def plot_damping_ratio_band(band: _Band, ax: Axes | None = None,
+                            label: str | None = None) -> Axes:
     """Damping ratio per amplitude of N realisations (Fig. 8): the mean line over the
     amplitudes every realisation covers, the min-max of the realisations shaded."""
     ax = _axes(ax)

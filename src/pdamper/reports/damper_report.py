@@ -358,6 +358,7 @@ def figures(rep: DamperReport) -> list[ReportFigure]:
     out.append(ReportFigure("free_decay", "free decay and damping ratio, the models compared",
                             _png(fig)))
     fig = Figure(figsize=(8, 5.2), layout="constrained")
+    assert rep.study is not None  # the report always runs its design study
     plots.plot_design_landscape(rep.study, ax=fig.subplots())
     out.append(ReportFigure("design_landscape", "design landscape (analytical model) with the "
                             "Pareto front of added mass against the objective", _png(fig)))

@@ -27,16 +27,17 @@ import json
 import logging
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, TypeVar, cast
 
 import numpy as np
 
-from pdamper.analysis.analytical import bed_response, bed_trajectory
+from pdamper.analysis.analytical import BedTrajectory, bed_response, bed_trajectory
 from pdamper.analysis.fields import effective_field, field_agreement
 from pdamper.analysis.modes import PAPER_MODES, MotionMode
-from pdamper.contact.restitution import ConstantRestitution
+from pdamper.contact.restitution import ConstantRestitution, RestitutionCurve
 from pdamper.coupling import FreeVibrationResult, Simulation
 from pdamper.design.optimize import OptimizationResult, optimize_particle_count
 from pdamper.design.study import lightest_within
@@ -45,6 +46,23 @@ from pdamper.files import atomic_write_bytes, atomic_write_netcdf, atomic_write_
 from pdamper.models import AnalyticalDamper, EffectiveFieldDamper
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.reports.html import ReportFigure, render_report
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+    from xarray import Dataset
+
+    from pdamper.damper import ParticleDamper
+    from pdamper.dem.impacts import ImpactCheck
+    from pdamper.dem.result import DEMResult
+    from pdamper.io.scenario import Scenario
+    from pdamper.models.base import DamperModel
+    from pdamper.models.dem import DEMDamper
+    from pdamper.reports.maps import MapRun
+    from pdamper.reports.realisations import Level3Band
+    from pdamper.structure import SingleDOFStructure
+    from pdamper.structure.modal import ModalStructure
+
+_T = TypeVar("_T")
 
 logger = logging.getLogger(__name__)
 
@@ -78,7 +96,7 @@ class Row:
             self.agrees = bool(self.agrees)
 
 
-def _row(key: str, ours: str, value, **fmt) -> Row:
+def _row(key: str, ours: str, value: Any, **fmt: Any) -> Row:
     """The table row of the paper's number ``key`` with our ``value`` (shown as ``ours``);
     ``value`` None: not computable here (no verdict)."""
     r = paper.REPORTED[key]
@@ -91,20 +109,20 @@ class CaseStudy:
     """Everything the case study computed."""
 
     rows: list[Row] = field(default_factory=list)
-    field_map: object = None  # xarray.Dataset
-    trajectories: list = field(default_factory=list)
+    field_map: Dataset | None = None
+    trajectories: list[tuple[str, BedTrajectory]] = field(default_factory=list)
     run_32: FreeVibrationResult | None = None
     run_empty: FreeVibrationResult | None = None
     run_best: FreeVibrationResult | None = None
     run_dem: FreeVibrationResult | None = None
-    dem_map: object = None  # xarray.Dataset of the DEM on its grid
-    analytic_on_dem_grid: object = None
-    dem_map_run: object = None  # pdamper.reports.maps.MapRun
+    dem_map: Dataset | None = None  # the DEM on its grid
+    analytic_on_dem_grid: Dataset | None = None
+    dem_map_run: MapRun | None = None
     agreement: dict = field(default_factory=dict)
-    snapshots: list = field(default_factory=list)  # (label, DEMResult)
+    snapshots: list[tuple[str, DEMResult]] = field(default_factory=list)
     run_dem_curves: FreeVibrationResult | None = None
-    cor_checks: list = field(default_factory=list)
-    damper: object = None
+    cor_checks: list[ImpactCheck] = field(default_factory=list)
+    damper: ParticleDamper | None = None
     run_fields: FreeVibrationResult | None = None
     fields_source: str = ""
     #: why model 2 fell back to the analytical map (the DEM map's error), or ""
@@ -115,7 +133,7 @@ class CaseStudy:
     #: Wall time of each step and of each Level III model's run [s].
     timings: dict = field(default_factory=dict)
     #: DEM model 1 from random packings (:class:`pdamper.reports.realisations.Level3Band`)
-    dem_band: object = None
+    dem_band: Level3Band | None = None
 
     def models(self) -> list[dict]:
         """The Level III runs of Figs. 7/8 (and the no-particle envelope) for the tables."""
@@ -144,9 +162,10 @@ class CaseStudy:
             at = b.at >= t_cmp * (1.0 - 1e-9)
             band = (f"; at 0.75 s std {a['std'] * 1e3:.2f} mm, min {a['min'] * 1e3:.2f}, "
                     f"max {a['max'] * 1e3:.2f} mm" if at else "")
+            seeds = _need(b.seeds, "seeds of the random packings")
             out.append({"label": f"DEM (model 1), mean of {b.count} random packings",
                         "model": b.model,
-                        "source": f"DEM co-simulation, seeds {b.seeds[0]}-{b.seeds[-1]}"
+                        "source": f"DEM co-simulation, seeds {seeds[0]}-{seeds[-1]}"
                                   + band,
                         "amplitude_0p75": a["mean"] if at else None,
                         "amplitude_0p75_band": {k: a[k] for k in ("std", "min", "max")}
@@ -156,7 +175,16 @@ class CaseStudy:
         return out
 
 
-def _fields_model(sc, cs: CaseStudy, damper):
+def _need(value: _T | None, what: str) -> _T:
+    """``value``, which :func:`run_case_study` always sets (a CaseStudy made otherwise may
+    lack it)."""
+    if value is None:
+        raise ValueError(f"the case study has no {what}; make it with run_case_study")
+    return value
+
+
+def _fields_model(sc: Scenario, cs: CaseStudy,
+                  damper: ParticleDamper) -> tuple[DamperModel, str]:
     """Model 2 for Figs. 7/8 and a description of its map (module docstring)."""
     if sc.fields.file is not None:
         return sc.model("fields", damper), f"map {sc.fields.file}"
@@ -175,7 +203,8 @@ def _fields_model(sc, cs: CaseStudy, damper):
         f"{what}, clamped at its edges"
 
 
-def _timed(cs: CaseStudy, key: str, fn):
+def _timed(cs: CaseStudy, key: str, fn: Callable[[], _T]) -> _T:
+    """``fn()``, its wall time [s] recorded in ``cs.timings[key]``."""
     t0 = time.perf_counter()
     out = fn()
     cs.timings[key] = time.perf_counter() - t0
@@ -190,7 +219,7 @@ def _zeta_at(res: FreeVibrationResult, amplitude: float) -> tuple[float, float]:
 
 
 def _amplitude_row(key: str, res: FreeVibrationResult, t: float, extra: str = "",
-                   **fmt) -> Row:
+                   **fmt: Any) -> Row:
     """Amplitude envelope at ``t`` [s], or no verdict if the run ends before ``t``."""
     if res.time[-1] < t * (1.0 - 1e-9):
         return _row(key, f"n/a (the run ends at {res.time[-1]:g} s)", None, **fmt)
@@ -198,10 +227,11 @@ def _amplitude_row(key: str, res: FreeVibrationResult, t: float, extra: str = ""
     return _row(key, f"{a * 1e3:.1f} mm{extra}", a, **fmt)
 
 
-def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
+def run_case_study(scenario: Scenario | None = None,
+                   progress: Callable[[str], None] | None = None,
                    dem: bool = True, out: Path | None = None,
                    map_progress: Callable | None = None, realisations: int = 1,
-                   **sweep_options) -> CaseStudy:
+                   **sweep_options: Any) -> CaseStudy:
     """Compute the paper's case study for ``scenario`` (default: the paper's case).
 
     The scenario sets the damper, the structure, the release, the duration of Figs. 7/8,
@@ -218,22 +248,45 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     from pdamper.io.scenario import Scenario
 
     sc = Scenario() if scenario is None else scenario
-    say = progress or (lambda _msg: None)
-    damper, structure = sc.damper(), sc.structure_model()
-    if hasattr(structure, "equivalent_single_dof"):  # [structure] modes or beam
-        if structure.modes != 1 or not structure.coincident:
-            raise InputError("structure", f"the paper's case study is on a 1-DOF structure "
-                             f"(Eq. 23); this one has {structure.modes} mode(s) (use "
-                             "`pdamper simulate` or `optimize` for N modes)")
-        structure = structure.equivalent_single_dof()
-    x0, duration, at = sc.structure.initial_displacement, sc.simulation.duration, sc.optimization.at
+    say: Callable[[str], None] = progress or (lambda _msg: None)
+    damper, structure = sc.damper(), _single_dof(sc.structure_model())
+    x0, duration = sc.structure.initial_displacement, sc.simulation.duration
     cs = CaseStudy(inputs=sc.model_dump(mode="json"), damper=damper)
+    _level2_rows(cs, sc, damper, say)
+    if dem:
+        _dem_map(cs, sc, damper, say, out, map_progress, sweep_options)
+    _level3_runs(cs, sc, damper, structure, x0, duration, say)
+    _level3_rows(cs, damper, structure)
+    if dem:
+        _dem_rows(cs, sc, damper, structure, x0, duration, say)
+        if realisations > 1:
+            _dem_band(cs, sc, realisations, say, sweep_options)
+    _optimisation_rows(cs, sc, damper, structure, x0, duration, say)
+    return cs
+
+
+def _single_dof(structure: SingleDOFStructure | ModalStructure) -> SingleDOFStructure:
+    """The 1-DOF structure of Eq. (23) the case study is on; a ``[structure] modes`` or
+    ``beam`` structure of one mode gives its equivalent, one of several is refused."""
+    from pdamper.structure.modal import ModalStructure
+
+    if not isinstance(structure, ModalStructure):
+        return structure
+    if structure.modes != 1 or not structure.coincident:
+        raise InputError("structure", f"the paper's case study is on a 1-DOF structure "
+                         f"(Eq. 23); this one has {structure.modes} mode(s) (use "
+                         "`pdamper simulate` or `optimize` for N modes)")
+    return structure.equivalent_single_dof()
+
+
+def _level2_rows(cs: CaseStudy, sc: Scenario, damper: ParticleDamper,
+                 say: Callable[[str], None]) -> None:
+    """Fig. 4's bed trajectories and the analytical Fig. 5a/5c map with its rows."""
     rows = cs.rows
     h = damper.clearance
-
     say("Fig. 4: bed trajectories")
-    for x, f, _mode, case in paper.FIG4_EXAMPLES:
-        tr = bed_trajectory(f, x, h)
+    for x_fig4, f_fig4, _mode, case in paper.FIG4_EXAMPLES:
+        tr = bed_trajectory(f_fig4, x_fig4, h)
         cs.trajectories.append((case, tr))
         rows.append(_row(f"fig4_{case}", tr.mode.title, tr.mode))
 
@@ -265,9 +318,12 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     i, j = np.unravel_index(np.argmax(eta), eta.shape)
     rows.append(_row("eta_max_grid", f"{eta[i, j]:.3f} at X = {xs[j] * 1e3:.1f} mm, "
                      f"f = {f[i]:.1f} Hz", float(eta[i, j]), grid=grid))
-    if dem:
-        _dem_map(cs, sc, damper, say, out, map_progress, sweep_options)
 
+
+def _level3_runs(cs: CaseStudy, sc: Scenario, damper: ParticleDamper,
+                 structure: SingleDOFStructure, x0: float, duration: float,
+                 say: Callable[[str], None]) -> None:
+    """Figs. 7/8: the free vibration with models 3 and 2, and without particles."""
     say("Fig. 7/8: free vibration, no particles and the scenario's damper")
     cs.run_32 = _timed(cs, "model 3", lambda: Simulation(structure, AnalyticalDamper(damper),
                                                           x0).run(duration))
@@ -292,34 +348,41 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     cs.run_empty = _timed(cs, "no particles", lambda: Simulation(
         structure, AnalyticalDamper(damper.with_count(0)), x0).run(
         max(duration, paper.PAPER_DURATION)))
-    rows.append(_row("eigenfrequency", f"{structure.natural_frequency:.2f} Hz",
-                     structure.natural_frequency))
+
+
+def _level3_rows(cs: CaseStudy, damper: ParticleDamper, structure: SingleDOFStructure) -> None:
+    """The structure's rows (Eq. 23, the beam, no particles) and those of model 3."""
     from pdamper.structure.beam import modal_reduction
 
+    rows = cs.rows
+    run_32, run_empty = _need(cs.run_32, "model 3 run"), _need(cs.run_empty, "empty run")
+    rows.append(_row("eigenfrequency", f"{structure.natural_frequency:.2f} Hz",
+                     structure.natural_frequency))
     fe = modal_reduction(*paper.paper_beam())
     rows.append(_row("beam_eigenfrequency", f"{fe.natural_frequency:.2f} Hz (M = {fe.mass:.3f} "
                      f"kg, K = {fe.stiffness:.0f} N/m)", fe.natural_frequency))
-    z0 = float(np.mean(cs.run_empty.damping_ratio[1]))
+    z0 = float(np.mean(run_empty.damping_ratio[1]))
     rows.append(_row("undamped_zeta", f"{z0:.4f}", z0))
-    rows.append(_amplitude_row("undamped_amplitude_2s", cs.run_empty, paper.PAPER_DURATION))
+    rows.append(_amplitude_row("undamped_amplitude_2s", run_empty, paper.PAPER_DURATION))
     x_min = structure.min_amplitude(damper.bed_mass)
     rows.append(_row("x_min", f"{x_min * 1e3:.2f} mm", x_min))
     for key, target in (("zeta_53mm", 0.053), ("zeta_41mm", 0.041)):
-        z, a = _zeta_at(cs.run_32, target)
+        z, a = _zeta_at(run_32, target)
         rows.append(_row(key, f"{z:.4f} at {a * 1e3:.1f} mm", z))
-    first_single = next((c for c in cs.run_32.cycles
+    first_single = next((c for c in run_32.cycles
                          if c.mode is not MotionMode.DOUBLE_CAC_HARMONIC), None)
     if first_single is not None:
         rows.append(_row("cac_switch", f"at {first_single.amplitude * 1e3:.1f} mm",
                          first_single.amplitude))
-    t_cmp = paper.PAPER_COMPARISON_TIME
-    rows.append(_amplitude_row("amplitude_32_0p75s", cs.run_32, t_cmp))
+    rows.append(_amplitude_row("amplitude_32_0p75s", run_32, paper.PAPER_COMPARISON_TIME))
 
-    if dem:
-        _dem_rows(cs, sc, damper, structure, x0, duration, say)
-        if realisations > 1:
-            _dem_band(cs, sc, realisations, say, sweep_options)
 
+def _optimisation_rows(cs: CaseStudy, sc: Scenario, damper: ParticleDamper,
+                       structure: SingleDOFStructure, x0: float, duration: float,
+                       say: Callable[[str], None]) -> None:
+    """Sect. 4.2.2 / Fig. 9: the particle count's optimisation and the paper's optimum."""
+    at = sc.optimization.at
+    rows = cs.rows
     say("Sect. 4.2.2: optimisation of the particle count")
     opt = _timed(cs, "optimisation", lambda: optimize_particle_count(
         structure, damper, x0, at, step=sc.optimization.step))
@@ -331,19 +394,20 @@ def run_case_study(scenario=None, progress: Callable[[str], None] | None = None,
     within = ("" if ref is None else
               f"; {n_paper} within {(ref.objective / opt.best.objective - 1) * 100:.0f} %")
     tol = sc.optimization.tolerance  # the mass-aware rule of `pdamper optimize`
-    light = lightest_within(opt.candidates, opt.best, tol)
+    light = _need(lightest_within(opt.candidates, opt.best, tol), "lightest design")
     within += f"; lightest within {tol * 100:g} %: {light.particles} ({light.mass * 1e3:.0f} g)"
     rows.append(_row("optimal_count", f"{opt.best.particles} ({opt.best.mass * 1e3:.0f} g)"
                      + within, opt.best.particles, at=f"{at:g}"))
     best = damper.with_count(min(n_paper, damper.max_count))
     cs.best_count = best.count
     cs.run_best = Simulation(structure, AnalyticalDamper(best), x0).run(duration)
-    rows.append(_amplitude_row("amplitude_64_0p75s", cs.run_best, t_cmp))
+    rows.append(_amplitude_row("amplitude_64_0p75s", cs.run_best, paper.PAPER_COMPARISON_TIME))
     rows.append(_row("bed_mass_64", f"{best.bed_mass * 1e3:.0f} g", best.bed_mass))
-    return cs
 
 
-def _dem_map(cs: CaseStudy, sc, damper, say, out, map_progress, sweep_options) -> None:
+def _dem_map(cs: CaseStudy, sc: Scenario, damper: ParticleDamper,
+             say: Callable[[str], None], out: Path | None, map_progress: Callable | None,
+             sweep_options: dict[str, Any]) -> None:
     """Fig. 5b/5d from the DEM, its agreement rows, and the Fig. 3 snapshots."""
     from pdamper.dem import warmup
     from pdamper.reports.maps import run_map
@@ -360,7 +424,7 @@ def _dem_map(cs: CaseStudy, sc, damper, say, out, map_progress, sweep_options) -
     run = run_map(sc, "dem", frequency=fd, amplitude=xd, out=cache, cache=True,
                   progress=map_progress, **sweep_options)
     cs.dem_map_run = run
-    cs.dem_map = ds = run.dataset
+    cs.dem_map = ds = cast("Dataset", run.dataset)  # a map run holds its field's Dataset
     cs.analytic_on_dem_grid = ana = effective_field(AnalyticalDamper(damper), fd, xd)
     cs.agreement = agr = field_agreement(ds, ana)
     rows = cs.rows
@@ -388,19 +452,26 @@ def _dem_map(cs: CaseStudy, sc, damper, say, out, map_progress, sweep_options) -
     else:
         rows.append(_row("dem_eta_xopt", "no DEM result at f >= 8 Hz near X_opt", None))
     say("Fig. 3: DEM snapshots over one cycle")
-    model = sc.map_model("dem", damper)  # as the DEM map: a steady cycle, the map's packing
+    # as the DEM map: a steady cycle, the map's packing (the "dem" fidelity's DEMDamper)
+    model = cast("DEMDamper", sc.map_model("dem", damper))
     for label, f, x in FIG3_POINTS:
-        snap = model.with_damper(damper)  # a copy, recording 24 snapshots per cycle
-        snap.snapshot_rate = 24.0 * f
+        snap = model.clone(snapshot_rate=24.0 * f)  # a copy, 24 snapshots per cycle
         try:
             cs.snapshots.append((label, snap.run(f, x)))
         except SimulationError as exc:
             logger.warning("Fig. 3 %s: %s", label, exc)
 
 
-def _cor_text(damper) -> str:
+def _cor_curves(damper: ParticleDamper) -> tuple[RestitutionCurve, RestitutionCurve]:
+    """The sphere-sphere and sphere-wall COR curves of the case study's damper (the
+    scenario's damper has both)."""
+    return (_need(damper.restitution_pp, "sphere-sphere COR"),
+            _need(damper.restitution_pw, "sphere-wall COR"))
+
+
+def _cor_text(damper: ParticleDamper) -> str:
     """The COR models of a damper, for row labels."""
-    pp, pw = damper.restitution_pp, damper.restitution_pw
+    pp, pw = _cor_curves(damper)
     if (pp, pw) == (paper.PAPER_COR_PP, paper.PAPER_COR_PW):
         return "the paper's COR curves"
     if isinstance(pp, ConstantRestitution) and isinstance(pw, ConstantRestitution):
@@ -408,7 +479,9 @@ def _cor_text(damper) -> str:
     return f"COR {pp.describe()} / {pw.describe()}"
 
 
-def _dem_rows(cs: CaseStudy, sc, damper, structure, x0: float, duration: float, say) -> None:
+def _dem_rows(cs: CaseStudy, sc: Scenario, damper: ParticleDamper,
+              structure: SingleDOFStructure, x0: float, duration: float,
+              say: Callable[[str], None]) -> None:
     """Fig. 2 check and DEM model 1 with the scenario's COR and with the paper's curves."""
     from pdamper.dem.impacts import check_restitution
     from pdamper.materials import PVC, S235
@@ -423,7 +496,7 @@ def _dem_rows(cs: CaseStudy, sc, damper, structure, x0: float, duration: float, 
                         f"{len(v)} speeds each)", worst))
 
     t_cmp = paper.PAPER_COMPARISON_TIME
-    a75 = cs.run_32.amplitude_at(t_cmp)
+    a75 = _need(cs.run_32, "model 3 run").amplitude_at(t_cmp)
     curves = damper.with_restitution(paper.PAPER_COR_PP, paper.PAPER_COR_PW)
     cor = _cor_text(damper)
     say(f"Fig. 7/8: DEM model 1, {cor}")
@@ -445,7 +518,7 @@ def _dem_rows(cs: CaseStudy, sc, damper, structure, x0: float, duration: float, 
             cs.rows.append(_row(key, f"{z:.4f} at {a * 1e3:.1f} mm", z, cor=cor))
 
 
-def band_scenario(sc):
+def band_scenario(sc: Scenario) -> Scenario:
     """The scenario of DEM model 1's realisations: ``sc`` from a random packing (the
     lattice is one realisation), the band's amplitude at the paper's comparison time
     (the end of a shorter run)."""
@@ -455,7 +528,8 @@ def band_scenario(sc):
         "optimization": sc.optimization.model_copy(update={"at": at})})
 
 
-def _dem_band(cs: CaseStudy, sc, n: int, say, sweep_options) -> None:
+def _dem_band(cs: CaseStudy, sc: Scenario, n: int, say: Callable[[str], None],
+              sweep_options: dict[str, Any]) -> None:
     """DEM model 1 from ``n`` random packings on the sweep engine (:func:`band_scenario`)."""
     from pdamper.reports.realisations import run_level3_realisations
 
@@ -478,34 +552,36 @@ def _markdown(rows: list[Row]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _dem_runs(cs: CaseStudy) -> list:
+def _dem_runs(cs: CaseStudy) -> list[tuple[str, FreeVibrationResult]]:
     """The DEM (model 1) runs with their labels: the paper's curves and the scenario's COR."""
     runs = []
     if cs.run_dem_curves is not None:
         runs.append(("DEM (model 1), paper's COR curves", cs.run_dem_curves))
     if cs.run_dem is not None and cs.run_dem is not cs.run_dem_curves:
-        runs.append((f"DEM (model 1), {_cor_text(cs.damper)}", cs.run_dem))
+        runs.append((f"DEM (model 1), {_cor_text(_need(cs.damper, 'damper'))}", cs.run_dem))
     return runs
 
 
-def _fig2(cs: CaseStudy):
+def _fig2(cs: CaseStudy) -> Figure:
     """Fig. 2: material table (left) and COR curves (right), with the single DEM impacts."""
     from matplotlib.figure import Figure
 
     from pdamper import plots
 
-    d = cs.damper
+    d = _need(cs.damper, "damper")
+    pp, pw = _cor_curves(d)
     fig = Figure(figsize=(12, 4.5), layout="constrained")
     a1, a2 = fig.subplots(1, 2, width_ratios=(1, 1.5))
     plots.plot_material_table({"sphere": d.particle_material, "wall": d.wall_material}, ax=a1,
                               friction=d.friction)
     a1.set_title("Fig. 2-left: material data (scenario)", fontsize="medium")
-    curves = [("sphere-sphere, paper (reconstructed)", paper.PAPER_COR_PP),
-              ("sphere-wall, paper (reconstructed)", paper.PAPER_COR_PW)]
+    curves: list[tuple[str, RestitutionCurve]] = [
+        ("sphere-sphere, paper (reconstructed)", paper.PAPER_COR_PP),
+        ("sphere-wall, paper (reconstructed)", paper.PAPER_COR_PW)]
     styles = ["-", "-"]
-    if (d.restitution_pp, d.restitution_pw) != (paper.PAPER_COR_PP, paper.PAPER_COR_PW):
-        curves += [(f"sphere-sphere, scenario: {d.restitution_pp.describe()}", d.restitution_pp),
-                   (f"sphere-wall, scenario: {d.restitution_pw.describe()}", d.restitution_pw)]
+    if (pp, pw) != (paper.PAPER_COR_PP, paper.PAPER_COR_PW):
+        curves += [(f"sphere-sphere, scenario: {pp.describe()}", pp),
+                   (f"sphere-wall, scenario: {pw.describe()}", pw)]
         styles += ["--", "--"]
     points = {f"DEM single impacts, {c.pair}": (c.velocity, c.cor_simulated)
               for c in cs.cor_checks}
@@ -515,7 +591,7 @@ def _fig2(cs: CaseStudy):
     return fig
 
 
-def _figures(cs: CaseStudy):
+def _figures(cs: CaseStudy) -> Iterator[tuple[str, Figure]]:
     """The case study's figures as ``(file name, matplotlib Figure)``; no pyplot state."""
     from matplotlib.figure import Figure
 
@@ -530,21 +606,23 @@ def _figures(cs: CaseStudy):
         x = float(tr.response.amplitude)
         ax.set_title(f"{case}: X = {x * 1e3:g} mm, f = {f:g} Hz", fontsize="medium")
     yield "fig4_trajectories.png", fig
-    n = cs.field_map.attrs.get("particle_count", "")
+    field_map = _need(cs.field_map, "analytical map")
+    run_32, run_empty = _need(cs.run_32, "model 3 run"), _need(cs.run_empty, "empty run")
+    n = field_map.attrs.get("particle_count", "")
     fig = Figure(figsize=(7, 5), layout="constrained")
-    ax = plots.plot_mode_map(cs.field_map, ax=fig.subplots())
+    ax = plots.plot_mode_map(field_map, ax=fig.subplots())
     ax.set_title(f"Fig. 5a: motion modes (analytical), {n} spheres")
     yield "fig5a_motion_modes.png", fig
     fig = Figure(figsize=(7, 5), layout="constrained")
-    ax = plots.plot_loss_factor_map(cs.field_map, ax=fig.subplots())
+    ax = plots.plot_loss_factor_map(field_map, ax=fig.subplots())
     ax.set_title(f"Fig. 5c: effective loss factor (analytical), {n} spheres")
     yield "fig5c_loss_factor.png", fig
     if cs.dem_map is not None:
         yield from _dem_figures(cs, n)
     fig = Figure(figsize=(9, 4), layout="constrained")
     ax = fig.subplots()
-    plots.plot_free_vibration(cs.run_32, ax=ax, label=f"analytical (model 3), {n} spheres",
-                              envelope=cs.run_empty)
+    plots.plot_free_vibration(run_32, ax=ax, label=f"analytical (model 3), {n} spheres",
+                              envelope=run_empty)
     if cs.run_fields is not None:
         plots.plot_free_vibration(cs.run_fields, ax=ax,
                                   label=f"effective fields (model 2, {cs.fields_source})")
@@ -557,7 +635,7 @@ def _figures(cs: CaseStudy):
     yield "fig7_trajectory.png", fig
     fig = Figure(figsize=(6, 4), layout="constrained")
     ax = fig.subplots()
-    plots.plot_damping_ratio(cs.run_32, ax=ax, label=f"analytical (model 3), {n} spheres")
+    plots.plot_damping_ratio(run_32, ax=ax, label=f"analytical (model 3), {n} spheres")
     if cs.run_fields is not None:
         plots.plot_damping_ratio(cs.run_fields, ax=ax, label="effective fields (model 2)")
     for label, run in _dem_runs(cs):
@@ -569,21 +647,22 @@ def _figures(cs: CaseStudy):
     yield "fig8_damping_ratio.png", fig
     fig = Figure(figsize=(12, 4), layout="constrained")
     a1, a2 = fig.subplots(1, 2)
-    plots.plot_optimization(cs.optimization, ax=a1)
+    plots.plot_optimization(_need(cs.optimization, "optimisation"), ax=a1)
     a1.set_title("Sect. 4.2.2: objective landscape")
-    plots.plot_free_vibration(cs.run_best, ax=a2, label=f"analytical, {cs.best_count} spheres",
-                              envelope=cs.run_empty)
+    plots.plot_free_vibration(_need(cs.run_best, "paper optimum's run"), ax=a2,
+                              label=f"analytical, {cs.best_count} spheres", envelope=run_empty)
     a2.set_title("Fig. 9: optimised damper")
     yield "fig9_optimization.png", fig
 
 
-def _dem_figures(cs: CaseStudy, n):
+def _dem_figures(cs: CaseStudy, n: object) -> Iterator[tuple[str, Figure]]:
     """Fig. 5 a-d, DEM next to analytical on the DEM's grid; their difference; Fig. 3."""
     from matplotlib.figure import Figure
 
     from pdamper import plots
 
-    dem, ana = cs.dem_map, cs.analytic_on_dem_grid
+    dem = _need(cs.dem_map, "DEM map")
+    ana = _need(cs.analytic_on_dem_grid, "analytical map on the DEM grid")
     top = max(4 / math.pi, float(np.nanmax(dem["loss_factor"].values))
               if np.isfinite(dem["loss_factor"].values).any() else 0.0)
     mtop = max(1.0, float(np.nanmax(dem["effective_mass_ratio"].values))
@@ -616,8 +695,8 @@ def _dem_figures(cs: CaseStudy, n):
 
 def _agreement_markdown(cs: CaseStudy) -> str:
     a = cs.agreement
-    run = cs.dem_map_run
-    ds = cs.dem_map
+    run = _need(cs.dem_map_run, "DEM map run")
+    ds = _need(cs.dem_map, "DEM map")
     lines = [f"\n## DEM map against the analytical one ({ds['loss_factor'].shape[0]} x "
              f"{ds['loss_factor'].shape[1]} points)\n",
              f"{a['cells']} cells with a result ({a['steady']} steady), {a['failed']} failed; "
@@ -643,10 +722,33 @@ def write_case_study(cs: CaseStudy, out: Path,
     """
     from pdamper import __version__
 
-    say = progress or (lambda _msg: None)
+    say: Callable[[str], None] = progress or (lambda _msg: None)
     out = Path(out)
-    written: list[Path] = []
     say("writing figures")
+    written, report_figures = _write_figures(cs, out, say)
+    say("writing map and table")
+    field_map = _need(cs.field_map, "analytical map")
+    field_map.attrs["pdamper_version"] = __version__
+    written.append(atomic_write_netcdf(out / "fig5_analytic_map.nc", field_map))
+    if cs.dem_map is not None:
+        written.append(_write_dem_map(cs, cs.dem_map, out))
+    written.append(atomic_write_text(out / "results.md", _results_markdown(cs, __version__)))
+    written.append(atomic_write_text(out / "results.json",
+                                     json.dumps(_results_json(cs, __version__), indent=2)))
+    say("writing report.html")
+    opt = _need(cs.optimization, "optimisation")
+    written.append(atomic_write_text(out / "report.html", render_report(
+        title="pdamper: the reference paper's case study", version=__version__, rows=cs.rows,
+        figures=report_figures, models=cs.models(), timings=cs.timings,
+        landscape=[c.as_dict() for c in opt.candidates], at=opt.at,
+        inputs=cs.inputs)))
+    return written
+
+
+def _write_figures(cs: CaseStudy, out: Path, say: Callable[[str], None]
+                   ) -> tuple[list[Path], list[ReportFigure]]:
+    """Each figure as a PNG in ``out``: the files written and the report's figures."""
+    written: list[Path] = []
     report_figures = []
     for name, fig in _figures(cs):
         say(f"writing {name}")
@@ -656,43 +758,62 @@ def write_case_study(cs: CaseStudy, out: Path,
         written.append(atomic_write_bytes(out / name, png))
         caption = next((ax.get_title() for ax in fig.axes if ax.get_title()), name)
         report_figures.append(ReportFigure(name, caption, png))
-    say("writing map and table")
-    cs.field_map.attrs["pdamper_version"] = __version__
-    written.append(atomic_write_netcdf(out / "fig5_analytic_map.nc", cs.field_map))
-    if cs.dem_map is not None:
-        dem_path = out / DEM_MAP_FILE
-        run = cs.dem_map_run
-        # the map stored (or found) in its cache under the output directory is not written
-        # again: a rerun leaves it untouched
-        stored = (run is not None and run.path is not None and Path(run.path).is_file()
-                  and Path(run.path).name == DEM_MAP_FILE)
-        if not stored:
-            atomic_write_netcdf(dem_path, cs.dem_map)
-        written.append(dem_path)
+    return written, report_figures
+
+
+def _write_dem_map(cs: CaseStudy, dem_map: Dataset, out: Path) -> Path:
+    """The DEM map's file in ``out``, written unless it is the map's own cache there."""
+    dem_path = out / DEM_MAP_FILE
+    run = cs.dem_map_run
+    # the map stored (or found) in its cache under the output directory is not written
+    # again: a rerun leaves it untouched
+    stored = (run is not None and run.path is not None and Path(run.path).is_file()
+              and Path(run.path).name == DEM_MAP_FILE)
+    if not stored:
+        atomic_write_netcdf(dem_path, dem_map)
+    return dem_path
+
+
+def _results_markdown(cs: CaseStudy, version: str) -> str:
+    """``results.md``: the comparison table, the DEM map's agreement, the landscape."""
+    opt = _need(cs.optimization, "optimisation")
     agree = sum(r.agrees is True for r in cs.rows)
-    written.append(atomic_write_text(
-        out / "results.md",
-        "# pdamper: the reference paper's case study\n\n"
-        f"pdamper {__version__}, analytical damper model"
-        + (" and DEM" if cs.dem_map is not None else "")
-        + f". {agree} of {len(cs.rows)} reported numbers agree within the tolerance each row's "
-        "test states (rows without a verdict report a number the paper does not give).\n\n"
-        + _markdown(cs.rows)
-        + (_agreement_markdown(cs) if cs.dem_map is not None else "")
-        + f"\n## Objective landscape (amplitude at {cs.optimization.at:g} s)\n\n"
-        + "| particles | mass [g] | amplitude [mm] |\n|---|---|---|\n"
-        + "".join(f"| {c.particles} | {c.mass * 1e3:.1f} | {c.objective * 1e3:.2f} |\n"
-                  for c in cs.optimization.candidates)))
-    written.append(atomic_write_text(out / "results.json", json.dumps({
-        "version": __version__,
+    return ("# pdamper: the reference paper's case study\n\n"
+            f"pdamper {version}, analytical damper model"
+            + (" and DEM" if cs.dem_map is not None else "")
+            + f". {agree} of {len(cs.rows)} reported numbers agree within the tolerance each "
+            "row's test states (rows without a verdict report a number the paper does not "
+            "give).\n\n"
+            + _markdown(cs.rows)
+            + (_agreement_markdown(cs) if cs.dem_map is not None else "")
+            + f"\n## Objective landscape (amplitude at {opt.at:g} s)\n\n"
+            + "| particles | mass [g] | amplitude [mm] |\n|---|---|---|\n"
+            + "".join(f"| {c.particles} | {c.mass * 1e3:.1f} | {c.objective * 1e3:.2f} |\n"
+                      for c in opt.candidates))
+
+
+def _results_json(cs: CaseStudy, version: str) -> dict[str, Any]:
+    """``results.json``: the rows, the runs' inputs, the COR models, the maps' records."""
+    damper = _need(cs.damper, "damper")
+    field_map = _need(cs.field_map, "analytical map")
+    dem_map = None
+    if cs.dem_map is not None:
+        map_run = _need(cs.dem_map_run, "DEM map run")
+        dem_map = {"file": DEM_MAP_FILE,
+                   "shape": [int(n) for n in cs.dem_map["loss_factor"].shape],
+                   "agreement": cs.agreement, "cached": bool(map_run.cached),
+                   "seconds": map_run.seconds, "workers": map_run.workers}
+    return {
+        "version": version,
         "model": "analytic" if cs.run_dem is None else "analytic + dem",
         "inputs": cs.inputs,
         "rows": [asdict(r) for r in cs.rows],
-        "optimization": cs.optimization.as_dict(),
+        "optimization": _need(cs.optimization, "optimisation").as_dict(),
         "paper_reported": [{k: v for k, v in asdict(r).items() if k != "accept"}
                            for r in paper.PAPER_REPORTED],
         "damping_ratio_32": [{"amplitude": float(a), "zeta": float(z)}
-                             for a, z in zip(*cs.run_32.damping_ratio, strict=True)],
+                             for a, z in zip(*_need(cs.run_32, "model 3 run").damping_ratio,
+                                             strict=True)],
         "level3_runs": {name: {"model": run.model, **run.inputs}
                         for name, run in (("scenario_damper", cs.run_32),
                                           ("no_particles", cs.run_empty),
@@ -702,8 +823,8 @@ def write_case_study(cs: CaseStudy, out: Path,
                         if run is not None},
         **({"dem_realisations": cs.dem_band.as_dict()} if cs.dem_band is not None else {}),
         "restitution": {
-            "scenario": {"particle_particle": cs.damper.restitution_pp.describe(),
-                         "particle_wall": cs.damper.restitution_pw.describe()},
+            "scenario": {"particle_particle": _cor_curves(damper)[0].describe(),
+                         "particle_wall": _cor_curves(damper)[1].describe()},
             "paper": {"particle_particle": paper.PAPER_COR_PP.describe(),
                       "particle_wall": paper.PAPER_COR_PW.describe()},
             "dem_single_impacts": [c.as_dict() for c in cs.cor_checks]},
@@ -711,16 +832,6 @@ def write_case_study(cs: CaseStudy, out: Path,
         "fields_source": cs.fields_source,
         "fields_failure": cs.fields_failure,
         "timings": cs.timings,
-        "map_shape": [int(n) for n in cs.field_map["loss_factor"].shape],
-        "dem_map": None if cs.dem_map is None else {
-            "file": DEM_MAP_FILE, "shape": [int(n) for n in cs.dem_map["loss_factor"].shape],
-            "agreement": cs.agreement, "cached": bool(cs.dem_map_run.cached),
-            "seconds": cs.dem_map_run.seconds, "workers": cs.dem_map_run.workers},
-    }, indent=2)))
-    say("writing report.html")
-    written.append(atomic_write_text(out / "report.html", render_report(
-        title="pdamper: the reference paper's case study", version=__version__, rows=cs.rows,
-        figures=report_figures, models=cs.models(), timings=cs.timings,
-        landscape=[c.as_dict() for c in cs.optimization.candidates], at=cs.optimization.at,
-        inputs=cs.inputs)))
-    return written
+        "map_shape": [int(n) for n in field_map["loss_factor"].shape],
+        "dem_map": dem_map,
+    }

@@ -32,12 +32,28 @@ import contextlib
 import functools
 import json
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
 from pdamper import resources
 from pdamper.errors import InputError
+
+if TYPE_CHECKING:
+    from pathlib import Path
+
+    from numpy.typing import ArrayLike
+    from xarray import Dataset
+
+    from pdamper.damper import ParticleDamper
+    from pdamper.design.study import Objective
+    from pdamper.io.scenario import Scenario
+    from pdamper.models.base import DamperModel, DamperResponse
+    from pdamper.models.dem import DEMDamper
+    from pdamper.models.fields import EffectiveFieldDamper
+    from pdamper.reports.maps import MapRun
 
 #: The quantities whose spread over the realisations is reported.
 SPREAD_KEYS = ("loss_factor", "effective_mass_ratio")
@@ -46,7 +62,7 @@ SPREAD_KEYS = ("loss_factor", "effective_mass_ratio")
 USUAL_REALISATIONS = 5
 
 
-def run_summary(model, response) -> dict:
+def run_summary(model: DEMDamper, response: DamperResponse) -> dict:
     """The scalar summary of one Level II DEM response (``pdamper dem --json``'s run keys):
     loss factor, effective mass ratio, dissipated energy per cycle [J], energy ledger [J],
     stationarity, motion mode and the run's diagnostics (SI units): the keys of
@@ -91,23 +107,24 @@ def run_summary(model, response) -> dict:
     return out
 
 
-def with_seed(scenario, seed: int):
+def with_seed(scenario: Scenario, seed: int) -> Scenario:
     """``scenario`` with the DEM seed ``seed`` (everything else unchanged)."""
     return scenario.model_copy(update={"dem": scenario.dem.model_copy(update={"seed": seed})})
 
 
-def realisation_point(params: dict, *, scenario) -> dict:
+def realisation_point(params: dict, *, scenario: Scenario) -> dict:
     """One realisation (runs on a sweep worker): the DEM of ``scenario`` at the
     excitation's f, X from the random packing of seed ``params["seed"]``; its
     :func:`run_summary`."""
     sc = with_seed(scenario, int(params["seed"]))
     damper = sc.damper()
-    model = sc.model("dem", damper)
+    model = cast("DEMDamper", sc.model("dem", damper))
     r = model.response(sc.excitation.frequency, sc.excitation.amplitude)
     return {**run_summary(model, r), "packing": model.initial_packing()}
 
 
-def check_realisations(count, scenario=None, *, force: bool = False) -> int:
+def check_realisations(count: Any, scenario: Scenario | None = None, *,
+                       force: bool = False) -> int:
     """``count`` as a number of realisations: a whole number >= 1 whose implied cost (N
     times one DEM run, judged by :mod:`pdamper.resources`) is within the limits; N > 1
     only from a random packing (the lattice is one realisation).
@@ -130,12 +147,13 @@ def check_realisations(count, scenario=None, *, force: bool = False) -> int:
         return n
     # the count is judged before any run: N runs of one DEM run's cost each
     one = scenario.excitation_cost("dem")
+    assert one is not None  # the DEM states what a run costs
     resources.require(resources.Cost(
         "the realisations", one.seconds * n, one.memory,
         f"{n:.3g} DEM runs, each {one.detail}",
         (("realisations", n / USUAL_REALISATIONS),), runs=n, longest=one.seconds,
         remedy="ask for fewer realisations"), force)
-    model = scenario.model("dem", scenario.damper())
+    model = cast("DEMDamper", scenario.model("dem", scenario.damper()))
     if model.initial_packing() != "random":
         raise InputError("realisations", f"must be 1 with the lattice packing (the lattice is "
                          f"one realisation), got {n}; use dem.packing = \"random\"")
@@ -171,9 +189,10 @@ class RealisationsResult:
                 **{k: self.statistics(k) for k in SPREAD_KEYS}}
 
 
-def run_realisations(scenario, count: int, *, workers: int | None = None,
+def run_realisations(scenario: Scenario, count: int, *, workers: int | None = None,
                      scheduler: str | None = None, serial: bool = False,
-                     force: bool = False, progress=None) -> RealisationsResult:
+                     force: bool = False, progress: Callable | None = None
+                     ) -> RealisationsResult:
     """Run ``count`` realisations of the scenario's DEM run (``[excitation]``, ``[dem]``)
     from seeds ``dem.seed, dem.seed + 1, ...`` on the sweep engine (a local dask cluster
     of every core, ``workers`` processes, an existing ``scheduler``, or ``serial`` in this
@@ -202,7 +221,7 @@ def run_realisations(scenario, count: int, *, workers: int | None = None,
 
 
 # --------------------------------------------------------------------------- shared
-def parse_count(text) -> int:
+def parse_count(text: Any) -> int:
     """A command line's ``--realisations`` value as a whole number >= 1."""
     try:
         value = float(text) if isinstance(text, str) and "." in text else int(text)
@@ -211,18 +230,18 @@ def parse_count(text) -> int:
     return check_count(value)
 
 
-def check_count(count) -> int:
+def check_count(count: Any) -> int:
     """``count`` as a whole number >= 1 (``InputError`` for ``realisations`` otherwise)."""
     return check_realisations(count, None)
 
 
-def seeds_of(scenario, count: int) -> list[int]:
+def seeds_of(scenario: Scenario, count: int) -> list[int]:
     """The seeds of ``count`` realisations: ``dem.seed, dem.seed + 1, ...``."""
     seed0 = int(scenario.dem.seed)
     return [seed0 + k for k in range(count)]
 
 
-def spread(values) -> dict:
+def spread(values: ArrayLike) -> dict:
     """``{"mean", "std", "min", "max", "values"}`` of ``values`` (``std``: divisor N - 1,
     NaN for one value)."""
     v = np.asarray(values, float)
@@ -280,7 +299,8 @@ def _one_client(sweep_options: dict):
 MAP_SPREAD = ("loss_factor", "effective_mass_ratio", "dissipated_energy_per_cycle")
 
 
-def check_map_realisations(count, scenario, model_name: str, *, force: bool = False) -> int:
+def check_map_realisations(count: Any, scenario: Scenario, model_name: str, *,
+                           force: bool = False) -> int:
     """``count`` realisations of the scenario's map under ``model_name``: a whole number
     >= 1; N > 1 only for a model with a random packing (the DEM with ``dem.packing`` or
     ``[map] dem_packing`` random), and N times the map's cost within the limits."""
@@ -291,7 +311,7 @@ def check_map_realisations(count, scenario, model_name: str, *, force: bool = Fa
     return n
 
 
-def combine_realisations(datasets, seeds):
+def combine_realisations(datasets: Sequence[Dataset], seeds: Sequence[int]) -> Dataset:
     """One map from the maps of N realisations (same grid; realisation ``k`` of seed
     ``seeds[k]``).
 
@@ -353,7 +373,7 @@ def combine_realisations(datasets, seeds):
     return out
 
 
-def realisation_map(ds, k: int):
+def realisation_map(ds: Dataset, k: int) -> Dataset:
     """The map of realisation ``k`` alone (index along ``realisation``) from a map with
     realisations: the :data:`MAP_SPREAD` variables of that realisation in place of the
     means, the spread variables dropped."""
@@ -379,14 +399,17 @@ def realisation_map(ds, k: int):
     return out
 
 
-def map_realisation_count(ds) -> int:
+def map_realisation_count(ds: Dataset) -> int:
     """Number of realisations a map carries (1 without a ``realisation`` dimension)."""
     return int(ds.sizes["realisation"]) if "realisation" in ds.dims else 1
 
 
-def run_map_realisations(scenario, model_name: str, count: int, *, frequency=None,
-                         amplitude=None, particles=None, out=None, keep_partial: bool = False,
-                         progress=None, force: bool = False, **sweep_options):
+def run_map_realisations(scenario: Scenario, model_name: str, count: int, *,
+                         frequency: ArrayLike | None = None,
+                         amplitude: ArrayLike | None = None,
+                         particles: ArrayLike | None = None, out: Path | None = None,
+                         keep_partial: bool = False, progress: Callable | None = None,
+                         force: bool = False, **sweep_options: Any) -> MapRun:
     """The map of :func:`pdamper.reports.maps.run_map` from ``count`` realisations
     (seeds ``dem.seed + k``), combined by :func:`combine_realisations`.
 
@@ -439,7 +462,7 @@ def run_map_realisations(scenario, model_name: str, count: int, *, frequency=Non
     path = None
     if out is not None:
         path = atomic_write_netcdf(out, ds)
-        if not keep_partial:
+        if not keep_partial and store is not None:  # (a store exactly when out is given)
             from pdamper.sweep import PointStore
 
             PointStore(store).remove()
@@ -464,7 +487,7 @@ def _map_points(scenario, model_name, f, x, particles, store, progress, opts):
                        progress=progress, **opts)
 
 
-def map_spread_record(ds) -> dict:
+def map_spread_record(ds: Dataset) -> dict:
     """The ``realisations`` record of ``pdamper map --json`` for a map with realisations:
     ``count``, ``seeds``, ``std_ddof`` and, per :data:`MAP_SPREAD` variable, the cell
     arrays ``mean``, ``std``, ``min``, ``max`` (nested lists in the map's dimension order;
@@ -474,7 +497,9 @@ def map_spread_record(ds) -> dict:
 
     def cells(v):
         a = np.asarray(v.values, float)
-        return np.where(np.isfinite(a), a, None).tolist()
+        cell = a.astype(object)
+        cell[~np.isfinite(a)] = None
+        return cell.tolist()
 
     for name in MAP_SPREAD:
         if f"{name}_std" in ds:
@@ -569,7 +594,7 @@ class Level3Band:
         cols = _columns(z)
         return [{"amplitude": g, **{k: cols[k][i] for k in cols}} for i, g in enumerate(grid)]
 
-    def add_to(self, ds):
+    def add_to(self, ds: Dataset) -> Dataset:
         """``ds`` (the first realisation's :meth:`FreeVibrationResult.to_dataset`) with the
         band: ``displacement_mean`` / ``_std`` / ``_min`` / ``_max`` over ``time`` and the
         amplitude envelope's ``envelope_mean`` / ... over ``envelope_time`` [m]; attributes
@@ -617,7 +642,7 @@ def _columns(a, lists: bool = True) -> dict:
     return {k: v.tolist() for k, v in cols.items()} if lists else cols
 
 
-def level3_point(params: dict, *, scenario, model_name: str) -> dict:
+def level3_point(params: dict, *, scenario: Scenario, model_name: str) -> dict:
     """One Level III realisation (runs on a sweep worker): the scenario's free vibration
     with the model ``model_name`` of the random packing of seed ``params["seed"]``."""
     import time
@@ -652,7 +677,7 @@ def _check_at(at: float, duration: float) -> float:
     return float(at)
 
 
-def level3_kind(model) -> str | None:
+def level3_kind(model: DamperModel) -> str | None:
     """How a Level III model makes realisations: ``"seed"`` (it starts from a seeded
     random packing), ``"map"`` (an effective-field map with realisations), or None."""
     if getattr(model, "initial_packing", None) is not None:
@@ -662,7 +687,7 @@ def level3_kind(model) -> str | None:
     return None
 
 
-def check_level3_realisations(count, scenario, model_name: str | None = None, *,
+def check_level3_realisations(count: Any, scenario: Scenario, model_name: str | None = None, *,
                               force: bool = False) -> int:
     """``count`` realisations of the scenario's free vibration with ``model_name``: a whole
     number >= 1; N > 1 for a model with a random packing (the DEM, N times its cost within
@@ -674,7 +699,7 @@ def check_level3_realisations(count, scenario, model_name: str | None = None, *,
     model = scenario.model(model_name, scenario.damper())
     kind = level3_kind(model)
     if kind == "map":
-        have = int(model.map_attrs["realisations"])
+        have = int(cast("EffectiveFieldDamper", model).map_attrs["realisations"])
         if n > have:
             raise InputError("realisations", f"must be at most the {have} realisations of the "
                              f"effective-field map, got {n}")
@@ -685,7 +710,7 @@ def check_level3_realisations(count, scenario, model_name: str | None = None, *,
     return n
 
 
-def run_level3_realisations(scenario, count: int, model_name: str | None = None, *,
+def run_level3_realisations(scenario: Scenario, count: int, model_name: str | None = None, *,
                             workers: int | None = None, scheduler: str | None = None,
                             serial: bool = False, force: bool = False) -> Level3Band:
     """The scenario's free vibration (``[structure]``, ``[simulation]``) from ``count``
@@ -721,7 +746,7 @@ def run_level3_realisations(scenario, count: int, model_name: str | None = None,
         for k in range(n):
             t1 = time.perf_counter()
             opts = {**scenario.fields.options(), "file": None,
-                    "field": realisation_map(proto._map, k)}
+                    "field": realisation_map(cast("EffectiveFieldDamper", proto)._map, k)}
             m = type(proto)(damper, **opts)
             runs.append(Simulation(scenario.structure_model(), m,
                                    scenario.structure.initial_displacement).run(
@@ -743,7 +768,7 @@ def run_level3_realisations(scenario, count: int, model_name: str | None = None,
 
 
 # --------------------------------------------------------------------------- design studies
-def seeded_model(scenario, seed: int, damper):
+def seeded_model(scenario: Scenario, seed: int, damper: ParticleDamper) -> DamperModel:
     """The ``[simulation]`` model of ``damper`` with the random packing of seed ``seed``
     (a picklable model factory of a design study, with ``functools.partial``)."""
     return with_seed(scenario, seed).model(None, damper)
@@ -771,7 +796,7 @@ class RealisationsEvaluator:
         self.evaluators[0].check(design)
 
 
-def check_design_realisations(count, scenario, *, force: bool = False) -> int:
+def check_design_realisations(count: Any, scenario: Scenario, *, force: bool = False) -> int:
     """``count`` realisations of every design of the scenario's study: a whole number >= 1;
     N > 1 only with a ``[simulation]`` model of a random packing, N times the study's cost
     within the limits."""
@@ -782,7 +807,8 @@ def check_design_realisations(count, scenario, *, force: bool = False) -> int:
     return n
 
 
-def design_evaluator(scenario, count: int, objective):
+def design_evaluator(scenario: Scenario, count: int,
+                     objective: Objective) -> RealisationsEvaluator:
     """The evaluator of a design study over ``count`` realisations of each design
     (seeds ``dem.seed + k``) of the scenario's structure and release, for ``objective``
     (:func:`pdamper.design.study.make_objective`)."""
