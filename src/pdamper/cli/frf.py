@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import numpy as np
 import typer
@@ -18,9 +18,12 @@ from pdamper.cli._common import (
     emit,
     load,
     metadata,
-    plot_option,
+    plot_param,
     write_figure,
 )
+
+if TYPE_CHECKING:
+    from pdamper.coupling.frf import FRFResult
 
 #: Default load and frequency grid (the paper's structure, resonance near 5.5 Hz).
 DEFAULT_FORCE = "2N"
@@ -58,7 +61,7 @@ def frf(
     max_cycles: Annotated[int | None, typer.Option(
         "--max-cycles", help="Most load cycles per frequency step of the stepped sine "
                              "(default 2000; the DEM 60).")] = None,
-    plot: plot_option("the amplitude and phase against frequency") = None,
+    plot: Annotated[str | None, plot_param("the amplitude and phase against frequency")] = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file of the response.")] = None,
     modes: Annotated[Path | None, typer.Option(
         help="The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
@@ -70,26 +73,9 @@ def frf(
     harmonic balance (every branch) and stepped sines up and down."""
     from pdamper.coupling.frf import frequency_response
     from pdamper.errors import InputError, check_whole
-    from pdamper.io.scenario import grid
 
     load_ = parse_load(force, base)
-    text = DEFAULT_FREQUENCY if frequency is None else frequency
-    freqs = None
-    if ":" in str(text):
-        from pdamper.coupling.frf import MAX_FREQUENCIES
-        from pdamper.io.scenario import parse_axis
-
-        count = parse_axis(text, "Hz", "frequency")[2]  # judged before the grid is built
-        if count > MAX_FREQUENCIES:
-            raise InputError("frequency", f"at most {MAX_FREQUENCIES} frequencies, got {count}")
-        freqs = grid(text, "Hz", "frequency")
-    if freqs is None:
-        from pdamper.units import parse_quantity
-
-        value = parse_quantity(text, "Hz", "frequency")
-        if not value > 0:
-            raise InputError("frequency", f"must be > 0 Hz, got {text!r}")
-        freqs = [value]
+    freqs = _frequencies(DEFAULT_FREQUENCY if frequency is None else frequency)
     if sweep not in ("up", "down", "both"):
         raise InputError("sweep", f"must be up, down or both, got {sweep!r}")
     if max_cycles is not None:
@@ -97,28 +83,17 @@ def frf(
     sc = load(scenario, simulation__model=model, particles__count=particles,
               fields__file=None if fields is None else str(fields),
               structure__modes=None if modes is None else str(modes))
-    out = check_output(out)
-    plot = check_plot(plot)
+    out_path = check_output(out)
+    plot_path = check_plot(plot)
     damper = sc.damper()
     m = sc.model(None, damper)
     structure = sc.structure_model()
     res = frequency_response(m, structure, load_, freqs, sweep=sweep, max_cycles=max_cycles)
     meta = metadata(sc)
-    if out is not None:
-        from pdamper.files import atomic_write_netcdf
-
-        ds = res.to_dataset()
-        ds.attrs["inputs"] = json.dumps(meta["inputs"])
-        ds.attrs["frf_inputs"] = json.dumps(res.inputs)
-        atomic_write_netcdf(out, ds)
-    if plot is not None:
-        from matplotlib.figure import Figure
-
-        from pdamper.plots.frf import plot_frf
-
-        fig = Figure(figsize=(8, 6.5), layout="constrained")
-        plot_frf(res, axes=fig.subplots(2, 1, sharex=True))
-        write_figure(fig, plot, dpi=110)
+    if out_path is not None:
+        _write_response(out_path, res, meta)
+    if plot_path is not None:
+        _figure(res, plot_path)
     payload = res.as_dict()
     payload["frf_inputs"] = payload.pop("inputs")  # "inputs" is the scenario's, as everywhere
     payload["units"] = {"frequency": "Hz", "amplitude": "m", "stroke": "m", "phase": "rad",
@@ -128,7 +103,49 @@ def frf(
     emit(payload, as_json, "\n".join(_table(res)))
 
 
-def _table(res) -> list[str]:
+def _frequencies(text: str) -> np.ndarray | list[float]:
+    """The frequencies [Hz] of ``--frequency``: a grid 'start:stop:count' (at most
+    ``MAX_FREQUENCIES``, judged before the grid is built) or one frequency > 0."""
+    from pdamper.errors import InputError
+
+    if ":" in text:
+        from pdamper.coupling.frf import MAX_FREQUENCIES
+        from pdamper.io.scenario import grid, parse_axis
+
+        count = parse_axis(text, "Hz", "frequency")[2]  # judged before the grid is built
+        if count > MAX_FREQUENCIES:
+            raise InputError("frequency", f"at most {MAX_FREQUENCIES} frequencies, got {count}")
+        return grid(text, "Hz", "frequency")
+    from pdamper.units import parse_quantity
+
+    value = parse_quantity(text, "Hz", "frequency")
+    if not value > 0:
+        raise InputError("frequency", f"must be > 0 Hz, got {text!r}")
+    return [value]
+
+
+def _write_response(out: Path, res: FRFResult, meta: dict) -> None:
+    """The response to the NetCDF ``out``, with the scenario's and the run's inputs."""
+    from pdamper.files import atomic_write_netcdf
+
+    ds = res.to_dataset()
+    ds.attrs["inputs"] = json.dumps(meta["inputs"])
+    ds.attrs["frf_inputs"] = json.dumps(res.inputs)
+    atomic_write_netcdf(out, ds)
+
+
+def _figure(res: FRFResult, path: Path) -> None:
+    """Amplitude and phase against frequency to ``--plot``."""
+    from matplotlib.figure import Figure
+
+    from pdamper.plots.frf import plot_frf
+
+    fig = Figure(figsize=(8, 6.5), layout="constrained")
+    plot_frf(res, axes=fig.subplots(2, 1, sharex=True))
+    write_figure(fig, path, dpi=110)
+
+
+def _table(res: FRFResult) -> list[str]:
     from pdamper.coupling.pseudo_force import motion_mode
 
     ld = res.load
@@ -146,6 +163,7 @@ def _table(res) -> list[str]:
         row = f"  {f:8.3f}  {abs(res.linear[i]) * 1e3:6.2f}"
         if res.harmonic_balance is not None:
             hb = res.harmonic_balance
+            assert hb.branch is not None  # harmonic balance labels every solution's branch
             cells = [f"{a * 1e3:.2f}{b[0]}" for a, b in zip(hb.amplitude[i], hb.branch[i],
                                                             strict=True) if b]
             row += "   " + f"{' '.join(cells):45s}"

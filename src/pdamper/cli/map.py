@@ -9,13 +9,20 @@ failed points recorded in the ``status`` and ``error`` variables.
 
 from __future__ import annotations
 
-from typing import Annotated
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, Any, Literal, TextIO
 
 import typer
 
 from pdamper.cli import _uncertainty
 from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, check_output, emit, load
 from pdamper.cli._quiet import quiet
+from pdamper.errors import InputError
+
+if TYPE_CHECKING:
+    from rich.progress import Progress, TaskID
+
+    from pdamper.io.scenario import Scenario
 
 
 def map_(
@@ -53,33 +60,12 @@ def map_(
     as_json: JsonOpt = False,
 ) -> None:
     """Loss factor, effective mass, motion mode and stationarity over a grid (paper Fig. 5)."""
-    import math
     import sys
 
-    import numpy as np
-
     from pdamper.cli._common import metadata
-    from pdamper.errors import InputError
-    from pdamper.reports.maps import run_map
 
-    if workers is not None and workers < 1:
-        raise InputError("workers", f"must be a whole number >= 1, got {workers}")
-    if retries < 0:
-        raise InputError("retries", f"must be a whole number >= 0, got {retries}")
-    if scheduler is not None:
-        from pdamper.sweep.cluster import check_scheduler
-
-        check_scheduler(scheduler)
-    count, axis = None, None
-    if particles is not None:
-        if ":" in particles:
-            axis = particles
-        else:
-            try:
-                count = int(particles)
-            except ValueError:
-                raise InputError("particles", f"expected a whole number or 'start:stop:count', "
-                                 f"got {particles!r}") from None
+    _check_run_options(workers, retries, scheduler)
+    count, axis = _particle_count_or_axis(particles)
     sc = load(scenario, runs=("map",), model=model, force=force, **_uncertainty.merged(dict(
         map__frequency=frequency, map__amplitude=amplitude, particles__count=count,
         map__particles=axis), uncertain))
@@ -88,37 +74,94 @@ def map_(
         from pdamper.io.uncertain import map_answers
 
         map_answers(sc, model)
-    out = check_output(out)
-    if out is not None and scheduler is None:
-        from pdamper.reports.maps import partial_store
-
-        part = partial_store(out)
-        if part.exists() and not part.is_dir():
-            raise InputError("out", f"{part} exists and is not a directory")
-    options = {"retries": retries, "retry_failed": retry_failed, "serial": serial}
+    out_path = check_output(out)
+    if out_path is not None and scheduler is None:
+        _check_partial_store(out_path)
+    options: dict[str, Any] = {"retries": retries, "retry_failed": retry_failed,
+                               "serial": serial}
     if workers is not None:
         options["workers"] = workers
     if scheduler is not None:
         options["scheduler"] = scheduler
     meta = metadata(sc, model=model, seed=sc.dem.seed)
-    n_real = 1
-    if realisations is not None:
-        from pdamper.reports.realisations import check_map_realisations, parse_count
-
-        n_real = check_map_realisations(parse_count(realisations), sc, model, force=force)
-        if n_real > 1 and uncertainty is not None:
-            raise InputError("realisations", f"must be 1 with --uncertainty (the sampled "
-                             f"inputs are the map's spread there), got {n_real}")
+    n_real = _realisation_count(sc, model, realisations, uncertainty, force)
     with _progress(sys.stderr, as_json or quiet()) as progress:
         if n_real > 1:
             from pdamper.reports.realisations import run_map_realisations
 
-            result = run_map_realisations(sc, model, n_real, out=out,
+            result = run_map_realisations(sc, model, n_real, out=out_path,
                                           keep_partial=keep_partial, progress=progress,
                                           force=force, **options)
         else:
-            result = run_map(sc, model, out=out, keep_partial=keep_partial,
+            from pdamper.reports.maps import run_map
+
+            result = run_map(sc, model, out=out_path, keep_partial=keep_partial,
                              progress=progress, **options)
+    payload, human = _summary(sc, model, result, out_path, n_real, meta)
+    if uncertainty is not None:  # the spread of every cell, added to the map and its file
+        spread, payload["uncertainty"] = _uncertainty.map_spread(
+            sc, model, uncertainty, uncertainty_seed, result.dataset, out_path)
+        human += "\n" + "\n".join(_uncertainty.lines(spread, {}))
+    emit(payload, as_json, human)
+
+
+def _check_run_options(workers: int | None, retries: int, scheduler: str | None) -> None:
+    """``--workers`` at least 1, ``--retries`` at least 0 and ``--scheduler`` an address."""
+    if workers is not None and workers < 1:
+        raise InputError("workers", f"must be a whole number >= 1, got {workers}")
+    if retries < 0:
+        raise InputError("retries", f"must be a whole number >= 0, got {retries}")
+    if scheduler is not None:
+        from pdamper.sweep.cluster import check_scheduler
+
+        check_scheduler(scheduler)
+
+
+def _particle_count_or_axis(particles: str | None) -> tuple[int | None, str | None]:
+    """``--particles`` as a count or as a particle-count axis ('start:stop:count')."""
+    if particles is None:
+        return None, None
+    if ":" in particles:
+        return None, particles
+    try:
+        return int(particles), None
+    except ValueError:
+        raise InputError("particles", f"expected a whole number or 'start:stop:count', "
+                         f"got {particles!r}") from None
+
+
+def _check_partial_store(out: Path) -> None:
+    """The per-point store beside ``out`` must be a directory if it exists."""
+    from pdamper.reports.maps import partial_store
+
+    part = partial_store(out)
+    if part.exists() and not part.is_dir():
+        raise InputError("out", f"{part} exists and is not a directory")
+
+
+def _realisation_count(sc: Scenario, model: str, realisations: str | None,
+                       uncertainty: int | None, force: bool) -> int:
+    """``--realisations`` as a count checked against the map's cost (1: one packing),
+    refused above 1 with ``--uncertainty``."""
+    if realisations is None:
+        return 1
+    from pdamper.reports.realisations import check_map_realisations, parse_count
+
+    n_real = check_map_realisations(parse_count(realisations), sc, model, force=force)
+    if n_real > 1 and uncertainty is not None:
+        raise InputError("realisations", f"must be 1 with --uncertainty (the sampled "
+                         f"inputs are the map's spread there), got {n_real}")
+    return n_real
+
+
+def _summary(sc: Scenario, model: str, result: Any, out: Path | None, n_real: int,
+             meta: dict) -> tuple[dict, str]:
+    """The JSON payload and the text of a finished map: its shape, the counts of points
+    and the largest loss factor with where it is."""
+    import math
+
+    import numpy as np
+
     ds = result.dataset
     eta = np.asarray(ds["loss_factor"].values, float)
     finite = np.isfinite(eta)
@@ -141,10 +184,6 @@ def map_(
 
         payload["statistic"] = "mean"
         payload["realisations"] = map_spread_record(ds)
-    spread = None
-    if uncertainty is not None:  # the spread of every cell, added to the map and its file
-        spread, payload["uncertainty"] = _uncertainty.map_spread(
-            sc, model, uncertainty, uncertainty_seed, ds, out)
     where = ", ".join(f"{k} = {v:.4g}" for k, v in best.items())
     human = (f"{model} field {' x '.join(map(str, eta.shape))} in {result.seconds:.3g} s "
              f"({result.computed} computed, {result.reused} reused, {result.failed} failed, "
@@ -154,21 +193,20 @@ def map_(
                 f"{sc.dem.seed + n_real - 1}), spread per cell in the file"
                 if n_real > 1 else "")
              + (f"; written to {out}" if out else ""))
-    if spread is not None:
-        human += "\n" + "\n".join(_uncertainty.lines(spread, {}))
-    emit(payload, as_json, human)
+    return payload, human
 
 
 class _progress:
     """A rich progress bar on stderr (none with --json or --quiet), as a sweep ``progress``
     callback."""
 
-    def __init__(self, stream, quiet: bool):
+    def __init__(self, stream: TextIO, quiet: bool):
         self.stream, self.quiet = stream, quiet
-        self.bar = self.task = None
+        self.bar: Progress | None = None
+        self.task: TaskID | None = None
         self.failed = 0
 
-    def __enter__(self):
+    def __enter__(self) -> _progress | None:
         if self.quiet:
             return None
         from rich.console import Console
@@ -189,14 +227,15 @@ class _progress:
         self.task = self.bar.add_task("map points", total=None)
         return self
 
-    def __call__(self, done: int, total: int, point) -> None:
+    def __call__(self, done: int, total: int, point: Any) -> None:
         self.failed += not point.ok
         desc = f"map points ({self.failed} failed)" if self.failed else "map points"
+        assert self.bar is not None and self.task is not None  # called only when entered
         self.bar.update(self.task, completed=done, total=total, description=desc)
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: Any) -> Literal[False]:
         if self.bar is not None:
-            if self.bar.tasks[0].total is None:  # vectorised: no points were reported
+            if self.task is not None and self.bar.tasks[0].total is None:  # vectorised: no points
                 self.bar.remove_task(self.task)
             self.bar.__exit__(*exc)
         return False

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -16,9 +16,15 @@ from pdamper.cli._common import (
     emit,
     load,
     metadata,
-    plot_option,
+    plot_param,
     write_figure,
 )
+from pdamper.errors import InputError
+
+if TYPE_CHECKING:
+    from pdamper.coupling.loads import LoadHistory
+    from pdamper.design.study import DesignStudyResult, DesignVariable
+    from pdamper.io.scenario import Scenario
 
 
 def optimize(
@@ -55,7 +61,7 @@ def optimize(
         help="Relative tolerance on the objective: the lightest design within it of the best "
              "is reported with the Pareto front of added (bed) mass against the objective, "
              "e.g. '5%' or 0.05; in [0 %, 100 %) (default 5 %).")] = None,
-    plot: plot_option("the design landscape") = None,
+    plot: Annotated[str | None, plot_param("the design landscape")] = None,
     modes: Annotated[Path | None, typer.Option(
         help="The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
              "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF.")] = None,
@@ -76,62 +82,112 @@ def optimize(
     as_json: JsonOpt = False,
 ) -> None:
     """Design with the best objective; every candidate (the landscape) is listed."""
-    import functools
-    import os
-
-    from pdamper.design.study import DesignVariable, optimize_design
-    from pdamper.errors import InputError
-
-    if workers is not None and workers != "auto":
-        try:
-            workers = int(workers)
-        except ValueError:
-            raise InputError("optimization.workers", f"must be a whole number >= 0 or 'auto', "
-                             f"got {workers!r}") from None
     sc = load(scenario, runs=("optimization",), force=force, simulation__model=model,
-              optimization__at=at, optimization__step=step,
-              optimization__vary=vary or None, optimization__objective=objective,
-              optimization__threshold=threshold, optimization__method=method,
-              optimization__workers=workers, optimization__scheduler=scheduler,
-              optimization__max_evaluations=max_evaluations, optimization__seed=seed,
-              optimization__tolerance=tolerance, optimization__band=band,
-              optimization__frf_load=frf_load,
+              optimization__at=at, optimization__step=step, optimization__vary=vary or None,
+              optimization__objective=objective, optimization__threshold=threshold,
+              optimization__method=method, optimization__workers=_workers(workers),
+              optimization__scheduler=scheduler, optimization__max_evaluations=max_evaluations,
+              optimization__seed=seed, optimization__tolerance=tolerance,
+              optimization__band=band, optimization__frf_load=frf_load,
               structure__modes=None if modes is None else str(modes),
               load__force=None if load_file is None else str(load_file),
               load__base_acceleration=None if base_acceleration is None
               else str(base_acceleration), load__tail=tail)
-    plot = check_plot(plot)
+    plot_path = check_plot(plot)
+    history = _history(sc, tail, load_file is not None or base_acceleration is not None)
+    damper = sc.damper()
+    variables = _variables(sc.optimization, damper)
+    proto = _prototype(sc, damper, history)
+    n_workers = _worker_count(sc.optimization.workers, proto)
+    res, seeds = _study(sc, damper, variables, history, n_workers,
+                        _realisation_count(sc, realisations, force))
+    if plot_path is not None:
+        _figure(res, plot_path)
+    payload, lines = _report(sc, res, history, n_workers, seeds)
+    emit(payload, as_json, "\n".join(lines))
+
+
+def _workers(workers: str | None) -> int | str | None:
+    """``--workers`` as a count, ``'auto'`` or None (not given)."""
+    if workers is None or workers == "auto":
+        return workers
+    try:
+        return int(workers)
+    except ValueError:
+        raise InputError("optimization.workers", f"must be a whole number >= 0 or 'auto', "
+                         f"got {workers!r}") from None
+
+
+def _history(sc: Scenario, tail: str | None, history_given: bool) -> LoadHistory | None:
+    """The load history of the peak and rms objectives (None: an objective on the free
+    decay, which refuses ``--tail`` and a given history)."""
     o = sc.optimization
     history = sc.load.history() if o.objective in ("peak", "rms") else None
     if history is None and tail is not None and not sc.load.given:
         raise InputError("load.tail", "is the free vibration after a load history: give "
                          "--load or --base-acceleration")
-    if history is None and (load_file is not None or base_acceleration is not None):
+    if history is None and history_given:
         raise InputError("optimization.objective", f"a load history is given but the "
                          f"objective {o.objective!r} is on the free decay: use peak or rms")
-    damper = sc.damper()
+    return history
+
+
+def _variables(o: Any, damper: Any) -> list[DesignVariable]:
+    """The design variables of ``--vary``; by default the paper's study: whole layers
+    0, step, ... below n_max."""
+    from pdamper.design.study import DesignVariable
+
     variables = o.variables()
     if not variables:  # the paper's study: whole layers 0, step, ... below n_max
         step_ = damper.per_layer if o.step is None else o.step
         counts = tuple(range(0, damper.max_count, step_))
         variables = [DesignVariable("particles", counts,
                                     spec=f"particles={counts[0]}:{counts[-1]}:{step_}")]
+    return variables
+
+
+def _prototype(sc: Scenario, damper: Any, history: LoadHistory | None) -> Any:
+    """The scenario's model of ``damper``, which must have a load-history form when there
+    is a history (checked before any design)."""
     proto = sc.model(None, damper)
     if history is not None:  # the model must have a load-history form, before any design
         from pdamper.coupling.loads import check_model
 
         check_model(proto)
-    n_workers = o.workers
-    if n_workers == "auto":  # parallel where it pays and dask.distributed is installed
-        import importlib.util
+    return proto
 
-        parallel = proto.expensive and importlib.util.find_spec("distributed") is not None
-        n_workers = (os.cpu_count() or 1) if parallel else 0
-    n_real = 1
-    if realisations is not None:
-        from pdamper.reports.realisations import check_design_realisations, parse_count
 
-        n_real = check_design_realisations(parse_count(realisations), sc, force=force)
+def _worker_count(workers: int | str, proto: Any) -> int:
+    """The dask workers: ``'auto'`` is parallel where it pays (an expensive model) and
+    dask.distributed is installed."""
+    if workers != "auto":
+        return int(workers)
+    import importlib.util
+    import os
+
+    parallel = proto.expensive and importlib.util.find_spec("distributed") is not None
+    return (os.cpu_count() or 1) if parallel else 0
+
+
+def _realisation_count(sc: Scenario, realisations: str | None, force: bool) -> int:
+    """``--realisations`` as a count checked against the study's cost (1: one packing)."""
+    if realisations is None:
+        return 1
+    from pdamper.reports.realisations import check_design_realisations, parse_count
+
+    return check_design_realisations(parse_count(realisations), sc, force=force)
+
+
+def _study(sc: Scenario, damper: Any, variables: list[DesignVariable],
+           history: LoadHistory | None, n_workers: int,
+           n_real: int) -> tuple[DesignStudyResult, list[int] | None]:
+    """The design study, each design from ``n_real`` packings when above 1; with the
+    seeds of the packings (None: one)."""
+    import functools
+
+    from pdamper.design.study import optimize_design
+
+    o = sc.optimization
     if n_real > 1:
         from pdamper.design.study import make_objective, run_design_study
         from pdamper.reports.realisations import design_evaluator
@@ -145,51 +201,81 @@ def optimize(
                                max_grid=o.max_grid, max_evaluations=o.max_evaluations,
                                seed=o.seed, workers=n_workers, scheduler=o.scheduler,
                                tolerance=o.tolerance)
-    else:
-        res = optimize_design(sc.structure_model(), damper, sc.structure.initial_displacement,
-                              variables, o.objective, o.at,
-                              model=functools.partial(sc.model, None),
-                              threshold=o.threshold, method=o.method, max_grid=o.max_grid,
-                              max_evaluations=o.max_evaluations, seed=o.seed,
-                              workers=n_workers, scheduler=o.scheduler,
-                              tolerance=o.tolerance, load=history, tail=sc.load.tail,
-                              band=o.frf_band(), frf_load=o.frf_load)
-    if plot is not None:
-        from matplotlib.figure import Figure
+        return res, evaluate.seeds
+    res = optimize_design(sc.structure_model(), damper, sc.structure.initial_displacement,
+                          variables, o.objective, o.at,
+                          model=functools.partial(sc.model, None),
+                          threshold=o.threshold, method=o.method, max_grid=o.max_grid,
+                          max_evaluations=o.max_evaluations, seed=o.seed,
+                          workers=n_workers, scheduler=o.scheduler,
+                          tolerance=o.tolerance, load=history, tail=sc.load.tail,
+                          band=o.frf_band(), frf_load=o.frf_load)
+    return res, None
 
-        from pdamper.plots import plot_design_landscape
 
-        fig = Figure(figsize=(7, 5), layout="constrained")
-        plot_design_landscape(res, ax=fig.subplots())
-        write_figure(fig, plot, dpi=120)
+def _figure(res: DesignStudyResult, path: Path) -> None:
+    """The design landscape to ``--plot``."""
+    from matplotlib.figure import Figure
+
+    from pdamper.plots import plot_design_landscape
+
+    fig = Figure(figsize=(7, 5), layout="constrained")
+    plot_design_landscape(res, ax=fig.subplots())
+    write_figure(fig, path, dpi=120)
+
+
+#: Scale and column head of each objective in the text.
+_SHOWN = {"amplitude-at": (1e3, "amplitude [mm]"), "settling-time": (1.0, "settling [s]"),
+          "mean-damping": (1.0, "mean zeta [-]"), "peak": (1e3, "peak [mm]"),
+          "rms": (1e3, "RMS [mm]"), "peak-frf": (1e3, "peak [mm]"),
+          "rms-frf": (1e3, "RMS [mm]")}
+
+
+def _report(sc: Scenario, res: DesignStudyResult, history: LoadHistory | None, n_workers: int,
+            seeds: list[int] | None) -> tuple[dict, list[str]]:
+    """The JSON payload and the text: every candidate, the Pareto front and the lightest
+    design within the tolerance (``seeds``: of the realisations, None: one run)."""
     unit = {"m": "m", "s": "s", "1": "1"}[res.objective.unit]
     payload = {**res.as_dict(), "workers": n_workers,
                "units": {"mass": "kg", "objective": unit, "at": "s", "radius": "m",
                          "container_length": "m", "container_width": "m",
                          "container_depth": "m", "threshold": "m"},
                **metadata(sc)}
-    if n_real > 1:
+    if seeds is not None:
         payload["statistic"] = "mean"
-        payload["realisations"] = {"count": n_real, "seeds": evaluate.seeds, "std_ddof": 1,
+        payload["realisations"] = {"count": len(seeds), "seeds": seeds, "std_ddof": 1,
                                    "keys": ["objective_std", "objective_min",
                                             "objective_max", "objective_values"]}
-    names = [v.name for v in res.variables]
-    shown = {"amplitude-at": (1e3, "amplitude [mm]"), "settling-time": (1.0, "settling [s]"),
-             "mean-damping": (1.0, "mean zeta [-]"), "peak": (1e3, "peak [mm]"),
-             "rms": (1e3, "RMS [mm]"), "peak-frf": (1e3, "peak [mm]"),
-             "rms-frf": (1e3, "RMS [mm]")}[res.objective.name]
-    head = f"{res.objective.name} (t = {res.at:g} s" if res.objective.name != "settling-time" \
-        else f"settling-time (to {res.objective.threshold * 1e3:g} mm"
     if history is not None:
-        head = f"{res.objective.name} (response to {history.source}"
         payload["load"] = {"file": history.source, "kind": history.kind,
                            "record_duration": history.duration, "tail": sc.load.tail}
-    if res.objective.frf_load is not None:
-        b, ld = res.objective.band, res.objective.frf_load
-        head = (f"{res.objective.name} ({b[0]:g}-{b[-1]:g} Hz in {len(b)}, {ld.kind} "
+    lines = [f"{_head(res, history)}, {sc.simulation.model} model, {res.method}: "
+             f"{len(res.candidates)} designs)"] + _candidate_lines(res)
+    return payload, lines
+
+
+def _head(res: DesignStudyResult, history: LoadHistory | None) -> str:
+    """The objective and what it is of, the text's first line."""
+    obj = res.objective
+    if obj.frf_load is not None:
+        b, ld = obj.band, obj.frf_load
+        assert b is not None  # a forced-response objective always has its band
+        return (f"{obj.name} ({b[0]:g}-{b[-1]:g} Hz in {len(b)}, {ld.kind} "
                 f"{ld.amplitude:g} {ld.unit}")
-    lines = [f"{head}, {sc.simulation.model} model, {res.method}: {len(res.candidates)} designs)",
-             "  " + "  ".join(f"{n:>17s}" for n in names) + f"  mass [g]  {shown[1]}"]
+    if history is not None:
+        return f"{obj.name} (response to {history.source}"
+    if obj.name != "settling-time":
+        return f"{obj.name} (t = {res.at:g} s"
+    assert obj.threshold is not None  # settling-time always has its threshold
+    return f"settling-time (to {obj.threshold * 1e3:g} mm"
+
+
+def _candidate_lines(res: DesignStudyResult) -> list[str]:
+    """The landscape table (best and lightest marked), the Pareto front and the lightest
+    design within the tolerance."""
+    names = [v.name for v in res.variables]
+    shown = _SHOWN[res.objective.name]
+    lines = ["  " + "  ".join(f"{n:>17s}" for n in names) + f"  mass [g]  {shown[1]}"]
     light = res.lightest_within
     for c in res.candidates:
         cells = []
@@ -206,7 +292,7 @@ def optimize(
             mark = f"  <- lightest within {res.tolerance * 100:g} %"
         lines.append("  " + "  ".join(cells) + f"  {mass}  {value}{mark}")
 
-    def brief(c) -> str:
+    def brief(c: Any) -> str:
         design = ", ".join(f"{n} {c.design[n] * 1e3:g} mm" if isinstance(c.design[n], float)
                            else f"{n} {c.design[n]}" for n in names)
         return f"{design} ({c.mass * 1e3:.1f} g, {c.objective * shown[0]:.4g})"
@@ -216,4 +302,4 @@ def optimize(
                  + ("; ".join(brief(c) for c in front) if front else "none"))
     lines.append(f"lightest within {res.tolerance * 100:g} % of the best: "
                  + (brief(light) if light is not None else "none"))
-    emit(payload, as_json, "\n".join(lines))
+    return lines

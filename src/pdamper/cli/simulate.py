@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -18,9 +18,13 @@ from pdamper.cli._common import (
     emit,
     load,
     metadata,
-    plot_option,
+    plot_param,
     write_figure,
 )
+from pdamper.errors import InputError
+
+if TYPE_CHECKING:
+    from pdamper.io.scenario import Scenario
 
 
 def _run_payload(res, seconds: float) -> dict:
@@ -66,7 +70,8 @@ def simulate(
     measured: Annotated[Path | None, typer.Option(
         help="Measured end-effector trajectory (CSV with unit headers, e.g. 'time [ms], "
              "displacement [mm]'; or velocity, acceleration).")] = None,
-    plot: plot_option("the trajectories and damping ratios (and the phase drift)") = None,
+    plot: Annotated[str | None, plot_param(
+        "the trajectories and damping ratios (and the phase drift)")] = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file for the trajectory.")] = None,
     modes: Annotated[Path | None, typer.Option(
         help="The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
@@ -101,11 +106,6 @@ def simulate(
     as_json: JsonOpt = False,
 ) -> None:
     """Release the structure from x0 and track the decay (paper Sect. 4.2.1, Figs. 7-8)."""
-    import time
-
-    from pdamper.coupling import Simulation
-    from pdamper.errors import InputError
-
     sc = load(scenario, runs=("simulation",), force=force, **_uncertainty.merged(dict(
         simulation__model=model, particles__count=particles, simulation__duration=duration,
         structure__initial_displacement=initial_displacement,
@@ -114,13 +114,102 @@ def simulate(
         load__force=None if load_file is None else str(load_file),
         load__base_acceleration=None if base_acceleration is None
         else str(base_acceleration), load__tail=tail, optimization__at=at), uncertain))
+    _check_uncertainty(sc, uncertainty, force)
+    out_path = check_output(out)
+    plot_path = check_plot(plot)
+    names = _model_names(sc, compare, force)
+    damper = sc.damper()
+    models = {n: sc.model(n, damper) for n in names}  # all built (and checked) before any run
+    n_real = _realisation_count(sc, realisations, uncertainty)
+    if sc.load.given:  # a load history instead of the release (docs/forced.md)
+        _run_load_history(sc, models, out_path, plot_path, as_json, measured=measured,
+                          duration=duration, initial_displacement=initial_displacement,
+                          uncertainty=uncertainty)
+        return
+    _check_release_options(tail, workers)
+    banded = _banded_models(sc, models, n_real, force) if n_real > 1 else []
+    aligned = None if measured is None else _aligned(sc, measured)
+    _release(sc, models, banded, n_real, aligned, out_path, plot_path, as_json,
+             compared=compare is not None, uncertainty=uncertainty,
+             uncertainty_seed=uncertainty_seed, workers=workers, serial=serial, force=force)
+
+
+def _release(sc: Scenario, models: dict[str, Any], banded: list[str], n_real: int,
+             aligned: Any, out: Path | None, plot: Path | None, as_json: bool, *,
+             compared: bool, uncertainty: int | None, uncertainty_seed: int,
+             workers: int | None, serial: bool, force: bool) -> None:
+    """The release runs of every model, their outputs (``--out``, ``--plot``), the JSON
+    and the text (``compared``: ``--compare`` given)."""
+    names = list(models)
+    structure = sc.structure_model()
+    x0 = sc.structure.initial_displacement
+    runs, seconds, bands = _run_models(sc, structure, models, banded, n_real,
+                                       workers=workers, serial=serial, force=force)
+    meta = metadata(sc)
+    if out is not None:
+        _write_trajectory(out, runs[names[0]], bands.get(names[0]), meta)
+    payload = {k: v for k, v in _run_payload(runs[names[0]], seconds[names[0]]).items()
+               if k != "model"}
+    payload["units"] = {"time": "s", "amplitude": "m", "frequency": "Hz",
+                        "effective_mass": "kg", "damping": "kg/s", "wall_seconds": "s"}
+    if compared:
+        payload["models"] = {n: _run_payload(r, seconds[n]) for n, r in runs.items()}
+        for n, b in bands.items():
+            payload["models"][n]["realisations"] = b.as_dict()
+    if names[0] in bands:  # the run keys above are then the first realisation's
+        payload["realisations"] = bands[names[0]].as_dict()
+    comparisons: dict[str, Any] = {}
+    if aligned is not None:
+        from pdamper.coupling.comparison import compare_with_measurement
+
+        comparisons = {n: compare_with_measurement(r, aligned) for n, r in runs.items()}
+        payload["comparison"] = _comparison_payload(aligned, x0, comparisons)
+    spread = None
+    if uncertainty is not None:
+        from pdamper.io.uncertain import propagate_scenario
+
+        spread = propagate_scenario(sc, "level3", uncertainty, uncertainty_seed)
+        payload["uncertainty"] = spread.as_dict()
+    payload.update(meta)
+    if plot is not None:
+        _figure(plot, runs, aligned, comparisons, bands)
+    lines = _human(structure, x0, models, runs, seconds, bands, aligned, comparisons, spread)
+    emit(payload, as_json, "\n".join(lines))
+
+
+def _check_uncertainty(sc: Scenario, uncertainty: int | None, force: bool) -> None:
+    """``--uncertainty`` checked, and the sampled model refused, before any run."""
     _uncertainty.check(sc, "level3", uncertainty, force)
     if uncertainty is not None:  # the sampled model refused before any run
         from pdamper.io.uncertain import level3_answers
 
         level3_answers(sc)
-    out = check_output(out)
-    plot = check_plot(plot)
+
+
+def _check_release_options(tail: str | None, workers: int | None) -> None:
+    """The options of the release run: no ``--tail`` (a load history's), ``--workers``
+    at least 1."""
+    if tail is not None:
+        raise InputError("load.tail", "is the free vibration after a load history: give "
+                         "--load or --base-acceleration")
+    if workers is not None and workers < 1:
+        raise InputError("workers", f"must be a whole number >= 1, got {workers}")
+
+
+def _aligned(sc: Scenario, measured: Path) -> Any:
+    """The measured trajectory of ``--measured``, aligned to its release and checked
+    against the scenario's x0 before any run."""
+    from pdamper.coupling.measurement import align_measurement, check_release_scale
+    from pdamper.io.measured import read_measured
+
+    aligned = align_measurement(read_measured(measured))
+    check_release_scale(aligned, sc.structure.initial_displacement)  # before any run
+    return aligned
+
+
+def _model_names(sc: Scenario, compare: str | None, force: bool) -> list[str]:
+    """The models of the run: the scenario's, or those ``--compare`` names (distinct, each
+    one's resources checked before any run)."""
     names = [sc.simulation.model]
     if compare is not None:
         names = [n.strip() for n in compare.split(",") if n.strip()]
@@ -129,9 +218,14 @@ def simulate(
                              f"'analytic,fields,dem', got {compare!r}")
         for n in names:  # what each compared model implies, before any run
             sc.check_resources("simulation", n, force)
-    damper = sc.damper()
-    models = {n: sc.model(n, damper) for n in names}  # all built (and checked) before any run
-    n_real, banded = 1, []
+    return names
+
+
+def _realisation_count(sc: Scenario, realisations: str | None,
+                       uncertainty: int | None) -> int:
+    """``--realisations`` as a count (1: one run), refused above 1 with a load history or
+    ``--uncertainty``."""
+    n_real = 1
     if realisations is not None:
         from pdamper.reports.realisations import parse_count
 
@@ -141,43 +235,50 @@ def simulate(
                          "free vibration alone: must be 1 with "
                          + ("--load / --base-acceleration" if sc.load.given
                             else "--uncertainty") + f", got {n_real}")
-    if sc.load.given:  # a load history instead of the release (docs/forced.md)
-        from pdamper.cli import _load_history
+    return n_real
 
-        for name, given in (("measured", measured), ("duration", duration),
-                            ("initial_displacement", initial_displacement),
-                            ("uncertainty", uncertainty)):
-            if given is not None:
-                raise InputError(name, "a load history starts from rest and lasts the "
-                                 "record plus --tail: leave out --"
-                                 + name.replace("_", "-"))
-        _load_history.run(sc, models, sc.load.history(), sc.load.tail, out, plot, as_json)
-        return
-    if tail is not None:
-        raise InputError("load.tail", "is the free vibration after a load history: give "
-                         "--load or --base-acceleration")
-    if workers is not None and workers < 1:
-        raise InputError("workers", f"must be a whole number >= 1, got {workers}")
-    if n_real > 1:
-        from pdamper.reports.realisations import check_level3_realisations, level3_kind
 
-        # each model that has realisations gets a band; the others run once
-        banded = [n for n, m in models.items() if level3_kind(m) is not None]
-        if not banded:
-            raise InputError("realisations", f"must be 1 for {', '.join(names)} (no "
-                             f"random packing, no map with realisations), got {n_real}")
-        for n in banded:  # every count and cost judged before any run
-            check_level3_realisations(n_real, sc, n, force=force)
-    aligned = None
-    if measured is not None:
-        from pdamper.coupling.measurement import align_measurement, check_release_scale
-        from pdamper.io.measured import read_measured
+def _run_load_history(sc: Scenario, models: dict[str, Any], out: Path | None,
+                      plot: Path | None, as_json: bool, **release: object) -> None:
+    """The run under a load history (docs/forced.md), refusing the ``release`` options
+    (``measured``, ``duration``, ...) that belong to the release alone."""
+    from pdamper.cli import _load_history
+    for name, given in release.items():
+        if given is not None:
+            raise InputError(name, "a load history starts from rest and lasts the "
+                             "record plus --tail: leave out --"
+                             + name.replace("_", "-"))
+    _load_history.run(sc, models, sc.load.history(), sc.load.tail, out, plot, as_json)
 
-        aligned = align_measurement(read_measured(measured))
-        check_release_scale(aligned, sc.structure.initial_displacement)  # before any run
-    structure = sc.structure_model()
+
+def _banded_models(sc: Scenario, models: dict[str, Any], n_real: int,
+                   force: bool) -> list[str]:
+    """The models that get a band of ``n_real`` realisations (the others run once), every
+    count and cost judged before any run."""
+    from pdamper.reports.realisations import check_level3_realisations, level3_kind
+
+    banded = [n for n, m in models.items() if level3_kind(m) is not None]
+    if not banded:
+        raise InputError("realisations", f"must be 1 for {', '.join(models)} (no "
+                         f"random packing, no map with realisations), got {n_real}")
+    for n in banded:
+        check_level3_realisations(n_real, sc, n, force=force)
+    return banded
+
+
+def _run_models(sc: Scenario, structure: Any, models: dict[str, Any], banded: list[str],
+                n_real: int, *, workers: int | None, serial: bool,
+                force: bool) -> tuple[dict[str, Any], dict[str, float], dict[str, Any]]:
+    """Each model's release run (a banded model's first realisation), its wall time [s]
+    and the bands of the banded models."""
+    import time
+
+    from pdamper.coupling import Simulation
+
     x0 = sc.structure.initial_displacement
-    runs, seconds, bands = {}, {}, {}
+    runs: dict[str, Any] = {}
+    seconds: dict[str, float] = {}
+    bands: dict[str, Any] = {}
     for n, m in models.items():
         t0 = time.perf_counter()
         if n in banded:
@@ -190,55 +291,45 @@ def simulate(
             runs[n] = Simulation(structure, m, x0).run(sc.simulation.duration,
                                                        sc.simulation.sample_rate)
         seconds[n] = time.perf_counter() - t0
-    first = runs[names[0]]
-    meta = metadata(sc)
-    if out is not None:
-        ds = first.to_dataset()
-        if names[0] in bands:  # the first realisation's trajectory and the band
-            ds = bands[names[0]].add_to(ds)
-        ds.attrs.update(pdamper_version=meta["version"])
-        from pdamper.files import atomic_write_netcdf
+    return runs, seconds, bands
 
-        atomic_write_netcdf(out, ds)
-    payload = {k: v for k, v in _run_payload(first, seconds[names[0]]).items() if k != "model"}
-    payload["units"] = {"time": "s", "amplitude": "m", "frequency": "Hz",
-                        "effective_mass": "kg", "damping": "kg/s", "wall_seconds": "s"}
-    if compare is not None:
-        payload["models"] = {n: _run_payload(r, seconds[n]) for n, r in runs.items()}
-        for n, b in bands.items():
-            payload["models"][n]["realisations"] = b.as_dict()
-    if names[0] in bands:  # the run keys above are then the first realisation's
-        payload["realisations"] = bands[names[0]].as_dict()
-    comparisons = {}
-    if aligned is not None:
-        from pdamper.coupling.comparison import compare_with_measurement
 
-        comparisons = {n: compare_with_measurement(r, aligned) for n, r in runs.items()}
-        amp, zeta = aligned.damping_ratio
-        payload["comparison"] = {
-            "measured": {
-                "file": aligned.source, "quantity": aligned.quantity,
-                "time_offset": aligned.time_offset, "static_offset": aligned.static_offset,
-                "initial_deflection": aligned.initial_deflection,
-                "simulated_initial_deflection": x0,
-                "peaks": [{"time": float(t), "amplitude": float(a)} for t, a in
-                          zip(aligned.peak_times, aligned.peak_amplitudes, strict=True)],
-                "damping_ratio": [{"amplitude": float(a), "zeta": float(z)}
-                                  for a, z in zip(amp, zeta, strict=True)],
-            },
-            "models": {n: c.as_dict() for n, c in comparisons.items()},
-            "units": {"peak_rms_error": "m", "peak_rms_relative": "1", "time_drift": "s",
-                      "phase_drift": "rad", "zeta": "1"},
-        }
-    spread = None
-    if uncertainty is not None:
-        from pdamper.io.uncertain import propagate_scenario
+def _write_trajectory(out: Path, first: Any, band: Any, meta: dict) -> None:
+    """The first model's trajectory (and its band, if any) to the NetCDF ``out``."""
+    from pdamper.files import atomic_write_netcdf
 
-        spread = propagate_scenario(sc, "level3", uncertainty, uncertainty_seed)
-        payload["uncertainty"] = spread.as_dict()
-    payload.update(meta)
-    if plot is not None:
-        _figure(plot, runs, aligned, comparisons, bands)
+    ds = first.to_dataset()
+    if band is not None:  # the first realisation's trajectory and the band
+        ds = band.add_to(ds)
+    ds.attrs.update(pdamper_version=meta["version"])
+    atomic_write_netcdf(out, ds)
+
+
+def _comparison_payload(aligned: Any, x0: float, comparisons: dict[str, Any]) -> dict:
+    """The JSON ``comparison``: the aligned measurement and each model's errors."""
+    amp, zeta = aligned.damping_ratio
+    return {
+        "measured": {
+            "file": aligned.source, "quantity": aligned.quantity,
+            "time_offset": aligned.time_offset, "static_offset": aligned.static_offset,
+            "initial_deflection": aligned.initial_deflection,
+            "simulated_initial_deflection": x0,
+            "peaks": [{"time": float(t), "amplitude": float(a)} for t, a in
+                      zip(aligned.peak_times, aligned.peak_amplitudes, strict=True)],
+            "damping_ratio": [{"amplitude": float(a), "zeta": float(z)}
+                              for a, z in zip(amp, zeta, strict=True)],
+        },
+        "models": {n: c.as_dict() for n, c in comparisons.items()},
+        "units": {"peak_rms_error": "m", "peak_rms_relative": "1", "time_drift": "s",
+                  "phase_drift": "rad", "zeta": "1"},
+    }
+
+
+def _human(structure: Any, x0: float, models: dict[str, Any], runs: dict[str, Any],
+           seconds: dict[str, float], bands: dict[str, Any], aligned: Any,
+           comparisons: dict[str, Any], spread: Any) -> list[str]:
+    """The human-readable text: the structure, each model's decay table (and band), the
+    comparison with the measurement and the uncertainty."""
     if hasattr(structure, "mass"):  # the 1-DOF of Eq. (23)
         on = f"M={structure.mass:.4g} kg, K={structure.stiffness:g} N/m"
     else:
@@ -265,7 +356,7 @@ def simulate(
     if spread is not None:
         lines += _uncertainty.lines(spread, {"amplitude_at": (1e3, "mm"),
                                              "final_amplitude": (1e3, "mm")})
-    emit(payload, as_json, "\n".join(lines))
+    return lines
 
 
 def _figure(path: Path, runs: dict, aligned, comparisons: dict, bands: dict) -> None:

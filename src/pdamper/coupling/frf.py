@@ -60,7 +60,7 @@ import re
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -440,6 +440,7 @@ class FRFResult:
             source = "sweeps" if self.sweeps else "harmonic_balance"
         if source == "harmonic_balance":
             hb = self.harmonic_balance
+            assert hb is not None  # the source without sweeps: harmonic balance was run
             a = np.where(hb.steady, hb.amplitude, np.nan)
             return np.nanmax(np.where(np.isnan(a).all(axis=1, keepdims=True), 0.0, a),
                              axis=1)[sel]
@@ -480,6 +481,7 @@ class FRFResult:
                 ds[f"hb_{k}"] = (("frequency", "solution"),
                                  v.astype("i1") if k == "steady" else v,
                                  {"units": unit, "long_name": f"harmonic balance: {name}"})
+            assert hb.branch is not None  # harmonic balance labels every solution's branch
             ds["hb_branch"] = (("frequency", "solution"), hb.branch.astype(str),
                                {"long_name": "harmonic balance branch: stable, unstable, edge"})
         if self.sweeps:
@@ -515,10 +517,12 @@ class FRFResult:
 
         points = []
         for i, f in enumerate(self.frequency):
-            p = {"frequency": float(f), "linear_amplitude": float(abs(self.linear[i])),
-                 "linear_phase": float(np.angle(self.linear[i]))}
+            p: dict[str, Any] = {"frequency": float(f),
+                                 "linear_amplitude": float(abs(self.linear[i])),
+                                 "linear_phase": float(np.angle(self.linear[i]))}
             if self.harmonic_balance is not None:
                 hb = self.harmonic_balance
+                assert hb.branch is not None  # harmonic balance labels every solution's branch
                 p["harmonic_balance"] = [rows(hb, i, j) for j in range(hb.amplitude.shape[1])
                                          if hb.branch[i, j]]
             for name, c in self.sweeps.items():
@@ -581,12 +585,14 @@ def harmonic_balance(model, structure, load: HarmonicLoad, frequency,
     mode = np.full((n, k), -1)
     steady = np.zeros((n, k), bool)
     branch = np.full((n, k), "", dtype=object)
-    for i, here in enumerate(sols):
+    for row, here in enumerate(sols):
         for j, (a, ph, st, eta, m, md, ok, kind) in enumerate(sorted(here, key=lambda r: r[2])):
-            arr["amplitude"][i, j], arr["phase"][i, j], arr["stroke"][i, j] = a, ph, st
-            arr["loss_factor"][i, j], arr["effective_mass"][i, j] = eta, m
-            mode[i, j], steady[i, j], branch[i, j] = md, ok, kind
-    return FRFCurve(mode=mode, steady=steady, branch=branch.astype(str), **arr)
+            arr["amplitude"][row, j], arr["phase"][row, j], arr["stroke"][row, j] = a, ph, st
+            arr["loss_factor"][row, j], arr["effective_mass"][row, j] = eta, m
+            mode[row, j], steady[row, j], branch[row, j] = md, ok, kind
+    return FRFCurve(amplitude=arr["amplitude"], phase=arr["phase"], stroke=arr["stroke"],
+                    loss_factor=arr["loss_factor"], effective_mass=arr["effective_mass"],
+                    mode=mode, steady=steady, branch=branch.astype(str))
 
 
 # ----------------------------------------------------------------------------- stepped sine
@@ -595,7 +601,7 @@ def _sweep_order(frequency: np.ndarray, direction: str) -> np.ndarray:
     return order if direction == "up" else order[::-1]
 
 
-def judge_amplitudes(amplitudes: Sequence[float], criterion: SteadyStateCriterion):
+def judge_amplitudes(amplitudes: Sequence[float] | np.ndarray, criterion: SteadyStateCriterion):
     """The stationarity verdict on per-cycle amplitudes (relative to the last one, so that
     the criterion's tolerances are relative)."""
     a = np.asarray(amplitudes, float)
@@ -604,7 +610,7 @@ def judge_amplitudes(amplitudes: Sequence[float], criterion: SteadyStateCriterio
     return criterion.evaluate(a / a[-1])
 
 
-def steady_amplitudes(amplitudes: Sequence[float], criterion: SteadyStateCriterion) -> bool:
+def steady_amplitudes(amplitudes: Sequence[float] | np.ndarray, criterion: SteadyStateCriterion) -> bool:
     """Whether per-cycle amplitudes are steady: every cycle of the criterion's full window
     within its ``rtol`` of the last (a structure's transient is a slow *beat* of free and
     forced motion, which the criterion's scatter allowance, made for chaotic beds, would
@@ -703,7 +709,9 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
         out["phase"][i] = float(np.angle(xo_hat))  # against the reference signal
         out["stroke"][i] = abs(xd_hat)
         out["loss_factor"][i], out["effective_mass"][i], mode[i] = eta, m, md
-    return FRFCurve(mode=mode, steady=steady, cycles=cycles, **out)
+    return FRFCurve(amplitude=out["amplitude"], phase=out["phase"], stroke=out["stroke"],
+                    loss_factor=out["loss_factor"], effective_mass=out["effective_mass"],
+                    mode=mode, steady=steady, cycles=cycles)
 
 
 def _propagators(a: np.ndarray, period: float, om: float, eye: np.ndarray):
@@ -732,7 +740,6 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
     with the load on the structure; each step continues from the previous step's particles
     and structure state, and runs until the container's per-cycle amplitude is steady or
     ``max_cycles`` load cycles have run."""
-    from pdamper.analysis.complex_power import complex_power
     from pdamper.dem import StructureMotion
 
     s = _modal(structure)
@@ -756,7 +763,6 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
     phase0 = 0.0
     for i in _sweep_order(freqs, direction):
         f = float(freqs[i])
-        om = 2.0 * math.pi * f
         force = load_force(s, load, f)
         motion = StructureMotion(mass=e.mass, damping=e.damping, stiffness=e.stiffness,
                                  x0=x0, v0=v0, force_amplitude=abs(force), force_frequency=f,
@@ -768,52 +774,88 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
             engine = model._engine(particles, motion)
             settle = False
         period = 1.0 / f
-
-        def stop(res, period=period, f=f):
-            t = res.time
-            k = int((t[-1] - t[0]) / period + 1e-9)
-            if k < criterion.min_cycles:
-                return False
-            amps = _cycle_amplitudes(t, res.container_position, f, k)
-            return steady_amplitudes(amps, criterion)
-
         t0 = time.perf_counter()
         res = engine.run(max_cycles * period, sample_rate=sample_rate_per_cycle * f,
-                         settle=settle, stop=stop)
+                         settle=settle, stop=_steady_stop(period, f, criterion))
         walls[i] = time.perf_counter() - t0
         steps[i] = res.steps
-        t = res.time
-        k = int((t[-1] - t[0]) / period + 1e-9)
-        amps = _cycle_amplitudes(t, res.container_position, f, k)
-        verdict = judge_amplitudes(amps, criterion)
-        cycles[i] = k
-        steady[i] = steady_amplitudes(amps, criterion)
-        # the last whole cycles (the window judged) for the amplitudes and the damper
-        last = max(1, min(k, verdict.last_cycle - verdict.first_cycle + 1 if
-                          verdict.stationary else 3))
-        sel = t >= t[0] + (k - last) * period - 1e-12
-        sel &= t <= t[0] + k * period + 1e-12
-        tt = t[sel]
-        th = om * (tt - t[0]) + phase0  # load phase at the samples
-        x = res.container_position[sel]
-        hat = 2.0 / (tt[-1] - tt[0]) * np.trapezoid(x * np.exp(-1j * th), tt)
-        out["amplitude"][i] = out["stroke"][i] = abs(hat)
-        out["phase"][i] = float(np.angle(hat))  # against the reference signal (th)
-        try:  # Eqs. (1)-(4) over the same cycles, the particles' force on the container
-            cp = complex_power(tt, -res.force[sel, 2], res.container_velocity[sel],
-                               res.container_acceleration[sel], f, model.bed_mass)
-            out["loss_factor"][i], out["effective_mass"][i] = cp.loss_factor, cp.effective_mass
-        except InputError:  # too few samples: left NaN
-            pass
-        mode[i] = _dem_mode(res, f, k, last)
+        step = _co_simulation_step(res, model, f, phase0, criterion)
+        cycles[i], steady[i], mode[i] = step.cycles, step.steady, step.mode
+        out["amplitude"][i] = out["stroke"][i] = abs(step.hat)
+        out["phase"][i] = float(np.angle(step.hat))  # against the reference signal
+        out["loss_factor"][i], out["effective_mass"][i] = step.loss_factor, step.effective_mass
         # the next step starts where this one ended
         particles = _final_particles(engine, res)
         x0, v0 = float(res.container_position[-1]), float(res.container_velocity[-1])
-        phase0 = float(th[-1] + om * (t[-1] - tt[-1])) % (2 * math.pi)
+        phase0 = step.phase_end
         if progress is not None:
-            progress(f, {"cycles": k, "steady": bool(steady[i]), "wall_seconds": walls[i]})
-    return FRFCurve(mode=mode, steady=steady, cycles=cycles,
-                    diagnostics={"wall_seconds": walls, "steps": steps}, **out)
+            progress(f, {"cycles": step.cycles, "steady": bool(steady[i]),
+                         "wall_seconds": walls[i]})
+    return FRFCurve(amplitude=out["amplitude"], phase=out["phase"], stroke=out["stroke"],
+                    loss_factor=out["loss_factor"], effective_mass=out["effective_mass"],
+                    mode=mode, steady=steady, cycles=cycles,
+                    diagnostics={"wall_seconds": walls, "steps": steps})
+
+
+def _steady_stop(period: float, f: float,
+                 criterion: SteadyStateCriterion) -> Callable[[Any], bool]:
+    """The engine's stop rule of a co-simulation step at ``f`` [Hz]: the container's
+    per-cycle amplitudes are steady (:func:`steady_amplitudes`)."""
+
+    def stop(res: Any) -> bool:
+        t = res.time
+        k = int((t[-1] - t[0]) / period + 1e-9)
+        if k < criterion.min_cycles:
+            return False
+        amps = _cycle_amplitudes(t, res.container_position, f, k)
+        return steady_amplitudes(amps, criterion)
+
+    return stop
+
+
+class _Step(NamedTuple):
+    """What one co-simulation step at a frequency gave."""
+
+    cycles: int            # whole load cycles run
+    steady: bool           # per-cycle amplitudes steady (steady_amplitudes)
+    hat: complex           # container's first harmonic over the last cycles [m]
+    loss_factor: float     # eta over the same cycles (Eq. 3; NaN: too few samples)
+    effective_mass: float  # m_eff over the same cycles [kg] (Eq. 4; NaN: too few samples)
+    mode: int              # motion-mode code (-1: none)
+    phase_end: float       # load phase at the run's end, in [0, 2 pi) [rad]
+
+
+def _co_simulation_step(res: Any, model: Any, f: float, phase0: float,
+                        criterion: SteadyStateCriterion) -> _Step:
+    """The verdict and the response of the run ``res`` of a step at ``f`` [Hz] whose load
+    started at phase ``phase0`` [rad], over its last whole cycles (the window judged)."""
+    from pdamper.analysis.complex_power import complex_power
+
+    om = 2.0 * math.pi * f
+    period = 1.0 / f
+    t = res.time
+    k = int((t[-1] - t[0]) / period + 1e-9)
+    amps = _cycle_amplitudes(t, res.container_position, f, k)
+    verdict = judge_amplitudes(amps, criterion)
+    # the last whole cycles (the window judged) for the amplitudes and the damper
+    last = max(1, min(k, verdict.last_cycle - verdict.first_cycle + 1 if
+                      verdict.stationary else 3))
+    sel = t >= t[0] + (k - last) * period - 1e-12
+    sel &= t <= t[0] + k * period + 1e-12
+    tt = t[sel]
+    th = om * (tt - t[0]) + phase0  # load phase at the samples
+    x = res.container_position[sel]
+    hat = 2.0 / (tt[-1] - tt[0]) * np.trapezoid(x * np.exp(-1j * th), tt)
+    eta = m_eff = math.nan
+    try:  # Eqs. (1)-(4) over the same cycles, the particles' force on the container
+        cp = complex_power(tt, -res.force[sel, 2], res.container_velocity[sel],
+                           res.container_acceleration[sel], f, model.bed_mass)
+        eta, m_eff = cp.loss_factor, cp.effective_mass
+    except InputError:  # too few samples: left NaN
+        pass
+    return _Step(k, steady_amplitudes(amps, criterion), hat, eta, m_eff,
+                 _dem_mode(res, f, k, last),
+                 float(th[-1] + om * (t[-1] - tt[-1])) % (2 * math.pi))
 
 
 def _dem_mode(res, f: float, cycles: int, last: int) -> int:
@@ -852,7 +894,7 @@ def _cycle_amplitudes(t: np.ndarray, x: np.ndarray, f: float, k: int) -> list[fl
 
 def _final_particles(engine, res):
     """The spheres where ``res`` ended, in the container frame (the next step's start)."""
-    from pdamper.dem.model import ParticleSet
+    from pdamper.dem.inputs import ParticleSet
 
     p = engine.particles
     pos = np.array(res.snapshot_positions[-1], float)

@@ -112,7 +112,9 @@ _EMPTY = np.zeros(2)
 
 
 def _drive(kind: int, z0: float = 0.0, amplitude: float = 0.0, omega: float = 0.0,
-           table_dt: float = 1.0, table=(_EMPTY, _EMPTY, _EMPTY), mass: float = 1.0,
+           table_dt: float = 1.0,
+           table: tuple[np.ndarray, np.ndarray, np.ndarray] = (_EMPTY, _EMPTY, _EMPTY),
+           mass: float = 1.0,
            damping: float = 0.0, stiffness: float = 0.0) -> K.Drive:
     return K.Drive(int(kind), float(z0), float(amplitude), float(omega), float(table_dt),
                    *table, float(mass), float(damping), float(stiffness))
@@ -602,7 +604,8 @@ def warmup(integrators: tuple[str, ...] = INTEGRATORS,
     for name in integrators:
         if name not in INTEGRATORS:
             raise InputError("integrators", f"must be among {', '.join(INTEGRATORS)}, got {name!r}")
-    kinds = {"harmonic": HarmonicMotion(0.001, 10.0), "structure": StructureMotion(1.0, 0.1, 100.0)}
+    kinds: dict[str, HarmonicMotion | StructureMotion] = {
+        "harmonic": HarmonicMotion(0.001, 10.0), "structure": StructureMotion(1.0, 0.1, 100.0)}
     for name in motions:
         if name not in kinds:
             raise InputError("motions", f"must be among {', '.join(kinds)}, got {name!r}")

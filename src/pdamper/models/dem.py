@@ -15,7 +15,7 @@ import inspect
 import logging
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -47,6 +47,10 @@ from pdamper.models.settings import (  # noqa: F401 - the defaults, importable f
     DEMSettings,
     SteadyState,
 )
+
+if TYPE_CHECKING:
+    from pdamper.analysis.complex_power import ComplexPowerResult
+    from pdamper.dem.result import DEMResult
 
 logger = logging.getLogger(__name__)
 
@@ -128,10 +132,10 @@ class SteadyRun:
         The :class:`AccuracyEstimate` (None unless the model estimates it).
     """
 
-    result: object
+    result: DEMResult
     stationarity: Stationarity
     motion: ModeClassification
-    power: object
+    power: ComplexPowerResult
     packing: str = "lattice"
     accuracy: AccuracyEstimate | None = None
 
@@ -297,16 +301,16 @@ class DEMDamper(DamperModel):
         elif s.skip_cycles >= s.cycles:
             raise InputError("dem.skip_cycles", f"must be in [0, {s.cycles - 1}] for "
                              f"{s.cycles} cycles, got {s.skip_cycles}")
-        for name in ("friction", "restitution_pp", "restitution_pw"):
-            if getattr(damper, name) is None:
-                raise InputError(f"particles.{name}", "the DEM needs the friction coefficient "
-                                 "and the COR curves of the damper (ParticleDamper.friction, "
-                                 ".restitution_pp, .restitution_pw)")
+        friction, cor_pp, cor_pw = damper.friction, damper.restitution_pp, damper.restitution_pw
+        if friction is None or cor_pp is None or cor_pw is None:
+            name = ("friction" if friction is None
+                    else "restitution_pp" if cor_pp is None else "restitution_pw")
+            raise InputError(f"particles.{name}", "the DEM needs the friction coefficient "
+                             "and the COR curves of the damper (ParticleDamper.friction, "
+                             ".restitution_pp, .restitution_pw)")
         try:
-            self.contact = ContactParameters(restitution_pp=damper.restitution_pp,
-                                             restitution_pw=damper.restitution_pw,
-                                             friction_pp=damper.friction,
-                                             friction_pw=damper.friction,
+            self.contact = ContactParameters(restitution_pp=cor_pp, restitution_pw=cor_pw,
+                                             friction_pp=friction, friction_pw=friction,
                                              damping_model=s.damping_model,
                                              min_impact_velocity=s.min_impact_velocity)
         except InputError as exc:  # name the field as the [dem] section does
@@ -356,12 +360,14 @@ class DEMDamper(DamperModel):
         imp = resources.check_motion(damper, frequency, amplitude, fields=fields, usual=usual,
                                      contact_law=cls.contact_law, gravity=gravity)
         cycles, field = cls._run_bound(settings)
+        # (name, ratio to its usual value[, whether lowering it raises the cost])
+        drivers: list[tuple] = [(field, cycles / cls._run_bound(DEMSettings())[0]),
+                                (fields[0], usual[0] / frequency, True), *damper_drivers,
+                                *cls.settings_drivers(settings)]
         return resources.dem_cost(
             damper, cycles / frequency, imp.speed, sample_rate=settings.sample_rate,
             safety=settings.safety, snapshot_rate=settings.snapshot_rate, frequency=frequency,
-            gravity=gravity, drivers=[(field, cycles / cls._run_bound(DEMSettings())[0]),
-                                      (fields[0], usual[0] / frequency, True), *damper_drivers,
-                                      *cls.settings_drivers(settings)])
+            gravity=gravity, drivers=drivers)
 
     @classmethod
     def map_cost(cls, damper, frequency, amplitude, points, settings=None, *,
@@ -432,7 +438,7 @@ class DEMDamper(DamperModel):
         random bed ``transient_tolerance`` over the cycles every averaged window skips; from
         the lattice none, and Gear at :data:`LATTICE_GEAR_TOLERANCE` throughout (where
         ``gear_tolerance`` is at its default; another value is taken as given)."""
-        from pdamper.dem.model import DEFAULT_GEAR_TOLERANCE
+        from pdamper.dem.inputs import DEFAULT_GEAR_TOLERANCE
 
         if packing == "lattice":
             # per-start rule: the lattice is integrated converged (see the constant)
@@ -527,12 +533,13 @@ class DEMDamper(DamperModel):
         # edges (scenario, command line) hold runs to the lower limits unless forced
         d = self.damper
         cycles = self.max_cycles if self.run_until_steady else self.cycles
+        drivers: tuple[tuple, ...] = (
+            ("dem.max_cycles" if self.run_until_steady else "dem.cycles", cycles),
+            ("frequency", 1.0 / f, True), ("dem.sample_rate", self.sample_rate / f))
         resources.require(resources.dem_cost(
             d, cycles / f, resources.impact_speed(x, f, d.length), frequency=f,
             sample_rate=self.sample_rate, safety=self.safety, snapshot_rate=self.snapshot_rate,
-            drivers=(("dem.max_cycles" if self.run_until_steady else "dem.cycles", cycles),
-                     ("frequency", 1.0 / f, True), ("dem.sample_rate", self.sample_rate / f))),
-            force=True)
+            drivers=drivers), force=True)
         packing, particles = self._particles()
         engine = self._engine(particles, HarmonicMotion(amplitude=x, frequency=f),
                               **self._level2_settling(), **self._transient(packing))
@@ -685,7 +692,7 @@ class DEMDamper(DamperModel):
         runs = np.empty(shape, dtype=object)
         diag: dict[str, np.ndarray] = {}
         for idx in np.ndindex(shape):
-            sr = self.steady_run(f[idx], x[idx])
+            sr = self.steady_run(float(f[idx]), float(x[idx]))
             res, st, mo, cp = sr.result, sr.stationarity, sr.motion, sr.power
             eta[idx], e_tilde[idx], ratio[idx] = (cp.loss_factor, cp.dissipated_energy_per_cycle,
                                                   cp.effective_mass_ratio)

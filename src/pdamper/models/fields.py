@@ -231,6 +231,10 @@ class EffectiveFieldDamper(DamperModel):
 
     fidelity = "fields"
     coupling = "pseudo_force"
+    #: per particle count of the map (None: no count axis): the count, its grid, its bed mass
+    _grids: list[tuple[int | None, _Grid, float]]
+    #: the grids read for the damper's count with their weights (empty: model 3 throughout)
+    _pair: tuple[tuple[tuple[int | None, _Grid, float], float], ...]
 
     def __init__(self, damper: ParticleDamper, file: str | Path | None = None, *,
                  field: Any = None, extrapolation: str = "error",
@@ -301,18 +305,21 @@ class EffectiveFieldDamper(DamperModel):
                 else np.full(valid.shape, _UNCLASSIFIED))
         ratio = np.asarray(ds["effective_mass_ratio"].values, float)
         raw = np.asarray(ds[dissipation].values, float)
+        counts: list[int | None]
         if count_dim is None:
             counts = [None]
             bed_masses = [float(ds.attrs.get("bed_mass", self.damper.bed_mass))]
             raw, ratio, mode, valid, transient = (a[None] for a in (raw, ratio, mode, valid,
                                                                      transient))
         else:
-            counts = [_whole_count(n) for n in ds[count_dim].values]
-            if any(n is None or n < 1 for n in counts) or any(np.diff(counts) <= 0):
+            found = [_whole_count(n) for n in ds[count_dim].values]
+            whole = [n for n in found if n is not None]
+            if len(whole) < len(found) or any(n < 1 for n in whole) or any(np.diff(whole) <= 0):
                 raise InputError("fields.file", f"{self._label}: the {count_dim} axis must hold "
                                  "increasing whole counts >= 1")
             one = self.damper.particle_mass
-            bed_masses = [n * one for n in counts]
+            bed_masses = [n * one for n in whole]
+            counts = list(whole)
         valid = valid & np.isfinite(raw) & np.isfinite(ratio)
         self._grids = []
         for k, n in enumerate(counts):  # raw: eta, or E~ with interpolate="dissipated_energy"
@@ -454,6 +461,8 @@ class EffectiveFieldDamper(DamperModel):
             if weight > best:
                 mode, best = mo, weight
         if np.any(analytic):
+            # points outside the map are analytic only with extrapolation = 'analytic'
+            assert self._analytic is not None
             ra = self._analytic.response(f[analytic], x[analytic])
             eta[analytic] = ra.loss_factor
             ratio[analytic] = ra.effective_mass_ratio
