@@ -43,37 +43,16 @@ def report(
     from rich.console import Console
 
     from pdamper.cli._quiet import quiet
-    from pdamper.design.uncertainty import check_points
     from pdamper.errors import InputError
     from pdamper.files import atomic_directory
     from pdamper.reports import damper_report
 
     sc = load(scenario, runs=("map", "simulation", "optimization"), model="analytic",
               force=force, **_uncertainty.merged({}, uncertain))
-    if dem:
-        sc.check_resources("simulation", "dem", force)
-    n_real = None
-    if realisations is not None:
-        from pdamper.reports.realisations import check_level3_realisations, parse_count
-
-        if not dem:
-            raise InputError("realisations", "needs --dem (the realisations are those of the "
-                             "DEM's random packings)")
-        n_real = check_level3_realisations(parse_count(realisations), sc, "dem", force=force)
+    n_real = _check_runs(sc, dem, realisations, uncertainty, force)
     target = check_output_directory(out)
     if workers is not None and workers < 1:
         raise InputError("workers", f"must be a whole number >= 1, got {workers}")
-    if uncertainty is not None:
-        _uncertainty.check(sc, "level3", uncertainty, force)
-    elif sc.uncertain_inputs():
-        check_points(damper_report.DEFAULT_UNCERTAINTY_POINTS)
-        from pdamper.io.uncertain import check_cost
-
-        check_cost(sc, "level3", damper_report.DEFAULT_UNCERTAINTY_POINTS, force)
-    if sc.uncertain_inputs():  # its Level III answers (the time of the amplitude) judged
-        from pdamper.io.uncertain import level3_answers
-
-        level3_answers(sc, "analytic")
     options = {} if workers is None else {"workers": workers}
     t0 = time.perf_counter()
     console = Console(file=sys.stderr)
@@ -102,6 +81,38 @@ def report(
     for level, r in rep.uncertainty.items():
         lines.append(f"  uncertainty ({level}): driver {r.driver or 'none (no spread)'}")
     emit(payload, as_json, "\n".join(lines))
+
+
+def _check_runs(sc, dem: bool, realisations: str | None, uncertainty: int | None,
+                force: bool) -> int | None:
+    """What the report will run, judged before any run: the DEM, its realisations (their
+    count, or None) and the uncertainty propagation."""
+    from pdamper.design.uncertainty import check_points
+    from pdamper.errors import InputError
+    from pdamper.reports import damper_report
+
+    if dem:
+        sc.check_resources("simulation", "dem", force)
+    n_real = None
+    if realisations is not None:
+        from pdamper.reports.realisations import check_level3_realisations, parse_count
+
+        if not dem:
+            raise InputError("realisations", "needs --dem (the realisations are those of the "
+                             "DEM's random packings)")
+        n_real = check_level3_realisations(parse_count(realisations), sc, "dem", force=force)
+    if uncertainty is not None:
+        _uncertainty.check(sc, "level3", uncertainty, force)
+    elif sc.uncertain_inputs():
+        check_points(damper_report.DEFAULT_UNCERTAINTY_POINTS)
+        from pdamper.io.uncertain import check_cost
+
+        check_cost(sc, "level3", damper_report.DEFAULT_UNCERTAINTY_POINTS, force)
+    if sc.uncertain_inputs():  # its Level III answers (the time of the amplitude) judged
+        from pdamper.io.uncertain import level3_answers
+
+        level3_answers(sc, "analytic")
+    return n_real
 
 
 class _Nothing:

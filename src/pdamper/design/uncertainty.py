@@ -508,6 +508,20 @@ def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
         k = answers[int(np.argwhere(bad)[0][0])]
         raise InputError("uncertainty", f"the answer {k!r} is not finite at some samples; "
                          "narrow the inputs' standard deviations")
+    out = _spreads(inputs, answers, nominal, f_a, f_b, f_ab, seed, units or {})
+    both = np.concatenate([f_a, f_b], axis=1)
+    bands = {k: _band(arrays[k], rows) for k, rows in series.items()}
+    return UncertaintyResult(inputs, out, n, int(seed), total + 1,
+                             time.perf_counter() - t0, np.concatenate([a, b], axis=1),
+                             {k: both[s] for s, k in enumerate(answers)}, bands)
+
+
+def _spreads(inputs: tuple[UncertainInput, ...], answers: list[str], nominal: dict,
+             f_a: np.ndarray, f_b: np.ndarray, f_ab: np.ndarray, seed: int,
+             units: dict[str, str]) -> dict[str, AnswerSpread]:
+    """The :class:`AnswerSpread` of every float answer from the runs at A, B and the
+    AB^(i) (rows: answers, columns: points)."""
+    names = [u.field for u in inputs]
     first, totl = _indices(f_a, f_b, f_ab)
     ci_f, ci_t = _intervals(f_a, f_b, f_ab, seed)
     both = np.concatenate([f_a, f_b], axis=1)
@@ -520,26 +534,28 @@ def propagate(evaluate: Callable[[dict[str, float]], dict[str, float]],
         def per_input(arr, s=s, flat=flat):
             return {u: 0.0 if flat else float(arr[s, i]) for i, u in enumerate(names)}
 
+        def interval(ci, s=s, flat=flat):
+            return {u: (0.0, 0.0) if flat else (float(ci[0][s, i]), float(ci[1][s, i]))
+                    for i, u in enumerate(names)}
+
         out[k] = AnswerSpread(
-            k, (units or {}).get(k, ""), float(nominal[k]), float(np.mean(y)),
+            k, units.get(k, ""), float(nominal[k]), float(np.mean(y)),
             float(np.std(y, ddof=1)),
             {p: float(v) for p, v in zip(PERCENTILES, np.percentile(y, PERCENTILES),
                                          strict=True)},
             float(np.min(y)), float(np.max(y)), per_input(first), per_input(totl),
-            {u: (0.0, 0.0) if flat else (float(ci_f[0][s, i]), float(ci_f[1][s, i]))
-             for i, u in enumerate(names)},
-            {u: (0.0, 0.0) if flat else (float(ci_t[0][s, i]), float(ci_t[1][s, i]))
-             for i, u in enumerate(names)},
+            interval(ci_f), interval(ci_t),
             _group_sums(inputs, per_input(first), per_input(totl)))
-    bands = {}
-    for k, rows in series.items():
-        v = np.stack(rows)
-        q = np.percentile(v, PERCENTILES, axis=0)
-        bands[k] = {"nominal": arrays[k], "mean": v.mean(axis=0), "std": v.std(axis=0, ddof=1),
-                    **{f"p{p:g}": q[i] for i, p in enumerate(PERCENTILES)}}
-    return UncertaintyResult(inputs, out, n, int(seed), total + 1,
-                             time.perf_counter() - t0, np.concatenate([a, b], axis=1),
-                             {k: both[s] for s, k in enumerate(answers)}, bands)
+    return out
+
+
+def _band(nominal: np.ndarray, rows: list) -> dict:
+    """The band of an array answer over A and B: nominal, mean, std and percentiles of
+    each element."""
+    v = np.stack(rows)
+    q = np.percentile(v, PERCENTILES, axis=0)
+    return {"nominal": nominal, "mean": v.mean(axis=0), "std": v.std(axis=0, ddof=1),
+            **{f"p{p:g}": q[i] for i, p in enumerate(PERCENTILES)}}
 
 
 __all__ = ["FIT_TRUNCATION", "PERCENTILES", "AnswerSpread", "FitAxis", "ParameterFit",

@@ -174,7 +174,7 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
     """
     from pdamper import __version__
     from pdamper.coupling import Simulation
-    from pdamper.models import AnalyticalDamper, EffectiveFieldDamper
+    from pdamper.models import AnalyticalDamper
     from pdamper.reports.maps import run_map
 
     sc = scenario
@@ -202,19 +202,7 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
             out=target, cache=True, **sweep_options).dataset)
 
     gravity = sc.excitation.gravity
-    models = {"analytical formulas (model 3)": (sc.model("analytic", damper), "Eqs. 5-22")}
-    if sc.fields.file is not None:
-        models["effective fields (model 2)"] = (sc.model("fields", damper),
-                                                f"map {sc.fields.file}")
-    else:
-        f, x = sc.map_grid()
-        fmap = effective_field_map(damper, f, x, gravity)
-        opts = {**sc.fields.options(), "file": None, "extrapolation": "clamp"}
-        models["effective fields (model 2)"] = (
-            EffectiveFieldDamper(damper, field=fmap, **opts),
-            "analytical map of [map], clamped at its edges")
-    if dem:
-        models["DEM (model 1)"] = (sc.model("dem", damper), "DEM co-simulation")
+    models = level3_models(sc, damper, dem)
     for label, (model, source) in models.items():
         say(f"Level III: {label}")
         rep.runs[label] = _timed(rep, f"Level III: {label}", lambda m=model: Simulation(
@@ -290,6 +278,28 @@ def forced_response(rep: DamperReport, models: dict, structure: Any, x0: float) 
     for label, (model, _source) in models.items():
         if model.coupling in HARMONIC_BALANCE:
             rep.forced[label] = frequency_response(model, structure, load, f, sweep="none")
+
+
+def level3_models(sc: Scenario, damper: ParticleDamper, dem: bool) -> dict[str, tuple]:
+    """The report's Level III models, ``label -> (model, what its data rest on)``: the
+    analytical formulas, the effective fields (the scenario's map file, else the analytical
+    map of ``[map]``, clamped) and, with ``dem``, the DEM co-simulation."""
+    from pdamper.models import EffectiveFieldDamper
+
+    models = {"analytical formulas (model 3)": (sc.model("analytic", damper), "Eqs. 5-22")}
+    if sc.fields.file is not None:
+        models["effective fields (model 2)"] = (sc.model("fields", damper),
+                                                f"map {sc.fields.file}")
+    else:
+        f, x = sc.map_grid()
+        fmap = effective_field_map(damper, f, x, sc.excitation.gravity)
+        opts = {**sc.fields.options(), "file": None, "extrapolation": "clamp"}
+        models["effective fields (model 2)"] = (
+            EffectiveFieldDamper(damper, field=fmap, **opts),
+            "analytical map of [map], clamped at its edges")
+    if dem:
+        models["DEM (model 1)"] = (sc.model("dem", damper), "DEM co-simulation")
+    return models
 
 
 def effective_field_map(damper: ParticleDamper, frequency: np.ndarray, amplitude: np.ndarray,
