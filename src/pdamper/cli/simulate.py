@@ -151,7 +151,8 @@ def simulate(
                 raise InputError(name, "a load history starts from rest and lasts the "
                                  "record plus --tail: leave out --"
                                  + name.replace("_", "-"))
-        _load_history.run(sc, models, sc.load.history(), sc.load.tail, out, plot, as_json)
+        _load_history.run(sc, models, sc.load.history(), sc.load.tail, out, plot, as_json,
+                           force)
         return
     if tail is not None:
         raise InputError("load.tail", "is the free vibration after a load history: give "

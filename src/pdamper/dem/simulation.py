@@ -113,9 +113,9 @@ _EMPTY = np.zeros(2)
 
 def _drive(kind: int, z0: float = 0.0, amplitude: float = 0.0, omega: float = 0.0,
            table_dt: float = 1.0, table=(_EMPTY, _EMPTY, _EMPTY), mass: float = 1.0,
-           damping: float = 0.0, stiffness: float = 0.0) -> K.Drive:
+           damping: float = 0.0, stiffness: float = 0.0, loaded: bool = False) -> K.Drive:
     return K.Drive(int(kind), float(z0), float(amplitude), float(omega), float(table_dt),
-                   *table, float(mass), float(damping), float(stiffness))
+                   *table, float(mass), float(damping), float(stiffness), int(loaded))
 
 
 class DEMEngine:
@@ -467,6 +467,11 @@ class DEMEngine:
         elif isinstance(m, PrescribedMotion):
             _, tz, tv, ta = m.table(grid.duration + 2 * grid.interval)
             drive = _drive(K.MOTION_TABLE, table_dt=m.sample_interval, table=(tz, tv, ta))
+        elif m.loaded:
+            h, zb, vb, fe = m.load_tables(grid.duration + 2 * grid.interval)
+            drive = _drive(K.MOTION_STRUCTURE, table_dt=h, table=(zb, vb, fe), mass=m.mass,
+                           damping=m.damping, stiffness=m.stiffness, loaded=True)
+            rs[0]["zc"], rs[0]["vc"] = m.x0, m.v0
         else:
             drive = _drive(K.MOTION_STRUCTURE, mass=m.mass, damping=m.damping,
                            stiffness=m.stiffness)

@@ -99,7 +99,7 @@ def _begin(t, h, pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
                             walls, work.frc, work.trq, fl.act, n, free)
     sta.onsets += ons
     if structure:
-        ac = structure_acceleration(r.fz, zc, vc, drive)
+        ac = structure_acceleration(r.fz, zc, vc, drive, t)
     nx = nord.x
     nw = nord.w
     nc = nord.c
@@ -557,7 +557,7 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
                 e2 = c2 / (den * den)
         err = math.sqrt(e2) * ih
         if structure:
-            ac = structure_acceleration(r.fz, zc, vc, drive)
+            ac = structure_acceleration(r.fz, zc, vc, drive, tn)
             corr = hh * ac - nc[2]
             ec = abs(corr) / (h * (vscale + abs((nc[1] + G1 * corr) * ih)))
             if ec > err:

@@ -49,7 +49,7 @@ def verlet_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
                             walls, work.frc, work.trq, np.arange(n), n, np.zeros(n, np.int64))
     sta.onsets += ons
     if drive.kind == MOTION_STRUCTURE:
-        ac = structure_acceleration(r.fz, zc, vc, drive)
+        ac = structure_acceleration(r.fz, zc, vc, drive, t0)
     led = lg[0]
     ledger_start(led, r)
     e = record_sample(0, t0, pos, vel, omg, part, world, zc, vc, ac, r.eel, led, samples,
@@ -104,7 +104,7 @@ def verlet_resume(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, 
                             walls, work.frc, work.trq, np.arange(n), n, np.zeros(n, np.int64))
     sta.onsets += ons
     if structure:
-        ac = structure_acceleration(r.fz, zc, vc, drive)
+        ac = structure_acceleration(r.fz, zc, vc, drive, t)
     ledger_step(lg[0], r, 0.0)  # adds nothing, remembers the rates
     s.zc = zc
     s.vc = vc
@@ -251,7 +251,7 @@ def _verlet_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, 
             fvel[q] += hdt * ffrc[q] * im3[q]
             fomg[q] += hdt * ftrq[q] * ii3[q]
         if structure:
-            ac = structure_acceleration(r.fz, zc, vce, drive)
+            ac = structure_acceleration(r.fz, zc, vce, drive, t)
             vc = vch + hdt * ac
         else:
             vc = vce
