@@ -110,9 +110,13 @@ def optimize(
                                     spec=f"particles={counts[0]}:{counts[-1]}:{step_}")]
     proto = sc.model(None, damper)
     if history is not None:  # the model must have a load-history form, before any design
-        from pdamper.coupling.loads import check_model
+        from pdamper.coupling.loads import LOAD_COSTS, check_model
 
         check_model(proto)
+        if proto.coupling in LOAD_COSTS:  # its cost per candidate is not judged yet
+            raise InputError("simulation.model", f"a design study under a load history "
+                             f"runs pseudo-force models (analytic, fields), not "
+                             f"{type(proto).__name__}; simulate it with --model")
     n_workers = o.workers
     if n_workers == "auto":  # parallel where it pays and dask.distributed is installed
         import importlib.util
