@@ -124,3 +124,26 @@ def test_cli_dem_load_json(cli, tmp_path):
     assert dem["peak"] > 0 and dem["dissipated_energy"] >= 0
     assert abs(dem["energy_balance_error"]) < 1e-2
     assert dem["peak"] == pytest.approx(ana["peak"], rel=0.3)
+
+
+def test_cost_and_physics_of_a_dem_load_are_judged_before_the_run():
+    """The DEM's cost over the record plus its tail (a DEM free vibration at the speed the
+    analytical model predicts) is refused above the limits naming the load; a force that
+    drives the container beyond Hertz's law is refused naming the load, before any DEM
+    run."""
+    from pdamper.coupling.loads import check_cost
+
+    big = DEMDamper(dataclasses.replace(PAPER_DAMPER, count=160))
+    h = LoadHistory.harmonic(2.0, 5.3, 1.0)
+    check_cost(LIGHT_BED, STRUCTURE, h, 2000.0, 1.0)  # a second: affordable
+    with pytest.raises(InputError) as e:
+        check_cost(big, PAPER_STRUCTURE, h, 2000.0, 400.0)
+    assert e.value.field == "load" and "above the limit" in e.value.message
+    with pytest.raises(InputError) as e:
+        run_load(DEMDamper(PAPER_DAMPER), PAPER_STRUCTURE,
+                 LoadHistory.harmonic(2000.0, 5.3, 1.0))
+    assert e.value.field == "load"
+    base = LoadHistory.harmonic(5000.0, 5.3, 1.0, kind="base_acceleration")
+    with pytest.raises(InputError) as e:
+        run_load(DEMDamper(PAPER_DAMPER), PAPER_STRUCTURE, base)
+    assert e.value.field == "base_acceleration"

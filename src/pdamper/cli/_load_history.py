@@ -72,8 +72,8 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
         lines.append(f"{models[n]!r} ({seconds[n]:.2f} s): peak {r.peak * 1e3:.3f} mm, "
                      f"RMS {r.rms * 1e3:.3f} mm{rel}; acceleration peak "
                      f"{r.peak_acceleration:.4g} m/s^2, RMS {r.rms_acceleration:.4g} m/s^2; "
-                     f"damper dissipated {r.dissipated_energy:.4g} J in "
-                     f"{len(r.cycles)} updates")
+                     f"damper dissipated {r.dissipated_energy:.4g} J"
+                     + (f" in {len(r.cycles)} updates" if r.cycles else ""))
     emit(payload, as_json, "\n".join(lines))
 
 

@@ -90,7 +90,15 @@ def load_speed(model, structure, load, sample_rate: float, tail: float) -> float
     from pdamper.coupling.loads import simulate_load
     from pdamper.models import AnalyticalDamper
 
-    est = simulate_load(AnalyticalDamper(model.damper), structure, load, sample_rate, tail)
+    try:
+        est = simulate_load(AnalyticalDamper(model.damper), structure, load, sample_rate,
+                            tail)
+    except InputError as exc:  # the motion the load implies is beyond the models
+        if exc.field.startswith(("simulation.", "load", "base_acceleration", "structure")):
+            raise
+        field = "load" if load.kind == "force" else "base_acceleration"
+        raise InputError(field, "the motion it drives (the analytical model's estimate) is "
+                         f"out of range: {exc.field}: {exc.message}") from None
     return float(np.max(np.abs(np.diff(est.displacement)) / np.diff(est.time)))
 
 
@@ -104,9 +112,17 @@ def load_cost(model, structure, load, sample_rate: float, tail: float):
     f_n = structure.natural_frequency
     v = load_speed(model, structure, load, sample_rate, tail)
     x_rel = -max(v / (2.0 * np.pi * f_n), 1e-6)
-    cost = type(model).free_vibration_cost(
-        model.damper, duration, sample_rate, f_n, model.settings, x0=x_rel,
-        drivers=(("load", duration * f_n), ("simulation.sample_rate", sample_rate / f_n)))
+    field = "load" if load.kind == "force" else "base_acceleration"
+    try:
+        cost = type(model).free_vibration_cost(
+            model.damper, duration, sample_rate, f_n, model.settings, x0=x_rel,
+            drivers=((field, duration * f_n), ("simulation.sample_rate", sample_rate / f_n)))
+    except InputError as exc:  # the release stands in for the load: name the load
+        if exc.field != "structure.initial_displacement":
+            raise
+        raise InputError(field, f"drives the container at up to {v:.3g} m/s (the analytical "
+                         f"model's estimate), as a release from {x_rel:.3g} m would: "
+                         + exc.message) from None
     return cost, v
 
 
@@ -117,7 +133,8 @@ def co_simulate_load(model, structure, load, sample_rate: float = 2000.0,
     over the record plus ``tail`` [s]; a :class:`~pdamper.coupling.loads.LoadResponse`.
 
     The record, linear between its samples and zero after the last, is resampled on its
-    median interval (exact for a uniform record) into the kernels' table
+    median interval split into whole parts down to :data:`LOAD_TABLE_STEP` (exact for a
+    uniform record) into the kernels' table
     (:class:`~pdamper.dem.StructureMotion` ``force`` / ``base_acceleration``). A force acts
     on M; a base acceleration moves the base from rest, and the container's absolute
     motion, base included, is what the particles feel. The structure starts at rest at its
@@ -157,14 +174,13 @@ def co_simulate_load(model, structure, load, sample_rate: float = 2000.0,
         mass=structure.mass, damping=structure.damping, stiffness=structure.stiffness,
         x0=x_eq, force=table if load.kind == "force" else None,
         base_acceleration=table if load.kind != "force" else None)
-    v_base = float(np.max(np.abs(motion.load_tables(duration)[2])))
+    th, zb, vb, _ = motion.load_tables(duration)
+    v_base = float(np.max(np.abs(vb)))
     speed = np.sqrt(2.0 * gravity * model.damper.length) + 2.0 * (v_ref + v_base)
     engine = model.engine(motion, reference_velocity=float(speed))
     res = engine.run(duration, sample_rate=sample_rate)
     t = res.time
-    th, zb, vb, fe = motion.load_tables(duration)
-    tt = np.arange(zb.size) * th
-    z_b, v_b = np.interp(t, tt, zb), np.interp(t, tt, vb)
+    z_b = np.interp(t, np.arange(zb.size) * th, zb)  # as the kernels interpolate it
     z, v = res.container_position, res.container_velocity
     y = z - z_b - x_eq
     lv = load.at(t)

@@ -34,6 +34,9 @@ Each stretch between two updates is integrated exactly for an input linear betwe
 sampled finer (its median interval). An update acts from the step after the minimum that
 triggers it (at most one step late).
 
+The DEM (the ``co_simulation`` coupling, model 1) integrates the structure with the
+particles under the same load: :func:`pdamper.coupling.cosimulation.co_simulate_load`.
+
 Reported: the displacement of the output point (relative to the base for base motion), its
 absolute acceleration, their peak (largest magnitude) and RMS over the run, the energy the
 damper dissipates ``E_d = int d v_c^2 dt`` (the m_eff term is stored kinetic energy, nil at
