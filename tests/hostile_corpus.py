@@ -121,6 +121,8 @@ FILES = {
         f"{k * 5e-3:.3f}; {0.1 * __import__('math').sin(2 * __import__('math').pi * 5 * k * 5e-3):.5f}\n"
         for k in range(401)),
     "load_empty.csv": "",
+    "load_acc_huge.csv": "time [s], acceleration [m/s^2]\n0, 0\n0.1, 5000\n0.2, -5000\n"
+                         "0.3, 0\n",
     "load_header_only.csv": "time [s], force [N]\n",
     "load_one_sample.csv": "time [s], force [N]\n0, 1\n",
     "load_no_unit.csv": "time [s], force\n0, 0\n1, 1\n",
@@ -532,6 +534,11 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("simulate-realisations-with-load", ["simulate", "--model", "dem", "--realisations", "2",
                                          "--scenario", "{scenario:load_force}"],
      Error("realisations")),
+    # -- the DEM under a load history
+    ("ok-simulate-load-dem", ["simulate", "--model", "dem", "--particles", "4", "--load",
+                              "{tmp}/load_force.csv", "--json"], OK()),
+    ("load-dem-beyond-hertz", ["simulate", "--model", "dem", "--base-acceleration",
+                               "{tmp}/load_acc_huge.csv"], Error("base_acceleration")),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

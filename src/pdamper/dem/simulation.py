@@ -573,6 +573,12 @@ class DEMEngine:
             d.update(structure_mass_kg=m.mass, structure_damping_kg_s=m.damping,
                      structure_stiffness_n_m=m.stiffness, structure_x0_m=m.x0,
                      structure_v0_m_s=m.v0)
+            for name, unit in (("force", "n"), ("base_acceleration", "m_s2")):
+                rec = getattr(m, name)
+                if rec is not None:  # the load history: its step and samples
+                    d.update({f"structure_{name}_step_s": rec[0],
+                              f"structure_{name}_samples": int(rec[1].size),
+                              f"structure_{name}_peak_{unit}": float(np.max(np.abs(rec[1])))})
         return d
 
 
