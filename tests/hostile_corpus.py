@@ -128,6 +128,8 @@ FILES = {
         f"{k * 5e-3:.3f}; {0.1 * __import__('math').sin(2 * __import__('math').pi * 5 * k * 5e-3):.5f}\n"
         for k in range(401)),
     "load_empty.csv": "",
+    "load_acc_huge.csv": "time [s], acceleration [m/s^2]\n0, 0\n0.1, 5000\n0.2, -5000\n"
+                         "0.3, 0\n",
     "load_header_only.csv": "time [s], force [N]\n",
     "load_one_sample.csv": "time [s], force [N]\n0, 1\n",
     "load_no_unit.csv": "time [s], force\n0, 0\n1, 1\n",
@@ -469,8 +471,8 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
                             "{tmp}/decay_mm.csv"], Error("measured")),
     ("load-with-duration", ["simulate", "--load", "{tmp}/load_force.csv", "--duration", "1s"],
      Error("duration")),
-    ("load-dem", ["simulate", "--model", "dem", "--load", "{tmp}/load_force.csv"],
-     Error("simulation.model")),
+    ("load-dem-two-modes", ["simulate", "--model", "dem", "--load", "{tmp}/load_force.csv",
+                            "--modes", "{tmp}/load_modes_two.csv"], Error("structure")),
     ("base-acceleration-two-modes-file", ["simulate", "--base-acceleration",
                                           "{tmp}/load_acc.csv", "--modes",
                                           "{tmp}/load_modes_two.csv"],
@@ -484,8 +486,9 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
     ("load-tail-a-billion-seconds", ["simulate", "--load", "{tmp}/load_force.csv", "--tail",
                                      "1e9 s"], Error("simulation.sample_rate")),
     ("load-tail-without-load", ["simulate", "--tail", "1s"], Error("load.tail")),
-    ("load-compare-with-dem", ["simulate", "--compare", "analytic,dem", "--load",
-                               "{tmp}/load_force.csv"], Error("simulation.model")),
+    ("load-compare-with-dem-two-modes", ["simulate", "--compare", "analytic,dem", "--load",
+                                         "{tmp}/load_force.csv", "--modes",
+                                         "{tmp}/load_modes_two.csv"], Error("structure")),
     ("ok-simulate-load", ["simulate", "--load", "{tmp}/load_force.csv", "--json"], OK()),
     ("ok-simulate-load-scenario", ["simulate", "--scenario", "{scenario:load_force}",
                                    "--json"], OK()),
@@ -612,6 +615,11 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
                                 "--uncertainty", "4", "--serial", "--json"], OK()),
     ("ok-dem-fit-nominal", ["dem", "--scenario", "{scenario:cor_fit_small}", "--uncertain",
                             "restitution.particle_wall=fit", "--json"], OK()),
+    # -- the DEM under a load history
+    ("ok-simulate-load-dem", ["simulate", "--model", "dem", "--particles", "4", "--load",
+                              "{tmp}/load_force.csv", "--json"], OK()),
+    ("load-dem-beyond-hertz", ["simulate", "--model", "dem", "--base-acceleration",
+                               "{tmp}/load_acc_huge.csv"], Error("base_acceleration")),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

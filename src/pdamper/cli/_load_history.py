@@ -23,14 +23,16 @@ def response_payload(res, seconds: float) -> dict:
 
 
 def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | None,
-        as_json: bool) -> None:
+        as_json: bool, force: bool = False) -> None:
     """Run every model of ``models`` on ``history``; print, write and plot as the free
     decay does."""
-    from pdamper.coupling.loads import check_model, run_load
+    from pdamper.coupling.loads import check_cost, check_model, run_load
 
-    for m in models.values():  # every compared model, before any run
-        check_model(m)
     structure = sc.structure_model()
+    for m in models.values():  # every compared model, its structure and cost, before any run
+        check_model(m, structure)
+    for m in models.values():
+        check_cost(m, structure, history, sc.simulation.sample_rate, tail, force)
     runs, seconds = {}, {}
     for n, m in models.items():
         t0 = time.perf_counter()
@@ -70,8 +72,8 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
         lines.append(f"{models[n]!r} ({seconds[n]:.2f} s): peak {r.peak * 1e3:.3f} mm, "
                      f"RMS {r.rms * 1e3:.3f} mm{rel}; acceleration peak "
                      f"{r.peak_acceleration:.4g} m/s^2, RMS {r.rms_acceleration:.4g} m/s^2; "
-                     f"damper dissipated {r.dissipated_energy:.4g} J in "
-                     f"{len(r.cycles)} updates")
+                     f"damper dissipated {r.dissipated_energy:.4g} J"
+                     + (f" in {len(r.cycles)} updates" if r.cycles else ""))
     emit(payload, as_json, "\n".join(lines))
 
 

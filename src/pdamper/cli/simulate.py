@@ -122,7 +122,7 @@ def simulate(
     models = {n: sc.model(n, damper) for n in names}  # all built (and checked) before any run
     n_real = _realisation_count(sc, realisations, uncertainty)
     if sc.load.given:  # a load history instead of the release (docs/forced.md)
-        _run_load_history(sc, models, out_path, plot_path, as_json, measured=measured,
+        _run_load_history(sc, models, out_path, plot_path, as_json, force, measured=measured,
                           duration=duration, initial_displacement=initial_displacement,
                           uncertainty=uncertainty)
         return
@@ -239,7 +239,8 @@ def _realisation_count(sc: Scenario, realisations: str | None,
 
 
 def _run_load_history(sc: Scenario, models: dict[str, Any], out: Path | None,
-                      plot: Path | None, as_json: bool, **release: object) -> None:
+                      plot: Path | None, as_json: bool, force: bool,
+                      **release: object) -> None:
     """The run under a load history (docs/forced.md), refusing the ``release`` options
     (``measured``, ``duration``, ...) that belong to the release alone."""
     from pdamper.cli import _load_history
@@ -248,7 +249,8 @@ def _run_load_history(sc: Scenario, models: dict[str, Any], out: Path | None,
             raise InputError(name, "a load history starts from rest and lasts the "
                              "record plus --tail: leave out --"
                              + name.replace("_", "-"))
-    _load_history.run(sc, models, sc.load.history(), sc.load.tail, out, plot, as_json)
+    _load_history.run(sc, models, sc.load.history(), sc.load.tail, out, plot, as_json,
+                      force)
 
 
 def _banded_models(sc: Scenario, models: dict[str, Any], n_real: int,

@@ -34,6 +34,9 @@ Each stretch between two updates is integrated exactly for an input linear betwe
 sampled finer (its median interval). An update acts from the step after the minimum that
 triggers it (at most one step late).
 
+The DEM (the ``co_simulation`` coupling, model 1) integrates the structure with the
+particles under the same load: :func:`pdamper.coupling.cosimulation.co_simulate_load`.
+
 Reported: the displacement of the output point (relative to the base for base motion), its
 absolute acceleration, their peak (largest magnitude) and RMS over the run, the energy the
 damper dissipates ``E_d = int d v_c^2 dt`` (the m_eff term is stored kinetic energy, nil at
@@ -479,17 +482,49 @@ def _march(model: DamperModel, sys_: _System, kind: str, t: np.ndarray, u: np.nd
     return z, zdot, dd, me, cycles
 
 
+def _co_simulate_load(model, structure, load, sample_rate=2000.0, tail=0.0):
+    """The DEM's form (:func:`pdamper.coupling.cosimulation.co_simulate_load`)."""
+    from pdamper.coupling.cosimulation import co_simulate_load
+
+    return co_simulate_load(model, structure, load, sample_rate, tail)
+
+
+def _co_simulation_cost(model, structure, load, sample_rate, tail):
+    from pdamper.coupling.cosimulation import load_cost
+
+    return load_cost(model, structure, load, sample_rate, tail)[0]
+
+
 #: Load-history strategies by coupling name (a new coupling registers here).
-LOAD_COUPLINGS = {"pseudo_force": simulate_load}
+LOAD_COUPLINGS = {"pseudo_force": simulate_load, "co_simulation": _co_simulate_load}
+#: What a load history costs by coupling name, where it is more than seconds:
+#: ``f(model, structure, load, sample_rate, tail) -> resources.Cost``.
+LOAD_COSTS = {"co_simulation": _co_simulation_cost}
 
 
-def check_model(model: Any) -> None:
-    """Raise InputError if ``model``'s coupling has no load-history form."""
+def check_model(model: Any, structure: Any = None) -> None:
+    """Raise InputError if ``model``'s coupling has no load-history form (or none for
+    ``structure``, if given)."""
     if model.coupling not in LOAD_COUPLINGS:
         raise InputError("simulation.model", f"the {model.coupling} coupling of "
                          f"{type(model).__name__} has no load-history form yet; use a "
                          "pseudo-force model (analytic, fields) for --load / "
                          "--base-acceleration")
+    if structure is not None and model.coupling == "co_simulation":
+        from pdamper.coupling.cosimulation import single_dof
+
+        single_dof(structure)
+
+
+def check_cost(model, structure, load: LoadHistory, sample_rate: float, tail: float,
+               force: bool = False) -> None:
+    """Refuse a load history whose run ``model`` cannot afford
+    (:func:`pdamper.resources.require`; ``force`` lifts the usual limits)."""
+    if model.coupling in LOAD_COSTS:
+        from pdamper import resources
+
+        resources.require(LOAD_COSTS[model.coupling](model, structure, load, sample_rate,
+                                                     tail), force)
 
 
 def run_load(model: DamperModel, structure: Any, load: LoadHistory, sample_rate: float = 2000.0,

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -260,6 +260,17 @@ class StructureMotion:
     from the static equilibrium of the structure without particles, so gravity does not act
     on M (the particles' weight acts through F_z).
 
+    Under a load history (``force`` and/or ``base_acceleration``) the spring and the
+    damper hang from a base at ``z_b(t)`` and a force ``F(t)`` acts on M:
+
+        M z'' + D (z' - v_b) + K (z - z_b) = F_z + F(t)
+
+    with ``z`` the container's *absolute* position: the particles feel the container's
+    absolute motion (gravity stays constant in the inertial frame). In the coordinate
+    relative to the base, ``y = z - z_b``, this is ``M y'' + D y' + K y = F_z + F - M a_b``.
+    The base starts at rest at 0 (``z_b``, ``v_b`` integrated exactly from ``a_b`` linear
+    between samples), so ``x0``, ``v0`` are then also relative to the base.
+
     Parameters
     ----------
     mass, damping, stiffness
@@ -270,6 +281,10 @@ class StructureMotion:
         A harmonic load ``F cos(2 pi f t + phi)`` on the structure, t from the start of the
         run: F [N] (default 0: free vibration), f [Hz], phi [rad] (the forced response,
         :mod:`pdamper.coupling.frf`).
+    force, base_acceleration
+        Optional load histories ``(dt, values)``: samples every ``dt`` [s] from the start
+        of the excitation of the force on M [N] or of the base acceleration [m/s^2],
+        linear between samples, zero after the last.
     """
 
     mass: float
@@ -280,6 +295,8 @@ class StructureMotion:
     force_amplitude: float = 0.0
     force_frequency: float = 0.0
     force_phase: float = 0.0
+    force: tuple | None = field(default=None, compare=False)
+    base_acceleration: tuple | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
         check_range("structure.mass", self.mass, low=0.0, low_inclusive=False, unit="kg")
@@ -290,6 +307,49 @@ class StructureMotion:
         check_range("force", self.force_amplitude, low=0.0, unit="N")
         check_range("frequency", self.force_frequency, low=0.0, unit="Hz")
         check_range("force_phase", self.force_phase, unit="rad")
+        for name in ("force", "base_acceleration"):
+            rec = getattr(self, name)
+            if rec is None:
+                continue
+            if isinstance(rec, str | bytes) or not hasattr(rec, "__len__") or len(rec) != 2:
+                raise InputError(f"structure.{name}", "must be (dt, values): a sample "
+                                 f"interval in s and the samples, got {rec!r}")
+            dt = check_range(f"structure.{name}", rec[0], low=0.0, low_inclusive=False,
+                             unit="s")
+            v = _floats(f"structure.{name}", rec[1], "a sequence of finite samples", ndmin=1)
+            if v.ndim != 1 or v.size < 2 or not np.all(np.isfinite(v)):
+                raise InputError(f"structure.{name}", "needs at least 2 finite samples in a "
+                                 "1-D sequence")
+            object.__setattr__(self, name, (float(dt), v))
+        if self.force_amplitude > 0 and self.loaded:  # the kernels take one or the other
+            raise InputError("structure.force", "a harmonic load and a load history cannot "
+                             "act together; give one of them")
+
+    @property
+    def loaded(self) -> bool:
+        """Whether a load history acts (a force or a base motion)."""
+        return self.force is not None or self.base_acceleration is not None
+
+    def load_tables(self, duration: float):
+        """The kernels' tables over ``[0, duration]``: ``(h, z_b, v_b, F)`` on the uniform
+        step ``h`` (the finer of the records' intervals): base position [m] and velocity
+        [m/s] integrated exactly from rest for an acceleration linear between its samples,
+        and the force [N]."""
+        steps = [r[0] for r in (self.force, self.base_acceleration) if r is not None]
+        h = min(steps)
+        nt = int(math.ceil(duration / h)) + 3
+        t = np.arange(nt) * h
+        f = np.zeros(nt)
+        a = np.zeros(nt)
+        for rec, out in ((self.force, f), (self.base_acceleration, a)):
+            if rec is not None:
+                dt, v = rec
+                out[:] = np.interp(t, np.arange(v.size) * dt, v, left=0.0, right=0.0)
+        # exact integrals of a piecewise-linear acceleration
+        vb = np.concatenate([[0.0], np.cumsum(0.5 * h * (a[:-1] + a[1:]))])
+        zb = np.concatenate([[0.0], np.cumsum(h * vb[:-1] + h * h * (2.0 * a[:-1] + a[1:])
+                                              / 6.0)])
+        return h, zb, vb, f
 
     @property
     def natural_frequency(self) -> float:

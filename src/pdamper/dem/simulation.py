@@ -114,10 +114,10 @@ _EMPTY = np.zeros(2)
 def _drive(kind: int, z0: float = 0.0, amplitude: float = 0.0, omega: float = 0.0,
            table_dt: float = 1.0,
            table: tuple[np.ndarray, np.ndarray, np.ndarray] = (_EMPTY, _EMPTY, _EMPTY),
-           mass: float = 1.0,
-           damping: float = 0.0, stiffness: float = 0.0) -> K.Drive:
+           mass: float = 1.0, damping: float = 0.0, stiffness: float = 0.0,
+           loaded: bool = False) -> K.Drive:
     return K.Drive(int(kind), float(z0), float(amplitude), float(omega), float(table_dt),
-                   *table, float(mass), float(damping), float(stiffness))
+                   *table, float(mass), float(damping), float(stiffness), int(loaded))
 
 
 class DEMEngine:
@@ -473,6 +473,11 @@ class DEMEngine:
         elif isinstance(m, PrescribedMotion):
             _, tz, tv, ta = m.table(grid.duration + 2 * grid.interval)
             drive = _drive(K.MOTION_TABLE, table_dt=m.sample_interval, table=(tz, tv, ta))
+        elif m.loaded:
+            h, zb, vb, fe = m.load_tables(grid.duration + 2 * grid.interval)
+            drive = _drive(K.MOTION_STRUCTURE, table_dt=h, table=(zb, vb, fe), mass=m.mass,
+                           damping=m.damping, stiffness=m.stiffness, loaded=True)
+            rs[0]["zc"], rs[0]["vc"] = m.x0, m.v0
         else:
             # a harmonic load rides on the harmonic fields (amplitude [N], omega, phase)
             drive = _drive(K.MOTION_STRUCTURE, mass=m.mass, damping=m.damping,
@@ -580,6 +585,12 @@ class DEMEngine:
                 d.update(structure_force_n=m.force_amplitude,
                          structure_force_frequency_hz=m.force_frequency,
                          structure_force_phase_rad=m.force_phase)
+            for name, unit in (("force", "n"), ("base_acceleration", "m_s2")):
+                rec = getattr(m, name)
+                if rec is not None:  # the load history: its step and samples
+                    d.update({f"structure_{name}_step_s": rec[0],
+                              f"structure_{name}_samples": int(rec[1].size),
+                              f"structure_{name}_peak_{unit}": float(np.max(np.abs(rec[1])))})
         return d
 
 

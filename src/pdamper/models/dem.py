@@ -418,10 +418,11 @@ class DEMDamper(DamperModel):
         return self.contact.damping_model
 
     # ------------------------------------------------------------------ set-up
-    def engine(self, motion):
-        """The :class:`pdamper.dem.DEMEngine` of this damper under ``motion``."""
+    def engine(self, motion, **override):
+        """The :class:`pdamper.dem.DEMEngine` of this damper under ``motion``; ``override``:
+        engine settings that replace the model's (e.g. ``reference_velocity``)."""
 
-        return self._engine(self._particles()[1], motion)
+        return self._engine(self._particles()[1], motion, **override)
 
     def _engine(self, particles, motion, **override):
         """The engine; ``override``: engine settings that replace the model's (the refined

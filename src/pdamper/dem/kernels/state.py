@@ -115,7 +115,8 @@ class WallContacts(NamedTuple):
 
 class Drive(NamedTuple):
     """Container motion: harmonic ``z0 + X sin(W t)``, a sampled table, or a 1-DOF
-    structure ``M a = -K z - D v + F_z``."""
+    structure ``M a = -K z - D v + F_z``; a structure under a load history (``loaded``
+    = 1) holds the base position, base velocity and external force in the tables."""
 
     kind: int
     z0: float
@@ -128,6 +129,7 @@ class Drive(NamedTuple):
     mass: float
     damping: float
     stiffness: float
+    loaded: int
 
 
 class Stepping(NamedTuple):
