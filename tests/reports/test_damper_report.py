@@ -6,13 +6,12 @@ from __future__ import annotations
 import base64
 import json
 import math
-import shutil
-import subprocess
 from html.parser import HTMLParser
 
 import numpy as np
 import pytest
 
+import browser
 from pdamper import __version__
 
 
@@ -171,14 +170,6 @@ def test_example_report_has_the_papers_landscape(reports):
     assert "DEM (model 1)" not in " ".join(_page(out).text)  # by default: no DEM run
 
 
-def _chromium():
-    for name in ("chromium", "chromium-browser", "google-chrome"):
-        path = shutil.which(name)
-        if path:
-            return path
-    return None
-
-
 _CHECK = """<script>
 window.addEventListener("load", function () {
   var imgs = Array.prototype.slice.call(document.images);
@@ -192,32 +183,17 @@ window.addEventListener("load", function () {
 </script>"""
 
 
-@pytest.mark.skipif(_chromium() is None, reason="headless Chromium not installed "
+@pytest.mark.skipif(browser.chromium() is None, reason="headless Chromium not installed "
                     "(Debian package 'chromium')")
 @pytest.mark.parametrize("name", ["example", "user"])
 def test_report_renders_in_headless_chromium(reports, name, tmp_path):
     out, payload = reports[name]
-    flags = [_chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
-             "--disable-extensions", "--no-first-run", "--user-data-dir=" + str(tmp_path / "u")]
-    probe = tmp_path / "probe.html"
-    probe.write_text((out / "report.html").read_text(encoding="utf-8").replace(
-        "</body>", _CHECK + "</body>"), encoding="utf-8")
-    dom = subprocess.run(flags + ["--virtual-time-budget=10000", "--dump-dom", probe.as_uri()],
-                         capture_output=True, text=True, timeout=120).stdout
-    start = dom.index('data-check="') + len('data-check="')
-    check = json.loads(dom[start:dom.index('"', start)].replace("&quot;", '"')
-                       .replace("&amp;", "&"))
+    check = browser.probe(out / "report.html", _CHECK, tmp_path)
     assert check["images"] == check["loaded"] == len(payload["figures"])
     assert all(w > 300 for w in check["widths"])
     assert check["tables"] == len(_page(out).tables)
     assert all(h > 20 for h in check["heights"])  # every table laid out with rows
-    shot = tmp_path / "shot.png"
-    subprocess.run(flags + [f"--screenshot={shot}", "--window-size=1280,5000",
-                            (out / "report.html").as_uri()], capture_output=True,
-                   timeout=120, check=True)
-    from matplotlib.image import imread
-
-    img = imread(shot)[..., :3]
+    img = browser.screenshot(out / "report.html", tmp_path, 5000)
     assert img.shape[:2] == (5000, 1280)
     grey = img.mean(axis=2)
     assert np.mean(grey < 0.5) > 0.002  # text and lines

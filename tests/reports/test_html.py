@@ -6,13 +6,12 @@ from __future__ import annotations
 
 import base64
 import json
-import shutil
-import subprocess
 from html.parser import HTMLParser
 
 import numpy as np
 import pytest
 
+import browser
 from pdamper import __version__
 from pdamper.io.scenario import load_scenario
 from pdamper.reports.paper_case_study import run_case_study, write_case_study
@@ -110,14 +109,6 @@ def test_results_json_records_models_and_timings(report):
     assert "fields" in d["level3_runs"]
 
 
-def _chromium():
-    for name in ("chromium", "chromium-browser", "google-chrome"):
-        path = shutil.which(name)
-        if path:
-            return path
-    return None
-
-
 _CHECK = """<script>
 window.addEventListener("load", function () {
   var imgs = Array.prototype.slice.call(document.images);
@@ -132,26 +123,15 @@ window.addEventListener("load", function () {
 </script>"""
 
 
-@pytest.mark.skipif(_chromium() is None, reason="headless Chromium not installed "
+@pytest.mark.skipif(browser.chromium() is None, reason="headless Chromium not installed "
                     "(Debian package 'chromium')")
 def test_report_renders_in_headless_chromium(report, tmp_path):
     """Chromium (no network: everything is inside the file) decodes every image, lays out
     the comparison table, and the screenshot is not blank: it has the page's dark text
     and the figures' colours."""
     cs, out, files = report
-    exe = _chromium()
-    flags = [exe, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
-             "--disable-extensions", "--no-first-run", "--user-data-dir=" + str(tmp_path / "u")]
     # 1. a copy with a probe script: what the browser made of the page
-    probe = tmp_path / "probe.html"
-    probe.write_text((out / "report.html").read_text(encoding="utf-8").replace(
-        "</body>", _CHECK + "</body>"), encoding="utf-8")
-    dom = subprocess.run(flags + ["--virtual-time-budget=10000", "--dump-dom",
-                                  probe.as_uri()], capture_output=True, text=True,
-                         timeout=120).stdout
-    start = dom.index('data-check="') + len('data-check="')
-    raw = dom[start:dom.index('"', start)].replace("&quot;", '"').replace("&amp;", "&")
-    check = json.loads(raw)
+    check = browser.probe(out / "report.html", _CHECK, tmp_path)
     n_png = sum(p.suffix == ".png" for p in files)
     assert check["images"] == check["loaded"] == n_png
     assert all(w > 300 for w in check["widths"])
@@ -159,13 +139,7 @@ def test_report_renders_in_headless_chromium(report, tmp_path):
     assert check["verdicts"] == sum(r.agrees is not None for r in cs.rows)
     assert check["table_height"] > 20 * len(cs.rows)
     # 2. a screenshot of the report itself
-    shot = tmp_path / "shot.png"
-    subprocess.run(flags + [f"--screenshot={shot}", "--window-size=1280,6000",
-                            (out / "report.html").as_uri()], capture_output=True,
-                   timeout=120, check=True)
-    from matplotlib.image import imread
-
-    img = imread(shot)[..., :3]
+    img = browser.screenshot(out / "report.html", tmp_path, 6000)
     assert img.shape[0] == 6000 and img.shape[1] == 1280
     grey = img.mean(axis=2)
     assert np.mean(grey < 0.5) > 0.002           # text and lines

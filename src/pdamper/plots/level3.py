@@ -98,12 +98,7 @@ def plot_model_damping_ratios(results: dict[str, FreeVibrationResult],
     bands = next((c.bands for c in (comparisons or {}).values() if c.bands), ())
     for k, b in enumerate(bands):
         ax.axvspan(b.low * 1e3, b.high * 1e3, color="0.85" if k % 2 else "0.93", zorder=0)
-    ax.set_xlabel("mean amplitude X_n+1/2 [mm]")
-    ax.set_ylabel("damping ratio zeta [-]")
-    if not ax.xaxis_inverted():
-        ax.invert_xaxis()
-    ax.legend(fontsize="x-small")
-    return ax
+    return _zeta_axes(ax)
 
 
 def plot_phase_drift(comparisons: dict[str, ModelComparison], ax: Axes | None = None) -> Axes:
@@ -264,6 +259,16 @@ def plot_mode_study(study: ModeCountStudy, ax: Axes | None = None) -> Axes:
     return ax
 
 
+def _zeta_axes(ax):
+    """Label the damping-ratio axes of Fig. 8 (the amplitude falling to the right)."""
+    ax.set_xlabel("mean amplitude X_n+1/2 [mm]")
+    ax.set_ylabel("damping ratio zeta [-]")
+    if not ax.xaxis_inverted():
+        ax.invert_xaxis()
+    ax.legend(fontsize="x-small")
+    return ax
+
+
 def plot_trajectory_band(band: _Band, ax: Axes | None = None, label: str | None = None) -> Axes:
     """End-effector trajectory of N realisations as a band (Fig. 7): the mean of the
     sampled trajectories as a line, their pointwise min-max shaded, and the amplitude at
@@ -304,9 +309,4 @@ def plot_damping_ratio_band(band: _Band, ax: Axes | None = None,
                         label=f"{name}: mean of {band.count} realisations, min-max shaded")
         ax.fill_between(a, [r["min"] for r in rows], [r["max"] for r in rows],
                         color=line.get_color(), alpha=0.3, lw=0)
-    ax.set_xlabel("mean amplitude X_n+1/2 [mm]")
-    ax.set_ylabel("damping ratio zeta [-]")
-    if not ax.xaxis_inverted():
-        ax.invert_xaxis()
-    ax.legend(fontsize="x-small")
-    return ax
+    return _zeta_axes(ax)

@@ -17,6 +17,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -100,6 +101,19 @@ def partial_store(out: Path) -> Path:
     return out.with_name(out.name + ".partial")
 
 
+def map_axes(scenario: Any, frequency: Any = None, amplitude: Any = None,
+             particles: Any = None) -> tuple[Any, Any, Any]:
+    """The map's frequency, amplitude and particle-count axes: those given, the scenario's
+    ``[map]`` grid for those left None."""
+    if frequency is None or amplitude is None:
+        f_sc, x_sc = scenario.map_grid()
+        frequency = f_sc if frequency is None else frequency
+        amplitude = x_sc if amplitude is None else amplitude
+    if particles is None:
+        particles = scenario.map_particles()
+    return frequency, amplitude, particles
+
+
 def run_map(scenario, model_name: str, *, frequency=None, amplitude=None, particles=None,
             out: Path | None = None, cache: bool = False, keep_partial: bool = False,
             progress: Callable | None = None, **sweep_options) -> MapRun:
@@ -134,12 +148,7 @@ def run_map(scenario, model_name: str, *, frequency=None, amplitude=None, partic
     t0 = time.perf_counter()
     model = scenario.map_model(model_name)
     effective = scenario.for_map()
-    if frequency is None or amplitude is None:
-        f_sc, x_sc = scenario.map_grid()
-        frequency = f_sc if frequency is None else frequency
-        amplitude = x_sc if amplitude is None else amplitude
-    if particles is None:
-        particles = scenario.map_particles()
+    frequency, amplitude, particles = map_axes(scenario, frequency, amplitude, particles)
     f = np.asarray(frequency, float)
     x = np.asarray(amplitude, float)
     context = map_context(effective, model_name)

@@ -422,7 +422,14 @@ def run_map_realisations(scenario: Scenario, model_name: str, count: int, *,
     import time
 
     from pdamper.files import atomic_write_netcdf
-    from pdamper.reports.maps import MapRun, map_context, map_key, partial_store, run_map
+    from pdamper.reports.maps import (
+        MapRun,
+        map_axes,
+        map_context,
+        map_key,
+        partial_store,
+        run_map,
+    )
 
     n = check_map_realisations(count, scenario, model_name, force=force)
     if n == 1:
@@ -431,12 +438,7 @@ def run_map_realisations(scenario: Scenario, model_name: str, count: int, *,
                        progress=progress, **sweep_options)
     t0 = time.perf_counter()
     seeds = seeds_of(scenario, n)
-    if frequency is None or amplitude is None:
-        f_sc, x_sc = scenario.map_grid()
-        frequency = f_sc if frequency is None else frequency
-        amplitude = x_sc if amplitude is None else amplitude
-    if particles is None:
-        particles = scenario.map_particles()
+    frequency, amplitude, particles = map_axes(scenario, frequency, amplitude, particles)
     f, x = np.asarray(frequency, float), np.asarray(amplitude, float)
     sets, computed, reused, workers = [], 0, 0, 1
     done = [0]
