@@ -8,7 +8,9 @@ with reassociation allowed the two copies round differently. The sampled centre 
 and energies of :func:`pdamper.dem.kernels.sampling.record_sample` differed so in their
 last bits between a cold and a warm cache (and with them every decision taken from the
 samples). Each half runs in a fresh process with ``NUMBA_CACHE_DIR`` at one new directory:
-the first compiles the Verlet kernels (about half a minute), the second loads them.
+the first compiles the Verlet kernels (about 20 s), the second loads them. Likewise a
+contact helper compiled first by a direct call from Python (strict arithmetic) used to be
+the one the kernels then linked: the force on the container differed.
 """
 
 from __future__ import annotations
@@ -17,11 +19,16 @@ import json
 import subprocess
 import sys
 
+import pytest
+
 from proc import env
 
 #: A short Verlet run of a lattice under harmonic excitation; prints a SHA-256 per field.
 CHILD = r"""
-import dataclasses, hashlib, json
+import dataclasses, hashlib, json, sys
+if "--contact-first" in sys.argv:
+    from pdamper.contact.forces import normal_force
+    normal_force(1e-6, 0.1, 1e9, 0.1, 0)   # compiled from Python before any kernel
 import numpy as np
 from dem_inputs import engine, lattice
 from pdamper.dem import HarmonicMotion
@@ -40,20 +47,35 @@ print(json.dumps(out))
 """
 
 
-def _hashes(tests_dir, cache) -> dict:
+def _hashes(tests_dir, cache, *args) -> dict:
     e = env(NUMBA_CACHE_DIR=str(cache))
     e["PYTHONPATH"] = f"{tests_dir}:{e['PYTHONPATH']}"
-    proc = subprocess.run([sys.executable, "-c", CHILD], env=e, capture_output=True,
+    proc = subprocess.run([sys.executable, "-c", CHILD, *args], env=e, capture_output=True,
                           text=True, timeout=600, check=False)
     assert proc.returncode == 0, proc.stderr[-2000:]
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
-def test_cold_and_warm_cache_give_the_same_bits(tmp_path, request):
-    tests_dir = request.config.rootpath / "tests"
-    cold = _hashes(tests_dir, tmp_path)   # compiles every kernel into the empty cache
-    assert any(tmp_path.rglob("*.nbi")), "the first process wrote no cache"
-    warm = _hashes(tests_dir, tmp_path)   # loads them
+@pytest.fixture(scope="module")
+def cold(tmp_path_factory, request):
+    """Hashes of the run in a process that compiled every kernel into an empty cache, and
+    that cache."""
+    cache = tmp_path_factory.mktemp("numba-cache")
+    hashes = _hashes(request.config.rootpath / "tests", cache)
+    assert any(cache.rglob("*.nbi")), "the first process wrote no cache"
+    return hashes, cache
+
+
+def test_cold_and_warm_cache_give_the_same_bits(cold, request):
+    cold, cache = cold
+    warm = _hashes(request.config.rootpath / "tests", cache)   # loads the kernels
     assert "center_of_mass" in cold and "snapshot_positions" in cold
     differ = sorted(k for k in cold if cold[k] != warm.get(k))
     assert not differ, f"fields that differ between a cold and a warm numba cache: {differ}"
+
+
+def test_a_helper_compiled_first_from_python_changes_no_bit(cold, tmp_path, request):
+    cold, _ = cold
+    other = _hashes(request.config.rootpath / "tests", tmp_path, "--contact-first")
+    differ = sorted(k for k in cold if cold[k] != other.get(k))
+    assert not differ, f"fields that differ when normal_force was compiled first: {differ}"
