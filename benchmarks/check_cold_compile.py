@@ -19,8 +19,9 @@ needed it, and keeps one machine code per signature, in the cache too. A helper 
 ``fastmath`` called from a ``fastmath`` kernel is thus compiled with reassociation and
 contraction allowed; the kernel then calls either its own inlined copy or the helper's
 separately compiled one, depending on what was compiled or loaded first in the process,
-and the two copies may round differently. The kernels of :mod:`pdamper.dem.kernels` set
-their options explicitly so that this cannot happen; this script shows that it does not.
+and the two copies may round differently. The helpers of :mod:`pdamper.dem.kernels` set
+their options explicitly (docs/performance.md: what is left); this script shows whether
+the runs agree.
 """
 
 from __future__ import annotations
