@@ -6,8 +6,8 @@ kernel whose compilation first needed it, and a kernel may call its own copy of 
 or the separately compiled one depending on what the process compiled or loaded first;
 with reassociation allowed the two copies round differently. The sampled centre of mass
 and energies of :func:`pdamper.dem.kernels.sampling.record_sample` differed so in their
-last bits between a cold and a warm cache (and with them every decision taken from the
-samples). Each half runs in a fresh process with ``NUMBA_CACHE_DIR`` at one new directory:
+last bits between a cold and a warm cache (and a structure's acceleration, with it the
+structure's trajectory). Each half runs in a fresh process with ``NUMBA_CACHE_DIR`` at one new directory:
 the first compiles the Verlet kernels (about 20 s), the second loads them. Likewise a
 contact helper compiled first by a direct call from Python (strict arithmetic) used to be
 the one the kernels then linked: the force on the container differed.
