@@ -130,7 +130,7 @@ def onset_damping_cached(v0, v_nodes, e_nodes, model, v_min, cache, p, k=0.0, m_
     return _damping_parameter(cache[p, 1], v, model, k, m_eff)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def normal_force(delta, delta_dot, k, d, model=DAMPING_EXACT):
     """Hertz normal force with nonlinear damping.
 

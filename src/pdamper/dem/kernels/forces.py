@@ -63,7 +63,7 @@ class ContactForce(NamedTuple):
     e_el: float     # elastic energy [J]
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, fastmath=False, error_model="numpy", _nrt=False)
 def impact_damping(fresh, ddot, p, pt, law, k, m_eff):
     """New contact history ``(d, v0)`` at an onset (``fresh``) or a re-impact: the damping
     parameter from the COR curve of pair type ``p`` at the approach speed ``ddot`` [m/s]

@@ -61,7 +61,7 @@ def structure_load(t, drive):
             tf[i] + w * (tf[i + 1] - tf[i]))
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False, error_model="numpy")
 def structure_acceleration(fz, zc, vc, drive, t):
     """1-DOF structure (paper Eq. 23): ``M a = -K z - D v + F_z + F cos(W t + phi)``,
     ``F_z`` the force of the particles on the container, the last term a harmonic load at

@@ -25,7 +25,7 @@ from pdamper.dem.kernels.state import (
 )
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, fastmath=False, error_model="numpy", _nrt=False)
 def record_sample(k, t, pos, vel, omg, part, world, zc, vc, ac, eel, lg, samples, snaps,
                   snap_every):
     """Store sample ``k`` (state at time t) and, every ``snap_every`` samples, a snapshot.
@@ -105,7 +105,7 @@ def record_sample(k, t, pos, vel, omg, part, world, zc, vc, ac, eel, lg, samples
     return ERR_NONE
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, fastmath=False, error_model="numpy", _nrt=False)
 def close_window(k, t, t_win, lg, force):
     """Mean force on the container over the sample window that ends at ``t``; the impulse
     accumulator of the ledger starts again."""

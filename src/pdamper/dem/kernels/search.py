@@ -11,7 +11,7 @@ from __future__ import annotations
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False, error_model="numpy")
 def _cell_index(x, y, zr, cs, ncx, ncy, ncz):
     cx = int(x / cs)
     cy = int(y / cs)
@@ -22,7 +22,7 @@ def _cell_index(x, y, zr, cs, ncx, ncy, ncz):
     return cx, cy, cz
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, fastmath=False, error_model="numpy", _nrt=False)
 def build_verlet_list(pos, rad, zc, world, head, nxt, nb_start, nb_j):
     """Half Verlet list (pairs i < j closer than r_i + r_j + skin) from a linked-cell grid.
 
@@ -82,7 +82,7 @@ def build_verlet_list(pos, rad, zc, world, head, nxt, nb_start, nb_j):
     return cnt
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, fastmath=False, error_model="numpy", _nrt=False)
 def carry_history(n, old, new):
     """Copy the contact history of pairs present in both lists (``old`` -> ``new``,
     :class:`~pdamper.dem.kernels.state.PairContacts`); new pairs start without contact."""
@@ -107,7 +107,7 @@ def carry_history(n, old, new):
                 s_v[b] = 0.0
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, fastmath=False, error_model="numpy", _nrt=False)
 def rebuild(pos, rad, zc, world, nbrs):
     """Rebuild the Verlet list keeping the contact history; returns the pair count or -1
     (list full)."""
