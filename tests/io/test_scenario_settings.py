@@ -134,8 +134,12 @@ def test_old_flat_scenario_loads_to_the_same_settings_and_result(tmp_path):
         transient_tolerance=1e-4)
     assert b.model("dem").settings == m.settings
     r = m.response(a.excitation.frequency, a.excitation.amplitude)
-    assert (float(r.loss_factor), float(r.effective_mass_ratio),
-            r.details.item().steps) == BEFORE
+    # the same steps; the values to 1e-8 relative: the strict arithmetic the kernels'
+    # helpers now use (a run the same on a cold and a warm numba cache, docs/performance.md)
+    # moved their last bits (5e-10 relative here)
+    assert r.details.item().steps == BEFORE[2]
+    assert (float(r.loss_factor), float(r.effective_mass_ratio)) == pytest.approx(
+        BEFORE[:2], rel=1e-8)
 
 
 @pytest.mark.parametrize(("dem", "field"), [
