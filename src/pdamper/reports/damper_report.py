@@ -253,15 +253,9 @@ def forced_load(structure: Any, x0: float) -> Any:
     decay)."""
     from pdamper.coupling.frf import HarmonicLoad, linear_frf
 
-    f_n = float(_first_frequency(structure))
+    f_n = float(structure.natural_frequency)
     unit = abs(complex(linear_frf(structure, HarmonicLoad("force", 1.0), [f_n])[0]))
     return HarmonicLoad("force", abs(x0) / unit)
-
-
-def _first_frequency(structure: Any) -> float:
-    from pdamper.coupling.frf import _modal
-
-    return float(_modal(structure).frequencies[0])
 
 
 def forced_response(rep: DamperReport, models: dict, structure: Any, x0: float) -> None:
@@ -272,7 +266,7 @@ def forced_response(rep: DamperReport, models: dict, structure: Any, x0: float) 
     from pdamper.coupling.frf import HARMONIC_BALANCE, frequency_response
 
     load = forced_load(structure, x0)
-    f_n = _first_frequency(structure)
+    f_n = float(structure.natural_frequency)
     f = np.linspace((1.0 - FORCED_SPAN) * f_n, (1.0 + FORCED_SPAN) * f_n, FORCED_POINTS)
     rep.forced_load = load
     for label, (model, _source) in models.items():
