@@ -66,6 +66,7 @@ def cold(tmp_path_factory, request):
     return hashes, cache
 
 
+@pytest.mark.long  # compiles the kernels from nothing in a subprocess: 15-20 s
 def test_cold_and_warm_cache_give_the_same_bits(cold, request):
     cold, cache = cold
     warm = _hashes(request.config.rootpath / "tests", cache)   # loads the kernels
@@ -74,6 +75,7 @@ def test_cold_and_warm_cache_give_the_same_bits(cold, request):
     assert not differ, f"fields that differ between a cold and a warm numba cache: {differ}"
 
 
+@pytest.mark.long  # compiles the kernels from nothing in a subprocess: 15-20 s
 def test_a_helper_compiled_first_from_python_changes_no_bit(cold, tmp_path, request):
     cold, _ = cold
     other = _hashes(request.config.rootpath / "tests", tmp_path, "--contact-first")
