@@ -502,6 +502,17 @@ LOAD_COUPLINGS = {"pseudo_force": simulate_load, "co_simulation": _co_simulate_l
 LOAD_COSTS = {"co_simulation": _co_simulation_cost}
 
 
+def _one_dof(structure: Any) -> None:
+    from pdamper.coupling.cosimulation import single_dof
+
+    single_dof(structure)
+
+
+#: What a coupling's load history needs of the structure, where it is more than any:
+#: ``f(structure)`` raises InputError otherwise (the DEM integrates one DOF).
+LOAD_STRUCTURES = {"co_simulation": _one_dof}
+
+
 def check_model(model: Any, structure: Any = None) -> None:
     """Raise InputError if ``model``'s coupling has no load-history form (or none for
     ``structure``, if given)."""
@@ -510,10 +521,8 @@ def check_model(model: Any, structure: Any = None) -> None:
                          f"{type(model).__name__} has no load-history form yet; use a "
                          "pseudo-force model (analytic, fields) for --load / "
                          "--base-acceleration")
-    if structure is not None and model.coupling == "co_simulation":
-        from pdamper.coupling.cosimulation import single_dof
-
-        single_dof(structure)
+    if structure is not None and model.coupling in LOAD_STRUCTURES:
+        LOAD_STRUCTURES[model.coupling](structure)
 
 
 def check_cost(model, structure, load: LoadHistory, sample_rate: float, tail: float,
