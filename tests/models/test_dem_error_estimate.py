@@ -15,6 +15,7 @@ from pdamper.models import DEMDamper
 from pdamper.models.dem import (
     DEFAULT_ACCURACY,
     ERROR_REDUCTION,
+    LATTICE_GEAR_TOLERANCE,
     LOSS_FACTOR_FLOOR,
     REFINEMENT,
     error_bound,
@@ -39,8 +40,9 @@ def test_estimate_comes_from_a_companion_run_at_a_tenth_of_the_gear_tolerance():
     run = model.steady_run(20.0, 0.032)
     acc = run.accuracy
     assert acc.setting == "gear_tolerance" and acc.refinements == 0
-    # from the lattice Gear runs at LATTICE_GEAR_TOLERANCE (1e-6)
-    assert acc.value == 1e-6 and acc.reference == pytest.approx(1e-7)
+    # from the lattice Gear runs at LATTICE_GEAR_TOLERANCE
+    assert acc.value == LATTICE_GEAR_TOLERANCE
+    assert acc.reference == pytest.approx(LATTICE_GEAR_TOLERANCE / 10)
     # the companion is a plain run at the refined tolerance, over the same window
     ref = DEMDamper(SMALL, cycles=3, skip_cycles=1,
                     gear_tolerance=acc.reference).steady_run(20.0, 0.032)
@@ -75,8 +77,9 @@ def test_a_realisation_dependent_run_is_not_met_and_not_refined():
 
 def test_a_run_missing_the_target_is_redone_refined(monkeypatch):
     """An unreachable target, with the realisation companion made identical to the run (a
-    move of 0 m: no spread): the run is redone at 1e-7 and 1e-8 and reported from the
-    1e-8 run (equal to a plain run at that tolerance), flagged as missing the target."""
+    move of 0 m: no spread): the run is redone at a tenth and a hundredth of the lattice's
+    tolerance and reported from the last (equal to a plain run at that tolerance), flagged
+    as missing the target."""
     import pdamper.models.dem as dem
 
     monkeypatch.setattr(dem, "REALISATION_MOVE", 0.0)
@@ -86,7 +89,8 @@ def test_a_run_missing_the_target_is_redone_refined(monkeypatch):
     acc = run.accuracy
     assert acc.loss_factor_spread == 0 and not acc.realisation_dependent
     assert acc.refinements == 2 and not acc.met
-    assert acc.value == pytest.approx(1e-8) and acc.reference == pytest.approx(1e-9)
+    assert acc.value == pytest.approx(LATTICE_GEAR_TOLERANCE / 100)
+    assert acc.reference == pytest.approx(LATTICE_GEAR_TOLERANCE / 1000)
     plain = DEMDamper(SMALL, cycles=3, skip_cycles=1, gear_tolerance=acc.value).steady_run(
         20.0, 0.032)
     assert run.power.loss_factor == plain.power.loss_factor

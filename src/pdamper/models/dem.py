@@ -98,15 +98,18 @@ LEVEL2_SETTLE_EXTRA = 1.0
 #: Gear tolerance of a run from the lattice (unless the model's options set
 #: ``gear_tolerance``), throughout: no transient tolerance. The lattice is one deterministic
 #: start whose ordered state the independent codes keep (LIGGGHTS 3.8 from the same jittered
-#: lattice, docs/dem.md "Agreement with LIGGGHTS"); at 1e-3 in the first cycles, or at 1e-5
-#: with the exact law, pdamper left it (10 Hz / 32 mm, Tsuji law: eta 1.100, m_eff/m_bed
-#: 1.110 at 1e-3 against LIGGGHTS' 0.949 / 1.922 and converged Verlet's 0.935 / 1.924;
-#: 18 Hz / 20 mm 0.331 against 1.749 and 1.734; 8 Hz / 80 mm at 1e-5 0.519 against 0.365 and
-#: 0.357). At 1e-6 it follows the converged trajectory and takes *fewer* steps than at
-#: 1e-3 (the kept order is a block in free flight: 36 700 against 489 000 at 10 Hz / 32 mm).
+#: lattice, docs/dem.md "Agreement with LIGGGHTS"); at 1e-3 in the first cycles pdamper left
+#: it (10 Hz / 32 mm, Tsuji law: eta 1.100, m_eff/m_bed 1.110 against LIGGGHTS' 0.949 /
+#: 1.922). 1e-6 held it at 32 mm but not with Tsuji's law at 80 mm (5 Hz: 0.534 at 1e-6,
+#: 0.448 at 1e-8, 0.344 at 1e-9 and 0.343 at 1e-10; velocity Verlet 0.338 / 0.350 at
+#: safety 0.005 / 0.02, LIGGGHTS 0.354), nor 128 spheres at 5 Hz / 32 mm (0.626 at 1e-6;
+#: 0.395 / 0.395 / 0.395 at 1e-8 / 1e-9 / 1e-10, Verlet 0.394). At 1e-9 the 32 spheres'
+#: 12-point grid (5-20 Hz x 10-80 mm, two jitters, Tsuji's law) agrees with 1e-10 within
+#: 0.3 % at 11 points (2 % at 15 Hz / 80 mm) and takes 0.6-1.6x the steps of 1e-6 (the kept
+#: order is a block in free flight; the 128 spheres 1.4-3.2x).
 #: Random beds keep gear_tolerance and the transient tolerance (their realisation spread
 #: covers what it changes).
-LATTICE_GEAR_TOLERANCE = 1e-6
+LATTICE_GEAR_TOLERANCE = 1e-9
 
 #: Fewest cycles in each half of an averaged window whose motion modes must agree.
 MIN_HALF_WINDOW = 3
