@@ -30,6 +30,15 @@ approach speed exceeds ``law.reimpact`` (default 1.25) times the stored ``v0``, 
 is treated as re-impacted: ``v0`` and ``d`` are reset from the current speed. In an
 isolated impact the approach speed only falls after the onset, so the prescribed COR is
 untouched (``inf`` disables the rule: pure onset history).
+
+The spring friction law
+-----------------------
+With ``law.friction == FRICTION_SPRING`` (:func:`spring_contact_force`) each contact also
+keeps its elastic tangential displacement and its tangential damping factor (``xi`` of
+:class:`~pdamper.dem.kernels.state.PairContacts` and of the wall contacts): zeroed at the
+onset, carried across list rebuilds, advanced by ``dt_xi`` times the slip velocity at
+each force evaluation of a step (``dt_xi = 0``: an evaluation of the same state, which
+leaves it unchanged). The tanh law's arrays are empty and its path is unchanged.
 """
 
 from __future__ import annotations
@@ -39,7 +48,16 @@ from typing import NamedTuple
 
 from numba import njit
 
-from pdamper.contact.forces import friction_per_slip, normal_force, onset_damping_cached
+from pdamper.contact.damping import tsuji_damping_ratio_scalar
+from pdamper.contact.forces import (
+    FRICTION_SPRING,
+    cor_at,
+    friction_per_slip,
+    normal_force,
+    onset_damping_cached,
+    tangential_damping,
+    tangential_stiffness,
+)
 from pdamper.contact.hertz import hertz_stiffness
 from pdamper.dem.kernels.state import Rates
 
@@ -75,6 +93,82 @@ def impact_damping(fresh, ddot, p, pt, law, k, m_eff):
     d = onset_damping_cached(ddot, pt.cor_v[p, :pt.cor_n[p]], pt.cor_e[p, :pt.cor_n[p]],
                              law.model, law.v_min, pt.memo, p, k, m_eff)
     return d, (max(ddot, law.v_min) if fresh else ddot)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", _nrt=False)
+def tangential_damping_factor(v, p, pt, law):
+    """LIGGGHTS' tangential damping factor ``2 sqrt(5/6) |beta|`` of pair type ``p`` for a
+    contact that starts (or is re-impacted) at the approach speed ``v`` [m/s]: from the COR
+    at ``max(v, law.v_min)``, as Tsuji's normal damping. Called only at onsets."""
+    e = cor_at(max(v, law.v_min), pt.cor_v[p, :pt.cor_n[p]], pt.cor_e[p, :pt.cor_n[p]])
+    return tsuji_damping_ratio_scalar(e)
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
+def spring_contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, g_star, r_star,
+                         m_eff, xi, b, dt_xi):
+    """The contact law with the spring friction law (:mod:`pdamper.contact.forces`) for
+    one contact of particle ``i``; the arguments as :func:`contact_force`, and
+
+    Parameters
+    ----------
+    g_star, r_star, m_eff
+        Effective shear modulus [Pa], radius [m] and mass [kg] of the contact.
+    xi, b
+        Row ``b`` of ``xi`` holds the contact's elastic tangential displacement [m] (3)
+        and its damping factor [-]; the displacement is updated in place.
+    dt_xi
+        Time over which the slip velocity ``v_t`` moves the displacement [s] (the step;
+        0 leaves it as it is).
+
+    Returns
+    -------
+    ContactForce
+        ``p_fric`` the power dissipated by slip (``mu |F_n|`` times the slip distance of
+        the step over ``dt_xi``) or by the tangential damper; ``e_el`` includes the
+        spring's ``k_t |xi|^2 / 2``.
+    """
+    fn, fel = normal_force(delta, ddot, k, d, law.model)
+    p_damp = (fn - fel) * ddot
+    e_el = 0.4 * fel * delta
+    tx = ux - ddot * nx
+    ty = uy - ddot * ny
+    tz = uz - ddot * nz
+    # the slip of the step added, then projected onto the current tangent plane (the
+    # contact turns with the spheres; LIGGGHTS' order)
+    sx = xi[b, 0] + dt_xi * tx
+    sy = xi[b, 1] + dt_xi * ty
+    sz = xi[b, 2] + dt_xi * tz
+    sn = sx * nx + sy * ny + sz * nz
+    sx -= sn * nx
+    sy -= sn * ny
+    sz -= sn * nz
+    kt = tangential_stiffness(g_star, r_star, delta)
+    flim = mu * abs(fn)
+    s2 = sx * sx + sy * sy + sz * sz
+    if kt * kt * s2 > flim * flim:
+        # sliding: the spring scaled back to the Coulomb limit, no damping
+        smag = math.sqrt(s2)
+        ratio = flim / (kt * smag)
+        p_fric = flim * smag * (1.0 - ratio) / dt_xi if dt_xi > 0.0 else 0.0
+        sx *= ratio
+        sy *= ratio
+        sz *= ratio
+        gx = -kt * sx
+        gy = -kt * sy
+        gz = -kt * sz
+    else:
+        gt = tangential_damping(xi[b, 3], kt, m_eff)
+        gx = -kt * sx - gt * tx
+        gy = -kt * sy - gt * ty
+        gz = -kt * sz - gt * tz
+        p_fric = gt * (tx * tx + ty * ty + tz * tz)
+    xi[b, 0] = sx
+    xi[b, 1] = sy
+    xi[b, 2] = sz
+    e_el += 0.5 * kt * (sx * sx + sy * sy + sz * sz)
+    return ContactForce(gx - fn * nx, gy - fn * ny, gz - fn * nz, ny * gz - nz * gy,
+                        nz * gx - nx * gz, nx * gy - ny * gx, True, p_damp, p_fric, e_el)
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
@@ -138,7 +232,7 @@ def contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, m_a, m_b, 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
 def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt, nbrs,
-                   walls, frc, trq, act, na, free):
+                   walls, frc, trq, act, na, free, dt_xi=0.0):
     """Forces and torques on the stepped particles, force on the container, energy rates.
 
     Parameters
@@ -161,6 +255,10 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
         (:mod:`pdamper.dem.kernels.flights`), which no stepped particle can touch: its
         pairs are skipped and its force, torque and contact history are left as they are.
         All particles: ``arange(n), n, zeros(n)``.
+    dt_xi : float
+        The spring friction law: the time over which the slip velocities move the
+        tangential displacements [s] (the step; 0, the default: an evaluation that leaves
+        them as they are). Unused by the tanh law.
 
     Returns
     -------
@@ -186,6 +284,11 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
     w_d = walls.d
     w_v = walls.v0
     olog = walls.onset_log
+    # the spring friction law: its per-contact state and the shear moduli
+    spring = law.friction == FRICTION_SPRING
+    h_xi = pairs.xi
+    w_xi = walls.xi
+    gstar = pt.gstar
     nlog = olog.shape[0]
     g = world.gravity
     nmat = law.nmat
@@ -269,8 +372,20 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
                                                 mass[i] * mass[j] / (mass[i] + mass[j]))
                 if ddot > vimp:
                     vimp = ddot
-            c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b], law, mu[p],
-                              mass[i], mass[j], mass[i] + mass[j], cap_h)
+                if spring:
+                    if fresh:
+                        h_xi[b, 0] = 0.0
+                        h_xi[b, 1] = 0.0
+                        h_xi[b, 2] = 0.0
+                    h_xi[b, 3] = tangential_damping_factor(ddot, p, pt, law)
+            if spring:
+                c = spring_contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b],
+                                         law, mu[p], gstar[p], ri * rj / rs,
+                                         mass[i] * mass[j] / (mass[i] + mass[j]), h_xi, b,
+                                         dt_xi)
+            else:
+                c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b], law,
+                                  mu[p], mass[i], mass[j], mass[i] + mass[j], cap_h)
             dn += c.p_damp
             eel += c.e_el
             rmin = min(ri, rj)
@@ -409,8 +524,19 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
                 w_d[i, w], w_v[i, w] = impact_damping(fresh, ddot, p, pt, law, kwall[i], mass[i])
                 if ddot > vimp:
                     vimp = ddot
-            c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i], w_d[i, w], law,
-                              mu[p], mass[i], 1.0, 1.0, cap_h)
+                if spring:
+                    if fresh:
+                        w_xi[6 * i + w, 0] = 0.0
+                        w_xi[6 * i + w, 1] = 0.0
+                        w_xi[6 * i + w, 2] = 0.0
+                    w_xi[6 * i + w, 3] = tangential_damping_factor(ddot, p, pt, law)
+            if spring:
+                c = spring_contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i],
+                                         w_d[i, w], law, mu[p], gstar[p], ri, mass[i], w_xi,
+                                         6 * i + w, dt_xi)
+            else:
+                c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i], w_d[i, w],
+                                  law, mu[p], mass[i], 1.0, 1.0, cap_h)
             dn += c.p_damp
             eel += c.e_el
             if delta > ovl * ri:
