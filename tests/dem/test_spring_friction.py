@@ -69,12 +69,13 @@ def _law(model=2):
 
 
 def test_spring_force_reproduces_liggghts_hertz_tangential_law():
-    """One contact, sticking then sliding: the force, the stored displacement and the
-    energies are LIGGGHTS' (the formulas of the module docstring, written out here):
+    """One contact, sticking then sliding: the tangential force (added to the normal
+    force), the stored displacement and the energies are LIGGGHTS' (the formulas of the
+    module docstring, written out here):
     k_t = 8 G* sqrt(R* delta), gamma_t = 2 sqrt(5/6) |ln e| / sqrt(ln^2 e + pi^2)
     sqrt(k_t m*); the displacement's normal part is projected out; on slip |F_t| =
     mu |F_n| exactly and xi = -F_t / k_t. Relative tolerance 1e-12 (round-off)."""
-    from pdamper.dem.kernels.forces import spring_contact_force
+    from pdamper.dem.kernels.forces import spring_tangential_force
 
     g = _g_star(S235, PVC)
     rstar, meff, delta, e, mu = R, 4.1e-3, 2e-6, 0.85, 0.3
@@ -84,31 +85,31 @@ def test_spring_force_reproduces_liggghts_hertz_tangential_law():
     u = np.array([0.02, -0.01, 0.0])  # tangential slip velocity, no normal speed
     xi = np.array([[1e-8, 2e-8, 5e-9, x]])  # a normal part (5e-9) to be projected out
     dt = 1e-7
-    c = spring_contact_force(delta, 0.0, *n, *u, k, 0.0, _law(), mu, g, rstar, meff, xi, 0,
-                             dt)
+    c = spring_tangential_force(delta, 0.0, *n, *u, k, 0.0, _law(), mu, g, rstar, meff, xi, 0,
+                                dt, *u)
     kt = 8 * g * math.sqrt(rstar * delta)
     s = np.array([1e-8, 2e-8, 0.0]) + dt * u
     gt = x * math.sqrt(kt * meff)
     ft = -kt * s - gt * u
     fn = k * delta**1.5
     assert np.linalg.norm(ft) < mu * fn  # sticking
-    np.testing.assert_allclose([c.fx, c.fy, c.fz], ft + fn * np.array([0, 0, 1.0]), rtol=1e-12)
+    np.testing.assert_allclose([c.fx, c.fy, c.fz], ft, rtol=1e-12)
     np.testing.assert_allclose(xi[0, :3], s, rtol=1e-12, atol=1e-30)
     assert c.p_fric == pytest.approx(gt * float(u @ u), rel=1e-12)
-    assert c.e_el == pytest.approx(0.4 * fn * delta + 0.5 * kt * float(s @ s), rel=1e-12)
+    assert c.e_el == pytest.approx(0.5 * kt * float(s @ s), rel=1e-12)
     np.testing.assert_allclose([c.cx, c.cy, c.cz], np.cross(n, ft), rtol=1e-12, atol=1e-30)
     # sliding: a displacement far beyond the limit is scaled back to it
     xi[0, :3] = [1e-5, 0.0, 0.0]
-    c = spring_contact_force(delta, 0.0, *n, 0.0, 0.0, 0.0, k, 0.0, _law(), mu, g, rstar,
-                             meff, xi, 0, dt)
+    c = spring_tangential_force(delta, 0.0, *n, 0.0, 0.0, 0.0, k, 0.0, _law(), mu, g, rstar,
+                                meff, xi, 0, dt, 0.0, 0.0, 0.0)
     assert math.hypot(c.fx, c.fy) == pytest.approx(mu * fn, rel=1e-12)
     assert c.fx < 0.0
     assert xi[0, 0] == pytest.approx(mu * fn / kt, rel=1e-12)
     assert c.p_fric == pytest.approx(mu * fn * (1e-5 - mu * fn / kt) / dt, rel=1e-12)
     # an evaluation without a step (dt 0) leaves the displacement as it is
     before = xi.copy()
-    spring_contact_force(delta, 0.0, *n, 0.3, 0.0, 0.0, k, 0.0, _law(), mu, g, rstar, meff,
-                         xi, 0, 0.0)
+    spring_tangential_force(delta, 0.0, *n, 0.3, 0.0, 0.0, k, 0.0, _law(), mu, g, rstar, meff,
+                            xi, 0, 0.0, 0.3, 0.0, 0.0)
     np.testing.assert_array_equal(xi, before)
 
 
@@ -149,19 +150,27 @@ def test_sliding_regime_keeps_the_rigid_body_closed_forms(mu):
 def test_spring_friction_never_adds_energy(mu):
     """Elastic normal law (e = 1, so no tangential damping either), 1-85 degrees, mu up to
     1: the kinetic plus rotational energy after the impact never exceeds the energy
-    before, and at no sample during it does the total (kinetic, rotational, elastic normal
-    and tangential) exceed the initial energy. Tolerance 1e-6 of the impact's energy: the
-    explicit step's energy error (the elastic normal impact alone returns its energy to
-    ~1e-7); the spring can give back what it stored (the tangential recoil), never more
-    than friction took. The smallest margin measured is a loss of 2.3e-3 at 1 degree."""
+    before (the spring gives back at most what it stored: the tangential recoil), and the
+    friction work booked never decreases. Tolerance 1e-6 of the impact's energy (the
+    explicit step's error of the elastic normal impact alone is ~1e-7 after it); the
+    smallest margin measured is a loss of 2.8e-5 at 1 degree.
+
+    What the law does not do (LIGGGHTS' law as it is): ``F_t = -k_t(delta) xi`` with
+    ``k_t`` growing with the overlap is no potential force, so within the contact the
+    kinetic, rotational and stored energies together exceed the initial energy by up to
+    1e-3 (mu 0.1) to 6 % (mu 1, 45 degrees), and the booked friction work misses the
+    energy lost by up to 0.06 % (mu 0.1) and 1.6 % (mu 1) of the impact's energy (measured;
+    checked loosely below, 2 %, so that a sign error in the slip work, the order of the
+    friction loss itself, fails)."""
     for theta in [1, 3, 5, 15, 25, 35, 45, 55, 65, 75, 85]:
         vn, vt, v, w, res = _oblique(theta, mu, 1.0)
         m = res.masses[0]
         e0 = 0.5 * m * SPEED**2
         after = 0.5 * m * float(v @ v) + 0.5 * 0.4 * m * R**2 * float(w @ w)
         assert after <= e0 * (1 + 1e-6), (theta, after / e0 - 1)
-        total = res.kinetic_energy + res.rotational_energy + res.elastic_energy
-        assert total.max() <= e0 * (1 + 1e-6), (theta, total.max() / e0 - 1)
+        friction = res.dissipated_friction
+        assert np.all(np.diff(friction) >= -1e-15 * e0), theta
+        assert friction[-1] == pytest.approx(e0 - after, abs=0.02 * e0), theta
 
 
 def _sticking_reference(theta_deg: float, mu: float) -> float:
@@ -209,21 +218,26 @@ def test_small_incidence_tangential_elasticity():
     """Maw, Barber & Fawcett (1976): at small incidence a sphere with tangential
     elasticity sticks and its contact point leaves with a velocity of its own, set by the
     tangential oscillation (period against contact time; for steel on PVC the spring
-    turns through about 1.8 pi within the contact), not the rigid-body zero of rolling;
-    below ~2 degrees the ratio no longer depends on the angle (Maw's linear regime). The
-    DEM (spring law, e = 1, mu 0.092) against an independent integration of the same
-    contact (scipy): within 0.01 of the incident tangential velocity (the explicit step
-    and the discrete slip limit; measured 4e-3). The tanh law gives the rigid-body zero
-    here (rolling), so the test tells the two apart by 0.8."""
+    turns through about 1.8 pi within the contact, so the contact point leaves forward at
+    0.84 of its incident velocity in full stick; Maw et al.: the sign depends on that
+    ratio of period to contact time, a reversal needs about one half-period), not the
+    rigid-body zero of rolling;
+    the ratio falls as the angle grows (slip at the contact's ends). The
+    DEM (spring law, e = 1, mu 0.092, Verlet at safety 0.01) against an independent
+    integration of the same contact (scipy): within 0.005 of the incident tangential
+    velocity (measured 2.4e-3, the same at safety 0.005: the discrete slip limit at the
+    contact's end; at the default 0.02, 0.011). The tanh law gives the rigid-body zero here
+    (rolling), so the test tells the two apart by 0.8."""
     ratios = []
-    for theta in [1.0, 2.0]:
-        vn, vt, v, w, _ = _oblique(theta, 0.092, 1.0)
+    for theta in [1.0, 2.0, 3.0]:
+        vn, vt, v, w, _ = _oblique(theta, 0.092, 1.0, safety=0.01)
         dem = (v[0] - w[1] * R) / vt
         ref = _sticking_reference(theta, 0.092)
-        assert dem == pytest.approx(ref, abs=0.01), (theta, dem, ref)
+        assert dem == pytest.approx(ref, abs=0.005), (theta, dem, ref)
         ratios.append(dem)
-    assert ratios[0] == pytest.approx(ratios[1], abs=0.01)
-    assert ratios[0] > 0.5  # far from rolling (0): the spring gives the velocity back
+    # Maw's trend: from the full-stick value (0.844 here) down as the angle and with it the
+    # slip at the contact's ends grow, towards the rigid-body regime
+    assert ratios[0] > ratios[1] > ratios[2] > 0.5
     vn, vt, v, w, _ = _oblique(1.0, 0.092, 1.0, friction="regularised")
     assert abs(v[0] - w[1] * R) / vt < 0.01  # the tanh law: rolling
 
@@ -235,15 +249,21 @@ def test_small_incidence_tangential_elasticity():
 def _wedged(friction: str):
     """A steel sphere squeezed between the two x walls of a PVC box (overlap delta0 each,
     normal force N = K delta0^1.5 = 0.4 N), gravity down, the floor far below: friction
-    holds it while 2 mu N = 0.08 N > m g = 0.041 N (mu = 0.1); 0.05 s."""
+    holds it while 2 mu N = 0.08 N > m g = 0.041 N (mu = 0.1); 0.05 s. Both friction
+    forces point up at opposite ends of a diameter: their torques cancel, so the sphere
+    cannot roll (on one plane it would: no law can hold a free sphere on an incline)."""
     k = 4 / 3 * _e_star(S235, PVC) * math.sqrt(R)
     n_force = 0.4
     d0 = (n_force / k) ** (2 / 3)
     lx = 2 * R - 2 * d0
     ps = particles(np.array([[lx / 2, 3 * R, 6 * R]]))
     cp = contact(friction_pw=0.1, friction_model=friction)
-    sim = engine(ps, container(box=(lx, 6 * R, 12 * R)), cp, integrator="verlet",
+    sim = engine(ps, container(box=(2 * R, 6 * R, 12 * R)), cp, integrator="verlet",
                  settle_time=0.0, reference_velocity=0.1)
+    # the engine refuses a sphere wider than its box (an input error); the squeeze is
+    # made by narrowing the box after those checks, before the run builds its arrays
+    sim.container = container(box=(lx, 6 * R, 12 * R))
+    sim._build_tables()
     res = sim.run(0.05, sample_rate=2000.0)
     kt = 8 * _g_star(S235, PVC) * math.sqrt(R * d0)
     return res, kt
@@ -251,20 +271,22 @@ def _wedged(friction: str):
 
 def test_sphere_held_by_friction_sticks_with_the_spring_and_creeps_with_tanh():
     """Below the friction limit the spring law holds the sphere: it sinks by its elastic
-    tangential displacement, m g / (2 k_t) at rest, and no further (at most 2.5 times it
-    at any time: the drop's overshoot, damped by gamma_t). The tanh law cannot hold it: it
-    slips at the speed where 2 mu N tanh(v / v_reg) = m g, v = v_reg atanh(0.51) = 5.6 mm/s,
-    0.28 mm in 0.05 s (within 10 %)."""
+    tangential displacement, m g / (2 k_t) = 51 nm at rest, and no further: at the end
+    within 2 % of it (measured 0.1 %), at no time beyond 1.5 times it (the start's
+    overshoot, damped by gamma_t; measured 1.13). The tanh law cannot hold it: it slips at
+    the speed where 2 mu N tanh(v / v_reg) = m g, v = v_reg atanh(0.51) = 5.6 mm/s, 0.28 mm
+    in 0.05 s (within 5 %: the first instants at rest; measured -1.2 %), 5500 times the
+    spring's displacement."""
     res, kt = _wedged("spring")
     m = res.masses[0]
     static = m * 9.81 / (2 * kt)
     drop = res.center_of_mass[0, 2] - res.center_of_mass[:, 2]
-    assert drop.max() <= 2.5 * static, drop.max() / static
-    assert drop[-1] == pytest.approx(static, rel=0.2), drop[-1] / static
+    assert drop.max() <= 1.5 * static, drop.max() / static
+    assert drop[-1] == pytest.approx(static, rel=0.02), drop[-1] / static
     res_t, _ = _wedged("regularised")
     creep = 0.01 * math.atanh(m * 9.81 / (2 * 0.1 * 0.4)) * 0.05
     drop_t = res_t.center_of_mass[0, 2] - res_t.center_of_mass[-1, 2]
-    assert drop_t == pytest.approx(creep, rel=0.1), drop_t / creep
+    assert drop_t == pytest.approx(creep, rel=0.05), drop_t / creep
 
 
 # --------------------------------------------------------------------------------------

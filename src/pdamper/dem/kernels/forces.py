@@ -33,7 +33,8 @@ untouched (``inf`` disables the rule: pure onset history).
 
 The spring friction law
 -----------------------
-With ``law.friction == FRICTION_SPRING`` (:func:`spring_contact_force`) each contact also
+With ``law.friction == FRICTION_SPRING`` (:func:`spring_tangential_force`, added to
+the normal force of :func:`contact_force` called without friction) each contact also
 keeps its elastic tangential displacement and its tangential damping factor (``xi`` of
 :class:`~pdamper.dem.kernels.state.PairContacts` and of the wall contacts): zeroed at the
 onset, carried across list rebuilds, advanced by ``dt_xi`` times the slip velocity at
@@ -105,10 +106,12 @@ def tangential_damping_factor(v, p, pt, law):
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
-def spring_contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, g_star, r_star,
-                         m_eff, xi, b, dt_xi):
-    """The contact law with the spring friction law (:mod:`pdamper.contact.forces`) for
-    one contact of particle ``i``; the arguments as :func:`contact_force`, and
+def spring_tangential_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, g_star, r_star,
+                            m_eff, xi, b, dt_xi, hx, hy, hz):
+    """The tangential force of the spring friction law (:mod:`pdamper.contact.forces`) on
+    particle ``i`` of one contact, to be added to the normal force of
+    :func:`contact_force` (called with ``mu = 0``); the arguments as :func:`contact_force`,
+    and
 
     Parameters
     ----------
@@ -117,28 +120,29 @@ def spring_contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, g_s
     xi, b
         Row ``b`` of ``xi`` holds the contact's elastic tangential displacement [m] (3)
         and its damping factor [-]; the displacement is updated in place.
-    dt_xi
-        Time over which the slip velocity ``v_t`` moves the displacement [s] (the step;
-        0 leaves it as it is).
+    dt_xi, hx, hy, hz
+        The step [s] (0 leaves the displacement as it is) and the velocity of the contact
+        point of ``i`` relative to the partner over it [m/s] (velocity Verlet: at the half
+        step, the velocity that moved the positions, so that the displacement is the
+        contacts' own to second order; ``u`` enters the damping).
 
     Returns
     -------
     ContactForce
-        ``p_fric`` the power dissipated by slip (``mu |F_n|`` times the slip distance of
-        the step over ``dt_xi``) or by the tangential damper; ``e_el`` includes the
-        spring's ``k_t |xi|^2 / 2``.
+        The tangential force and its torque ``n x F_t``; ``p_damp`` 0, ``p_fric`` the power
+        dissipated by slip (``mu |F_n|`` times the slip distance of the step over
+        ``dt_xi``) or by the tangential damper, ``e_el`` the spring's ``k_t |xi|^2 / 2``.
     """
-    fn, fel = normal_force(delta, ddot, k, d, law.model)
-    p_damp = (fn - fel) * ddot
-    e_el = 0.4 * fel * delta
+    fn, _ = normal_force(delta, ddot, k, d, law.model)
     tx = ux - ddot * nx
     ty = uy - ddot * ny
     tz = uz - ddot * nz
-    # the slip of the step added, then projected onto the current tangent plane (the
-    # contact turns with the spheres; LIGGGHTS' order)
-    sx = xi[b, 0] + dt_xi * tx
-    sy = xi[b, 1] + dt_xi * ty
-    sz = xi[b, 2] + dt_xi * tz
+    # the slip of the step added (its tangential part: the normal one is projected out
+    # with the rest), then projected onto the current tangent plane (the contact turns
+    # with the spheres; LIGGGHTS' order)
+    sx = xi[b, 0] + dt_xi * hx
+    sy = xi[b, 1] + dt_xi * hy
+    sz = xi[b, 2] + dt_xi * hz
     sn = sx * nx + sy * ny + sz * nz
     sx -= sn * nx
     sy -= sn * ny
@@ -166,9 +170,8 @@ def spring_contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, g_s
     xi[b, 0] = sx
     xi[b, 1] = sy
     xi[b, 2] = sz
-    e_el += 0.5 * kt * (sx * sx + sy * sy + sz * sz)
-    return ContactForce(gx - fn * nx, gy - fn * ny, gz - fn * nz, ny * gz - nz * gy,
-                        nz * gx - nx * gz, nx * gy - ny * gx, True, p_damp, p_fric, e_el)
+    return ContactForce(gx, gy, gz, ny * gz - nz * gy, nz * gx - nx * gz, nx * gy - ny * gx,
+                        True, 0.0, p_fric, 0.5 * kt * (sx * sx + sy * sy + sz * sz))
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
@@ -232,7 +235,7 @@ def contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, m_a, m_b, 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
 def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt, nbrs,
-                   walls, frc, trq, act, na, free, dt_xi=0.0):
+                   walls, frc, trq, act, na, free, dt_xi=0.0, vel_h=None, omg_h=None):
     """Forces and torques on the stepped particles, force on the container, energy rates.
 
     Parameters
@@ -255,10 +258,11 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
         (:mod:`pdamper.dem.kernels.flights`), which no stepped particle can touch: its
         pairs are skipped and its force, torque and contact history are left as they are.
         All particles: ``arange(n), n, zeros(n)``.
-    dt_xi : float
-        The spring friction law: the time over which the slip velocities move the
-        tangential displacements [s] (the step; 0, the default: an evaluation that leaves
-        them as they are). Unused by the tanh law.
+    dt_xi, vel_h, omg_h : float, (n, 3) arrays
+        The spring friction law: the step that moves the tangential displacements [s] (0,
+        the default: an evaluation that leaves them as they are) and the velocities over it
+        (velocity Verlet: the half-step ones; default ``vel``, ``omg``). Unused by the tanh
+        law.
 
     Returns
     -------
@@ -284,7 +288,12 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
     w_d = walls.d
     w_v = walls.v0
     olog = walls.onset_log
-    # the spring friction law: its per-contact state and the shear moduli
+    # the spring friction law: its per-contact state and the shear moduli (the default
+    # velocities of the step are pruned at compile time where none are given)
+    if vel_h is None:
+        vel_h = vel
+    if omg_h is None:
+        omg_h = omg
     spring = law.friction == FRICTION_SPRING
     h_xi = pairs.xi
     w_xi = walls.xi
@@ -378,14 +387,11 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
                         h_xi[b, 1] = 0.0
                         h_xi[b, 2] = 0.0
                     h_xi[b, 3] = tangential_damping_factor(ddot, p, pt, law)
-            if spring:
-                c = spring_contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b],
-                                         law, mu[p], gstar[p], ri * rj / rs,
-                                         mass[i] * mass[j] / (mass[i] + mass[j]), h_xi, b,
-                                         dt_xi)
-            else:
-                c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b], law,
-                                  mu[p], mass[i], mass[j], mass[i] + mass[j], cap_h)
+            # the spring law: the normal force here (no tanh friction), its tangential
+            # force below
+            c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b], law,
+                              0.0 if spring else mu[p], mass[i], mass[j], mass[i] + mass[j],
+                              cap_h)
             dn += c.p_damp
             eel += c.e_el
             rmin = min(ri, rj)
@@ -406,6 +412,31 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
             frc[j, 0] -= c.fx
             frc[j, 1] -= c.fy
             frc[j, 2] -= c.fz
+            if spring:
+                wx = ri * omg_h[i, 0] + rj * omg_h[j, 0]
+                wy = ri * omg_h[i, 1] + rj * omg_h[j, 1]
+                wz = ri * omg_h[i, 2] + rj * omg_h[j, 2]
+                t = spring_tangential_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b],
+                                            h_d[b], law, mu[p], gstar[p], ri * rj / rs,
+                                            mass[i] * mass[j] / (mass[i] + mass[j]), h_xi, b,
+                                            dt_xi,
+                                            vel_h[i, 0] - vel_h[j, 0] + wy * nz - wz * ny,
+                                            vel_h[i, 1] - vel_h[j, 1] + wz * nx - wx * nz,
+                                            vel_h[i, 2] - vel_h[j, 2] + wx * ny - wy * nx)
+                df += t.p_fric
+                eel += t.e_el
+                trq[i, 0] += ri * t.cx
+                trq[i, 1] += ri * t.cy
+                trq[i, 2] += ri * t.cz
+                trq[j, 0] += rj * t.cx
+                trq[j, 1] += rj * t.cy
+                trq[j, 2] += rj * t.cz
+                frc[i, 0] += t.fx
+                frc[i, 1] += t.fy
+                frc[i, 2] += t.fz
+                frc[j, 0] -= t.fx
+                frc[j, 1] -= t.fy
+                frc[j, 2] -= t.fz
     # ---------------- sphere-wall ----------------
     # largest particle speed: a separate short loop (in the wall loop the running maximum
     # is spilled to the stack)
@@ -530,13 +561,8 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
                         w_xi[6 * i + w, 1] = 0.0
                         w_xi[6 * i + w, 2] = 0.0
                     w_xi[6 * i + w, 3] = tangential_damping_factor(ddot, p, pt, law)
-            if spring:
-                c = spring_contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i],
-                                         w_d[i, w], law, mu[p], gstar[p], ri, mass[i], w_xi,
-                                         6 * i + w, dt_xi)
-            else:
-                c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i], w_d[i, w],
-                                  law, mu[p], mass[i], 1.0, 1.0, cap_h)
+            c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i], w_d[i, w], law,
+                              0.0 if spring else mu[p], mass[i], 1.0, 1.0, cap_h)
             dn += c.p_damp
             eel += c.e_el
             if delta > ovl * ri:
@@ -553,4 +579,26 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
             fcy -= c.fy
             fcz -= c.fz
             wc += c.fz * vc
+            if spring:
+                wx = ri * omg_h[i, 0]
+                wy = ri * omg_h[i, 1]
+                wz = ri * omg_h[i, 2]
+                t = spring_tangential_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i],
+                                            w_d[i, w], law, mu[p], gstar[p], ri, mass[i],
+                                            w_xi, 6 * i + w, dt_xi,
+                                            vel_h[i, 0] + wy * nz - wz * ny,
+                                            vel_h[i, 1] + wz * nx - wx * nz,
+                                            vel_h[i, 2] - vc + wx * ny - wy * nx)
+                df += t.p_fric
+                eel += t.e_el
+                trq[i, 0] += ri * t.cx
+                trq[i, 1] += ri * t.cy
+                trq[i, 2] += ri * t.cz
+                frc[i, 0] += t.fx
+                frc[i, 1] += t.fy
+                frc[i, 2] += t.fz
+                fcx -= t.fx
+                fcy -= t.fy
+                fcz -= t.fz
+                wc += t.fz * vc
     return Rates(fcx, fcy, fcz, dn, df, wc, eel, ovl, ttc, math.sqrt(vmax2), vimp), onsets

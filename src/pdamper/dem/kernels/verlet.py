@@ -244,9 +244,10 @@ def _verlet_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, 
                 disp = 0.0
             else:
                 disp = math.sqrt(d2)
-        # dt: the step moves the spring friction law's tangential displacements
-        r, ons = compute_forces(pos, vel_pred, omg_pred, zc, vce, cap_h, False,
-                                world, law, part, pt, nbrs, walls, frc, trq, every, n, none, dt)
+        # the step and its (half-step) velocities move the spring friction law's
+        # tangential displacements
+        r, ons = compute_forces(pos, vel_pred, omg_pred, zc, vce, cap_h, False, world, law,
+                                part, pt, nbrs, walls, frc, trq, every, n, none, dt, vel, omg)
         onsets += ons
         for q in range(m3):
             fvel[q] += hdt * ffrc[q] * im3[q]
