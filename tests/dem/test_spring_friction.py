@@ -63,9 +63,8 @@ def _oblique(theta_deg, mu, e, friction="spring", integrator="verlet", **kw):
 # --------------------------------------------------------------------------------------
 
 def _law(model=2):
-    from pdamper.contact.forces import FRICTION_SPRING
     from pdamper.dem.kernels.state import Law
-    return Law(model, 1, 0.01, 0.01, 1.25, FRICTION_SPRING)
+    return Law(model, 1, 0.01, 0.01, 1.25)
 
 
 def test_spring_force_reproduces_liggghts_hertz_tangential_law():

@@ -84,13 +84,6 @@ def cor_at(v, v_nodes, e_nodes):
     return e_nodes[lo] + t * (e_nodes[hi] - e_nodes[lo])
 
 
-#: Integer codes of the friction (tangential) laws for the kernels.
-FRICTION_REGULARISED = 0
-FRICTION_SPRING = 1
-#: Code of each friction law name of :data:`pdamper.contact.law.FRICTION_MODELS`.
-FRICTION_CODES = {"regularised": FRICTION_REGULARISED, "spring": FRICTION_SPRING}
-
-
 @njit(cache=True, inline="always")
 def tangential_stiffness(g_star, r_star, delta):
     """Mindlin's tangential stiffness ``k_t = 8 G* sqrt(R* delta)`` [N/m] (no

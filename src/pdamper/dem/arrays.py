@@ -14,7 +14,7 @@ from typing import NamedTuple
 import numpy as np
 
 from pdamper.contact.elastic import effective_shear_modulus
-from pdamper.contact.forces import DAMPING_CODES, FRICTION_CODES
+from pdamper.contact.forces import DAMPING_CODES
 from pdamper.contact.hertz import contact_duration, effective_modulus, hertz_stiffness
 from pdamper.contact.law import ContactParameters
 from pdamper.dem.driver import Run
@@ -114,8 +114,10 @@ def allocate(p: ParticleSet, container: Container, c: ContactParameters,
                     float(cell), ncx, ncy, ncz)
     law = K.Law(DAMPING_CODES[c.damping_model], len(tables.materials),
                 float(c.regularisation_velocity), float(c.min_impact_velocity),
-                float(c.reimpact_factor), FRICTION_CODES[c.friction_model])
-    spring = c.friction_model == "spring"  # tangential displacements: only for this law
+                float(c.reimpact_factor))
+    # the spring friction law's tangential displacements (their presence selects the law
+    # in the kernels: Run.tangential)
+    spring = c.friction_model == "spring"
     part = K.Particles(p.radius.copy(), p.masses, p.inertia, tables.kwall, tables.pmat,
                        1.0 / p.masses, 1.0 / p.inertia)
     nbrs = K.Neighbours(K.empty_pair_contacts(n, cap, spring),

@@ -33,13 +33,14 @@ untouched (``inf`` disables the rule: pure onset history).
 
 The spring friction law
 -----------------------
-With ``law.friction == FRICTION_SPRING`` (:func:`spring_tangential_force`, added to
-the normal force of :func:`contact_force` called without friction) each contact also
+With a ``tang`` argument to :func:`compute_forces` (:func:`spring_tangential_force`, added
+to the normal force of :func:`contact_force` called without friction) each contact also
 keeps its elastic tangential displacement and its tangential damping factor (``xi`` of
 :class:`~pdamper.dem.kernels.state.PairContacts` and of the wall contacts): zeroed at the
 onset, carried across list rebuilds, advanced by ``dt_xi`` times the slip velocity at
 each force evaluation of a step (``dt_xi = 0``: an evaluation of the same state, which
-leaves it unchanged). The tanh law's arrays are empty and its path is unchanged.
+leaves it unchanged). The tanh law passes no ``tang``: its branches are pruned when the
+kernel compiles, so its code is the one without them, and its arrays are empty.
 """
 
 from __future__ import annotations
@@ -51,7 +52,6 @@ from numba import njit
 
 from pdamper.contact.damping import tsuji_damping_ratio_scalar
 from pdamper.contact.forces import (
-    FRICTION_SPRING,
     cor_at,
     friction_per_slip,
     normal_force,
@@ -97,12 +97,17 @@ def impact_damping(fresh, ddot, p, pt, law, k, m_eff):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", _nrt=False)
-def tangential_damping_factor(v, p, pt, law):
-    """LIGGGHTS' tangential damping factor ``2 sqrt(5/6) |beta|`` of pair type ``p`` for a
-    contact that starts (or is re-impacted) at the approach speed ``v`` [m/s]: from the COR
-    at ``max(v, law.v_min)``, as Tsuji's normal damping. Called only at onsets."""
+def spring_onset(xi, b, fresh, v, p, pt, law):
+    """The spring friction law's history of contact row ``b`` of ``xi`` at an onset
+    (``fresh``: the displacement zeroed) or a re-impact: LIGGGHTS' tangential damping
+    factor ``2 sqrt(5/6) |beta|`` of pair type ``p`` at the approach speed ``v`` [m/s]
+    (the COR at ``max(v, law.v_min)``, as Tsuji's normal damping)."""
+    if fresh:
+        xi[b, 0] = 0.0
+        xi[b, 1] = 0.0
+        xi[b, 2] = 0.0
     e = cor_at(max(v, law.v_min), pt.cor_v[p, :pt.cor_n[p]], pt.cor_e[p, :pt.cor_n[p]])
-    return tsuji_damping_ratio_scalar(e)
+    xi[b, 3] = tsuji_damping_ratio_scalar(e)
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
@@ -235,7 +240,7 @@ def contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, m_a, m_b, 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
 def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt, nbrs,
-                   walls, frc, trq, act, na, free, dt_xi=0.0, vel_h=None, omg_h=None):
+                   walls, frc, trq, act, na, free, tang=None):
     """Forces and torques on the stepped particles, force on the container, energy rates.
 
     Parameters
@@ -258,11 +263,12 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
         (:mod:`pdamper.dem.kernels.flights`), which no stepped particle can touch: its
         pairs are skipped and its force, torque and contact history are left as they are.
         All particles: ``arange(n), n, zeros(n)``.
-    dt_xi, vel_h, omg_h : float, (n, 3) arrays
-        The spring friction law: the step that moves the tangential displacements [s] (0,
-        the default: an evaluation that leaves them as they are) and the velocities over it
-        (velocity Verlet: the half-step ones; default ``vel``, ``omg``). Unused by the tanh
-        law.
+    tang : None or (float, (n, 3) array, (n, 3) array)
+        None: the tanh friction law. The spring friction law: ``(dt_xi, vel_h, omg_h)``,
+        the step that moves the tangential displacements [s] (0: an evaluation that
+        leaves them as they are) and the velocities over it (velocity Verlet: the
+        half-step ones). A None here is known when the kernel compiles: its branches are
+        pruned, and the tanh law's code is the same as without them.
 
     Returns
     -------
@@ -288,16 +294,6 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
     w_d = walls.d
     w_v = walls.v0
     olog = walls.onset_log
-    # the spring friction law: its per-contact state and the shear moduli (the default
-    # velocities of the step are pruned at compile time where none are given)
-    if vel_h is None:
-        vel_h = vel
-    if omg_h is None:
-        omg_h = omg
-    spring = law.friction == FRICTION_SPRING
-    h_xi = pairs.xi
-    w_xi = walls.xi
-    gstar = pt.gstar
     nlog = olog.shape[0]
     g = world.gravity
     nmat = law.nmat
@@ -381,17 +377,16 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
                                                 mass[i] * mass[j] / (mass[i] + mass[j]))
                 if ddot > vimp:
                     vimp = ddot
-                if spring:
-                    if fresh:
-                        h_xi[b, 0] = 0.0
-                        h_xi[b, 1] = 0.0
-                        h_xi[b, 2] = 0.0
-                    h_xi[b, 3] = tangential_damping_factor(ddot, p, pt, law)
-            # the spring law: the normal force here (no tanh friction), its tangential
-            # force below
-            c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b], law,
-                              0.0 if spring else mu[p], mass[i], mass[j], mass[i] + mass[j],
-                              cap_h)
+                if tang is not None:
+                    spring_onset(nbrs.pairs.xi, b, fresh, ddot, p, pt, law)
+            if tang is not None:
+                # the spring law: the normal force here (no tanh friction), its
+                # tangential force below
+                c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b], law,
+                                  0.0, mass[i], mass[j], mass[i] + mass[j], cap_h)
+            else:
+                c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b], law,
+                                  mu[p], mass[i], mass[j], mass[i] + mass[j], cap_h)
             dn += c.p_damp
             eel += c.e_el
             rmin = min(ri, rj)
@@ -412,14 +407,15 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
             frc[j, 0] -= c.fx
             frc[j, 1] -= c.fy
             frc[j, 2] -= c.fz
-            if spring:
+            if tang is not None:
+                dt_xi, vel_h, omg_h = tang
                 wx = ri * omg_h[i, 0] + rj * omg_h[j, 0]
                 wy = ri * omg_h[i, 1] + rj * omg_h[j, 1]
                 wz = ri * omg_h[i, 2] + rj * omg_h[j, 2]
                 t = spring_tangential_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b],
-                                            h_d[b], law, mu[p], gstar[p], ri * rj / rs,
-                                            mass[i] * mass[j] / (mass[i] + mass[j]), h_xi, b,
-                                            dt_xi,
+                                            h_d[b], law, mu[p], pt.gstar[p], ri * rj / rs,
+                                            mass[i] * mass[j] / (mass[i] + mass[j]),
+                                            nbrs.pairs.xi, b, dt_xi,
                                             vel_h[i, 0] - vel_h[j, 0] + wy * nz - wz * ny,
                                             vel_h[i, 1] - vel_h[j, 1] + wz * nx - wx * nz,
                                             vel_h[i, 2] - vel_h[j, 2] + wx * ny - wy * nx)
@@ -555,14 +551,14 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
                 w_d[i, w], w_v[i, w] = impact_damping(fresh, ddot, p, pt, law, kwall[i], mass[i])
                 if ddot > vimp:
                     vimp = ddot
-                if spring:
-                    if fresh:
-                        w_xi[6 * i + w, 0] = 0.0
-                        w_xi[6 * i + w, 1] = 0.0
-                        w_xi[6 * i + w, 2] = 0.0
-                    w_xi[6 * i + w, 3] = tangential_damping_factor(ddot, p, pt, law)
-            c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i], w_d[i, w], law,
-                              0.0 if spring else mu[p], mass[i], 1.0, 1.0, cap_h)
+                if tang is not None:
+                    spring_onset(walls.xi, 6 * i + w, fresh, ddot, p, pt, law)
+            if tang is not None:
+                c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i], w_d[i, w],
+                                  law, 0.0, mass[i], 1.0, 1.0, cap_h)
+            else:
+                c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i], w_d[i, w],
+                                  law, mu[p], mass[i], 1.0, 1.0, cap_h)
             dn += c.p_damp
             eel += c.e_el
             if delta > ovl * ri:
@@ -579,13 +575,14 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
             fcy -= c.fy
             fcz -= c.fz
             wc += c.fz * vc
-            if spring:
+            if tang is not None:
+                dt_xi, vel_h, omg_h = tang
                 wx = ri * omg_h[i, 0]
                 wy = ri * omg_h[i, 1]
                 wz = ri * omg_h[i, 2]
                 t = spring_tangential_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i],
-                                            w_d[i, w], law, mu[p], gstar[p], ri, mass[i],
-                                            w_xi, 6 * i + w, dt_xi,
+                                            w_d[i, w], law, mu[p], pt.gstar[p], ri, mass[i],
+                                            walls.xi, 6 * i + w, dt_xi,
                                             vel_h[i, 0] + wy * nz - wz * ny,
                                             vel_h[i, 1] + wz * nx - wx * nz,
                                             vel_h[i, 2] - vc + wx * ny - wy * nx)

@@ -55,7 +55,6 @@ class Law(NamedTuple):
     v_reg: float        # regularisation velocity of the tanh friction law [m/s]
     v_min: float        # floor of the onset speed that sets the damping [m/s]
     reimpact: float     # re-impact factor of persisting contacts [-]
-    friction: int = 0   # friction law code (pdamper.contact.forces.FRICTION_*)
 
 
 class Particles(NamedTuple):
