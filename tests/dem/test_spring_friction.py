@@ -21,6 +21,7 @@ Sources of the checks:
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -323,3 +324,23 @@ def test_friction_model_setting_is_declared_and_checked():
         DEMDamper(PAPER_DAMPER, friction_model="spring")
     model = DEMDamper(PAPER_DAMPER, friction_model="spring", integrator="auto")
     assert model.contact.friction_model == "spring"
+
+
+def test_dem_command_runs_the_spring_law_and_refuses_it_with_gear(capsys):
+    """``pdamper dem --friction-model spring``: runs with Verlet and records the law; with
+    the damper's default integrator (Gear) or an unknown law, a one-line error naming the
+    field and a non-zero exit."""
+    from pdamper.cli import main
+
+    args = ["dem", "--frequency", "10Hz", "--amplitude", "20mm", "--particles", "16",
+            "--cycles", "3", "--skip-cycles", "1", "--json"]
+    assert main([*args, "--friction-model", "spring", "--integrator", "verlet"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["inputs"]["dem"]["friction_model"] == "spring"
+    assert data["loss_factor"] > 0.0
+    assert main([*args, "--friction-model", "spring"]) != 0
+    err = capsys.readouterr().err.strip()
+    assert "dem.integrator" in err and "verlet or auto" in err and len(err.splitlines()) == 1
+    assert main([*args, "--friction-model", "viscous", "--integrator", "verlet"]) != 0
+    err = capsys.readouterr().err.strip()
+    assert "friction_model" in err and "regularised, spring" in err

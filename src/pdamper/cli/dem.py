@@ -63,9 +63,6 @@ FLAGS: tuple[tuple[str, str, type, str], ...] = (
     ("--restitution-pw", "dem.restitution_pw", float, "Constant sphere-wall COR."),
     ("--damping-model", "dem.damping_model", str, "exact (default), gonthier (the paper's) "
      "or tsuji (LIGGGHTS/EDEM 'Hertz with COR')."),
-    ("--friction-model", "dem.friction_model", str, "regularised (the paper's tanh law, "
-     "default) or spring (tangential spring with Coulomb limit, LIGGGHTS' 'tangential "
-     "history'; needs --integrator verlet or auto)."),
     ("--seed", "dem.seed", int, "Seed of the random packing (recorded always)."),
     ("--packing", "dem.packing", str, "lattice (the paper's 4x4 layers), random, or auto "
      "(random where every sphere fits at random, else lattice)."),
@@ -83,6 +80,9 @@ FLAGS: tuple[tuple[str, str, type, str], ...] = (
     ("--snapshot-rate", "dem.snapshot_rate", str, "Snapshots per second for --vtk."),
     ("--gravity", "excitation.gravity", str, "g, e.g. '9.81 m/s^2' (default); '0 m/s^2' for "
      "a structure in orbit."),
+    ("--friction-model", "dem.friction_model", str, "regularised (the paper's tanh law, "
+     "default) or spring (tangential spring with Coulomb limit, LIGGGHTS' 'tangential "
+     "history'; needs --integrator verlet or auto)."),
 )
 
 
