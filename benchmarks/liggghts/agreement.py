@@ -150,7 +150,8 @@ def _print_lattice_row(row) -> None:
         e = [r["eta"] for r in runs]
         m = [r["mass"] for r in runs]
         worst = max(max(abs(_dev(a, b["eta"])), abs(_dev(c, b["mass"])))
-                    for a, c, b in zip(e, m, lg, strict=True))  # paired by jitter
+                    # paired by jitter (a converged column has the first jitter only)
+                    for a, c, b in zip(e, m, lg[:len(e)], strict=True))
         parts.append(f"{name}: eta " + "/".join(f"{v:.3f}" for v in e) + " m "
                      + "/".join(f"{v:.3f}" for v in m) + f" worst {100 * worst:.1f} % "
                      f"({sum(r['cpu'] for r in runs):.1f} s)")
