@@ -9,7 +9,9 @@ docs/dem.md, "Agreement with LIGGGHTS").
   0.6 / 0.85, mu 0.1; settling, 8 cycles, complex power over cycles 3-8. pdamper runs as
   ``DEMDamper`` does by default from that bed (its Level II settling, Gear), with the
   damping law asked (``--law``), and with ``--converged`` converged (velocity Verlet at
-  safety 0.005, from the first jitter).
+  safety 0.005, from the first jitter). ``--friction spring`` runs pdamper with LIGGGHTS'
+  tangential law (a spring with a Coulomb limit) instead of its tanh-regularised friction;
+  its default run is then ``integrator = auto`` (velocity Verlet: Gear has no such law).
 * ``random``: random packings, pdamper's (``ParticleSet.random``, seed k) and LIGGGHTS'
   (``fix insert/pack``, seed prime k); settling (LIGGGHTS: the free fall + 0.3 s), 12
   cycles, complex power over the last 8 (cycles 5-12). Each code's ensemble over
@@ -59,11 +61,14 @@ def jittered_lattice(seed: int, count: int = 32) -> np.ndarray:
 
 
 def pdamper_run(f: float, x_mm: float, law: str, kind: str, *, positions=None,
-                seed: int = 0, cycles: int = LATTICE_CYCLES, window: int | None = None) -> dict:
+                seed: int = 0, cycles: int = LATTICE_CYCLES, window: int | None = None,
+                friction: str = "regularised") -> dict:
     """One pdamper run: ``kind`` "default" (DEMDamper's defaults for the start it has) or
     "converged" (velocity Verlet at safety 0.005); from ``positions`` or, if None, the random
     packing of ``seed``. Loss factor and mass ratio over the last ``window`` cycles
-    (default: all after the paper's 2)."""
+    (default: all after the paper's 2). ``friction``: pdamper's tangential law,
+    ``regularised`` (its default) or ``spring`` (LIGGGHTS' law; its default run is
+    ``integrator = auto``, i.e. velocity Verlet at the default safety)."""
     from pdamper.dem import HarmonicMotion, ParticleSet
     from pdamper.models import DEMDamper
     from pdamper.parameters import PAPER_DAMPER
@@ -71,6 +76,8 @@ def pdamper_run(f: float, x_mm: float, law: str, kind: str, *, positions=None,
     d = PAPER_DAMPER.with_count(32)
     packing = "lattice" if positions is not None else "random"
     opts = {"integrator": "verlet", "safety": CONVERGED_SAFETY} if kind == "converged" else {}
+    if friction != "regularised":
+        opts = {"integrator": "auto", **opts, "friction_model": friction}
     model = DEMDamper(d, cycles=cycles, damping_model=law, packing=packing, seed=seed, **opts)
     ps = (ParticleSet(positions, d.particle_radius, d.particle_material)
           if positions is not None else model._particles()[1])
@@ -104,9 +111,11 @@ def _dev(a: float, b: float) -> float:
     return (a - b) / max(abs(b), 0.05)
 
 
-def lattice_table(points, seeds: int, laws, out: Path | None, converged: bool = False) -> list:
-    """Per point: LIGGGHTS and pdamper (default and converged, each law) from the same
-    jittered lattices; means and half-ranges over the jitter seeds."""
+def lattice_table(points, seeds: int, laws, out: Path | None, converged: bool = False,
+                  friction: str = "regularised") -> list:
+    """Per point: LIGGGHTS and pdamper (default and converged, each law, tangential law
+    ``friction``) from the same jittered lattices; means and half-ranges over the jitter
+    seeds."""
     rows = []
     for f, x in points:
         row = {"f": f, "x": x, "liggghts": [], "pdamper": {}}
@@ -116,13 +125,18 @@ def lattice_table(points, seeds: int, laws, out: Path | None, converged: bool = 
             for law in laws:
                 # the converged reference (20-60 s a run) only with --converged, first jitter
                 for kind in ("default", "converged") if converged and k == 1 else ("default",):
-                    row["pdamper"].setdefault(f"{law} {kind}", []).append(
-                        pdamper_run(f, x, law, kind, positions=pos))
+                    row["pdamper"].setdefault(f"{_name(law, friction)} {kind}", []).append(
+                        pdamper_run(f, x, law, kind, positions=pos, friction=friction))
         rows.append(row)
         _print_lattice_row(row)
         if out:
             out.write_text(json.dumps(rows, indent=1))
     return rows
+
+
+def _name(law: str, friction: str) -> str:
+    """A pdamper column's law: the damping law, ``+spring`` with the spring friction law."""
+    return law if friction == "regularised" else f"{law}+{friction}"
 
 
 def _print_lattice_row(row) -> None:
@@ -136,7 +150,8 @@ def _print_lattice_row(row) -> None:
         e = [r["eta"] for r in runs]
         m = [r["mass"] for r in runs]
         worst = max(max(abs(_dev(a, b["eta"])), abs(_dev(c, b["mass"])))
-                    for a, c, b in zip(e, m, lg, strict=True))  # paired by jitter
+                    # paired by jitter (a converged column has the first jitter only)
+                    for a, c, b in zip(e, m, lg[:len(e)], strict=True))
         parts.append(f"{name}: eta " + "/".join(f"{v:.3f}" for v in e) + " m "
                      + "/".join(f"{v:.3f}" for v in m) + f" worst {100 * worst:.1f} % "
                      f"({sum(r['cpu'] for r in runs):.1f} s)")
@@ -191,14 +206,16 @@ def random_markdown(rows) -> str:
     return "\n".join(lines)
 
 
-def random_table(points, seeds: int, law: str, out: Path | None) -> list:
-    """Per point: the ensembles of ``seeds`` random packings of each code."""
+def random_table(points, seeds: int, law: str, out: Path | None,
+                 friction: str = "regularised") -> list:
+    """Per point: the ensembles of ``seeds`` random packings of each code (pdamper's
+    tangential law ``friction``)."""
     rows = []
     for f, x in points:
         lg = [liggghts(f, x, seed=PRIMES[k], cycles=RANDOM_CYCLES, window=RANDOM_WINDOW)
               for k in range(seeds)]
         pd = [pdamper_run(f, x, law, "default", seed=k, cycles=RANDOM_CYCLES,
-                          window=RANDOM_WINDOW) for k in range(seeds)]
+                          window=RANDOM_WINDOW, friction=friction) for k in range(seeds)]
         row = {"f": f, "x": x, "liggghts": lg, "pdamper": pd}
         rows.append(row)
         cells = []
@@ -229,10 +246,12 @@ def main(args) -> None:
         print(f"lattice + {JITTER * 1e3:g} mm jitter, {args.seeds} jitter seeds, cycles "
               f"{LATTICE_SKIP + 1}-{LATTICE_CYCLES}; LIGGGHTS (Tsuji law, tangential spring, "
               f"{LIGGGHTS_STEP * 1e6:g} us) against pdamper default / converged (Verlet at "
-              f"{CONVERGED_SAFETY}), laws {', '.join(args.law)}")
+              f"{CONVERGED_SAFETY}), laws {', '.join(args.law)}, friction {args.friction}")
         print(lattice_markdown(lattice_table(points, args.seeds, args.law, out,
-                                             args.converged)))
+                                             args.converged, args.friction)))
     else:
         print(f"random packings, {args.seeds} seeds per code, {RANDOM_CYCLES} cycles, the "
-              f"last {RANDOM_WINDOW} averaged; pdamper default ({args.law[0]} law)")
-        print(random_markdown(random_table(points, args.seeds, args.law[0], out)))
+              f"last {RANDOM_WINDOW} averaged; pdamper default ({args.law[0]} law, friction "
+              f"{args.friction})")
+        print(random_markdown(random_table(points, args.seeds, args.law[0], out,
+                                           args.friction)))

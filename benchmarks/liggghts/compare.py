@@ -44,7 +44,9 @@ every frequency used here). Three comparisons, each printing the cores each code
   mass of both codes at 12 points over 5-20 Hz x 10-80 mm (``--point HZ MM`` for others),
   from the same jittered lattices or from ``--seeds N`` random packings of each code
   (``agreement.py`` beside this file; the tables of docs/dem.md, "Agreement with
-  LIGGGHTS"); ``--law`` pdamper's damping law (repeatable; default tsuji and exact for the
+  LIGGGHTS"); ``--friction spring`` pdamper with LIGGGHTS' tangential law (a spring with a
+  Coulomb limit; Verlet), ``--liggghts-step`` LIGGGHTS' step there (first value; default
+  1 us); ``--law`` pdamper's damping law (repeatable; default tsuji and exact for the
   lattice, tsuji for random beds), ``--out FILE`` the runs as JSON.
 
 ``--integrator`` sets pdamper's integrator (default the model's, Gear; ``auto`` hands a
@@ -324,6 +326,8 @@ def main(argv=None) -> None:
     ap.add_argument("--point", type=float, nargs=2, action="append", metavar=("HZ", "MM"),
                     help="--protocol: this point instead of the grid (repeatable)")
     ap.add_argument("--out", default=None, help="--protocol: write the runs as JSON here")
+    ap.add_argument("--friction", choices=["regularised", "spring"], default="regularised",
+                    help="--protocol: pdamper's tangential law (spring: LIGGGHTS' own)")
     ap.add_argument("--converged", action="store_true",
                     help="--protocol lattice: also pdamper converged (Verlet at 0.005)")
     args = ap.parse_args(argv)
@@ -340,6 +344,9 @@ def main(argv=None) -> None:
         if args.seeds < 1:
             ap.error("--seeds must be at least 1")
         args.law = args.law or (["tsuji", "exact"] if args.protocol == "lattice" else ["tsuji"])
+        # LIGGGHTS' step on the protocol: the users' 1 us unless given (a fixed step:
+        # 0.25 us takes 4 x longer; at 80 mm 1 us is not converged, docs/dem.md)
+        agreement.LIGGGHTS_STEP = liggghts_step(args.liggghts_step[0], 10.0, 32.0, 32)
         agreement.main(args)
     elif args.single:
         single(args)

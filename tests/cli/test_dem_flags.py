@@ -19,7 +19,8 @@ PUBLIC = ("--frequency", "--amplitude", "--particles", "--cycles", "--max-cycles
           "--integrator", "--skip-cycles", "--friction", "--restitution-pp",
           "--restitution-pw", "--damping-model", "--seed", "--packing", "--sample-rate",
           "--safety", "--error-estimate/--no-error-estimate", "--accuracy",
-          "--free-flight/--no-free-flight", "--snapshot-rate", "--gravity")
+          "--free-flight/--no-free-flight", "--snapshot-rate", "--gravity",
+          "--friction-model")
 
 
 def test_the_table_names_only_declared_settings_and_scenario_keys():

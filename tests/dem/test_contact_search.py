@@ -62,3 +62,21 @@ def test_history_carried_over_by_merge():
                   PairContacts(s_start, s_j, s_act, s_k, s_d, s_v))
     assert s_act.tolist() == [0, 1] and s_k.tolist() == [0.0, 7.0] and s_d.tolist() == [0.0, 0.7]
     assert s_v.tolist() == [0.0, 2.0]
+
+
+def test_spring_law_displacements_carried_over_by_merge():
+    """The spring friction law's tangential displacements and damping factors move with
+    their pairs at a rebuild (rows of ``xi``); a pair new to the list keeps what its row
+    held until its onset zeroes it (``spring_onset``)."""
+    o_start = np.array([0, 2, 3, 3])
+    o_j = np.array([1, 2, 2])
+    o_xi = np.array([[1.0, 2.0, 3.0, 0.1], [4.0, 5.0, 6.0, 0.2], [7.0, 8.0, 9.0, 0.3]])
+    s_start = np.array([0, 1, 2, 2])
+    s_j = np.array([2, 2])
+    s_xi = np.full((2, 4), -1.0)
+    z = np.zeros(3)
+    carry_history(3, PairContacts(o_start, o_j, np.ones(3, np.int64), z, z, z, o_xi),
+                  PairContacts(s_start, s_j, np.zeros(2, np.int64), np.zeros(2), np.zeros(2),
+                               np.zeros(2), s_xi))
+    # pair (0, 2) was entry 1, pair (1, 2) entry 2
+    assert s_xi.tolist() == [[4.0, 5.0, 6.0, 0.2], [7.0, 8.0, 9.0, 0.3]]

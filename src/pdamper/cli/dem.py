@@ -80,6 +80,9 @@ FLAGS: tuple[tuple[str, str, type, str], ...] = (
     ("--snapshot-rate", "dem.snapshot_rate", str, "Snapshots per second for --vtk."),
     ("--gravity", "excitation.gravity", str, "g, e.g. '9.81 m/s^2' (default); '0 m/s^2' for "
      "a structure in orbit."),
+    ("--friction-model", "dem.friction_model", str, "regularised (the paper's tanh law, "
+     "default) or spring (tangential spring with Coulomb limit, LIGGGHTS' 'tangential "
+     "history'; needs --integrator verlet or auto)."),
 )
 
 

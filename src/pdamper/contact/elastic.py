@@ -25,6 +25,14 @@ def effective_modulus(a: Material, b: Material) -> float:
                   + (1 - b.poisson_ratio**2) / b.youngs_modulus)
 
 
+def effective_shear_modulus(a: Material, b: Material) -> float:
+    """G* = [ 2 (2 - nu_a)(1 + nu_a)/E_a + 2 (2 - nu_b)(1 + nu_b)/E_b ]^-1 [Pa]: Mindlin's
+    tangential stiffness ``8 G* sqrt(R* delta)`` (LIGGGHTS' Hertz model, ``Geff``), i.e.
+    ``G* = [(2 - nu_a)/G_a + (2 - nu_b)/G_b]^-1`` with ``G = E / (2 (1 + nu))``."""
+    return 1.0 / (2.0 * (2.0 - a.poisson_ratio) * (1.0 + a.poisson_ratio) / a.youngs_modulus
+                  + 2.0 * (2.0 - b.poisson_ratio) * (1.0 + b.poisson_ratio) / b.youngs_modulus)
+
+
 def effective_radius(r_a: float, r_b: float = math.inf) -> float:
     """R* = (1/r_a + 1/r_b)^-1 [m]; ``r_b = inf`` for a flat wall."""
     return 1.0 / (1.0 / r_a + (0.0 if math.isinf(r_b) else 1.0 / r_b))

@@ -27,6 +27,23 @@ point and ``t_hat = v_t / |v_t|``. The regularisation velocity ``v_reg`` default
 damper of coefficient ``mu |F_n| / v_reg``, above ~2 v_reg it is Coulomb sliding to within
 4 %.
 
+Tangential force (spring with a Coulomb limit, ``friction_model = "spring"``)
+--------------------------------------------------------------------------
+LIGGGHTS' ``tangential history`` (Yade's Mindlin without its damping): each contact keeps an
+elastic tangential displacement ``xi`` [m], zero at the onset; every step adds ``v_t h``
+and projects ``xi`` onto the current tangent plane (the contact turns with the spheres).
+The force is ``F_t = -k_t xi - gamma_t v_t`` (sticking) with Mindlin's stiffness
+``k_t = 8 G* sqrt(R* delta)`` [N/m] (:func:`tangential_stiffness`, ``G*`` of
+:func:`pdamper.contact.elastic.effective_shear_modulus`) and LIGGGHTS' damping
+``gamma_t = 2 sqrt(5/6) |beta| sqrt(k_t m*)`` (:func:`tangential_damping`, ``beta`` of the
+COR at the onset as Tsuji's normal law). Where ``k_t |xi|`` exceeds ``mu |F_n|`` the
+contact slips: ``xi`` is scaled back to ``mu |F_n| / k_t`` and ``F_t = -k_t xi`` (no
+damping), the Coulomb force. The spring stores ``k_t |xi|^2 / 2`` (counted as elastic
+energy); slip dissipates ``mu |F_n|`` times the slip distance, the damper
+``gamma_t |v_t|^2``. Unlike the tanh law a contact below the friction limit sticks (no
+creep) and an oblique impact at small incidence recoils tangentially (Maw, Barber &
+Fawcett 1976).
+
 Energies
 --------
 Elastic energy of a contact ``2/5 K delta^(5/2)``; power dissipated by the normal damping
@@ -65,6 +82,22 @@ def cor_at(v, v_nodes, e_nodes):
             hi = mid
     t = (s - v_nodes[lo]) / (v_nodes[hi] - v_nodes[lo])
     return e_nodes[lo] + t * (e_nodes[hi] - e_nodes[lo])
+
+
+@njit(cache=True, inline="always")
+def tangential_stiffness(g_star, r_star, delta):
+    """Mindlin's tangential stiffness ``k_t = 8 G* sqrt(R* delta)`` [N/m] (no
+    micro-slip; LIGGGHTS' Hertz model) for the effective shear modulus ``G*`` [Pa], the
+    effective radius ``R*`` [m] and the overlap ``delta`` [m]."""
+    return 8.0 * g_star * math.sqrt(r_star * delta)
+
+
+@njit(cache=True, inline="always")
+def tangential_damping(x, k_t, m_eff):
+    """LIGGGHTS' tangential damping ``gamma_t = x sqrt(k_t m*)`` [N s/m] with
+    ``x = 2 sqrt(5/6) |beta|`` (:func:`pdamper.contact.damping.tsuji_damping_ratio_scalar`
+    of the COR), the stiffness ``k_t`` [N/m] and the effective mass ``m*`` [kg]."""
+    return x * math.sqrt(k_t * m_eff)
 
 
 #: Integer codes of the damping models for the kernels.

@@ -19,6 +19,13 @@ from pdamper.errors import InputError, check_range
 #: with COR"); see :mod:`pdamper.contact.damping`.
 DAMPING_MODELS = ("exact", "gonthier", "tsuji")
 
+#: Tangential (friction) laws: ``"regularised"`` (the paper's tanh-regularised Coulomb
+#: friction, default) or ``"spring"`` (a tangential spring with a Coulomb limit on a
+#: per-contact elastic tangential displacement: LIGGGHTS' ``tangential history`` with its
+#: Hertz ``k_t = 8 G* sqrt(R* delta)`` and damping, Yade's Mindlin without the latter);
+#: see :mod:`pdamper.contact.forces`.
+FRICTION_MODELS = ("regularised", "spring")
+
 #: Default regularisation velocity of the tanh friction law [m/s]: below it friction acts
 #: as a viscous damper of coefficient mu |F_n| / v_reg, above ~2 v_reg it is Coulomb
 #: sliding to within 4 %.
@@ -49,6 +56,10 @@ class ContactParameters:
         ``"exact"`` (default): damping from the exact closed-form COR relation;
         ``"gonthier"``: Gonthier's approximation ``(1 - e^2)/e`` (the paper's choice);
         ``"tsuji"``: the viscoelastic law of LIGGGHTS and EDEM ("Hertz with COR").
+    friction_model
+        ``"regularised"`` (default): the paper's tanh-regularised Coulomb friction;
+        ``"spring"``: a tangential spring with a Coulomb limit (LIGGGHTS' ``tangential
+        history``).
     regularisation_velocity
         v_reg of the tanh friction law [m/s] (default 0.01 m/s).
     min_impact_velocity
@@ -69,6 +80,7 @@ class ContactParameters:
     regularisation_velocity: float = DEFAULT_REGULARISATION_VELOCITY
     min_impact_velocity: float = DEFAULT_MIN_IMPACT_VELOCITY
     reimpact_factor: float = DEFAULT_REIMPACT_FACTOR
+    friction_model: str = "regularised"
 
     def __post_init__(self) -> None:
         check_range("reimpact_factor", self.reimpact_factor, low=1.0, low_inclusive=False)
@@ -81,6 +93,9 @@ class ContactParameters:
         if self.damping_model not in DAMPING_MODELS:
             raise InputError("damping_model", f"must be one of {', '.join(DAMPING_MODELS)}, "
                              f"got {self.damping_model!r}")
+        if self.friction_model not in FRICTION_MODELS:
+            raise InputError("friction_model", f"must be one of {', '.join(FRICTION_MODELS)}, "
+                             f"got {self.friction_model!r}")
         for name in ("restitution_pp", "restitution_pw"):
             if not isinstance(getattr(self, name), RestitutionCurve):
                 raise InputError(name, "must be a RestitutionCurve (e.g. ConstantRestitution)")

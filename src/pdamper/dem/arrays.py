@@ -13,6 +13,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from pdamper.contact.elastic import effective_shear_modulus
 from pdamper.contact.forces import DAMPING_CODES
 from pdamper.contact.hertz import contact_duration, effective_modulus, hertz_stiffness
 from pdamper.contact.law import ContactParameters
@@ -45,16 +46,19 @@ def material_tables(p: ParticleSet, container: Container,
     wall = container.material
     curves = []
     estar = np.zeros(npair)
+    gstar = np.zeros(npair)
     mu = np.zeros(npair)
     for a in range(nm):
         for b in range(nm):
             q = a * nm + b
             estar[q] = effective_modulus(mats[a], mats[b])
+            gstar[q] = effective_shear_modulus(mats[a], mats[b])
             mu[q] = c.friction_pp
             curves.append(c.curve(mats[a].name, mats[b].name, wall=False))
     for a in range(nm):
         q = nm * nm + a
         estar[q] = effective_modulus(mats[a], wall)
+        gstar[q] = effective_shear_modulus(mats[a], wall)
         mu[q] = c.friction_pw
         curves.append(c.curve(mats[a].name, wall.name, wall=True))
     tabs = [cv.tabulate() for cv in curves]
@@ -68,7 +72,7 @@ def material_tables(p: ParticleSet, container: Container,
         cor_n[q] = len(v)
     # last entry: memo (COR, damping factor) per pair type for the kernels, emptied (-1)
     # at the start of every run (allocate), so that no state carries over between runs
-    pair_types = K.PairTypes(estar, mu, cor_v, cor_e, cor_n, np.full((npair, 2), -1.0))
+    pair_types = K.PairTypes(estar, mu, cor_v, cor_e, cor_n, np.full((npair, 2), -1.0), gstar)
     kwall = np.array([hertz_stiffness(estar[nm * nm + a], float(ri))
                       for a, ri in zip(pmat, p.radius, strict=True)])
     return MaterialTables(pmat, mats, pair_types, kwall)
@@ -111,13 +115,17 @@ def allocate(p: ParticleSet, container: Container, c: ContactParameters,
     law = K.Law(DAMPING_CODES[c.damping_model], len(tables.materials),
                 float(c.regularisation_velocity), float(c.min_impact_velocity),
                 float(c.reimpact_factor))
+    # the spring friction law's tangential displacements (their presence selects the law
+    # in the kernels: Run.tangential)
+    spring = c.friction_model == "spring"
     part = K.Particles(p.radius.copy(), p.masses, p.inertia, tables.kwall, tables.pmat,
                        1.0 / p.masses, 1.0 / p.inertia)
-    nbrs = K.Neighbours(K.empty_pair_contacts(n, cap), K.empty_pair_contacts(n, cap),
+    nbrs = K.Neighbours(K.empty_pair_contacts(n, cap, spring),
+                        K.empty_pair_contacts(n, cap, spring),
                         np.zeros(ncx * ncy * ncz, np.int64), np.zeros(n, np.int64),
                         np.zeros((n, 3)))
     walls = K.WallContacts(np.zeros((n, 6), np.int64), np.zeros((n, 6)), np.zeros((n, 6)),
-                           np.zeros(4 * n + 64, np.int64))
+                           np.zeros(4 * n + 64, np.int64), np.zeros((6 * n if spring else 0, 4)))
     work = K.Work(np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
     nord = K.Nordsieck(np.zeros((6, n, 3)), np.zeros((5, n, 3)), np.zeros(6), np.zeros(6))
     pos = p.positions.copy()

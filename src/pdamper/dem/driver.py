@@ -74,6 +74,13 @@ class Run:
     pair_types: K.PairTypes | None = None
     settle_reused: bool = False
 
+    @property
+    def tangential(self) -> tuple | None:
+        """What the Verlet kernels take for the friction law: None for the tanh law (its
+        code compiled without the spring's), ``(0.0, vel, omg)`` for the spring law, whose
+        tangential displacements the run carries (:mod:`pdamper.dem.kernels.forces`)."""
+        return None if self.walls.xi.shape[0] == 0 else (0.0, self.vel, self.omg)
+
 
 @dataclass
 class Phase:
@@ -140,20 +147,20 @@ class VerletKernels:
         _verlet.verlet_start(run.pos, run.vel, run.omg, run.world, run.law, run.part,
                              run.pair_types, run.nbrs, run.walls, phase.drive, phase.stepping,
                              run.work, phase.ledger, phase.state, phase.stats, phase.samples,
-                             phase.snaps)
+                             phase.snaps, run.tangential)
 
     @staticmethod
     def resume(run: Run, phase: Phase) -> None:
         _verlet.verlet_resume(run.pos, run.vel, run.omg, run.world, run.law, run.part,
                               run.pair_types, run.nbrs, run.walls, phase.drive, phase.stepping,
-                              run.work, phase.ledger, phase.state, phase.stats)
+                              run.work, phase.ledger, phase.state, phase.stats, run.tangential)
 
     @staticmethod
     def advance(run: Run, phase: Phase, j_stop: int) -> None:
         _verlet.verlet_advance(run.pos, run.vel, run.omg, run.world, run.law, run.part,
                                run.pair_types, run.nbrs, run.walls, phase.drive, phase.stepping,
                                run.work, phase.ledger, phase.state, phase.stats, phase.samples,
-                               phase.snaps, j_stop)
+                               phase.snaps, j_stop, run.tangential)
 
 
 class GearKernels:

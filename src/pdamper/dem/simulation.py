@@ -174,6 +174,11 @@ class DEMEngine:
         #: attributes (:meth:`__getattr__`), the resolved defaults below shadow them.
         self.settings = settings
         s = settings
+        if contact.friction_model == "spring" and s.integrator == "gear":
+            # the Gear kernel has no tangential displacement history (its corrector would
+            # need it per accepted step); "auto" runs such a law with Verlet throughout
+            raise InputError("integrator", "must be verlet or auto with friction_model = "
+                             "spring (Gear has no tangential spring), got 'gear'")
         self.max_overlap = math.inf if s.max_overlap is None else s.max_overlap
         self.gear_transient_tolerance = (self.gear_tolerance if s.gear_transient_tolerance
                                          is None else s.gear_transient_tolerance)
@@ -410,7 +415,13 @@ class DEMEngine:
 
     @property
     def _first_kernel(self) -> str:
-        return "verlet" if self.integrator == "verlet" else "gear"
+        return "verlet" if self.integrator == "verlet" or self._verlet_only else "gear"
+
+    @property
+    def _verlet_only(self) -> bool:
+        """Whether only Verlet can run this contact law (the spring friction law: ``auto``
+        then runs Verlet throughout)."""
+        return self.contact.friction_model == "spring"
 
     def _stepping(self, t0: float, half: float, nsamp: int, snap_every: int,
                   kernel: str, settling: bool = False) -> K.Stepping:
@@ -505,7 +516,7 @@ class DEMEngine:
             end = min(2 * grid.per_cycle * self.transient_cycles, j_end)
             controllers.append(TransientTolerance(phase, end, self.gear_transient_tolerance,
                                                   self.gear_tolerance))
-        if self.integrator == "auto":
+        if self.integrator == "auto" and not self._verlet_only:
             controllers.append(AutoSwitch(self, run, phase, j_end, check))
         t1 = time.perf_counter()
         KERNELS[phase.kernel].start(run, phase)
@@ -558,6 +569,7 @@ class DEMEngine:
             "friction_pp": c.friction_pp,
             "friction_pw": c.friction_pw,
             "damping_model": c.damping_model,
+            "friction_model": c.friction_model,
             "regularisation_velocity_m_s": c.regularisation_velocity,
             "min_impact_velocity_m_s": c.min_impact_velocity,
             "restitution_pp": repr(c.restitution_pp),

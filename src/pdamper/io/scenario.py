@@ -1134,6 +1134,7 @@ quiet_skip_cycles = {dem.quiet_skip_cycles}       # after min(quiet_skip_cycles,
 # restitution_pw = {dem.restitution_pw}     # constant sphere-wall COR (default; or [restitution])
 damping_model = "{dem.damping_model}"     # damping law of the normal force: {_MODELS}
 # min_impact_velocity = "0.01 m/s"  # onset-speed floor of the exact/gonthier damping
+# friction_model = "regularised"  # or "spring" (tangential spring, Coulomb limit; verlet/auto)
 packing = "{dem.packing}"         # "lattice" (the paper's 4 x 4 layers), "random" or "auto"
 seed = {dem.seed}                    # seed of the random packing (recorded always)
 safety = {dem.safety}               # time step / Hertz contact time

@@ -315,9 +315,13 @@ class DEMDamper(DamperModel):
             self.contact = ContactParameters(restitution_pp=cor_pp, restitution_pw=cor_pw,
                                              friction_pp=friction, friction_pw=friction,
                                              damping_model=s.damping_model,
-                                             min_impact_velocity=s.min_impact_velocity)
+                                             min_impact_velocity=s.min_impact_velocity,
+                                             friction_model=s.friction_model)
         except InputError as exc:  # name the field as the [dem] section does
             raise InputError(f"dem.{exc.field}", exc.message) from None
+        if s.friction_model == "spring" and s.integrator == "gear":
+            raise InputError("dem.integrator", "must be verlet or auto with friction_model = "
+                             "spring (Gear has no tangential spring), got 'gear'")
 
     def __getattr__(self, name: str):
         # the settings as attributes (model.cycles, model.integrator, ...)

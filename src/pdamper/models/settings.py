@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 from pydantic import create_model
 
 from pdamper.analysis.stationarity import SteadyStateCriterion
-from pdamper.contact.law import DAMPING_MODELS, DEFAULT_MIN_IMPACT_VELOCITY
+from pdamper.contact.law import DAMPING_MODELS, DEFAULT_MIN_IMPACT_VELOCITY, FRICTION_MODELS
 from pdamper.dem.settings import EngineSettings, Settings, setting
 
 #: ``cycles`` value that runs until the loss factor is steady (the default).
@@ -142,7 +142,8 @@ class AccuracyTarget(Settings):
 
 
 class ContactLaw(Settings):
-    """The contact law's damping (the COR curves and friction come from the damper)."""
+    """The contact law's damping and friction law (the COR curves and the friction
+    coefficient come from the damper)."""
 
     damping_model: str = setting(
         "exact", "Damping law of the normal force: ``exact``, ``gonthier`` (the paper's) or "
@@ -151,6 +152,11 @@ class ContactLaw(Settings):
         DEFAULT_MIN_IMPACT_VELOCITY, "Floor of the onset speed that sets the damping of the "
         "exact and Gonthier laws (docs/dem.md on rattling columns).", unit="m/s", low=0.0,
         low_inclusive=False)
+    friction_model: str = setting(
+        "regularised", "Tangential law: ``regularised`` (the paper's tanh-regularised Coulomb "
+        "friction) or ``spring`` (a tangential spring with a Coulomb limit, LIGGGHTS' "
+        "'tangential history'; runs with ``integrator`` verlet or auto).",
+        choices=FRICTION_MODELS)
 
 
 #: The concerns whose settings a DEM damper takes, in the order of :class:`DEMSettings`.

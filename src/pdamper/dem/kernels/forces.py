@@ -30,6 +30,17 @@ approach speed exceeds ``law.reimpact`` (default 1.25) times the stored ``v0``, 
 is treated as re-impacted: ``v0`` and ``d`` are reset from the current speed. In an
 isolated impact the approach speed only falls after the onset, so the prescribed COR is
 untouched (``inf`` disables the rule: pure onset history).
+
+The spring friction law
+-----------------------
+With a ``tang`` argument to :func:`compute_forces` (:func:`spring_tangential_force`, added
+to the normal force of :func:`contact_force` called without friction) each contact also
+keeps its elastic tangential displacement and its tangential damping factor (``xi`` of
+:class:`~pdamper.dem.kernels.state.PairContacts` and of the wall contacts): zeroed at the
+onset, carried across list rebuilds, advanced by ``dt_xi`` times the slip velocity at
+each force evaluation of a step (``dt_xi = 0``: an evaluation of the same state, which
+leaves it unchanged). The tanh law passes no ``tang``: its branches are pruned when the
+kernel compiles, so its code is the one without them, and its arrays are empty.
 """
 
 from __future__ import annotations
@@ -39,7 +50,15 @@ from typing import NamedTuple
 
 from numba import njit
 
-from pdamper.contact.forces import friction_per_slip, normal_force, onset_damping_cached
+from pdamper.contact.damping import tsuji_damping_ratio_scalar
+from pdamper.contact.forces import (
+    cor_at,
+    friction_per_slip,
+    normal_force,
+    onset_damping_cached,
+    tangential_damping,
+    tangential_stiffness,
+)
 from pdamper.contact.hertz import hertz_stiffness
 from pdamper.dem.kernels.state import Rates
 
@@ -75,6 +94,89 @@ def impact_damping(fresh, ddot, p, pt, law, k, m_eff):
     d = onset_damping_cached(ddot, pt.cor_v[p, :pt.cor_n[p]], pt.cor_e[p, :pt.cor_n[p]],
                              law.model, law.v_min, pt.memo, p, k, m_eff)
     return d, (max(ddot, law.v_min) if fresh else ddot)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", _nrt=False)
+def spring_onset(xi, b, fresh, v, p, pt, law):
+    """The spring friction law's history of contact row ``b`` of ``xi`` at an onset
+    (``fresh``: the displacement zeroed) or a re-impact: LIGGGHTS' tangential damping
+    factor ``2 sqrt(5/6) |beta|`` of pair type ``p`` at the approach speed ``v`` [m/s]
+    (the COR at ``max(v, law.v_min)``, as Tsuji's normal damping)."""
+    if fresh:
+        xi[b, 0] = 0.0
+        xi[b, 1] = 0.0
+        xi[b, 2] = 0.0
+    e = cor_at(max(v, law.v_min), pt.cor_v[p, :pt.cor_n[p]], pt.cor_e[p, :pt.cor_n[p]])
+    xi[b, 3] = tsuji_damping_ratio_scalar(e)
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
+def spring_tangential_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, g_star, r_star,
+                            m_eff, xi, b, dt_xi, hx, hy, hz):
+    """The tangential force of the spring friction law (:mod:`pdamper.contact.forces`) on
+    particle ``i`` of one contact, to be added to the normal force of
+    :func:`contact_force` (called with ``mu = 0``); the arguments as :func:`contact_force`,
+    and
+
+    Parameters
+    ----------
+    g_star, r_star, m_eff
+        Effective shear modulus [Pa], radius [m] and mass [kg] of the contact.
+    xi, b
+        Row ``b`` of ``xi`` holds the contact's elastic tangential displacement [m] (3)
+        and its damping factor [-]; the displacement is updated in place.
+    dt_xi, hx, hy, hz
+        The step [s] (0 leaves the displacement as it is) and the velocity of the contact
+        point of ``i`` relative to the partner over it [m/s] (velocity Verlet: at the half
+        step, the velocity that moved the positions, so that the displacement is the
+        contacts' own to second order; ``u`` enters the damping).
+
+    Returns
+    -------
+    ContactForce
+        The tangential force and its torque ``n x F_t``; ``p_damp`` 0, ``p_fric`` the power
+        dissipated by slip (``mu |F_n|`` times the slip distance of the step over
+        ``dt_xi``) or by the tangential damper, ``e_el`` the spring's ``k_t |xi|^2 / 2``.
+    """
+    fn, _ = normal_force(delta, ddot, k, d, law.model)
+    tx = ux - ddot * nx
+    ty = uy - ddot * ny
+    tz = uz - ddot * nz
+    # the slip of the step added (its tangential part: the normal one is projected out
+    # with the rest), then projected onto the current tangent plane (the contact turns
+    # with the spheres; LIGGGHTS' order)
+    sx = xi[b, 0] + dt_xi * hx
+    sy = xi[b, 1] + dt_xi * hy
+    sz = xi[b, 2] + dt_xi * hz
+    sn = sx * nx + sy * ny + sz * nz
+    sx -= sn * nx
+    sy -= sn * ny
+    sz -= sn * nz
+    kt = tangential_stiffness(g_star, r_star, delta)
+    flim = mu * abs(fn)
+    s2 = sx * sx + sy * sy + sz * sz
+    if kt * kt * s2 > flim * flim:
+        # sliding: the spring scaled back to the Coulomb limit, no damping
+        smag = math.sqrt(s2)
+        ratio = flim / (kt * smag)
+        p_fric = flim * smag * (1.0 - ratio) / dt_xi if dt_xi > 0.0 else 0.0
+        sx *= ratio
+        sy *= ratio
+        sz *= ratio
+        gx = -kt * sx
+        gy = -kt * sy
+        gz = -kt * sz
+    else:
+        gt = tangential_damping(xi[b, 3], kt, m_eff)
+        gx = -kt * sx - gt * tx
+        gy = -kt * sy - gt * ty
+        gz = -kt * sz - gt * tz
+        p_fric = gt * (tx * tx + ty * ty + tz * tz)
+    xi[b, 0] = sx
+    xi[b, 1] = sy
+    xi[b, 2] = sz
+    return ContactForce(gx, gy, gz, ny * gz - nz * gy, nz * gx - nx * gz, nx * gy - ny * gx,
+                        True, 0.0, p_fric, 0.5 * kt * (sx * sx + sy * sy + sz * sz))
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
@@ -138,7 +240,7 @@ def contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, m_a, m_b, 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
 def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt, nbrs,
-                   walls, frc, trq, act, na, free):
+                   walls, frc, trq, act, na, free, tang=None):
     """Forces and torques on the stepped particles, force on the container, energy rates.
 
     Parameters
@@ -161,6 +263,12 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
         (:mod:`pdamper.dem.kernels.flights`), which no stepped particle can touch: its
         pairs are skipped and its force, torque and contact history are left as they are.
         All particles: ``arange(n), n, zeros(n)``.
+    tang : None or (float, (n, 3) array, (n, 3) array)
+        None: the tanh friction law. The spring friction law: ``(dt_xi, vel_h, omg_h)``,
+        the step that moves the tangential displacements [s] (0: an evaluation that
+        leaves them as they are) and the velocities over it (velocity Verlet: the
+        half-step ones). A None here is known when the kernel compiles: its branches are
+        pruned, and the tanh law's code is the same as without them.
 
     Returns
     -------
@@ -269,8 +377,16 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
                                                 mass[i] * mass[j] / (mass[i] + mass[j]))
                 if ddot > vimp:
                     vimp = ddot
-            c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b], law, mu[p],
-                              mass[i], mass[j], mass[i] + mass[j], cap_h)
+                if tang is not None:
+                    spring_onset(nbrs.pairs.xi, b, fresh, ddot, p, pt, law)
+            if tang is not None:
+                # the spring law: the normal force here (no tanh friction), its
+                # tangential force below
+                c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b], law,
+                                  0.0, mass[i], mass[j], mass[i] + mass[j], cap_h)
+            else:
+                c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b], h_d[b], law,
+                                  mu[p], mass[i], mass[j], mass[i] + mass[j], cap_h)
             dn += c.p_damp
             eel += c.e_el
             rmin = min(ri, rj)
@@ -291,6 +407,32 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
             frc[j, 0] -= c.fx
             frc[j, 1] -= c.fy
             frc[j, 2] -= c.fz
+            if tang is not None:
+                dt_xi, vel_h, omg_h = tang
+                wx = ri * omg_h[i, 0] + rj * omg_h[j, 0]
+                wy = ri * omg_h[i, 1] + rj * omg_h[j, 1]
+                wz = ri * omg_h[i, 2] + rj * omg_h[j, 2]
+                t = spring_tangential_force(delta, ddot, nx, ny, nz, ux, uy, uz, h_k[b],
+                                            h_d[b], law, mu[p], pt.gstar[p], ri * rj / rs,
+                                            mass[i] * mass[j] / (mass[i] + mass[j]),
+                                            nbrs.pairs.xi, b, dt_xi,
+                                            vel_h[i, 0] - vel_h[j, 0] + wy * nz - wz * ny,
+                                            vel_h[i, 1] - vel_h[j, 1] + wz * nx - wx * nz,
+                                            vel_h[i, 2] - vel_h[j, 2] + wx * ny - wy * nx)
+                df += t.p_fric
+                eel += t.e_el
+                trq[i, 0] += ri * t.cx
+                trq[i, 1] += ri * t.cy
+                trq[i, 2] += ri * t.cz
+                trq[j, 0] += rj * t.cx
+                trq[j, 1] += rj * t.cy
+                trq[j, 2] += rj * t.cz
+                frc[i, 0] += t.fx
+                frc[i, 1] += t.fy
+                frc[i, 2] += t.fz
+                frc[j, 0] -= t.fx
+                frc[j, 1] -= t.fy
+                frc[j, 2] -= t.fz
     # ---------------- sphere-wall ----------------
     # largest particle speed: a separate short loop (in the wall loop the running maximum
     # is spilled to the stack)
@@ -409,8 +551,14 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
                 w_d[i, w], w_v[i, w] = impact_damping(fresh, ddot, p, pt, law, kwall[i], mass[i])
                 if ddot > vimp:
                     vimp = ddot
-            c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i], w_d[i, w], law,
-                              mu[p], mass[i], 1.0, 1.0, cap_h)
+                if tang is not None:
+                    spring_onset(walls.xi, 6 * i + w, fresh, ddot, p, pt, law)
+            if tang is not None:
+                c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i], w_d[i, w],
+                                  law, 0.0, mass[i], 1.0, 1.0, cap_h)
+            else:
+                c = contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i], w_d[i, w],
+                                  law, mu[p], mass[i], 1.0, 1.0, cap_h)
             dn += c.p_damp
             eel += c.e_el
             if delta > ovl * ri:
@@ -427,4 +575,27 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
             fcy -= c.fy
             fcz -= c.fz
             wc += c.fz * vc
+            if tang is not None:
+                dt_xi, vel_h, omg_h = tang
+                wx = ri * omg_h[i, 0]
+                wy = ri * omg_h[i, 1]
+                wz = ri * omg_h[i, 2]
+                t = spring_tangential_force(delta, ddot, nx, ny, nz, ux, uy, uz, kwall[i],
+                                            w_d[i, w], law, mu[p], pt.gstar[p], ri, mass[i],
+                                            walls.xi, 6 * i + w, dt_xi,
+                                            vel_h[i, 0] + wy * nz - wz * ny,
+                                            vel_h[i, 1] + wz * nx - wx * nz,
+                                            vel_h[i, 2] - vc + wx * ny - wy * nx)
+                df += t.p_fric
+                eel += t.e_el
+                trq[i, 0] += ri * t.cx
+                trq[i, 1] += ri * t.cy
+                trq[i, 2] += ri * t.cz
+                frc[i, 0] += t.fx
+                frc[i, 1] += t.fy
+                frc[i, 2] += t.fz
+                fcx -= t.fx
+                fcy -= t.fy
+                fcz -= t.fz
+                wc += t.fz * vc
     return Rates(fcx, fcy, fcz, dn, df, wc, eel, ovl, ttc, math.sqrt(vmax2), vimp), onsets

@@ -85,9 +85,13 @@ def build_verlet_list(pos, rad, zc, world, head, nxt, nb_start, nb_j):
 @njit(cache=True, fastmath=False, error_model="numpy", _nrt=False)
 def carry_history(n, old, new):
     """Copy the contact history of pairs present in both lists (``old`` -> ``new``,
-    :class:`~pdamper.dem.kernels.state.PairContacts`); new pairs start without contact."""
-    o_start, o_j, o_act, o_k, o_d, o_v = old
-    s_start, s_j, s_act, s_k, s_d, s_v = new
+    :class:`~pdamper.dem.kernels.state.PairContacts`), the spring law's tangential
+    displacements included; new pairs start without contact."""
+    o_start, o_j, o_act, o_k, o_d, o_v = old.start, old.j, old.active, old.k, old.d, old.v0
+    s_start, s_j, s_act, s_k, s_d, s_v = new.start, new.j, new.active, new.k, new.d, new.v0
+    o_xi = old.xi
+    s_xi = new.xi
+    spring = s_xi.shape[0] > 0
     for i in range(n):
         a = o_start[i]
         a_end = o_start[i + 1]
@@ -100,6 +104,9 @@ def carry_history(n, old, new):
                 s_k[b] = o_k[a]
                 s_d[b] = o_d[a]
                 s_v[b] = o_v[a]
+                if spring:
+                    for c in range(4):
+                        s_xi[b, c] = o_xi[a, c]
             else:
                 s_act[b] = 0
                 s_k[b] = 0.0
@@ -118,8 +125,10 @@ def rebuild(pos, rad, zc, world, nbrs):
     if cnt < 0:
         return -1
     carry_history(n, cur, new)
-    c_start, c_j, c_act, c_k, c_d, c_v = cur
-    s_start, s_j, s_act, s_k, s_d, s_v = new
+    c_start, c_j, c_act, c_k, c_d, c_v = cur.start, cur.j, cur.active, cur.k, cur.d, cur.v0
+    s_start, s_j, s_act, s_k, s_d, s_v = new.start, new.j, new.active, new.k, new.d, new.v0
+    c_xi = cur.xi
+    s_xi = new.xi
     for i in range(n + 1):
         c_start[i] = s_start[i]
     for b in range(cnt):
@@ -128,6 +137,10 @@ def rebuild(pos, rad, zc, world, nbrs):
         c_k[b] = s_k[b]
         c_d[b] = s_d[b]
         c_v[b] = s_v[b]
+    if c_xi.shape[0] > 0:
+        for b in range(cnt):
+            for c in range(4):
+                c_xi[b, c] = s_xi[b, c]
     pb = nbrs.pos_build
     for i in range(n):
         pb[i, 0] = pos[i, 0]

@@ -79,6 +79,7 @@ class PairTypes(NamedTuple):
     cor_e: np.ndarray   # COR curve nodes: COR [-], (npair, nmax)
     cor_n: np.ndarray   # nodes used per pair type (int)
     memo: np.ndarray    # (npair, 2): last (COR, damping factor), see onset_damping_cached
+    gstar: np.ndarray = np.zeros(0)  # effective shear modulus G* [Pa] (the spring law's)
 
 
 class PairContacts(NamedTuple):
@@ -90,6 +91,9 @@ class PairContacts(NamedTuple):
     k: np.ndarray       # Hertz stiffness fixed at the onset [N/m^1.5]
     d: np.ndarray       # damping parameter of the normal force
     v0: np.ndarray      # impact speed [m/s]
+    #: (cap, 4) the spring friction law's elastic tangential displacement [m] (3) and
+    #: damping factor ``2 sqrt(5/6) |beta|`` [-] per entry; (0, 4) under the tanh law
+    xi: np.ndarray = np.zeros((0, 4))
 
 
 class Neighbours(NamedTuple):
@@ -111,6 +115,8 @@ class WallContacts(NamedTuple):
     d: np.ndarray
     v0: np.ndarray
     onset_log: np.ndarray
+    #: (6 n, 4), row ``6 i + wall``: as :attr:`PairContacts.xi`; (0, 4) under the tanh law
+    xi: np.ndarray = np.zeros((0, 4))
 
 
 class Drive(NamedTuple):
@@ -277,9 +283,12 @@ def record(dtype: np.dtype) -> np.ndarray:
     return np.zeros(1, dtype)
 
 
-def empty_pair_contacts(n: int, cap: int) -> PairContacts:
+def empty_pair_contacts(n: int, cap: int, spring: bool = False) -> PairContacts:
+    """A Verlet list of capacity ``cap`` for ``n`` spheres; ``spring``: with the tangential
+    displacements of the spring friction law."""
     return PairContacts(np.zeros(n + 1, np.int64), np.zeros(cap, np.int64),
-                        np.zeros(cap, np.int64), np.zeros(cap), np.zeros(cap), np.zeros(cap))
+                        np.zeros(cap, np.int64), np.zeros(cap), np.zeros(cap), np.zeros(cap),
+                        np.zeros((cap if spring else 0, 4)))
 
 
 def empty_flights(n: int) -> Flights:

@@ -33,9 +33,11 @@ from pdamper.dem.kernels.state import ERR_LIST, ERR_NONE, MOTION_STRUCTURE
 
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def verlet_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, lg, rs,
-                 st, samples, snaps):
+                 st, samples, snaps, tang=None):
     """Build the contact list, evaluate the forces at ``stp.t0``, start the ledger and
-    record sample 0. A structure's initial ``(z, v)`` is read from ``rs``."""
+    record sample 0. A structure's initial ``(z, v)`` is read from ``rs``. ``tang``: None
+    (the tanh friction law) or ``(0.0, vel, omg)`` (the spring law, see
+    :func:`pdamper.dem.kernels.forces.compute_forces`)."""
     t0 = stp.t0
     s = rs[0]
     zc, vc, ac = container_state(t0, drive, s)
@@ -46,7 +48,8 @@ def verlet_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     sta.rebuilds += 1
     n = pos.shape[0]
     r, ons = compute_forces(pos, vel, omg, zc, vc, 0.0, False, world, law, part, pt, nbrs,
-                            walls, work.frc, work.trq, np.arange(n), n, np.zeros(n, np.int64))
+                            walls, work.frc, work.trq, np.arange(n), n, np.zeros(n, np.int64),
+                            tang)
     sta.onsets += ons
     if drive.kind == MOTION_STRUCTURE:
         ac = structure_acceleration(r.fz, zc, vc, drive, t0)
@@ -77,7 +80,7 @@ def verlet_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
 
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def verlet_resume(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, lg, rs,
-                  st):
+                  st, tang=None):
     """Take over a run that another integrator (Gear) left at landing ``rs.landing``,
     time ``rs.t``: a fresh contact list, the forces at that state (the ledger's trapezoid
     restarts from their rates; its integrals, the samples and the contact histories go on)
@@ -101,7 +104,8 @@ def verlet_resume(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, 
     dt = stp.half / m_half
     n = pos.shape[0]
     r, ons = compute_forces(pos, vel, omg, zc, vc, 0.5 / dt, False, world, law, part, pt, nbrs,
-                            walls, work.frc, work.trq, np.arange(n), n, np.zeros(n, np.int64))
+                            walls, work.frc, work.trq, np.arange(n), n, np.zeros(n, np.int64),
+                            tang)
     sta.onsets += ons
     if structure:
         ac = structure_acceleration(r.fz, zc, vc, drive, t)
@@ -124,7 +128,7 @@ def verlet_resume(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, 
 
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def verlet_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, lg,
-                   rs, st, samples, snaps, j_stop):
+                   rs, st, samples, snaps, j_stop, tang=None):
     """Integrate with velocity Verlet up to landing ``j_stop``.
 
     Samples are taken every ``2 m`` steps, where ``m = stp.half / dt`` is an integer (the
@@ -136,17 +140,19 @@ def verlet_advance(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp,
     velocities that enter the velocity-dependent forces (damping, friction) at ``t + dt``
     are predicted as ``v + dt a`` (local error O(dt^2); a higher extrapolation,
     ``+ dt/2 (a - a_prev)``, was tried and is unstable in stiff contact networks).
+    ``tang``: None (the tanh friction law) or not (the spring law: each step moves the
+    tangential displacements by the half-step velocities, those that move the positions).
     """
     n = pos.shape[0]
     m3 = 3 * n
     _verlet_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, lg, rs,
                   st, samples, snaps, j_stop, np.empty(m3), np.empty(m3), np.arange(n),
-                  np.zeros(n, np.int64))
+                  np.zeros(n, np.int64), tang)
 
 
 @njit(cache=True, fastmath=FASTMATH, error_model="numpy", _nrt=False)
 def _verlet_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, work, lg, rs,
-                  st, samples, snaps, j_stop, im3, ii3, every, none):
+                  st, samples, snaps, j_stop, im3, ii3, every, none, tang):
     """The steps of :func:`verlet_advance`, compiled without reference counting (see
     :func:`pdamper.dem.kernels.gear._gear_steps`); ``im3``, ``ii3`` work arrays of the
     3n components, ``every = arange(n)``, ``none = zeros(n)``."""
@@ -244,8 +250,15 @@ def _verlet_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, 
                 disp = 0.0
             else:
                 disp = math.sqrt(d2)
-        r, ons = compute_forces(pos, vel_pred, omg_pred, zc, vce, cap_h, False,
-                                world, law, part, pt, nbrs, walls, frc, trq, every, n, none)
+        if tang is None:
+            r, ons = compute_forces(pos, vel_pred, omg_pred, zc, vce, cap_h, False,
+                                    world, law, part, pt, nbrs, walls, frc, trq, every, n, none)
+        else:
+            # the spring law: the step and its half-step velocities (those that moved the
+            # positions) move the tangential displacements
+            r, ons = compute_forces(pos, vel_pred, omg_pred, zc, vce, cap_h, False, world,
+                                    law, part, pt, nbrs, walls, frc, trq, every, n, none,
+                                    (dt, vel, omg))
         onsets += ons
         for q in range(m3):
             fvel[q] += hdt * ffrc[q] * im3[q]
