@@ -6,7 +6,8 @@
   Tsuji law (``simulate_impact(..., damping_model="tsuji")``).
 * ``--step HZ MM`` (repeatable): the lattice run of jitter 1 at the point with Yade's
   step at 0.5 and 0.2 ``PWaveTimeStep()``, and with ``--stock-wall`` also Yade's stock
-  wall stiffness (the PVC's 3 GPa, R* = r / 2: see ``yade_damper``).
+  wall stiffness (the PVC's 3 GPa, R* = r / 2: see ``yade_damper``), and with
+  ``--liggghts`` LIGGGHTS from the same jitter at its 1 us and at Yade's step.
 """
 
 from __future__ import annotations
@@ -40,8 +41,9 @@ def cor_table() -> None:
             print(f"{name:<18} {v:>6g} {e:>7.3f} {y5:>9.5f} {y2:>9.5f} {pd:>13.5f}", flush=True)
 
 
-def step_check(f: float, x: float, stock: bool) -> None:
+def step_check(f: float, x: float, stock: bool, liggghts: bool) -> None:
     import agreement
+    from liggghts_damper import run_liggghts
 
     pos = agreement.jittered_lattice(1)
     runs = [("0.5 PWave", {}), ("0.2 PWave", {"step_fraction": 0.2})]
@@ -52,6 +54,12 @@ def step_check(f: float, x: float, stock: bool) -> None:
         print(f"{f:g} Hz / {x:g} mm, {name:<10} (dt {r['dt'] * 1e6:.3f} us): eta "
               f"{r['loss_factor']:.4f} m_eff/m_bed {r['effective_mass_ratio']:.4f} "
               f"({r['cpu']:.0f} s CPU)", flush=True)
+    for dt in (agreement.LIGGGHTS_STEP, r["dt"]) if liggghts else ():
+        lg = run_liggghts(f, x * 1e-3, dt=dt, cycles=agreement.LATTICE_CYCLES,
+                          skip_cycles=agreement.LATTICE_SKIP, positions=pos)
+        print(f"{f:g} Hz / {x:g} mm, LIGGGHTS   (dt {lg['dt'] * 1e6:.3f} us): eta "
+              f"{lg['loss_factor']:.4f} m_eff/m_bed {lg['effective_mass_ratio']:.4f} "
+              f"({lg['cpu']:.0f} s CPU)", flush=True)
 
 
 def main(argv=None) -> None:
@@ -60,12 +68,14 @@ def main(argv=None) -> None:
                     help="the step check at this point (repeatable)")
     ap.add_argument("--stock-wall", action="store_true",
                     help="--step: also Yade's stock wall stiffness")
+    ap.add_argument("--liggghts", action="store_true",
+                    help="--step: also LIGGGHTS at its 1 us and at Yade's step")
     args = ap.parse_args(argv)
     if not yade_damper.available():
         sys.exit("yade not found (Debian: apt-get install yade)")
     if args.step:
         for f, x in args.step:
-            step_check(f, x, args.stock_wall)
+            step_check(f, x, args.stock_wall, args.liggghts)
     else:
         cor_table()
 
