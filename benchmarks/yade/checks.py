@@ -8,6 +8,8 @@
   step at 0.5 and 0.2 ``PWaveTimeStep()``, and with ``--stock-wall`` also Yade's stock
   wall stiffness (the PVC's 3 GPa, R* = r / 2: see ``yade_damper``), and with
   ``--liggghts`` LIGGGHTS from the same jitter at its 1 us and at Yade's step.
+* ``--same-step HZ MM`` (repeatable): LIGGGHTS from jitters 1 and 2 at Yade's step (the
+  table's Yade runs are at that step, its LIGGGHTS runs at 1 us).
 """
 
 from __future__ import annotations
@@ -62,6 +64,19 @@ def step_check(f: float, x: float, stock: bool, liggghts: bool) -> None:
               f"({lg['cpu']:.0f} s CPU)", flush=True)
 
 
+def same_step(f: float, x: float) -> None:
+    import agreement
+    from liggghts_damper import run_liggghts
+
+    for k in (1, 2):
+        lg = run_liggghts(f, x * 1e-3, dt=yade_damper.step(f)[0],
+                          cycles=agreement.LATTICE_CYCLES, skip_cycles=agreement.LATTICE_SKIP,
+                          positions=agreement.jittered_lattice(k))
+        print(f"{f:g} Hz / {x:g} mm, jitter {k}, LIGGGHTS (dt {lg['dt'] * 1e6:.3f} us): eta "
+              f"{lg['loss_factor']:.4f} m_eff/m_bed {lg['effective_mass_ratio']:.4f} "
+              f"({lg['cpu']:.0f} s CPU)", flush=True)
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--step", type=float, nargs=2, action="append", metavar=("HZ", "MM"),
@@ -70,13 +85,17 @@ def main(argv=None) -> None:
                     help="--step: also Yade's stock wall stiffness")
     ap.add_argument("--liggghts", action="store_true",
                     help="--step: also LIGGGHTS at its 1 us and at Yade's step")
+    ap.add_argument("--same-step", type=float, nargs=2, action="append", metavar=("HZ", "MM"),
+                    help="LIGGGHTS at Yade's step at this point, jitters 1 and 2 (repeatable)")
     args = ap.parse_args(argv)
     if not yade_damper.available():
         sys.exit("yade not found (Debian: apt-get install yade)")
+    for f, x in args.same_step or ():
+        same_step(f, x)
     if args.step:
         for f, x in args.step:
             step_check(f, x, args.stock_wall, args.liggghts)
-    else:
+    elif not args.same_step:
         cor_table()
 
 

@@ -82,6 +82,16 @@ def wall_young(damper=None, wall: str = "hertz") -> float:
     return (1 - w.poisson_ratio ** 2) / (1.0 / (math.sqrt(2.0) * e_star) - cp)
 
 
+def step(frequency: float, per_cycle: int = 400, step_fraction: float = STEP_FRACTION,
+         damper=None) -> tuple[float, int]:
+    """Yade's step [s] at ``frequency`` [Hz] and the steps of a force window:
+    ``step_fraction`` of ``PWaveTimeStep()``, rounded down so that ``per_cycle`` windows of
+    whole steps fill a cycle."""
+    period = 1.0 / frequency
+    nout = math.ceil(period / per_cycle / (step_fraction * pwave_step(damper)))
+    return period / per_cycle / nout, nout
+
+
 def _params(damper, wall, restitution_pp, restitution_pw, friction) -> dict:
     p, w = damper.particle_material, damper.wall_material
     return {"E_p": p.youngs_modulus, "nu_p": p.poisson_ratio, "rho_p": p.density,
@@ -150,8 +160,7 @@ def run_yade(frequency: float, amplitude: float, count: int = 32, cycles: int = 
     if settle_time is None:
         settle_time = math.sqrt(2.0 * lz / 9.81) + 0.05
     period = 1.0 / frequency
-    nout = math.ceil(period / per_cycle / (step_fraction * pwave_step(d)))
-    dt = period / per_cycle / nout
+    dt, nout = step(frequency, per_cycle, step_fraction, d)
     nrun = cycles * per_cycle * nout
     nsettle = round(settle_time / dt)
     if seed is None and positions is None:
