@@ -1,6 +1,6 @@
 """pdamper against LIGGGHTS 3.8 *and* Yade on the same protocols: ``python
 benchmarks/yade/compare.py --protocol lattice|random`` (the tables of docs/dem.md,
-"Agreement with LIGGGHTS and Yade").
+"Yade, the second independent code").
 
 The protocols are those of ``benchmarks/liggghts/agreement.py`` (its grid, jittered
 lattices, cycles and windows, its LIGGGHTS and pdamper runs are reused as they are):
