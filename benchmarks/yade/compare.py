@@ -19,7 +19,10 @@ Every run is saved as soon as it ends, one JSON file per protocol and code
 (``--results``, default ``benchmarks/yade/results/<protocol>_<code>.json``; a run
 replaces the saved run of the same point, seed and law), and the table is printed from
 the saved runs, so ``--codes pdamper`` reruns pdamper alone against the saved LIGGGHTS
-and Yade runs, ``--codes none`` only prints the table. One process at a time.
+and Yade runs, ``--codes none`` only prints the table. A run replaces only the runs it
+makes: saved seeds beyond ``--seeds`` stay (the random table has four packings per code
+at 20 Hz / 10 mm, 10 Hz / 32 mm and 20 Hz / 32 mm: rerun those with ``--seeds 4
+--point ...``). One process at a time.
 
 Judgement, per point, ``dev`` relative (to max(|value|, 0.05)), worst of eta and
 m_eff/m_bed:

@@ -26,7 +26,8 @@ the normal force and Tsuji's damping of the wall contacts are then those of the 
 codes (the COR is the same either way: Tsuji's COR does not depend on the stiffness).
 ``wall="yade"`` keeps the PVC's 3 GPa (Yade's stock behaviour, a 29 % softer wall).
 The tangential stiffness of a steel-PVC contact in Yade uses the mean shear modulus
-(about 18x LIGGGHTS'), which cannot be matched; it acts only while a contact sticks.
+(13x LIGGGHTS'; between two steel spheres the two are equal), which cannot be matched;
+it acts only while a contact sticks.
 """
 
 from __future__ import annotations
