@@ -9,7 +9,8 @@
   wall stiffness (the PVC's 3 GPa, R* = r / 2: see ``yade_damper``), and with
   ``--liggghts`` LIGGGHTS from the same jitter at its 1 us and at Yade's step.
 * ``--same-step HZ MM`` (repeatable): LIGGGHTS from jitters 1 and 2 at Yade's step (the
-  table's Yade runs are at that step, its LIGGGHTS runs at 1 us).
+  table's Yade runs are at that step, its LIGGGHTS runs at 1 us); with ``--fraction F``
+  both codes at F ``PWaveTimeStep()``.
 """
 
 from __future__ import annotations
@@ -64,17 +65,23 @@ def step_check(f: float, x: float, stock: bool, liggghts: bool) -> None:
               f"({lg['cpu']:.0f} s CPU)", flush=True)
 
 
-def same_step(f: float, x: float) -> None:
+def same_step(f: float, x: float, fraction: float) -> None:
     import agreement
     from liggghts_damper import run_liggghts
 
+    dt = yade_damper.step(f, step_fraction=fraction)[0]
     for k in (1, 2):
-        lg = run_liggghts(f, x * 1e-3, dt=yade_damper.step(f)[0],
-                          cycles=agreement.LATTICE_CYCLES, skip_cycles=agreement.LATTICE_SKIP,
-                          positions=agreement.jittered_lattice(k))
+        pos = agreement.jittered_lattice(k)
+        lg = run_liggghts(f, x * 1e-3, dt=dt, cycles=agreement.LATTICE_CYCLES,
+                          skip_cycles=agreement.LATTICE_SKIP, positions=pos)
         print(f"{f:g} Hz / {x:g} mm, jitter {k}, LIGGGHTS (dt {lg['dt'] * 1e6:.3f} us): eta "
               f"{lg['loss_factor']:.4f} m_eff/m_bed {lg['effective_mass_ratio']:.4f} "
               f"({lg['cpu']:.0f} s CPU)", flush=True)
+        if fraction != yade_damper.STEP_FRACTION:
+            y = yade_damper.run_yade(f, x * 1e-3, positions=pos, step_fraction=fraction)
+            print(f"{f:g} Hz / {x:g} mm, jitter {k}, Yade     (dt {y['dt'] * 1e6:.3f} us): "
+                  f"eta {y['loss_factor']:.4f} m_eff/m_bed {y['effective_mass_ratio']:.4f} "
+                  f"({y['cpu']:.0f} s CPU)", flush=True)
 
 
 def main(argv=None) -> None:
@@ -87,11 +94,14 @@ def main(argv=None) -> None:
                     help="--step: also LIGGGHTS at its 1 us and at Yade's step")
     ap.add_argument("--same-step", type=float, nargs=2, action="append", metavar=("HZ", "MM"),
                     help="LIGGGHTS at Yade's step at this point, jitters 1 and 2 (repeatable)")
+    ap.add_argument("--fraction", type=float, default=yade_damper.STEP_FRACTION,
+                    help="--same-step: the step as a fraction of PWaveTimeStep (other than "
+                    "the table's 0.5: Yade runs at it too)")
     args = ap.parse_args(argv)
     if not yade_damper.available():
         sys.exit("yade not found (Debian: apt-get install yade)")
     for f, x in args.same_step or ():
-        same_step(f, x)
+        same_step(f, x, args.fraction)
     if args.step:
         for f, x in args.step:
             step_check(f, x, args.stock_wall, args.liggghts)
