@@ -42,6 +42,22 @@ Findings (32 spheres, Tsuji's law, constant COR 0.6 / 0.85, mu 0.1, 2026-11; one
   independent 1e-6 m 0.205 +- 0.020 (0.181-0.253: LIGGGHTS' and Yade's 0.17-0.22 inside);
   20 Hz: 0.395 +- 0.002 at 1e-9 m, 0.465 +- 0.105 (0.308-0.636) at 1e-6 m;
   15 Hz: 0.035 +- 0.002 at 1e-9 m, 0.116 +- 0.018 (0.082-0.140) at 1e-6 m.
+* The answer depends on the size of the perturbation (``ensemble --size``, independent,
+  8 runs each; eta over cycles 3-8, mean +- sd (range)):
+
+  | size [m] | 10 Hz / 10 mm | 20 Hz / 10 mm | 15 Hz / 10 mm |
+  |---|---|---|---|
+  | 1e-12 | 0.298 +- 0.000 | 0.395 +- 0.000 | 0.031 +- 0.000 |
+  | 1e-9 (16 runs) | 0.273 +- 0.014 (0.249-0.302) | 0.395 +- 0.000 | 0.035 +- 0.000 |
+  | 1e-8 | 0.275 +- 0.024 (0.235-0.303) | 0.396 +- 0.003 | 0.036 +- 0.000 |
+  | 1e-7 | 0.207 +- 0.019 (0.182-0.239) | 0.393 +- 0.022 (0.368-0.429) | 0.040 +- 0.008 |
+  | 1e-6 (12 runs) | 0.205 +- 0.020 (0.181-0.253) | 0.465 +- 0.105 (0.308-0.636) | 0.116 +- 0.018 |
+  | 1e-5 | 0.260 +- 0.063 (0.210-0.405) | 0.427 +- 0.097 (0.331-0.624) | 0.169 +- 0.035 |
+  | LIGGGHTS 1-0.125 us | 0.171-0.214 | 0.217-0.363 | 0.015-0.194 |
+  | Yade (jitters 1, 2) | 0.220, 0.208 | 0.360, 0.368 | 0.044, 0.044 |
+
+  The jitter itself is no realisation: settling erases it (each column settles to the same
+  heights, to 1e-9 m), so jitters 1 and 2 give pdamper 0.298 both.
 * Not steady (``long``, 6-cycle blocks from the jittered lattice, cycles 3-62):
   20 Hz pdamper 0.395 0.343 0.516 0.839 1.403 1.596 1.688 1.767 1.820 1.920 (3-62: 1.229 /
   1.351), LIGGGHTS 0.336 0.508 0.966 1.220 1.350 1.414 1.370 1.389 1.620 1.732 (1.190 /
@@ -49,7 +65,13 @@ Findings (32 spheres, Tsuji's law, constant COR 0.6 / 0.85, mu 0.1, 2026-11; one
   LIGGGHTS 0.213 0.223 0.306 0.843 0.813 1.272 1.381 1.375 1.374 1.399; 15 Hz pdamper
   0.030 0.194 1.539 1.767 1.727 1.819 1.938 1.942 1.951 1.935, LIGGGHTS 0.194 0.621 1.109
   1.116 1.155 1.308 1.402 1.540 1.629 1.741. The one-column reference at 10 Hz stays in
-  the low state for 60 cycles (blocks 0.05-0.46): the climb needs the columns to separate.
+  the low state for 60 cycles (blocks 0.05-0.46), at 15 and 20 Hz it climbs to 1.9-2.1.
+  Over cycles 3-122 (``--cycles 122``; eta / m_eff/m_bed): 10 Hz pdamper 1.342 / 1.485,
+  LIGGGHTS 1.342 / 1.495; 15 Hz 1.542 / 1.853 against 1.507 / 1.755; 20 Hz 1.579 / 1.851
+  against 1.452 / 1.694. Over cycles 63-122 alone pdamper is 9 % below (10 Hz), 14 % below
+  (15 Hz) and 13 % above (20 Hz): the fluidised state switches between long-lived regimes
+  (the column's blocks: ~1.5 and ~1.9-2.1), so 60 cycles pin it to ~+-15 %. In both codes
+  no sphere moves sideways (< 5e-8 m) in 122 cycles: the bed stays 16 independent columns.
 * The loss-factor arithmetic is not the cause: LIGGGHTS' force windows through pdamper's
   complex power (samples at window centres or ends) give 0.2128 / 0.2130 against 0.2125
   (10 Hz) and 0.3359 / 0.3352 against 0.3355 (20 Hz); pdamper's samples through the
