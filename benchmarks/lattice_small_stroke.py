@@ -78,13 +78,16 @@ Findings (32 spheres, Tsuji's law, constant COR 0.6 / 0.85, mu 0.1, 2026-11; one
   (the column's blocks: ~1.5 and ~1.9-2.1), so 60 cycles pin it to ~+-15 %. In both codes
   no sphere moves sideways in 122 cycles (pdamper: none;
   LIGGGHTS: below its dump's 1e-7 m resolution): the bed stays 16 independent columns.
-* The error estimate cannot see it (``estimate``): from the lattice at 10 / 20 / 15 Hz /
-  10 mm it reports ``met`` true, ``realisation_dependent`` false, loss-factor spreads
-  0.0006 / 0.00001 / 0.0004 (eta 0.299 / 0.396 / 0.031). Its realisation companion moves
-  the spheres by 1e-9 m *before* settling; the settling brings every column back to the
-  same heights (spread ~1e-17 m), so the companion repeats the run (0.2978-0.2990,
-  0.3944-0.3946, 0.0302-0.0314 over four seeds). The same 1e-9 m move after settling gives
-  0.273 +- 0.014 at 10 Hz, and 1e-7 m 0.207 +- 0.019 (table above).
+* The error estimate could not see it (``estimate``): its realisation companion moved the
+  spheres by 1e-9 m *before* settling; the settling brings every column back to the same
+  heights (spread ~1e-17 m), so the companion repeated the run (0.2978-0.2990,
+  0.3944-0.3946, 0.0302-0.0314 over four seeds) and the estimate reported ``met`` true,
+  ``realisation_dependent`` false, eta spreads 0.0006 / 0.00001 / 0.0004 at 10 / 20 /
+  15 Hz / 10 mm (Tsuji's law). The same move after settling gives 0.259-0.278 at 10 Hz
+  (0.273 +- 0.014 over 16 seeds). The companion now moves the settled bed
+  (``SettledBed.moved``): those three points are realisation dependent and not met (spreads
+  eta 0.036 / 0.007 / 0.003, m_eff/m_bed 0.045 / 0.064 / 0.001), 10 Hz / 32 mm stays met
+  (spread 2.5e-6).
 * The loss-factor arithmetic is not the cause: LIGGGHTS' force windows through pdamper's
   complex power (samples at window centres or ends) give 0.2128 / 0.2130 against 0.2125
   (10 Hz) and 0.3359 / 0.3352 against 0.3355 (20 Hz); pdamper's samples through the
