@@ -41,7 +41,12 @@ Findings (32 spheres, Tsuji's law, constant COR 0.6 / 0.85, mu 0.1, 2026-11; one
 * Columns: pdamper's 16 columns stay locked (height spread < 1 um at cycle 8 at 10 and
   20 Hz), LIGGGHTS' separate from cycle 4-5 (spread 1 mm at cycle 6, 14-95 mm at cycle 8);
   no sphere moves sideways in either in 8 cycles (< 1e-7 m, LIGGGHTS'
-  dump resolution).
+  dump resolution). Yade 2023 (0.49 us, plane walls like pdamper's; its script with the
+  positions recorded every window, jitter 1) separates them as LIGGGHTS does: spread at
+  cycles 3 / 4 / 6 / 8 of 0 / 0.016 / 1.0 / 30 mm at 10 Hz (eta 0.220), 0.004 / 0.67 / 8 /
+  89 mm at 20 Hz (0.360), 0.004 / 0.09 / 0.28 / 4.6 mm at 15 Hz (0.044), no sideways
+  motion. LIGGGHTS' and Yade's beds average ~16 columns that part after cycle 3;
+  pdamper's is one column: its identical columns get bit-identical arithmetic.
 * Realisation spread (``ensemble``, 16 runs; 12 at 1e-6 m), eta over cycles 3-8:
   10 Hz: locked 1e-9 m 0.293 +- 0.048 (0.169-0.379), independent 1e-9 m 0.273 +- 0.014,
   independent 1e-6 m 0.205 +- 0.020 (0.181-0.253: LIGGGHTS' and Yade's 0.17-0.22 inside);
