@@ -24,6 +24,7 @@ time grid, motion, records, outputs).
 
 from __future__ import annotations
 
+import copy
 import math
 import time
 from collections.abc import Callable
@@ -126,6 +127,18 @@ class SettledBed:
     steps: int
     seconds: float
     state: Run = field(repr=False, compare=False)
+
+    def moved(self, displacement) -> SettledBed:
+        """This bed with every sphere moved by ``displacement`` [m] (an (n, 3) array), under
+        the same key: another realisation of the settled state. A move made before the
+        settling can be undone by it (the lattice's columns settle back to the same heights,
+        to ~1e-17 m), one made after it cannot."""
+        state = copy.deepcopy(self.state)
+        d = np.asarray(displacement, dtype=float)
+        if d.shape != state.pos.shape:
+            raise ValueError(f"displacement must have shape {state.pos.shape}, got {d.shape}")
+        state.pos += d
+        return SettledBed(self.key, self.steps, self.seconds, state)
 
     @property
     def kinetic_energy(self) -> float:
