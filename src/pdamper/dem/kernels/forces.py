@@ -239,6 +239,24 @@ def contact_force(delta, ddot, nx, ny, nz, ux, uy, uz, k, d, law, mu, m_a, m_b, 
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
+def _add_to_pair(frc, trq, i, j, ri, rj, t):
+    """Add the spring law's tangential force ``t`` of pair ``(i, j)`` (on ``i``; minus it
+    on ``j``) and its torques (``r n x F_t`` on each sphere of radius ``r``)."""
+    trq[i, 0] += ri * t.cx
+    trq[i, 1] += ri * t.cy
+    trq[i, 2] += ri * t.cz
+    trq[j, 0] += rj * t.cx
+    trq[j, 1] += rj * t.cy
+    trq[j, 2] += rj * t.cz
+    frc[i, 0] += t.fx
+    frc[i, 1] += t.fy
+    frc[i, 2] += t.fz
+    frc[j, 0] -= t.fx
+    frc[j, 1] -= t.fy
+    frc[j, 2] -= t.fz
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always", error_model="numpy")
 def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt, nbrs,
                    walls, frc, trq, act, na, free, tang=None):
     """Forces and torques on the stepped particles, force on the container, energy rates.
@@ -421,18 +439,7 @@ def compute_forces(pos, vel, omg, zc, vc, cap_h, want_ttc, world, law, part, pt,
                                             vel_h[i, 2] - vel_h[j, 2] + wx * ny - wy * nx)
                 df += t.p_fric
                 eel += t.e_el
-                trq[i, 0] += ri * t.cx
-                trq[i, 1] += ri * t.cy
-                trq[i, 2] += ri * t.cz
-                trq[j, 0] += rj * t.cx
-                trq[j, 1] += rj * t.cy
-                trq[j, 2] += rj * t.cz
-                frc[i, 0] += t.fx
-                frc[i, 1] += t.fy
-                frc[i, 2] += t.fz
-                frc[j, 0] -= t.fx
-                frc[j, 1] -= t.fy
-                frc[j, 2] -= t.fz
+                _add_to_pair(frc, trq, i, j, ri, rj, t)
     # ---------------- sphere-wall ----------------
     # largest particle speed: a separate short loop (in the wall loop the running maximum
     # is spilled to the stack)
