@@ -336,3 +336,75 @@ def test_receding_floor_separates_the_contact_and_the_ledger_closes(integrator):
     assert np.all(np.abs(z - z_closed) <= dv * ta + delta_max)
     gap = z - R - x * (w * t[after] - np.sin(w * t[after]))
     assert np.all(gap > 0) and np.all(np.diff(gap) > 0)
+
+
+# --------------------------------------------------------------------------------------
+# Chung & Ooi test 6 against the experiment: Kharaz, Gorham & Salman (2001)
+# --------------------------------------------------------------------------------------
+
+#: Kharaz, Gorham, Salman, Powder Technology 120 (2001) 281-291, Figs. 6-8: 5 mm alumina
+#: spheres on a thick soda-lime glass anvil at 3.9 m/s; incidence from the normal [deg]
+#: and the measured value (as read off the figures and tabulated with the oblique-impact
+#: example of the Lethe DEM code, after the MFIX-DEM verification problem DEM05)
+KHARAZ_TANGENTIAL_COR = [(1.84, 0.793), (3.703, 0.745), (9.496, 0.673), (20.012, 0.597),
+                         (30.127, 0.688), (39.382, 0.771), (49.694, 0.848), (60.02, 0.901)]
+KHARAZ_SPIN = [(6.143, 136.2), (10.991, 265.7), (21.251, 577.7), (31.157, 612.9),
+               (39.143, 595.5), (50.348, 453.2), (60.328, 382.1)]          # [rad/s]
+KHARAZ_REBOUND_ANGLE = [(2.15, 1.733), (4.096, 2.962), (9.826, 6.518), (20.567, 12.208),
+                        (30.29, 21.67), (39.535, 32.613), (49.747, 45.125), (60.208, 57.474)]
+ALUMINA_RADIUS = 2.5e-3
+
+
+def _kharaz(theta_deg: float, friction: str, integrator: str):
+    """Kharaz's impact in the DEM: alumina (380 GPa, 0.23, 4000 kg/m^3, r = 2.5 mm) on
+    soda-lime glass (70 GPa, 0.25), 3.9 m/s, e = 0.98, mu = 0.092 (Chung & Ooi's values
+    of the experiment); returns (v_t' / v_t, rebound angle [deg], spin [rad/s])."""
+    from pdamper.materials import Material
+
+    alumina = Material("alumina", 380e9, 0.23, 4000.0)
+    glass = Material("soda-lime glass", 70e9, 0.25, 2500.0)
+    r = ALUMINA_RADIUS
+    th = math.radians(theta_deg)
+    vn, vt = SPEED * math.cos(th), SPEED * math.sin(th)
+    ps = particles(np.array([[3 * r, 3 * r, r + 1e-6]]), radius=r, material=alumina,
+                   velocities=np.array([[vt, 0, -vn]]))
+    cp = contact(restitution_pw=ConstantRestitution(0.98), friction_pw=0.092,
+                 friction_model=friction)
+    sim = engine(ps, container(box=(40 * r, 6 * r, 8 * r), material=glass), cp,
+                 integrator=integrator, gravity=0.0, settle_time=0.0, reference_velocity=vn)
+    res = sim.run(1e-6 / vn + 100e-6, sample_rate=1e5)
+    v = res.snapshot_velocities[-1, 0]
+    w = res.snapshot_angular_velocities[-1, 0]
+    return v[0] / vt, math.degrees(math.atan2(v[0], v[2])), abs(w[1])
+
+
+@pytest.mark.parametrize("friction, integrator", [("regularised", "gear"),
+                                                  ("spring", "verlet")])
+def test_sliding_impacts_meet_the_kharaz_experiment(friction, integrator):
+    """Chung & Ooi (2011) test 6 against the experiment it was built on (Kharaz, Gorham,
+    Salman 2001, alumina on glass at 3.9 m/s): in the sliding regime (incidence 39-61
+    degrees, beyond the rigid-body transition at 32.5 degrees for mu = 0.092, e = 0.98)
+    both friction laws meet the measured tangential COR v_t'/v_t within 0.01 and the
+    rebound angle within 1 degree (measured: 0.001-0.007 and 0.3-0.5 degrees off), and
+    the spin within 10 % (measured: +1.4 % at 50 degrees, -7.8 % and -7.1 % at 39 and 60
+    degrees: the experiment's spin lies above rigid-body sliding there, 5/2 mu (1 + e)
+    v_n / r, as Kharaz et al. note). Nearer the normal the tanh law gives the rigid
+    sticking value 5/7 = 0.714 for every angle, where the experiment dips to 0.597 at
+    20 degrees (tangential compliance, Maw et al. 1976); the spring law follows the dip:
+    within 0.03 at 20 and 30 degrees (measured 0.623 against 0.597, 0.686 against 0.688;
+    the tanh law 0.715 and 0.716). Below 10 degrees neither law reaches the measured
+    0.75-0.79 (the spring 0.98, the tanh law 0.714)."""
+    for theta, measured in KHARAZ_TANGENTIAL_COR:
+        ratio = _kharaz(theta, friction, integrator)[0]
+        if theta > 35:
+            assert ratio == pytest.approx(measured, abs=0.01), theta
+        elif theta > 15 and friction == "spring":
+            assert ratio == pytest.approx(measured, abs=0.03), theta
+        elif friction == "regularised":
+            assert ratio == pytest.approx(5 / 7, abs=3e-3), theta
+    for theta, measured in KHARAZ_REBOUND_ANGLE:
+        if theta > 35:
+            assert _kharaz(theta, friction, integrator)[1] == pytest.approx(measured, abs=1.0)
+    for theta, measured in KHARAZ_SPIN:
+        if theta > 35:
+            assert _kharaz(theta, friction, integrator)[2] == pytest.approx(measured, rel=0.10)
