@@ -372,3 +372,14 @@ def test_shaken_bed_with_the_spring_law_is_chunk_invariant_and_balanced():
     assert abs(ledger[-1] - ledger[0]) <= 0.01 * abs(work), (ledger[-1] - ledger[0]) / work
     c = sim("regularised").run(0.15, sample_rate=2000.0)
     assert abs(c.container_work[-1] / work - 1) > 1e-3
+
+
+def test_warmup_names_a_bad_friction_model():
+    """``warmup(friction_models=...)`` (the test session's kernel warm-up compiles the
+    spring law's Verlet kernels with it) checks its names before compiling anything."""
+    from pdamper.dem import warmup
+
+    with pytest.raises(InputError) as exc:
+        warmup(("verlet",), friction_models=("coulomb",))
+    assert exc.value.field == "friction_models"
+    assert "regularised, spring" in exc.value.message

@@ -26,7 +26,7 @@ import numpy as np
 
 from pdamper import resources
 from pdamper.contact.hertz import rayleigh_time
-from pdamper.contact.law import ContactParameters
+from pdamper.contact.law import FRICTION_MODELS, ContactParameters
 from pdamper.dem.arrays import allocate, contact_time, material_tables
 from pdamper.dem.driver import (  # noqa: F401 (AUTO_*, SettledBed: importable from here too)
     AUTO_FIRST_SPAN,
@@ -607,10 +607,13 @@ class DEMEngine:
 
 
 def warmup(integrators: tuple[str, ...] = INTEGRATORS,
-           motions: tuple[str, ...] = ("harmonic", "structure")) -> float:
+           motions: tuple[str, ...] = ("harmonic", "structure"),
+           friction_models: tuple[str, ...] = ("regularised",)) -> float:
     """Compile (or load from the numba cache) the kernels of ``integrators`` (default all
     of :data:`~pdamper.dem.inputs.INTEGRATORS`) for the container ``motions``
-    (``"harmonic"``, ``"structure"``; default both); returns seconds.
+    (``"harmonic"``, ``"structure"``; default both) and the ``friction_models`` (default
+    the tanh law; ``"spring"`` adds velocity Verlet's kernels of the spring law, about
+    30 s of compilation, where ``integrators`` holds ``"verlet"``); returns seconds.
 
     A run loads only the kernels it calls, when it first calls them; this loads them ahead
     (all of them: to fill the cache, or to leave compilation out of a timing). Loading every
@@ -632,6 +635,10 @@ def warmup(integrators: tuple[str, ...] = INTEGRATORS,
     for name in motions:
         if name not in kinds:
             raise InputError("motions", f"must be among {', '.join(kinds)}, got {name!r}")
+    for model in friction_models:
+        if model not in FRICTION_MODELS:
+            raise InputError("friction_models", f"must be among {', '.join(FRICTION_MODELS)}, "
+                             f"got {model!r}")
     contact = ContactParameters(ConstantRestitution(0.8), ConstantRestitution(0.8), 0.1, 0.1)
     for integ in integrators:
         parts = ParticleSet(np.array([[0.02, 0.02, 0.006], [0.02, 0.02, 0.03]]), 0.005, S235)
@@ -642,4 +649,12 @@ def warmup(integrators: tuple[str, ...] = INTEGRATORS,
                       EngineSettings(integrator=integ, settle_time=0.0,
                                      auto_cost_ratio=math.inf)).run(
                 3.5 * AUTO_WINDOW if integ == "auto" else 0.002, sample_rate=1000.0)
+    if "spring" in friction_models and "verlet" in integrators:
+        # the spring law's state is an argument of the Verlet kernels: their own variant
+        spring = ContactParameters(ConstantRestitution(0.8), ConstantRestitution(0.8), 0.1,
+                                   0.1, friction_model="spring")
+        parts = ParticleSet(np.array([[0.02, 0.02, 0.006], [0.02, 0.02, 0.03]]), 0.005, S235)
+        DEMEngine(parts, Container((0.04, 0.04, 0.12), PVC), spring, kinds["harmonic"],
+                  EngineSettings(integrator="verlet", settle_time=0.0)).run(
+            0.002, sample_rate=1000.0)
     return time.perf_counter() - t0
