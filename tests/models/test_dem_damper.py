@@ -341,7 +341,8 @@ def test_zero_gravity_dem_reaches_the_collect_and_collide_optimum():
     only in rounding, gave 1.158 / 1.122 / 1.128 / 1.102: each bed is one realisation of a
     chaotic run, so the test takes the ensemble). (From the lattice, integrated converged,
     the bed keeps part of its order at this COR: 0.919 with Gear at 1e-9 (0.964 at 1e-6),
-    0.921 with velocity Verlet; the 1.18 the lattice once gave came from Gear at 1e-3 over the first cycle breaking the order.) Below
+    0.921 with velocity Verlet; the 1.18 the lattice once gave came from Gear at 1e-3 over
+    the first cycle breaking the order.) Below
     h/pi no collect-and-collide: a random bed's loss factor collapses (0.15-0.20 at
     0.8 h/pi, seeds 0-3), while the lattice, integrated converged, keeps an ordered orbit
     that dissipates 1.252 there (Gear at 1e-9 and 1e-6 and velocity Verlet alike)."""
