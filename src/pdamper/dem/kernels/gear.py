@@ -96,7 +96,7 @@ def _begin(t, h, pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
     sta.rebuilds += 1
     want_ttc = stp.adaptive != 0 and stp.contact_bound != 0
     r, ons = compute_forces(pos, vel, omg, zc, vc, 0.0, want_ttc, world, law, part, pt, nbrs,
-                            walls, work.frc, work.trq, fl.act, n, free)
+                            walls, work.frc, work.trq, fl.act, n, free, None)
     sta.onsets += ons
     if structure:
         ac = structure_acceleration(r.fz, zc, vc, drive, t)
@@ -533,7 +533,8 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
                 break
             rebuilds += 1
         r, nons = compute_forces(pos, vel_pred, omg_pred, zc, vc, cap_h, want_ttc,
-                                 world, law, part, pt, nbrs, walls, frc, trq, act, na, free)
+                                 world, law, part, pt, nbrs, walls, frc, trq, act, na, free,
+                                 None)
         ttc = r.ttc
         vmax = r.vmax
         # ---- error estimate from the corrector difference (before the correction, so
