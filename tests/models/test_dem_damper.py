@@ -337,9 +337,9 @@ def test_zero_gravity_dem_reaches_the_collect_and_collide_optimum():
     (1 - cos phi_st)^2 / pi with phi_st - sin phi_st = h/X) at 1.25 h/pi (measured 1.274
     and 1.201 against 1.273 and 1.211). With the paper's COR (0.6 / 0.85) the bed is not
     fully inelastic and dissipates less: the mean of three random beds within 15 % (seeds
-    0 / 1 / 2 / 3: 1.107 / 1.113 / 1.122 / 1.140; one compiled build earlier, differing
-    only in rounding, gave 1.158 / 1.122 / 1.128 / 1.102: each bed is one realisation of a
-    chaotic run, so the test takes the ensemble). (From the lattice, integrated converged,
+    0 / 1 / 2 / 3: 1.158 / 1.122 / 1.128 / 1.102; a compiled build that differed only in
+    rounding gave 1.107 / 1.113 / 1.122 / 1.140: each bed is one realisation of a chaotic
+    run, so the test takes the ensemble). (From the lattice, integrated converged,
     the bed keeps part of its order at this COR: 0.919 with Gear at 1e-9 (0.964 at 1e-6),
     0.921 with velocity Verlet; the 1.18 the lattice once gave came from Gear at 1e-3 over
     the first cycle breaking the order.) Below
