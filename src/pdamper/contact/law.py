@@ -26,6 +26,17 @@ DAMPING_MODELS = ("exact", "gonthier", "tsuji")
 #: see :mod:`pdamper.contact.forces`.
 FRICTION_MODELS = ("regularised", "spring")
 
+
+def check_integrator_for(friction_model: str, integrator: str, field: str = "integrator"
+                         ) -> None:
+    """The one rule between a friction law and an integrator: the Gear kernel has no
+    tangential displacement history (its corrector would need it per accepted step), so
+    ``"spring"`` runs with ``"verlet"`` or ``"auto"`` (Verlet throughout); an
+    :class:`~pdamper.errors.InputError` naming ``field`` otherwise."""
+    if friction_model == "spring" and integrator == "gear":
+        raise InputError(field, "must be verlet or auto with friction_model = spring (Gear "
+                         "has no tangential spring), got 'gear'")
+
 #: Default regularisation velocity of the tanh friction law [m/s]: below it friction acts
 #: as a viscous damper of coefficient mu |F_n| / v_reg, above ~2 v_reg it is Coulomb
 #: sliding to within 4 %.

@@ -26,7 +26,7 @@ import numpy as np
 
 from pdamper import resources
 from pdamper.contact.hertz import rayleigh_time
-from pdamper.contact.law import FRICTION_MODELS, ContactParameters
+from pdamper.contact.law import FRICTION_MODELS, ContactParameters, check_integrator_for
 from pdamper.dem.arrays import allocate, contact_time, material_tables
 from pdamper.dem.driver import (  # noqa: F401 (AUTO_*, SettledBed: importable from here too)
     AUTO_FIRST_SPAN,
@@ -174,11 +174,7 @@ class DEMEngine:
         #: attributes (:meth:`__getattr__`), the resolved defaults below shadow them.
         self.settings = settings
         s = settings
-        if contact.friction_model == "spring" and s.integrator == "gear":
-            # the Gear kernel has no tangential displacement history (its corrector would
-            # need it per accepted step); "auto" runs such a law with Verlet throughout
-            raise InputError("integrator", "must be verlet or auto with friction_model = "
-                             "spring (Gear has no tangential spring), got 'gear'")
+        check_integrator_for(contact.friction_model, s.integrator)
         self.max_overlap = math.inf if s.max_overlap is None else s.max_overlap
         self.gear_transient_tolerance = (self.gear_tolerance if s.gear_transient_tolerance
                                          is None else s.gear_transient_tolerance)

@@ -29,7 +29,7 @@ from pdamper.analysis.stationarity import (
     whole_cycles,
 )
 from pdamper.constants import STANDARD_GRAVITY
-from pdamper.contact.law import ContactParameters
+from pdamper.contact.law import ContactParameters, check_integrator_for
 from pdamper.damper import ParticleDamper
 from pdamper.errors import InputError, check_range
 from pdamper.models.base import DamperModel, DamperResponse
@@ -320,9 +320,7 @@ class DEMDamper(DamperModel):
                                              friction_model=s.friction_model)
         except InputError as exc:  # name the field as the [dem] section does
             raise InputError(f"dem.{exc.field}", exc.message) from None
-        if s.friction_model == "spring" and s.integrator == "gear":
-            raise InputError("dem.integrator", "must be verlet or auto with friction_model = "
-                             "spring (Gear has no tangential spring), got 'gear'")
+        check_integrator_for(s.friction_model, s.integrator, "dem.integrator")
 
     def __getattr__(self, name: str):
         # the settings as attributes (model.cycles, model.integrator, ...)
