@@ -44,10 +44,11 @@ every frequency used here). Three comparisons, each printing the cores each code
   mass of both codes at 12 points over 5-20 Hz x 10-80 mm (``--point HZ MM`` for others),
   from the same jittered lattices or from ``--seeds N`` random packings of each code
   (``agreement.py`` beside this file; the tables of docs/agreement.md, "The lattice in
-  three codes" and "Random beds"); ``--friction spring`` pdamper with LIGGGHTS' tangential law (a spring with a
-  Coulomb limit; Verlet), ``--liggghts-step`` LIGGGHTS' step there (first value; default
-  1 us); ``--law`` pdamper's damping law (repeatable; default tsuji and exact for the
-  lattice, tsuji for random beds), ``--out FILE`` the runs as JSON.
+  three codes" and "Random beds"); ``--friction spring`` pdamper with LIGGGHTS'
+  tangential law (a spring with a Coulomb limit; Verlet), ``--liggghts-step`` LIGGGHTS'
+  step there (first value; default 1 us); ``--law`` pdamper's damping law (repeatable;
+  default tsuji and exact for the lattice, tsuji for random beds), ``--out FILE`` the runs
+  as JSON.
 
 ``--integrator`` sets pdamper's integrator (default the model's, Gear; ``auto`` hands a
 run over to velocity Verlet where Gear's steps are held by its stability limit).
