@@ -1,4 +1,4 @@
-"""Rattling columns or collect-and-collide: the runs behind the table of docs/dem.md.
+"""Rattling columns or collect-and-collide: the runs behind the table of docs/agreement.md.
 
 ``python benchmarks/bench_dem_laws.py`` runs the benchmark damper (32 spheres in the
 paper's lattice, constant COR 0.6 / 0.85, mu 0.1, Gear, default settings) at the points

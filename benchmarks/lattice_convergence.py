@@ -3,8 +3,7 @@ of 32 spheres, every height moved by +-0.02 mm, settling, 8 cycles, cycles 3-8 a
 the 12 points of the LIGGGHTS comparison (5-20 Hz x 10-80 mm), each damping law, at Gear
 tolerances (``--tolerance``, default 1e-6, 1e-9 and 1e-10), with Gear's free flights off at
 the default (``LATTICE_GEAR_TOLERANCE``), and optionally velocity Verlet (``--verlet
-0.005``). The table of docs/dem.md, "Agreement with LIGGGHTS", section "How the lattice is
-integrated".
+0.005``). The table of docs/agreement.md, "How the lattice is integrated".
 
     python benchmarks/lattice_convergence.py [--law tsuji --law exact] [--jitter 1 --jitter 2]
         [--tolerance 1e-6 ...] [--verlet 0.005] [--point HZ MM] [--out runs.json]

@@ -224,3 +224,53 @@ def test_the_link_and_section_checks_see_what_is_missing(tmp_path):
 def test_the_readme_is_short():
     lines = (ROOT / "README.md").read_text(encoding="utf-8").count("\n")
     assert lines < 200, f"README.md has {lines} lines; the handbook's pages take the rest"
+
+
+# --- getting-started.md covers every command and lists every page ------------------------
+
+_GETTING_STARTED = ROOT / "docs" / "getting-started.md"
+
+
+def _commands():
+    """The commands `pdamper --help` lists (the click group typer builds)."""
+    import typer.main
+
+    from pdamper.cli import _app
+
+    _app._register()
+    return sorted(typer.main.get_command(_app.app).commands)
+
+
+def _layout_block():
+    """The code block of getting-started.md's section "Layout of the code"."""
+    text = _GETTING_STARTED.read_text(encoding="utf-8")
+    section = text.split("## Layout of the code", 1)[1].split("\n## ", 1)[0]
+    return section.split("```", 2)[1]
+
+
+def _missing_commands(text, commands):
+    return [c for c in commands if not re.search(rf"`pdamper {re.escape(c)}(?![\w-])", text)]
+
+
+def test_getting_started_covers_every_command():
+    commands = _commands()
+    assert "frf" in commands and len(commands) >= 11
+    missing = _missing_commands(_GETTING_STARTED.read_text(encoding="utf-8"), commands)
+    assert not missing, "commands of `pdamper --help` missing from getting-started.md: " \
+        + ", ".join(missing)
+
+
+def test_the_command_check_sees_a_missing_command():
+    text = "`pdamper cor-sensitivity` and `pdamper map --model dem`"
+    assert _missing_commands(text, ["cor", "cor-sensitivity", "map"]) == ["cor"]
+
+
+def test_getting_started_lists_every_docs_page_and_package():
+    block = _layout_block()
+    pages = sorted(p.name for p in (ROOT / "docs").glob("*.md"))
+    missing = [name for name in pages if not re.search(rf"(?<![\w-]){re.escape(name)}", block)]
+    src = ROOT / "src" / "pdamper"
+    packages = sorted(p.name for p in src.iterdir()
+                      if (p / "__init__.py").is_file() and not p.name.startswith("_"))
+    missing += [f"{name}/" for name in packages if f"{name}/" not in block]
+    assert not missing, "not in getting-started.md's layout: " + ", ".join(missing)

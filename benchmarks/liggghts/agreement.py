@@ -1,6 +1,6 @@
 """Loss factor and effective mass of pdamper against LIGGGHTS 3.8 on the same protocol
 (``python benchmarks/liggghts/compare.py --protocol lattice|random``; the tables of
-docs/dem.md, "Agreement with LIGGGHTS").
+docs/agreement.md).
 
 * ``lattice`` (the paper's protocol): the 4 x 4 lattice of 32 spheres, every sphere moved
   vertically by a uniform jitter of +-0.02 mm (jitter seed k, the same positions in both
@@ -160,7 +160,7 @@ def _print_lattice_row(row) -> None:
 
 
 def lattice_markdown(rows) -> str:
-    """docs/dem.md's lattice table: per point LIGGGHTS' eta and m_eff/m_bed (jitters
+    """docs/agreement.md's lattice table: per point LIGGGHTS' eta and m_eff/m_bed (jitters
     1 / 2), pdamper's default with each law, and the worst paired deviation against the
     allowed max(2 %, LIGGGHTS' spread over the jitters)."""
     laws = [k.split()[0] for k in rows[0]["pdamper"] if k.endswith("default")]
@@ -187,7 +187,7 @@ def lattice_markdown(rows) -> str:
 
 
 def random_markdown(rows) -> str:
-    """docs/dem.md's random-bed table: each code's ensemble (values per seed), the
+    """docs/agreement.md's random-bed table: each code's ensemble (values per seed), the
     deviation of the means against the allowed max(5 %, combined half-ranges)."""
     lines = ["| point | LIGGGHTS eta | pdamper eta | dev (allowed) | LIGGGHTS m_eff/m_bed | "
              "pdamper m_eff/m_bed | dev (allowed) |", "|---|---|---|---|---|---|---|"]

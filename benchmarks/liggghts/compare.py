@@ -43,11 +43,12 @@ every frequency used here). Three comparisons, each printing the cores each code
 * ``--protocol lattice|random``: not the speed but the answers: loss factor and effective
   mass of both codes at 12 points over 5-20 Hz x 10-80 mm (``--point HZ MM`` for others),
   from the same jittered lattices or from ``--seeds N`` random packings of each code
-  (``agreement.py`` beside this file; the tables of docs/dem.md, "Agreement with
-  LIGGGHTS"); ``--friction spring`` pdamper with LIGGGHTS' tangential law (a spring with a
-  Coulomb limit; Verlet), ``--liggghts-step`` LIGGGHTS' step there (first value; default
-  1 us); ``--law`` pdamper's damping law (repeatable; default tsuji and exact for the
-  lattice, tsuji for random beds), ``--out FILE`` the runs as JSON.
+  (``agreement.py`` beside this file; the tables of docs/agreement.md, "The lattice in
+  three codes" and "Random beds"); ``--friction spring`` pdamper with LIGGGHTS'
+  tangential law (a spring with a Coulomb limit; Verlet), ``--liggghts-step`` LIGGGHTS'
+  step there (first value; default 1 us); ``--law`` pdamper's damping law (repeatable;
+  default tsuji and exact for the lattice, tsuji for random beds), ``--out FILE`` the runs
+  as JSON.
 
 ``--integrator`` sets pdamper's integrator (default the model's, Gear; ``auto`` hands a
 run over to velocity Verlet where Gear's steps are held by its stability limit).
@@ -345,7 +346,7 @@ def main(argv=None) -> None:
             ap.error("--seeds must be at least 1")
         args.law = args.law or (["tsuji", "exact"] if args.protocol == "lattice" else ["tsuji"])
         # LIGGGHTS' step on the protocol: the users' 1 us unless given (a fixed step:
-        # 0.25 us takes 4 x longer; at 80 mm 1 us is not converged, docs/dem.md)
+        # 0.25 us takes 4 x longer; at 80 mm 1 us is not converged, docs/agreement.md)
         agreement.LIGGGHTS_STEP = liggghts_step(args.liggghts_step[0], 10.0, 32.0, 32)
         agreement.main(args)
     elif args.single:

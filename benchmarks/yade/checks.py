@@ -1,4 +1,4 @@
-"""The checks behind the Yade columns of docs/dem.md: ``python benchmarks/yade/checks.py``.
+"""The checks behind the Yade columns of docs/agreement.md: ``python benchmarks/yade/checks.py``.
 
 * **COR**: one normal impact in Yade (a steel sphere on the PVC floor, COR 0.85; two steel
   spheres head-on, COR 0.6) at 0.1 and 1 m/s, no gravity, no friction, at Yade's step of

@@ -1,5 +1,5 @@
 """pdamper against LIGGGHTS 3.8 *and* Yade on the same protocols: ``python
-benchmarks/yade/compare.py --protocol lattice|random`` (the tables of docs/dem.md,
+benchmarks/yade/compare.py --protocol lattice|random`` (the tables of docs/agreement.md,
 "Yade, the second independent code").
 
 The protocols are those of ``benchmarks/liggghts/agreement.py`` (its grid, jittered

@@ -265,7 +265,7 @@ def test_the_start_from_rest_of_a_random_bed_runs_at_the_transient_tolerance():
 def test_a_run_from_the_lattice_is_integrated_converged_and_says_so():
     """From the lattice no transient tolerance and Gear at LATTICE_GEAR_TOLERANCE
     throughout (unless gear_tolerance is set): the lattice's ordered state is a trajectory
-    the independent codes keep (docs/dem.md, "Agreement with LIGGGHTS"). ``protocol`` names
+    the independent codes keep (docs/agreement.md, "How the lattice is integrated"). ``protocol`` names
     the start and the integration."""
     from pdamper.models.dem import DEFAULT_TRANSIENT_TOLERANCE, LATTICE_GEAR_TOLERANCE
 

@@ -2,7 +2,7 @@
 actually bounds the error): a refined companion run over the same cycles bounds the integration
 error of the loss factor and effective mass; a run that misses the target is redone refined.
 The check against converged runs over the whole grid is ``benchmarks/bench_dem_accuracy.py``
-(table in docs/dem.md); here it is pinned at one reproducible point."""
+(table in docs/verification.md); here it is pinned at one reproducible point."""
 
 from __future__ import annotations
 

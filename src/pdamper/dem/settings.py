@@ -43,7 +43,7 @@ if TYPE_CHECKING:  # pragma: no cover
 #: 0.16 us against Verlet's 0.39 us). A ratio of 2.4 handed a Level III run of 176 spheres
 #: (impacts and flights alternating within each structure period) to Verlet for 0.7 of its
 #: 2 s and made it 14-80 % slower than Gear. Both integrators meet the verification table
-#: of docs/dem.md.
+#: of docs/verification.md.
 AUTO_COST_RATIO = 1.0
 #: Kinds of value a setting holds (the check its declaration implies).
 KINDS = ("number", "whole", "flag", "choice", "cycles")

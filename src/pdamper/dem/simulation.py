@@ -75,7 +75,7 @@ GEAR_ONSET_FACTOR = 6.0
 #: half the steps of a shaken bed). At 5 (oblique sphere-wall impacts, 0.3 and 3 m/s,
 #: tangential / normal speed 0.1-3, against Verlet at safety 0.0025): rebound within
 #: 1.6e-5 (2e-7 at 1), 140-167 instead of 528 steps per sticking impact at 3 m/s; the
-#: verification table of docs/dem.md (21 points, paired with 1) keeps every reproducible
+#: verification table of docs/verification.md (21 points, paired with 1) keeps every reproducible
 #: point within 1 % (worst 0.61 %, the same as at 1) with 12-47 % fewer steps at the fast
 #: points; Level III model 1 over random packings unchanged (21.5 +- 0.2 mm against
 #: 21.6 +- 0.4). At 10 the slip no longer stops within a contact (1.7e-3,

@@ -69,12 +69,12 @@ REFINEMENT = {"gear": ("gear_tolerance", 10.0), "verlet": ("safety", 2.0)}
 #: Error estimate = |default - refined| / (1 - ERROR_REDUCTION). The asymptotic reductions
 #: are 0.1 (Gear) and 0.25 (Verlet); 0.5 assumes only that the refined run's error is at
 #: most half the default's, which holds outside the asymptotic range too (the verification
-#: table of docs/dem.md checks the bound against converged runs).
+#: table of docs/verification.md checks the bound against converged runs).
 ERROR_REDUCTION = 0.5
 #: Largest move of each sphere of the settled bed [m] of the error estimate's realisation
 #: companion (vertical, uniform, seeded by the run's seed; made after the settling, which
 #: would undo it in the lattice): far below any integration error,
-#: it changes a reproducible point by < 0.2 % and a chaotic one by 3-40 % (docs/dem.md).
+#: it changes a reproducible point by < 0.2 % and a chaotic one by 3-40 % (docs/verification.md).
 REALISATION_MOVE = 1e-9
 
 #: Settled beds a process keeps, the least recently used dropped first: a map's model and
@@ -99,7 +99,7 @@ LEVEL2_SETTLE_EXTRA = 1.0
 #: Gear tolerance of a run from the lattice (unless the model's options set
 #: ``gear_tolerance``), throughout: no transient tolerance. The lattice is one deterministic
 #: start whose ordered state the independent codes keep (LIGGGHTS 3.8 from the same jittered
-#: lattice, docs/dem.md "Agreement with LIGGGHTS"); at 1e-3 in the first cycles pdamper left
+#: lattice, docs/agreement.md "How the lattice is integrated"); at 1e-3 in the first cycles pdamper left
 #: it (10 Hz / 32 mm, Tsuji law: eta 1.100, m_eff/m_bed 1.110 against LIGGGHTS' 0.949 /
 #: 1.922). 1e-6 held it at 32 mm but not with Tsuji's law at 80 mm (5 Hz: 0.534 at 1e-6,
 #: 0.448 at 1e-8, 0.344 at 1e-9 and 0.343 at 1e-10; velocity Verlet 0.338 / 0.350 at
