@@ -1,4 +1,5 @@
-"""The case study (:mod:`pdamper.reports.paper_case_study`): rows from the parameter set,
+"""The case study (:mod:`pdamper.runs.paper_case_study`, written out by
+:mod:`pdamper.reports.paper_case_study`): rows from the parameter set,
 files written atomically, figures without pyplot state."""
 
 from __future__ import annotations

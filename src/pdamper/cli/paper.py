@@ -113,11 +113,11 @@ def paper(
 
         check_scheduler(scheduler)
     options = {k: v for k, v in (("workers", workers), ("scheduler", scheduler)) if v is not None}
-    from pdamper.reports.realisations import parse_count
+    from pdamper.runs.realisations import parse_count
 
     n_real = study.PAPER_REALISATIONS if realisations is None else parse_count(realisations)
     if dem and n_real > 1:  # judged before any run: N random packings of the Level III DEM
-        from pdamper.reports.realisations import check_level3_realisations
+        from pdamper.runs.realisations import check_level3_realisations
 
         try:
             check_level3_realisations(n_real, study.band_scenario(sc), "dem", force=force)

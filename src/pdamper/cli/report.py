@@ -90,12 +90,13 @@ def _check_runs(sc, dem: bool, realisations: str | None, uncertainty: int | None
     from pdamper.design.uncertainty import check_points
     from pdamper.errors import InputError
     from pdamper.reports import damper_report
+    from pdamper.runs.resources import check_resources
 
     if dem:
-        sc.check_resources("simulation", "dem", force)
+        check_resources(sc, "simulation", "dem", force)
     n_real = None
     if realisations is not None:
-        from pdamper.reports.realisations import check_level3_realisations, parse_count
+        from pdamper.runs.realisations import check_level3_realisations, parse_count
 
         if not dem:
             raise InputError("realisations", "needs --dem (the realisations are those of the "
@@ -105,11 +106,11 @@ def _check_runs(sc, dem: bool, realisations: str | None, uncertainty: int | None
         _uncertainty.check(sc, "level3", uncertainty, force)
     elif sc.uncertain_inputs():
         check_points(damper_report.DEFAULT_UNCERTAINTY_POINTS)
-        from pdamper.io.uncertain import check_cost
+        from pdamper.runs.uncertainty import check_cost
 
         check_cost(sc, "level3", damper_report.DEFAULT_UNCERTAINTY_POINTS, force)
     if sc.uncertain_inputs():  # its Level III answers (the time of the amplitude) judged
-        from pdamper.io.uncertain import level3_answers
+        from pdamper.runs.uncertainty import level3_answers
 
         level3_answers(sc, "analytic")
     return n_real

@@ -8,7 +8,8 @@ Every section is validated on load, whichever command reads the scenario, by bui
 objects it describes and by the physical checks of :mod:`pdamper.resources` (a ``[map]``
 that is malformed or physically meaningless is an error for ``pdamper analytic`` too).
 What a run implies (memory, time steps, grid points) is checked by
-:meth:`Scenario.check_resources` for the runs a command makes, before it makes them.
+:func:`pdamper.runs.resources.check_resources` for the runs a command makes, before it
+makes them.
 
 The defaults are the reference paper's case (:mod:`pdamper.parameters`) and the models' own
 defaults; nothing here restates a number.
@@ -17,9 +18,7 @@ defaults; nothing here restates a number.
 from __future__ import annotations
 
 import functools
-import math
 import tomllib
-from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
 
@@ -98,8 +97,6 @@ _D = paper.PAPER_DAMPER
 #: Usual (f [Hz], X [m]) of a Level II run: the paper's benchmark point; of the two, the
 #: one further above its usual value is named when a motion is too fast.
 _USUAL_EXCITATION = paper.BENCHMARK_EXCITATION
-#: Runs whose cost :meth:`Scenario.check_resources` judges.
-_RUNS = ("excitation", "map", "simulation", "optimization", "case_study", "case_study_dem")
 
 
 class _Section(BaseModel):
@@ -327,7 +324,8 @@ class OptimizationSpec(_Section):
 
     def variables(self) -> list[DesignVariable]:
         """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary`` (judge
-        their sizes first: :meth:`Scenario.check_resources` with ``"optimization"``)."""
+        their sizes first: :func:`pdamper.runs.resources.check_resources` with
+        ``"optimization"``)."""
         if not self.vary:  # no import of Level III for the commands that do not optimise
             return []
         from pdamper.design.study import parse_variable
@@ -595,7 +593,7 @@ class Scenario(_Section):
 
     def map_grid(self) -> tuple[np.ndarray, np.ndarray]:
         """The Level II grid ``(frequency [Hz], amplitude [m])`` of ``[map]`` (check its
-        size first: :meth:`check_resources` with ``"map"``)."""
+        size first: :func:`pdamper.runs.resources.check_resources` with ``"map"``)."""
         return (grid(self.map.frequency, "Hz", "map.frequency"),
                 grid(self.map.amplitude, "m", "map.amplitude"))
 
@@ -627,174 +625,10 @@ class Scenario(_Section):
         (f0, f1, _), (x0, x1, _) = self.map_ranges()
         resources.check_grid(d, (f0, f1), (x0, x1), usual=_USUAL_EXCITATION, gravity=g)
 
-    def check_resources(self, run: str, model: str | None = None, force: bool = False,
-                        require: Callable[..., Any] | None = None) -> None:
-        """Refuse a run whose implied memory or time is above the limits of
-        :mod:`pdamper.resources` (``force``: up to the hard limits), or for which its
-        model's physics does not hold (the DEM's contact law).
-
-        Parameters
-        ----------
-        run
-            ``"excitation"`` (Level II at ``[excitation]``), ``"map"`` (Level II over
-            ``[map]``), ``"simulation"`` (Level III, ``[simulation]``), ``"optimization"``
-            (``[optimization]``), ``"case_study"`` or ``"case_study_dem"`` (the paper's,
-            without or with the DEM model 1 run).
-        model
-            Damper fidelity of ``excitation``, ``map`` and ``simulation`` (default
-            ``"analytic"``; for ``simulation`` and ``optimization`` the ``[simulation]``
-            model).
-        force
-            Allow more than the limits, up to what this machine can hold.
-        require
-            The judge of each cost, ``require(cost, force)`` (default
-            :func:`pdamper.resources.require`; e.g. one that counts N realisations of a run).
-
-        Examples
-        --------
-        >>> s = load_scenario(None, {"map.frequency": "2Hz:20Hz:10000"})
-        >>> try:
-        ...     s.check_resources("map")
-        ... except InputError as exc:
-        ...     print(exc.field, "--force" in exc.message)
-        map.frequency True
-        """
-        from pdamper.models import get_damper_model
-
-        if run not in _RUNS:
-            raise InputError("run", f"must be one of {', '.join(_RUNS)}, got {run!r}")
-        req = resources.require if require is None else require
-        damper = self.damper()
-        default = Scenario()
-        field = "model" if model else "simulation.model"
-        if run == "excitation":
-            cost = self.excitation_cost(model or "analytic", damper)
-            if cost is not None:
-                req(cost, force)
-        elif run == "map":
-            self._check_map(damper, get_damper_model(model or "analytic", "model"), default,
-                            force, req)
-        elif run == "simulation":
-            cls = get_damper_model(model or self.simulation.model, field)
-            self._check_simulation(damper, cls, self.simulation.duration,
-                                   self.simulation.sample_rate, default, force, req)
-        elif run == "optimization":
-            cls = get_damper_model(model or self.simulation.model, field)
-            self._check_optimization(damper, cls, default, force, req)
-        else:  # the paper's case study (pdamper.reports.paper_case_study)
-            analytic = get_damper_model("analytic")
-            self._check_map(damper, analytic, default, force, req)
-            for duration in (self.simulation.duration,
-                             max(self.simulation.duration, paper.PAPER_DURATION)):
-                self._check_simulation(damper, analytic, duration,
-                                       self.simulation.sample_rate, default, force, req)
-            self._check_optimization(damper, analytic, default, force, req)
-            if run == "case_study_dem":
-                self._check_simulation(damper, get_damper_model("dem"),
-                                       self.simulation.duration,
-                                       self.simulation.sample_rate, default, force, req)
-
     def settings_of(self, cls: type[DamperModel]) -> Any:
         """The section of the scenario that holds the settings of fidelity ``cls`` (None:
         it has none)."""
         return getattr(self, cls.fidelity, None)
-
-    def excitation_cost(self, model: str = "analytic",
-                        damper: ParticleDamper | None = None) -> resources.Cost | None:
-        """What one Level II response of fidelity ``model`` at ``[excitation]`` costs
-        (:meth:`pdamper.models.DamperModel.excitation_cost`; None: not worth judging), for
-        ``damper`` (default :meth:`damper`)."""
-        from pdamper.models import get_damper_model
-
-        cls = get_damper_model(model, "model")
-        d = self.damper() if damper is None else damper
-        return cls.excitation_cost(d, self.excitation.frequency, self.excitation.amplitude,
-                                   self.settings_of(cls), gravity=self.excitation.gravity,
-                                   usual=_USUAL_EXCITATION,
-                                   damper_drivers=self._damper_drivers(d, Scenario()))
-
-    @staticmethod
-    def _damper_drivers(damper, default) -> list[tuple]:
-        dm = default.damper()
-        return [("particles.count", damper.count / dm.count),
-                ("particles.radius", dm.particle_radius / damper.particle_radius, True)]
-
-    def _check_map(self, damper, cls, default, force: bool, req: Callable[..., Any]) -> None:
-        (f0, f1, nf), (x0, x1, nx) = self.map_ranges()
-        (_, _, nf0), (_, _, nx0) = default.map_ranges()
-        counts = self.map_particles()
-        axes = (("map.frequency", nf / nf0), ("map.amplitude", nx / nx0),
-                ("map.particles", 1.0 if counts is None else float(counts.size)))
-        points = float(nf) * float(nx) * (1.0 if counts is None else float(counts.size))
-        # the grid and the four result arrays, whichever the model
-        req(resources.Cost("the map", 0.0, points * 40.0,
-                                         f"{points:.3g} points", axes), force)
-        req(cls.map_cost(damper, (f0, f1, nf), (x0, x1, nx), points,
-                                       self.settings_of(cls), gravity=self.excitation.gravity,
-                                       usual=_USUAL_EXCITATION, axes=axes,
-                                       damper_drivers=self._damper_drivers(damper, default)),
-                          force)
-
-    def _check_simulation(self, damper, cls, duration: float, sample_rate: float,
-                          default, force: bool, req: Callable[..., Any]) -> None:
-        structure = self.structure_model()
-        ds = default.simulation
-        drivers = [("simulation.duration", duration / ds.duration),
-                   ("simulation.sample_rate", sample_rate / ds.sample_rate),
-                   ("structure.stiffness", structure.natural_frequency
-                    / default.structure_model().natural_frequency)]
-        req(cls.free_vibration_cost(
-            damper, duration, sample_rate, structure.natural_frequency, self.settings_of(cls),
-            x0=self.structure.initial_displacement, drivers=drivers,
-            damper_drivers=self._damper_drivers(damper, default)), force)
-
-    def _check_optimization(self, damper, cls, default, force: bool,
-                            req: Callable[..., Any]) -> None:
-        """Cost of the design study (:func:`pdamper.design.optimize_design`): one free
-        vibration of ``at`` plus two periods, sampled at 200 Hz, per candidate (the
-        particle counts of the paper's study, the grid of ``vary``, or the optimiser's
-        budget), and the values of each varied variable, judged from their numbers before
-        they are built."""
-        from pdamper.design.study import USUAL_VALUES, values_cost, variable_field
-
-        structure = self.structure_model()
-        o = self.optimization
-        at = o.at
-        duration = at + 2.0 / structure.natural_frequency
-        d0 = default.damper()
-        step = o.step or damper.per_layer
-        counts = range(0, damper.max_count, step)
-        drivers: tuple = (("optimization.at", at / default.optimization.at),)
-        if o.vary:
-            sizes = o.sizes()
-            for name, size in sizes:
-                req(values_cost(name, size), force)
-            grid = math.prod(size for _, size in sizes)
-            method = o.method
-            if method == "auto":
-                method = "grid" if grid <= o.max_grid else "optimize"
-            if method == "grid" and math.isfinite(grid):
-                candidates = grid
-                drivers += tuple((variable_field(name), size / USUAL_VALUES)
-                                 for name, size in sizes)
-            else:
-                candidates = o.max_evaluations
-                drivers += (("optimization.max_evaluations",
-                             candidates / default.optimization.max_evaluations),)
-        else:
-            candidates = len(counts)
-            drivers += (("optimization.step", (d0.per_layer / step)
-                         * (damper.max_count / d0.max_count), True),)
-        # one candidate; where the time grows with the count, the mean count stands for all
-        one = cls.free_vibration_cost(damper, duration, 200.0, structure.natural_frequency,
-                                      self.settings_of(cls),
-                                      x0=self.structure.initial_displacement,
-                                      count=max(1, round(counts[-1] / 2)) if counts else 1)
-        req(resources.Cost(
-            "the optimisation", one.seconds * candidates,
-            one.memory + candidates * resources.BYTES_PER_CANDIDATE,
-            f"{candidates:.3g} candidates, each {one.detail}", drivers,
-            runs=int(min(candidates, 2**62)), longest=one.seconds), force)
 
 
 def grid(text: str, unit: str, field: str) -> np.ndarray:
@@ -957,13 +791,11 @@ def _read_toml(p: Path) -> dict:
                          f"deeply") from None
 
 
-def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
-                  runs: tuple[str, ...] = (), model: str | None = None,
-                  force: bool = False) -> Scenario:
+def load_scenario(path: str | Path | None, overrides: dict | None = None) -> Scenario:
     """Load a scenario TOML file (or the defaults when ``path`` is None) and apply
-    ``overrides`` given as ``{"section.key": value}`` (None values are skipped); then check
-    what each of ``runs`` implies (:meth:`Scenario.check_resources` with ``model`` and
-    ``force``).
+    ``overrides`` given as ``{"section.key": value}`` (None values are skipped). What the
+    runs of a command imply is judged apart, before they start
+    (:func:`pdamper.runs.resources.check_runs`).
 
     Examples
     --------
@@ -998,10 +830,7 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
         if not isinstance(node, dict):
             raise InputError(section, "must be a table")
         node[name] = value
-    sc = scenario_from_dict(data)
-    for run in runs:
-        sc.check_resources(run, model, force)
-    return sc
+    return scenario_from_dict(data)
 
 
 def _example() -> str:

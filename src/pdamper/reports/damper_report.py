@@ -13,7 +13,7 @@
   with the analytical model, with the Pareto front of added mass against the objective, the
   best design and the lightest within the tolerance;
 - the spread of the Level II and III answers under the inputs given as ``"value +- sd"``
-  (:mod:`pdamper.io.uncertain`), when the scenario has any;
+  (:mod:`pdamper.runs.uncertainty`), when the scenario has any;
 - the run time of each step, the version and the seeds.
 
 :func:`write_damper_report` writes ``report.html`` (the look of ``pdamper paper``'s page,
@@ -165,7 +165,7 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
         Seed of its Sobol' sequence.
     realisations
         With ``dem``: also run DEM model 1 from this many random packings (seeds
-        ``dem.seed + k``) and show their band (:class:`~pdamper.reports.realisations.
+        ``dem.seed + k``) and show their band (:class:`~pdamper.runs.realisations.
         Level3Band`).
     out
         Directory of the DEM map's cache.
@@ -175,7 +175,7 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
     from pdamper import __version__
     from pdamper.coupling import Simulation
     from pdamper.models import AnalyticalDamper
-    from pdamper.reports.maps import run_map
+    from pdamper.runs.maps import run_map
 
     sc = scenario
     say = progress or (lambda _m: None)
@@ -215,7 +215,7 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
     say("forced response (harmonic balance)")
     _timed(rep, "forced response", lambda: forced_response(rep, models, structure, x0))
     if dem and realisations is not None and realisations > 1:
-        from pdamper.reports.realisations import run_level3_realisations
+        from pdamper.runs.realisations import run_level3_realisations
 
         say(f"Level III: DEM model 1, {realisations} realisations")
         rep.band = _timed(rep, "Level III: DEM realisations", lambda: run_level3_realisations(
@@ -226,7 +226,7 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
     rep.study = _timed(rep, "design study", lambda: design_study(sc, damper, structure))
 
     if sc.uncertain_inputs():
-        from pdamper.io.uncertain import propagate_scenario
+        from pdamper.runs.uncertainty import propagate_scenario
 
         n = DEFAULT_UNCERTAINTY_POINTS if uncertainty is None else uncertainty
         rep.seeds["uncertainty_seed"] = uncertainty_seed

@@ -57,8 +57,8 @@ if TYPE_CHECKING:
     from pdamper.io.scenario import Scenario
     from pdamper.models.base import DamperModel
     from pdamper.models.dem import DEMDamper
-    from pdamper.reports.maps import MapRun
-    from pdamper.reports.realisations import Level3Band
+    from pdamper.runs.maps import MapRun
+    from pdamper.runs.realisations import Level3Band
     from pdamper.structure import SingleDOFStructure
     from pdamper.structure.modal import ModalStructure
 
@@ -132,7 +132,7 @@ class CaseStudy:
     inputs: dict = field(default_factory=dict)
     #: Wall time of each step and of each Level III model's run [s].
     timings: dict = field(default_factory=dict)
-    #: DEM model 1 from random packings (:class:`pdamper.reports.realisations.Level3Band`)
+    #: DEM model 1 from random packings (:class:`pdamper.runs.realisations.Level3Band`)
     dem_band: Level3Band | None = None
 
     def models(self) -> list[dict]:
@@ -410,7 +410,7 @@ def _dem_map(cs: CaseStudy, sc: Scenario, damper: ParticleDamper,
              sweep_options: dict[str, Any]) -> None:
     """Fig. 5b/5d from the DEM, its agreement rows, and the Fig. 3 snapshots."""
     from pdamper.dem import warmup
-    from pdamper.reports.maps import run_map
+    from pdamper.runs.maps import run_map
 
     # the kernels once here, before the map's workers start: each worker then loads them
     # from numba's cache instead of compiling them again (a fresh installation: ~30 s of
@@ -531,7 +531,7 @@ def band_scenario(sc: Scenario) -> Scenario:
 def _dem_band(cs: CaseStudy, sc: Scenario, n: int, say: Callable[[str], None],
               sweep_options: dict[str, Any]) -> None:
     """DEM model 1 from ``n`` random packings on the sweep engine (:func:`band_scenario`)."""
-    from pdamper.reports.realisations import run_level3_realisations
+    from pdamper.runs.realisations import run_level3_realisations
 
     say(f"Fig. 7/8: DEM model 1 from {n} random packings")
     opts = {k: v for k, v in sweep_options.items() if k in ("workers", "scheduler", "serial")}

@@ -1,4 +1,4 @@
-"""The Python API of DEM realisations (``pdamper.reports.realisations``)."""
+"""The Python API of DEM realisations (``pdamper.runs.realisations``)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import pytest
 
 from pdamper.errors import InputError
 from pdamper.io.scenario import load_scenario
-from pdamper.reports.realisations import check_realisations, run_realisations, with_seed
+from pdamper.runs.realisations import check_realisations, run_realisations, with_seed
 
 _SHORT = {"particles.count": 8, "dem.cycles": 2, "dem.skip_cycles": 1,
           "dem.packing": "random", "dem.seed": 3}
