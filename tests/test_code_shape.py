@@ -3,7 +3,8 @@ constructor, and a type check that passes.
 
 - no function outside the numba kernels (``pdamper/dem/kernels``) over 80 lines, counted
   without its docstring;
-- ``dem/simulation.py`` under 700 lines;
+- ``dem/simulation.py`` under 700 lines, ``io/scenario.py`` (the scenario's schema and its
+  builders) under 600;
 - ``DEMEngine.__init__`` takes at most six parameters (the settings travel as objects);
 - mypy, as CI runs it (``python3 -m mypy``, configured in pyproject.toml), passes.
 """
@@ -72,6 +73,13 @@ def test_no_function_over_80_lines():
 def test_the_engine_module_is_under_700_lines():
     lines = (PACKAGE / "dem" / "simulation.py").read_text(encoding="utf-8").splitlines()
     assert len(lines) < 700
+
+
+def test_the_scenario_module_is_under_600_lines():
+    """The schema and its builders; the example text, the resource checks, the grids, the
+    reading and the load-time checks live in modules of their own."""
+    lines = (PACKAGE / "io" / "scenario.py").read_text(encoding="utf-8").splitlines()
+    assert len(lines) < 600
 
 
 def test_the_engine_takes_at_most_six_parameters():
