@@ -7,8 +7,9 @@ Example::
 prints a summary (``--json``: ``loss_factor``, ``effective_mass_ratio``,
 ``energy_balance_error`` and more, with the inputs, the pdamper version and the seed; the
 run's own keys are those of :meth:`pdamper.dem.DEMResult.summary`: ``steps`` and
-``wall_seconds`` of the excitation, ``settle_steps`` and ``settle_seconds`` of the
-settling before it, ``total_steps`` and ``total_wall_seconds`` of both). Every run option
+``wall_seconds`` of the whole run, settling included (as in a map's diagnostics),
+``excitation_steps`` and ``excitation_wall_seconds`` of the excitation, ``settle_steps``
+and ``settle_seconds`` of the settling before it). Every run option
 can also come from the scenario's ``[dem]`` section; the command line overrides the file.
 ``--realisations N`` runs N random packings (seeds ``--seed`` + 0..N-1) on the sweep
 engine (``--workers``, ``--serial``): the loss factor and effective mass ratio are then

@@ -68,8 +68,10 @@ def run_summary(model: DEMDamper, response: DamperResponse) -> dict:
     loss factor, effective mass ratio, dissipated energy per cycle [J], energy ledger [J],
     stationarity, motion mode and the run's diagnostics (SI units): the keys of
     :meth:`DEMResult.summary <pdamper.dem.DEMResult.summary>` (``steps`` and
-    ``wall_seconds`` are the excitation's; ``settle_steps``, ``settle_seconds`` the
-    settling's; ``total_steps``, ``total_wall_seconds`` both)."""
+    ``wall_seconds`` are the whole run, settling included, as in a map's diagnostics;
+    ``excitation_steps``, ``excitation_wall_seconds`` the excitation's; ``settle_steps``,
+    ``settle_seconds`` the settling's; ``total_steps``, ``total_wall_seconds`` the same
+    sums as ``steps``, ``wall_seconds``)."""
     r = response
     res = r.details.item()
     st = r.diagnostics["stationarity"].item()
