@@ -18,7 +18,7 @@ from pdamper.materials import PVC, S235  # noqa: E402
 from pdamper.models import AnalyticalDamper, DEMDamper  # noqa: E402
 from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE  # noqa: E402
 from pdamper.parameters import vertical_dampers_paper as paper  # noqa: E402
-from pdamper.reports.cor_sensitivity import run_cor_sensitivity  # noqa: E402
+from pdamper.runs.cor_sensitivity import run_cor_sensitivity  # noqa: E402
 
 
 @pytest.fixture(scope="module")

@@ -102,7 +102,8 @@ def paper(
 
     from pdamper.errors import InputError
     from pdamper.files import atomic_directory
-    from pdamper.reports import paper_case_study as study
+    from pdamper.reports.paper_case_study import write_case_study
+    from pdamper.runs import paper_case_study as study
 
     sc = load(scenario, runs=("case_study_dem" if dem else "case_study",), force=force)
     target = check_output_directory(out)
@@ -134,7 +135,7 @@ def paper(
             cs = study.run_case_study(sc, prog.step, dem, out=cache,
                                       map_progress=prog.map_points,
                                       realisations=n_real if dem else 1, **options)
-            written = study.write_case_study(cs, stage, prog.step)
+            written = write_case_study(cs, stage, prog.step)
     files = [target / p.relative_to(stage) for p in written]
     agree = sum(r.agrees is True for r in cs.rows)
     payload = {"out": str(target), "files": [str(p) for p in files],

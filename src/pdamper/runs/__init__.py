@@ -9,7 +9,10 @@ reports (:mod:`pdamper.reports`, which render):
 * :mod:`pdamper.runs.realisations`: DEM answers from N random packings, and the summary of
   one Level II DEM run;
 * :mod:`pdamper.runs.uncertainty`: the propagation of a scenario's uncertain inputs to its
-  answers.
+  answers;
+* :mod:`pdamper.runs.paper_case_study`, :mod:`pdamper.runs.damper_report`,
+  :mod:`pdamper.runs.cor_sensitivity`: the runs of ``pdamper paper``, ``pdamper report``
+  and ``pdamper cor-sensitivity``, whose pages and figures :mod:`pdamper.reports` makes.
 
 Nothing is imported here: ``import pdamper.runs`` stays cheap.
 """

@@ -112,7 +112,7 @@ def check_resources(scenario: Scenario, run: str, model: str | None = None,
     elif run == "optimization":
         cls = get_damper_model(model or sim.model, field)
         _check_optimization(scenario, damper, cls, default, force, req)
-    else:  # the paper's case study (pdamper.reports.paper_case_study)
+    else:  # the paper's case study (pdamper.runs.paper_case_study)
         analytic = get_damper_model("analytic")
         _check_map(scenario, damper, analytic, default, force, req)
         for duration in (sim.duration, max(sim.duration, paper.PAPER_DURATION)):
