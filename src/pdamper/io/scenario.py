@@ -45,6 +45,7 @@ from pdamper.io.quantities import (
     Duration,
     Frequency,
     Gravity,
+    Length,  # noqa: F401  (a type of the schema, importable from here)
     Mass,
     Modulus,
     PositiveLength,
