@@ -21,7 +21,8 @@ from pdamper.dem.impacts import check_restitution
 from pdamper.io.scenario import load_scenario
 from pdamper.materials import PVC, S235, get_material
 from pdamper.parameters import vertical_dampers_paper as paper
-from pdamper.reports.cor_sensitivity import run_cor_sensitivity, sensitivity_figure
+from pdamper.reports.cor_sensitivity import sensitivity_figure
+from pdamper.runs.cor_sensitivity import run_cor_sensitivity
 
 
 def calibration() -> None:

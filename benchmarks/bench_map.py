@@ -76,7 +76,7 @@ def main(argv=None) -> dict:
     from pdamper.dem import HarmonicMotion
     from pdamper.io.scenario import load_scenario
     from pdamper.models import AnalyticalDamper
-    from pdamper.reports.maps import run_map
+    from pdamper.runs.maps import run_map
     from pdamper.sweep.cluster import default_workers
 
     overrides = {"map.frequency": args.frequency, "map.amplitude": args.amplitude,

@@ -65,7 +65,7 @@ def _case(point, runner, sc, n, workers):
 def _level2(sc, n, workers):
     import functools
 
-    from pdamper.reports.realisations import realisation_point, run_realisations
+    from pdamper.runs.realisations import realisation_point, run_realisations
 
     out = _case(functools.partial(realisation_point, scenario=sc), run_realisations, sc, n,
                 workers)
@@ -75,7 +75,7 @@ def _level2(sc, n, workers):
 def _level3(sc, n, workers):
     import functools
 
-    from pdamper.reports.realisations import level3_point, run_level3_realisations
+    from pdamper.runs.realisations import level3_point, run_level3_realisations
 
     out = _case(functools.partial(level3_point, scenario=sc, model_name="dem"),
                 lambda s, k, **o: run_level3_realisations(s, k, "dem", **o), sc, n, workers)

@@ -3,7 +3,10 @@ constructor, and a type check that passes.
 
 - no function outside the numba kernels (``pdamper/dem/kernels``) over 80 lines, counted
   without its docstring;
-- ``dem/simulation.py`` under 700 lines;
+- ``dem/simulation.py`` under 700 lines, ``io/scenario.py`` (the scenario's schema and its
+  builders) under 600;
+- ``reports/`` renders: no module there runs anything (no ``run_*`` function, no sweep
+  engine, no dask); the runs live in ``runs/``;
 - ``DEMEngine.__init__`` takes at most six parameters (the settings travel as objects);
 - mypy, as CI runs it (``python3 -m mypy``, configured in pyproject.toml), passes.
 """
@@ -72,6 +75,50 @@ def test_no_function_over_80_lines():
 def test_the_engine_module_is_under_700_lines():
     lines = (PACKAGE / "dem" / "simulation.py").read_text(encoding="utf-8").splitlines()
     assert len(lines) < 700
+
+
+def test_the_scenario_module_is_under_600_lines():
+    """The schema and its builders; the example text, the resource checks, the grids, the
+    reading and the load-time checks live in modules of their own."""
+    lines = (PACKAGE / "io" / "scenario.py").read_text(encoding="utf-8").splitlines()
+    assert len(lines) < 600
+
+
+#: What a module that runs things imports: the sweep engine and dask.
+RUNNER_IMPORTS = ("pdamper.sweep", "dask", "distributed")
+
+
+def runners_in(source: str) -> list[str]:
+    """The runners in a module's ``source``: functions named ``run_*`` (anywhere, methods
+    included) and imports of the sweep engine or dask (function-level ones included)."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) \
+                and node.name.startswith("run_"):
+            found.append(f"def {node.name} (line {node.lineno})")
+        names: list[str] = []
+        if isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            names = [node.module]
+        found += [f"import {n} (line {node.lineno})" for n in names
+                  if any(n == r or n.startswith(r + ".") for r in RUNNER_IMPORTS)]
+    return found
+
+
+def test_the_runner_check_finds_a_runner():
+    """The check below can fail: a ``run_*`` function and a sweep import are found."""
+    src = "def run_map():\n    from pdamper.sweep import run_sweep\n"
+    assert runners_in(src) == ["def run_map (line 1)", "import pdamper.sweep (line 2)"]
+    assert runners_in("import dask.array\n") == ["import dask.array (line 1)"]
+    assert runners_in("def render(run):\n    return run\n") == []
+
+
+def test_reports_hold_no_runner():
+    """``reports/`` renders what ``runs/`` computed."""
+    found = {path.name: runners_in(path.read_text(encoding="utf-8"))
+             for path in sorted((PACKAGE / "reports").glob("*.py"))}
+    assert {k: v for k, v in found.items() if v} == {}
 
 
 def test_the_engine_takes_at_most_six_parameters():

@@ -29,7 +29,10 @@ LEVELS = {
     "analysis": 2, "dem": 2,                          # Level II
     "models": 3,                                      # one interface, several fidelities
     "structure": 4, "coupling": 5, "design": 6,       # Level III
-    "parameters": 7, "io": 8, "plots": 8, "reports": 9, "cli": 10, "__main__": 10,
+    "parameters": 7, "io": 8, "plots": 8,             # the scenario parsed and built; figures
+    "runs": 9,                                        # a scenario's runs and their cost
+    "reports": 10,                                    # rendering of the runs' results
+    "cli": 11, "__main__": 11,
 }
 
 
@@ -99,12 +102,14 @@ def test_the_checker_catches_an_upward_import():
     ("pdamper.models", "numba"),
     ("pdamper", "numba"),
     ("pdamper.io.scenario", "numba"),
+    ("pdamper.runs.resources", "numba"),
     ("pdamper.sweep", "distributed"),
     ("pdamper.models", "distributed"),
 ])
 def test_import_does_not_pull_in(module, absent):
-    """``import pdamper.models`` does not import the coupling; the package, the models and
-    the scenario reader load no numba (fast CLI start-up)."""
+    """``import pdamper.models`` does not import the coupling; the package, the models,
+    the scenario reader and the resource checks of its runs load no numba (fast CLI
+    start-up)."""
     code = f"import sys, {module}; print({absent!r} in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout.strip()

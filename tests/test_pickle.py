@@ -191,7 +191,7 @@ def test_analysis_and_design_settings_pickle():
 
 def test_cor_study_settings_pickle(tmp_path, monkeypatch):
     """A COR sensitivity variant with a table, and a fit with its covariance."""
-    from pdamper.reports.cor_sensitivity import cor_variant
+    from pdamper.runs.cor_sensitivity import cor_variant
 
     (tmp_path / "cor.csv").write_text("velocity [m/s], cor [-]\n0.2, 0.89\n0.6, 0.86\n"
                                       "1.8, 0.80\n")

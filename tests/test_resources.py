@@ -16,6 +16,7 @@ from pdamper.errors import InputError
 from pdamper.io.scenario import load_scenario
 from pdamper.parameters import PAPER_DAMPER
 from pdamper.parameters.vertical_dampers_paper import PAPER_MAP_AMPLITUDE, PAPER_MAP_FREQUENCY
+from pdamper.runs.resources import check_resources, check_runs
 
 
 def test_every_limit_is_documented_with_its_reason():
@@ -150,7 +151,7 @@ def test_the_papers_case_passes_every_run():
     for run, model in (("excitation", "analytic"), ("excitation", "dem"), ("map", "analytic"),
                        ("map", "dem"), ("simulation", "analytic"), ("simulation", "dem"),
                        ("optimization", None), ("case_study", None), ("case_study_dem", None)):
-        sc.check_resources(run, model)
+        check_resources(sc, run, model)
 
 
 @pytest.mark.parametrize(("overrides", "run", "model", "field"), [
@@ -170,21 +171,22 @@ def test_the_papers_case_passes_every_run():
 def test_absurd_work_is_refused_at_once_naming_the_input(overrides, run, model, field):
     sc = load_scenario(None, overrides)
     t0 = time.perf_counter()
-    refused(lambda: sc.check_resources(run, model), field)
+    refused(lambda: check_resources(sc, run, model), field)
     assert time.perf_counter() - t0 < 1.0
 
 
 def test_force_allows_what_this_machine_can_do():
     sc = load_scenario(None, {"simulation.duration": "3e4 s"})
-    refused(lambda: sc.check_resources("simulation"), "simulation.duration", "--force")
-    sc.check_resources("simulation", force=True)
-    load_scenario(None, {"simulation.duration": "3e4 s"}, runs=("simulation",), force=True)
+    refused(lambda: check_resources(sc, "simulation"), "simulation.duration", "--force")
+    check_resources(sc, "simulation", force=True)
+    check_runs(load_scenario(None, {"simulation.duration": "3e4 s"}), ("simulation",),
+               force=True)
     with pytest.raises(InputError):
-        load_scenario(None, {"simulation.duration": "3e4 s"}, runs=("simulation",))
+        check_runs(load_scenario(None, {"simulation.duration": "3e4 s"}), ("simulation",))
 
 
 def test_unknown_run_isrefused():
-    refused(lambda: load_scenario(None).check_resources("everything"), "run")
+    refused(lambda: check_resources(load_scenario(None), "everything"), "run")
 
 
 # -- the physics limits wherever a run is made (the models, the free vibration)

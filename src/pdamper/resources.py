@@ -1,8 +1,8 @@
 """The resource and physics model: what a run implies, judged before it starts.
 
 Every input is checked where it is read (the scenario reader and the command line share
-these checks through :meth:`pdamper.io.scenario.Scenario.check_resources`), and so is what
-it implies. Two kinds of limit, each answered by one line that names the field, the
+these checks through :func:`pdamper.runs.resources.check_resources`), and so is what it
+implies. Two kinds of limit, each answered by one line that names the field, the
 implied cost or the reason, and how to get below the limit:
 
 **Physical meaning** (no override: such a run would describe no damper).

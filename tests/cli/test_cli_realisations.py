@@ -160,7 +160,7 @@ def test_simulate_dem_five_realisations_band_at_0p75s(tmp_path, cli):
 def test_simulate_fields_band_from_a_map_with_realisations(tmp_path, cli):
     """Model 2 from a DEM map of 2 realisations: realisation k of the band is the free
     vibration with the field of the map's realisation k alone."""
-    from pdamper.reports.realisations import realisation_map
+    from pdamper.runs.realisations import realisation_map
 
     out = tmp_path / "m.nc"
     _json(cli, "map", "--model", "dem", "--frequency", "4Hz:7Hz:2", "--amplitude",

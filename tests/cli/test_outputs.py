@@ -121,9 +121,10 @@ def _fake_case_study(monkeypatch):
     import types
 
     import pdamper.reports.paper_case_study as study
+    import pdamper.runs.paper_case_study as runner
     from pdamper.files import atomic_write_text
 
-    monkeypatch.setattr(study, "run_case_study",
+    monkeypatch.setattr(runner, "run_case_study",
                         lambda scenario, progress=None, dem=True, **kw: types.SimpleNamespace(rows=[]))
     monkeypatch.setattr(study, "write_case_study", lambda cs, out, progress=None: [
         atomic_write_text(out / "a.txt", "A"), atomic_write_text(out / "b.txt", "B")])

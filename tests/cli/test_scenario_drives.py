@@ -56,7 +56,7 @@ def test_paper_honours_the_scenario(tmp_path, cli):
 def test_paper_count_off_the_step_is_still_compared():
     """With step 48 the paper's 64 spheres are no candidate; the row still compares them."""
     from pdamper.io.scenario import load_scenario
-    from pdamper.reports.paper_case_study import run_case_study
+    from pdamper.runs.paper_case_study import run_case_study
 
     sc = load_scenario(None, {"optimization.step": 48, "map.frequency": "4Hz:20Hz:3",
                               "map.amplitude": "5mm:150mm:4"})

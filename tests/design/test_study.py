@@ -238,6 +238,7 @@ def test_a_variables_count_is_judged_before_its_values_are_built():
     from answers import memory_headroom
     from pdamper.design.study import variable_size
     from pdamper.io.scenario import load_scenario
+    from pdamper.runs.resources import check_runs
 
     with memory_headroom(2**30):
         assert variable_size("particles=0:1000000000:1") == ("particles", 1000000001)
@@ -252,9 +253,9 @@ def test_a_variables_count_is_judged_before_its_values_are_built():
         spec = {"optimization.vary": ["radius=1mm:3mm:100000000"]}
         load_scenario(None, spec)
         with pytest.raises(InputError) as info:
-            load_scenario(None, spec, runs=("optimization",))
+            check_runs(load_scenario(None, spec), ("optimization",))
         assert info.value.field == "optimization.vary.radius" and "--force" in info.value.message
-        load_scenario(None, spec, runs=("optimization",), force=True)  # judged, not built
+        check_runs(load_scenario(None, spec), ("optimization",), force=True)  # judged, not built
 
 
 def test_a_range_outside_the_physical_limits_is_refused_before_any_run():

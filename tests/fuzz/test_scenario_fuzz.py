@@ -14,6 +14,7 @@ from strategies import SCENARIOS, grid, quantity, toml_document
 from answers import ERROR_LINE, check_answer, time_bound
 from pdamper.errors import InputError
 from pdamper.io.scenario import load_scenario
+from pdamper.runs.resources import check_resources
 from pdamper.units import parse_quantity, parse_range
 
 BOUND = 30.0
@@ -72,7 +73,7 @@ def test_scenario_files(cli, tmp_path_factory, doc, corrupt):
         if sc is not None:
             for run, model in RUNS:
                 try:
-                    sc.check_resources(run, model)
+                    check_resources(sc, run, model)
                 except InputError as exc:
                     refused(exc)
         code, out, err = cli("analytic", "--scenario", path, "--json")

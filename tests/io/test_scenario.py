@@ -7,6 +7,7 @@ import pytest
 
 from pdamper.errors import InputError
 from pdamper.io.scenario import EXAMPLE_SCENARIO, Scenario, load_scenario
+from pdamper.runs.resources import check_resources
 from pdamper.units import format_quantity, parse_quantity, parse_range
 
 
@@ -116,7 +117,7 @@ def test_map_ranges_are_read_without_building_the_grid():
     (f0, f1, nf), _ = s.map_ranges()
     assert (f0, f1, nf) == (2.0, 20.0, 10**20 - 1)
     with pytest.raises(InputError, match="^map.frequency: .*memory"):
-        s.check_resources("map")
+        check_resources(s, "map")
 
 
 @pytest.mark.parametrize("kind", ["directory", "deep", "huge", "unreadable-bytes"])
@@ -197,7 +198,7 @@ def test_gravity_is_a_quantity_of_the_excitation_and_reaches_the_models():
     h = s.damper().clearance
     r = s.model("analytic").response(10.0, h / np.pi)
     assert float(r.loss_factor) == pytest.approx(ETA_MAX, rel=1e-9)
-    s.check_resources("excitation", "dem")  # the cost model copes without settling
+    check_resources(s, "excitation", "dem")  # the cost model copes without settling
 
 
 @pytest.mark.parametrize("value", ["-1 m/s^2", "-0.001 m/s^2", float("inf"), float("nan"),

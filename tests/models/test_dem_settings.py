@@ -114,11 +114,11 @@ def test_each_fidelity_states_its_cost():
 
 def test_the_scenario_and_the_resources_branch_on_no_fidelity_name():
     names = {"dem", "analytic", "fields"}
-    for rel in ("io/scenario.py", "resources.py"):
+    for rel in ("io/scenario.py", "resources.py", "runs/resources.py"):
         for node in ast.walk(ast.parse((ROOT / rel).read_text())):
             if isinstance(node, ast.Compare):
                 consts = [c.value for c in (node.left, *node.comparators)
                           if isinstance(c, ast.Constant)]
                 assert not names & set(consts), f"{rel}:{node.lineno} compares with a name"
-    text = (ROOT / "reports" / "realisations.py").read_text()
+    text = (ROOT / "runs" / "realisations.py").read_text()
     assert "._dem_level2_cost" not in text

@@ -18,7 +18,7 @@ from pdamper.materials import PVC, S235  # noqa: E402
 from pdamper.models import AnalyticalDamper, DEMDamper  # noqa: E402
 from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE  # noqa: E402
 from pdamper.parameters import vertical_dampers_paper as paper  # noqa: E402
-from pdamper.reports.cor_sensitivity import run_cor_sensitivity  # noqa: E402
+from pdamper.runs.cor_sensitivity import run_cor_sensitivity  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -71,14 +71,14 @@ def inputs():
         "plot_free_vibration": (run,),
         "plot_damping_ratio": (run,),
         "plot_optimization": (opt,),
-        # realisations: a band of runs (pdamper.reports.realisations.Level3Band)
+        # realisations: a band of runs (pdamper.runs.realisations.Level3Band)
         "plot_trajectory_band": (_band(run),),
         "plot_damping_ratio_band": (_band(run),),
     }
 
 
 def _band(run):
-    from pdamper.reports.realisations import Level3Band
+    from pdamper.runs.realisations import Level3Band
 
     return Level3Band("analytic", [run, run], 0.75)
 

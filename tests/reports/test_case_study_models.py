@@ -8,7 +8,7 @@ from pdamper.analysis.fields import effective_field
 from pdamper.io.scenario import load_scenario
 from pdamper.models import AnalyticalDamper, EffectiveFieldDamper
 from pdamper.parameters import PAPER_DAMPER
-from pdamper.reports.paper_case_study import CaseStudy, _fields_model
+from pdamper.runs.paper_case_study import CaseStudy, _fields_model
 
 
 def _map(f=(4.0, 8.0, 5)):

@@ -14,10 +14,10 @@ from pdamper.errors import InputError
 from pdamper.io.scenario import load_scenario
 from pdamper.models import DEMDamper
 from pdamper.parameters import vertical_dampers_paper as paper
-from pdamper.reports.cor_sensitivity import (
+from pdamper.reports.cor_sensitivity import sensitivity_figure
+from pdamper.runs.cor_sensitivity import (
     cor_variant,
     run_cor_sensitivity,
-    sensitivity_figure,
     split_variant,
     study_scenario,
 )

@@ -14,7 +14,8 @@ import pytest
 import browser
 from pdamper import __version__
 from pdamper.io.scenario import load_scenario
-from pdamper.reports.paper_case_study import run_case_study, write_case_study
+from pdamper.reports.paper_case_study import write_case_study
+from pdamper.runs.paper_case_study import run_case_study
 
 
 @pytest.fixture(scope="module")

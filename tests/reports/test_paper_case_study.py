@@ -1,4 +1,5 @@
-"""The case study (:mod:`pdamper.reports.paper_case_study`): rows from the parameter set,
+"""The case study (:mod:`pdamper.runs.paper_case_study`, written out by
+:mod:`pdamper.reports.paper_case_study`): rows from the parameter set,
 files written atomically, figures without pyplot state."""
 
 from __future__ import annotations
@@ -9,7 +10,8 @@ import pytest
 
 from pdamper.io.scenario import load_scenario
 from pdamper.parameters import vertical_dampers_paper as paper
-from pdamper.reports.paper_case_study import run_case_study, write_case_study
+from pdamper.reports.paper_case_study import write_case_study
+from pdamper.runs.paper_case_study import run_case_study
 
 
 @pytest.fixture(scope="module")

@@ -68,14 +68,15 @@ def emit(payload: dict, as_json: bool, human: str | None = None) -> None:
 def load(scenario: Path | None, *, runs: tuple[str, ...] = (), model: str | None = None,
          force: bool = False, **overrides: Any) -> Scenario:
     """Scenario from ``--scenario`` with the command-line options applied on top, and what
-    ``runs`` imply checked (:meth:`pdamper.io.scenario.Scenario.check_resources`).
+    ``runs`` imply checked (:func:`pdamper.runs.resources.check_runs`).
 
     ``overrides`` maps ``"section__key"`` to the option's value (None: not given).
     """
     from pdamper.io.scenario import load_scenario
+    from pdamper.runs.resources import check_runs
 
-    return load_scenario(scenario, {k.replace("__", "."): v for k, v in overrides.items()},
-                         runs=runs, model=model, force=force)
+    sc = load_scenario(scenario, {k.replace("__", "."): v for k, v in overrides.items()})
+    return check_runs(sc, runs, model, force)
 
 
 def metadata(scenario: Any, **extra: Any) -> dict:

@@ -1,7 +1,7 @@
 """Options and output of ``--uncertainty N`` (``pdamper analytic``, ``map``,
 ``simulate``, ``report``, ``dem``): the spread of the answers under the inputs given as
 ``"value +- sd"``, and for the DEM a fitted COR curve given as ``FIELD=fit``
-(:mod:`pdamper.io.uncertain`)."""
+(:mod:`pdamper.io.uncertain`, propagated by :mod:`pdamper.runs.uncertainty`)."""
 
 from __future__ import annotations
 
@@ -88,7 +88,7 @@ def check(sc, level: str, n: int | None, force: bool) -> None:
         return
     from pdamper.design.uncertainty import check_points
     from pdamper.errors import InputError
-    from pdamper.io.uncertain import check_cost
+    from pdamper.runs.uncertainty import check_cost
 
     check_points(n)
     if not sc.uncertain_inputs():
@@ -126,7 +126,7 @@ def map_spread(sc, model: str, n: int, seed: int, ds, out):
     """The map's spread under the uncertain inputs: ``<answer>_mean``, ``_std``, ``_p5``
     ... ``_p95`` variables added to ``ds`` (and to the NetCDF file ``out``, written
     again), and the result's JSON without the per-cell bands (they are in the file)."""
-    from pdamper.io.uncertain import MAP_BANDS, propagate_scenario
+    from pdamper.runs.uncertainty import MAP_BANDS, propagate_scenario
 
     spread = propagate_scenario(sc, "map", n, seed, model=model)
     dims = ds["loss_factor"].dims

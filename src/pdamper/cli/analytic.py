@@ -69,7 +69,7 @@ def analytic(
         f"  optimal stroke X_opt = h/pi  {format_quantity(damper.optimal_stroke, 'mm')}"
     )
     if uncertainty is not None:
-        from pdamper.io.uncertain import propagate_scenario
+        from pdamper.runs.uncertainty import propagate_scenario
 
         spread = propagate_scenario(sc, "level2", uncertainty, uncertainty_seed)
         payload["uncertainty"] = spread.as_dict()

@@ -66,12 +66,8 @@ def cor_sensitivity(
     as_json: JsonOpt = False,
 ) -> None:
     """Rerun DEM Level II points and Level III DEM model 1 under several COR models."""
-    from pdamper.reports.cor_sensitivity import (
-        DEFAULT_POINTS,
-        DEFAULT_VARIANTS,
-        run_cor_sensitivity,
-        sensitivity_figure,
-    )
+    from pdamper.reports.cor_sensitivity import sensitivity_figure
+    from pdamper.runs.cor_sensitivity import DEFAULT_POINTS, DEFAULT_VARIANTS, run_cor_sensitivity
 
     sc = load(scenario, simulation__duration=duration, dem__cycles=cycles,
               dem__skip_cycles=skip_cycles)

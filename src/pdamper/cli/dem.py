@@ -7,13 +7,14 @@ Example::
 prints a summary (``--json``: ``loss_factor``, ``effective_mass_ratio``,
 ``energy_balance_error`` and more, with the inputs, the pdamper version and the seed; the
 run's own keys are those of :meth:`pdamper.dem.DEMResult.summary`: ``steps`` and
-``wall_seconds`` of the excitation, ``settle_steps`` and ``settle_seconds`` of the
-settling before it, ``total_steps`` and ``total_wall_seconds`` of both). Every run option
+``wall_seconds`` of the whole run, settling included (as in a map's diagnostics),
+``excitation_steps`` and ``excitation_wall_seconds`` of the excitation, ``settle_steps``
+and ``settle_seconds`` of the settling before it). Every run option
 can also come from the scenario's ``[dem]`` section; the command line overrides the file.
 ``--realisations N`` runs N random packings (seeds ``--seed`` + 0..N-1) on the sweep
 engine (``--workers``, ``--serial``): the loss factor and effective mass ratio are then
 their means, the spread under ``realisations``
-(:mod:`pdamper.reports.realisations`).
+(:mod:`pdamper.runs.realisations`).
 """
 
 from __future__ import annotations
@@ -159,7 +160,7 @@ def dem(
                          f"got {damper.count}")
     model = cast("DEMDamper", sc.model("dem", damper))
     r = model.response(sc.excitation.frequency, sc.excitation.amplitude)
-    from pdamper.reports.realisations import run_summary
+    from pdamper.runs.realisations import run_summary
 
     meta = metadata(sc, seed=model.seed)
     summary = run_summary(model, r)
@@ -187,7 +188,7 @@ def _realisation_count(realisations: str | None, sc: Scenario, force: bool) -> i
     if realisations is None:
         return 1
     from pdamper.errors import InputError
-    from pdamper.reports.realisations import check_realisations
+    from pdamper.runs.realisations import check_realisations
 
     try:
         n_real = int(realisations)
@@ -272,7 +273,7 @@ def _realisations(sc: Scenario, n: int, *, workers: int | None, serial: bool, fo
     """``--realisations N`` (N > 1): the runs on the sweep engine; the top-level
     ``loss_factor``, ``effective_mass_ratio`` and ``dissipated_energy_per_cycle`` are the
     means over the realisations, the other run keys those of the first (seed ``--seed``)."""
-    from pdamper.reports.realisations import run_realisations
+    from pdamper.runs.realisations import run_realisations
 
     result = run_realisations(sc, n, workers=workers, serial=serial, force=force)
     first = dict(result.runs[0])
@@ -302,7 +303,7 @@ def _uncertainty_run(sc, n: int, seed: int, as_json: bool, *, workers, serial: b
     from the scenario's seed); the top-level keys are the nominal run's answers, the
     spread under ``uncertainty``."""
     from pdamper.errors import InputError
-    from pdamper.io.uncertain import dem_batch, propagate_scenario
+    from pdamper.runs.uncertainty import dem_batch, propagate_scenario
 
     damper = sc.damper()
     if damper.count < 1:

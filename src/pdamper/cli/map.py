@@ -71,7 +71,7 @@ def map_(
         map__particles=axis), uncertain))
     _uncertainty.check(sc, "map", uncertainty, force)
     if uncertainty is not None:  # the sampled model refused before any run
-        from pdamper.io.uncertain import map_answers
+        from pdamper.runs.uncertainty import map_answers
 
         map_answers(sc, model)
     out_path = check_output(out)
@@ -87,13 +87,13 @@ def map_(
     n_real = _realisation_count(sc, model, realisations, uncertainty, force)
     with _progress(sys.stderr, as_json or quiet()) as progress:
         if n_real > 1:
-            from pdamper.reports.realisations import run_map_realisations
+            from pdamper.runs.realisations import run_map_realisations
 
             result = run_map_realisations(sc, model, n_real, out=out_path,
                                           keep_partial=keep_partial, progress=progress,
                                           force=force, **options)
         else:
-            from pdamper.reports.maps import run_map
+            from pdamper.runs.maps import run_map
 
             result = run_map(sc, model, out=out_path, keep_partial=keep_partial,
                              progress=progress, **options)
@@ -132,7 +132,7 @@ def _particle_count_or_axis(particles: str | None) -> tuple[int | None, str | No
 
 def _check_partial_store(out: Path) -> None:
     """The per-point store beside ``out`` must be a directory if it exists."""
-    from pdamper.reports.maps import partial_store
+    from pdamper.runs.maps import partial_store
 
     part = partial_store(out)
     if part.exists() and not part.is_dir():
@@ -145,7 +145,7 @@ def _realisation_count(sc: Scenario, model: str, realisations: str | None,
     refused above 1 with ``--uncertainty``."""
     if realisations is None:
         return 1
-    from pdamper.reports.realisations import check_map_realisations, parse_count
+    from pdamper.runs.realisations import check_map_realisations, parse_count
 
     n_real = check_map_realisations(parse_count(realisations), sc, model, force=force)
     if n_real > 1 and uncertainty is not None:
@@ -180,7 +180,7 @@ def _summary(sc: Scenario, model: str, result: Any, out: Path | None, n_real: in
         **meta,
     }
     if n_real > 1:
-        from pdamper.reports.realisations import map_spread_record
+        from pdamper.runs.realisations import map_spread_record
 
         payload["statistic"] = "mean"
         payload["realisations"] = map_spread_record(ds)

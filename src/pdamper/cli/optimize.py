@@ -177,7 +177,7 @@ def _realisation_count(sc: Scenario, realisations: str | None, force: bool) -> i
     """``--realisations`` as a count checked against the study's cost (1: one packing)."""
     if realisations is None:
         return 1
-    from pdamper.reports.realisations import check_design_realisations, parse_count
+    from pdamper.runs.realisations import check_design_realisations, parse_count
 
     return check_design_realisations(parse_count(realisations), sc, force=force)
 
@@ -194,7 +194,7 @@ def _study(sc: Scenario, damper: Any, variables: list[DesignVariable],
     o = sc.optimization
     if n_real > 1:
         from pdamper.design.study import make_objective, run_design_study
-        from pdamper.reports.realisations import design_evaluator
+        from pdamper.runs.realisations import design_evaluator
 
         obj = make_objective(o.objective, o.at, sc.structure.initial_displacement,
                              sc.structure_model(), o.threshold, load=history,

@@ -102,7 +102,8 @@ def paper(
 
     from pdamper.errors import InputError
     from pdamper.files import atomic_directory
-    from pdamper.reports import paper_case_study as study
+    from pdamper.reports.paper_case_study import write_case_study
+    from pdamper.runs import paper_case_study as study
 
     sc = load(scenario, runs=("case_study_dem" if dem else "case_study",), force=force)
     target = check_output_directory(out)
@@ -113,11 +114,11 @@ def paper(
 
         check_scheduler(scheduler)
     options = {k: v for k, v in (("workers", workers), ("scheduler", scheduler)) if v is not None}
-    from pdamper.reports.realisations import parse_count
+    from pdamper.runs.realisations import parse_count
 
     n_real = study.PAPER_REALISATIONS if realisations is None else parse_count(realisations)
     if dem and n_real > 1:  # judged before any run: N random packings of the Level III DEM
-        from pdamper.reports.realisations import check_level3_realisations
+        from pdamper.runs.realisations import check_level3_realisations
 
         try:
             check_level3_realisations(n_real, study.band_scenario(sc), "dem", force=force)
@@ -134,7 +135,7 @@ def paper(
             cs = study.run_case_study(sc, prog.step, dem, out=cache,
                                       map_progress=prog.map_points,
                                       realisations=n_real if dem else 1, **options)
-            written = study.write_case_study(cs, stage, prog.step)
+            written = write_case_study(cs, stage, prog.step)
     files = [target / p.relative_to(stage) for p in written]
     agree = sum(r.agrees is True for r in cs.rows)
     payload = {"out": str(target), "files": [str(p) for p in files],

@@ -46,6 +46,7 @@ def report(
     from pdamper.errors import InputError
     from pdamper.files import atomic_directory
     from pdamper.reports import damper_report
+    from pdamper.runs.damper_report import run_damper_report
 
     sc = load(scenario, runs=("map", "simulation", "optimization"), model="analytic",
               force=force, **_uncertainty.merged({}, uncertain))
@@ -64,7 +65,7 @@ def report(
 
         with atomic_directory(target) as stage:
             cache = target if target.is_dir() else stage
-            rep = damper_report.run_damper_report(
+            rep = run_damper_report(
                 sc, dem=dem, uncertainty=uncertainty, uncertainty_seed=uncertainty_seed,
                 out=cache, progress=say, realisations=n_real, **options)
             written = damper_report.write_damper_report(rep, stage)
@@ -89,13 +90,14 @@ def _check_runs(sc, dem: bool, realisations: str | None, uncertainty: int | None
     count, or None) and the uncertainty propagation."""
     from pdamper.design.uncertainty import check_points
     from pdamper.errors import InputError
-    from pdamper.reports import damper_report
+    from pdamper.runs.damper_report import DEFAULT_UNCERTAINTY_POINTS
+    from pdamper.runs.resources import check_resources
 
     if dem:
-        sc.check_resources("simulation", "dem", force)
+        check_resources(sc, "simulation", "dem", force)
     n_real = None
     if realisations is not None:
-        from pdamper.reports.realisations import check_level3_realisations, parse_count
+        from pdamper.runs.realisations import check_level3_realisations, parse_count
 
         if not dem:
             raise InputError("realisations", "needs --dem (the realisations are those of the "
@@ -104,12 +106,12 @@ def _check_runs(sc, dem: bool, realisations: str | None, uncertainty: int | None
     if uncertainty is not None:
         _uncertainty.check(sc, "level3", uncertainty, force)
     elif sc.uncertain_inputs():
-        check_points(damper_report.DEFAULT_UNCERTAINTY_POINTS)
-        from pdamper.io.uncertain import check_cost
+        check_points(DEFAULT_UNCERTAINTY_POINTS)
+        from pdamper.runs.uncertainty import check_cost
 
-        check_cost(sc, "level3", damper_report.DEFAULT_UNCERTAINTY_POINTS, force)
+        check_cost(sc, "level3", DEFAULT_UNCERTAINTY_POINTS, force)
     if sc.uncertain_inputs():  # its Level III answers (the time of the amplitude) judged
-        from pdamper.io.uncertain import level3_answers
+        from pdamper.runs.uncertainty import level3_answers
 
         level3_answers(sc, "analytic")
     return n_real

@@ -166,7 +166,7 @@ def _release(sc: Scenario, models: dict[str, Any], banded: list[str], n_real: in
         payload["comparison"] = _comparison_payload(aligned, x0, comparisons)
     spread = None
     if uncertainty is not None:
-        from pdamper.io.uncertain import propagate_scenario
+        from pdamper.runs.uncertainty import propagate_scenario
 
         spread = propagate_scenario(sc, "level3", uncertainty, uncertainty_seed)
         payload["uncertainty"] = spread.as_dict()
@@ -181,7 +181,7 @@ def _check_uncertainty(sc: Scenario, uncertainty: int | None, force: bool) -> No
     """``--uncertainty`` checked, and the sampled model refused, before any run."""
     _uncertainty.check(sc, "level3", uncertainty, force)
     if uncertainty is not None:  # the sampled model refused before any run
-        from pdamper.io.uncertain import level3_answers
+        from pdamper.runs.uncertainty import level3_answers
 
         level3_answers(sc)
 
@@ -216,8 +216,10 @@ def _model_names(sc: Scenario, compare: str | None, force: bool) -> list[str]:
         if not names or len(set(names)) != len(names):
             raise InputError("compare", f"expected distinct model names such as "
                              f"'analytic,fields,dem', got {compare!r}")
+        from pdamper.runs.resources import check_resources
+
         for n in names:  # what each compared model implies, before any run
-            sc.check_resources("simulation", n, force)
+            check_resources(sc, "simulation", n, force)
     return names
 
 
@@ -227,7 +229,7 @@ def _realisation_count(sc: Scenario, realisations: str | None,
     ``--uncertainty``."""
     n_real = 1
     if realisations is not None:
-        from pdamper.reports.realisations import parse_count
+        from pdamper.runs.realisations import parse_count
 
         n_real = parse_count(realisations)
     if n_real > 1 and (sc.load.given or uncertainty is not None):
@@ -257,7 +259,7 @@ def _banded_models(sc: Scenario, models: dict[str, Any], n_real: int,
                    force: bool) -> list[str]:
     """The models that get a band of ``n_real`` realisations (the others run once), every
     count and cost judged before any run."""
-    from pdamper.reports.realisations import check_level3_realisations, level3_kind
+    from pdamper.runs.realisations import check_level3_realisations, level3_kind
 
     banded = [n for n, m in models.items() if level3_kind(m) is not None]
     if not banded:
@@ -284,7 +286,7 @@ def _run_models(sc: Scenario, structure: Any, models: dict[str, Any], banded: li
     for n, m in models.items():
         t0 = time.perf_counter()
         if n in banded:
-            from pdamper.reports.realisations import run_level3_realisations
+            from pdamper.runs.realisations import run_level3_realisations
 
             bands[n] = run_level3_realisations(sc, n_real, n, workers=workers, serial=serial,
                                                force=force)

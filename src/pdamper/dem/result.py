@@ -3,8 +3,11 @@
 their JSON report.
 
 Every quantity is SI. The step counts and wall times of a run come in two parts, named
-apart: the excitation (``steps``, ``wall_seconds``) and the settling before it
-(``settle_steps``, ``settle_seconds``); :meth:`DEMResult.summary` adds their totals.
+apart: the excitation (the attributes ``steps``, ``wall_seconds``) and the settling before
+it (``settle_steps``, ``settle_seconds``). In :meth:`DEMResult.summary` (the JSON of
+``pdamper dem`` and the map's diagnostics) the keys ``steps`` and ``wall_seconds`` are the
+whole run, settling included; ``excitation_steps``, ``excitation_wall_seconds`` the
+excitation's.
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from pdamper.analysis.complex_power import ComplexPowerResult
 
 #: The wall-time keys of :meth:`DEMResult.summary` [s]: the only ones that differ between
-#: two runs of the same inputs.
+#: two runs of the same inputs (``wall_seconds``: the whole run, settling included).
 WALL_TIME_KEYS = ("wall_seconds", "excitation_wall_seconds", "settle_seconds",
                   "total_wall_seconds")
 
@@ -312,11 +315,12 @@ class DEMResult:
         what ``pdamper dem --json`` and the map's diagnostics report of a run.
 
         The work of a run comes in two phases, each named: the excitation
-        (``excitation_steps``, ``excitation_wall_seconds``) and the settling before it
-        (``settle_steps``, ``settle_seconds``; 0 when the run started from a
-        :class:`~pdamper.dem.SettledBed`, ``settle_reused``), and their sums
-        ``total_steps``, ``total_wall_seconds``. ``steps`` and ``wall_seconds`` are the
-        excitation's, as the attributes of the same names.
+        (``excitation_steps``, ``excitation_wall_seconds``: the attributes ``steps`` and
+        ``wall_seconds``) and the settling before it (``settle_steps``, ``settle_seconds``;
+        0 when the run started from a :class:`~pdamper.dem.SettledBed`, ``settle_reused``).
+        ``steps`` and ``wall_seconds`` are the whole run, settling included, as everywhere
+        pdamper reports them (a map's diagnostics too); ``total_steps`` and
+        ``total_wall_seconds`` are the same sums under their older names.
 
         Also: ``integrator``, ``simulated_time`` [s], ``stopped_early``, ``time_step`` [s]
         (the last step of velocity Verlet, Gear's first), ``min_step``, ``max_step`` [s],
@@ -327,8 +331,8 @@ class DEMResult:
         steps, settle_steps = int(self.steps), int(self.settle_steps)
         wall, settle_wall = float(self.wall_seconds), float(self.settle_seconds)
         return {
-            "steps": steps,
-            "wall_seconds": wall,
+            "steps": steps + settle_steps,
+            "wall_seconds": wall + settle_wall,
             "excitation_steps": steps,
             "excitation_wall_seconds": wall,
             "settle_steps": settle_steps,
@@ -390,7 +394,10 @@ class DEMResult:
         )
         attrs = {k: (str(val) if isinstance(val, dict | list | tuple) or val is None else val)
                  for k, val in self.attrs.items()}
-        attrs.update(integrator=self.integrator, steps=self.steps, wall_seconds=self.wall_seconds,
+        s = self.summary()  # the step counts and wall times under the summary's meanings
+        attrs.update(integrator=self.integrator,
+                     **{k: s[k] for k in ("steps", "wall_seconds", "excitation_steps",
+                                          "excitation_wall_seconds")},
                      bed_mass_kg=self.bed_mass, particles=len(self.radius),
                      energy_balance_error=self.energy_balance_error(),
                      max_overlap_ratio=self.max_overlap_ratio,

@@ -42,7 +42,7 @@ naming the variable (``optimization.vary.radius``: ``radius=1nm:3mm:4`` is a typ
 landscape to report); a combination of values each within the limits that is outside them
 together (found by the optimiser, say) is an infeasible candidate with the reason.
 The number of values of a variable is judged before they are built (:func:`values_cost`;
-the scenario judges the whole study, :meth:`pdamper.io.scenario.Scenario.check_resources`).
+the scenario's whole study is judged by :func:`pdamper.runs.resources.check_resources`).
 
 Added mass
 ----------

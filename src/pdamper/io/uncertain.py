@@ -1,4 +1,4 @@
-"""Uncertain inputs of a scenario: ``"value +- sd"``, and their propagation to the answers.
+"""Uncertain inputs of a scenario: ``"value +- sd"`` read, and the scenario at a sample.
 
 A scenario value (or a command-line ``--uncertain FIELD=VALUE+-SD``) written as
 ``"0.1 +- 0.03"``, ``"120 mm +- 0.1 mm"`` or ``"0.1 ± 0.03"`` is a nominal value and a
@@ -6,8 +6,9 @@ A scenario value (or a command-line ``--uncertain FIELD=VALUE+-SD``) written as
 and standard deviation, truncated to the field's valid range
 (:class:`pdamper.design.uncertainty.UncertainInput`). Every command uses the nominal value;
 ``--uncertainty N`` (``pdamper analytic``, ``map``, ``simulate``, ``report``)
-samples the inputs (:func:`pdamper.design.uncertainty.propagate`) and reports the spread of
-the answers and which input drives it.
+samples the inputs (:mod:`pdamper.runs.uncertainty`) and reports the spread of the answers
+and which input drives it; :func:`with_values` and :func:`sampled_damper` give the scenario
+and the damper at one sample.
 
 The fields that may carry an uncertainty are those of :data:`UNCERTAIN_FIELDS`; the COR
 fit of a ``[restitution]`` table carries its own (its parameters' covariance,
@@ -15,7 +16,8 @@ fit of a ``[restitution]`` table carries its own (its parameters' covariance,
 not depend on friction or restitution, and their answers show these inputs' Sobol' index 0.
 ``pdamper dem --uncertainty N --uncertain restitution.particle_wall=fit`` samples it
 (:func:`add_fit_inputs`: one input per principal axis of the covariance,
-:class:`pdamper.design.uncertainty.ParameterFit`) through the DEM (:func:`dem_answers`).
+:class:`pdamper.design.uncertainty.ParameterFit`) through the DEM
+(:func:`pdamper.runs.uncertainty.dem_answers`).
 """
 
 from __future__ import annotations
@@ -43,15 +45,6 @@ UNCERTAIN_FIELDS: dict[str, tuple[str, float, float]] = {
     "dem.restitution_pw": ("", 0.0, 1.0),
 }
 _SPLIT = re.compile(r"\s*(?:\+-|\+/-|±)\s*")
-#: Sample rate of the Level III runs of a propagation [Hz]: the peaks are exact in the
-#: pseudo-force coupling (as in the design study); the trajectory is not stored.
-_SAMPLE_RATE = 200.0
-LEVEL2_UNITS = {"loss_factor": "1", "effective_mass_ratio": "1", "effective_mass": "kg",
-                "dissipated_energy_per_cycle": "J"}
-LEVEL3_UNITS = {"amplitude_at": "m", "final_amplitude": "m", "mean_damping_ratio": "1",
-                "envelope": "m"}
-#: Times of the Level III envelope band (from release to the end of the run).
-ENVELOPE_POINTS = 101
 
 
 def is_uncertain(value: Any) -> bool:
@@ -206,205 +199,6 @@ def with_values(scenario, values: dict[str, float]):
         s: getattr(scenario, s).model_copy(update=u) for s, u in sections.items()})
 
 
-def _model_class(scenario, name: str | None):
-    from pdamper.models import get_damper_model
-
-    field = "model" if name is not None else "simulation.model"
-    cls = get_damper_model(scenario.simulation.model if name is None else name, field)
-    if cls.expensive:
-        raise InputError("uncertainty", f"the {cls.fidelity} model is not sampled (N (inputs "
-                         "+ 2) runs of seconds to hours each); use --model analytic or fields")
-    return cls
-
-
-def level2_answers(scenario, model: str | None = None):
-    """``evaluate(values) -> answers`` at ``[excitation]``: loss factor, effective mass
-    (ratio and kg), dissipated energy per cycle (:data:`LEVEL2_UNITS`)."""
-    _model_class(scenario, model or "analytic")
-
-    def evaluate(values: dict[str, float]) -> dict[str, float]:
-        sc = with_values(scenario, values)
-        d = sc.damper()
-        r = sc.model(model or "analytic", d).response(sc.excitation.frequency,
-                                                     sc.excitation.amplitude)
-        return {"loss_factor": float(r.loss_factor),
-                "effective_mass_ratio": float(r.effective_mass_ratio),
-                "effective_mass": float(r.effective_mass),
-                "dissipated_energy_per_cycle": float(r.dissipated_energy_per_cycle)}
-
-    return evaluate
-
-
-def level3_answers(scenario, model: str | None = None):
-    """``evaluate(values) -> answers`` of the free decay of ``[simulation]``: amplitude
-    envelope at ``[optimization] at``, final amplitude, mean damping ratio of the cycles
-    that end by then (Eqs. 24-25; :data:`LEVEL3_UNITS`), and the envelope at
-    :data:`ENVELOPE_POINTS` times from 0 to the duration (``envelope``: its band)."""
-    from pdamper.coupling import Simulation
-    from pdamper.design.study import make_objective
-
-    _model_class(scenario, model)
-    at, duration = scenario.optimization.at, scenario.simulation.duration
-    if at > duration:
-        raise InputError("optimization.at", f"the time of the amplitude ({at:g} s) must be "
-                         f"within the simulated {duration:g} s (simulation.duration)")
-
-    import numpy as np
-
-    times = np.linspace(0.0, duration, ENVELOPE_POINTS)
-
-    def evaluate(values: dict[str, float]) -> dict:
-        sc = with_values(scenario, values)
-        structure = sc.structure_model()
-        x0 = sc.structure.initial_displacement
-        res = Simulation(structure, sc.model(model, sc.damper()), x0).run(duration,
-                                                                           _SAMPLE_RATE)
-        zeta, _ = make_objective("mean-damping", at, x0, structure).evaluate(res)
-        return {"amplitude_at": float(res.amplitude_at(at)),
-                "final_amplitude": float(res.final_amplitude), "mean_damping_ratio": zeta,
-                "envelope": np.array([res.amplitude_at(t) for t in times])}
-
-    return evaluate
-
-
-def map_answers(scenario, model: str = "analytic"):
-    """``evaluate(values) -> answers`` of the Level II map of ``[map]``: the largest and
-    the mean loss factor over the grid (scalars), and the loss factor and effective mass
-    ratio of every cell (arrays: their bands, :data:`MAP_BANDS`)."""
-    _model_class(scenario, model)
-    f, x = scenario.map_grid()
-    counts = scenario.map_particles()
-
-    def evaluate(values: dict[str, float]) -> dict:
-        import numpy as np
-
-        from pdamper.analysis.fields import effective_field
-
-        sc = with_values(scenario, values)
-        ds = effective_field(sc.map_model(model, sc.damper()), f, x, particles=counts)
-        eta = np.asarray(ds["loss_factor"].values, float)
-        return {"max_loss_factor": float(np.nanmax(eta)),
-                "mean_loss_factor": float(np.nanmean(eta)), "loss_factor": eta,
-                "effective_mass_ratio": np.asarray(ds["effective_mass_ratio"].values, float)}
-
-    return evaluate
-
-
-def dem_answers(scenario):
-    """``evaluate(values) -> answers`` of one DEM run at ``[excitation]`` (Level II): loss
-    factor, effective mass ratio and kg, dissipated energy per cycle
-    (:data:`LEVEL2_UNITS`). Every sample runs from the scenario's seed (the same packing):
-    the spread is the inputs', not the packing's (``--realisations`` gives that)."""
-
-    def evaluate(values: dict[str, float]) -> dict[str, float]:
-        sc = with_values(scenario, values)
-        r = sc.model("dem", sampled_damper(scenario, values)).response(
-            sc.excitation.frequency, sc.excitation.amplitude)
-        return {"loss_factor": float(r.loss_factor),
-                "effective_mass_ratio": float(r.effective_mass_ratio),
-                "effective_mass": float(r.effective_mass),
-                "dissipated_energy_per_cycle": float(r.dissipated_energy_per_cycle)}
-
-    return evaluate
-
-
-def dem_point(params: dict, *, scenario) -> dict:
-    """One sample of :func:`dem_answers` on a sweep worker (``params``: the sample)."""
-    return dem_answers(scenario)(params)
-
-
-def dem_batch(scenario, *, workers: int | None = None, serial: bool = False, progress=None):
-    """``batch(points) -> answers`` of :func:`dem_answers` on the sweep engine
-    (:func:`pdamper.sweep.run_sweep`: a local cluster of ``workers`` processes, default
-    every core, or ``serial`` in this process): the DEM runs of a propagation in
-    parallel (:func:`pdamper.design.uncertainty.propagate`'s ``batch``)."""
-    import functools
-
-    def batch(points: list[dict]) -> list[dict]:
-        from pdamper.sweep import run_sweep
-
-        res = run_sweep(functools.partial(dem_point, scenario=scenario), points, retries=0,
-                        workers=workers, serial=serial,
-                        progress=None if progress is None else
-                        (lambda done, total, _p: progress(done, total)))
-        bad = [p for p in res.points if not p.ok]
-        if bad:
-            shown = ", ".join(f"{k} = {v:.6g}" for k, v in bad[0].params.items())
-            raise InputError("uncertainty", f"the DEM run of the sample {shown} failed: "
-                             f"{bad[0].error}")
-        return [p.values for p in res.points]
-
-    return batch
-
-
-#: The map's answers whose bands become variables of its NetCDF file.
-MAP_BANDS = ("loss_factor", "effective_mass_ratio")
-MAP_UNITS = {"max_loss_factor": "1", "mean_loss_factor": "1", "loss_factor": "1",
-             "effective_mass_ratio": "1"}
-
-
-def check_cost(scenario, level: str, n: int, force: bool = False) -> None:
-    """Refuse a propagation whose ``n (d + 2) + 1`` runs exceed the limits of
-    :mod:`pdamper.resources`."""
-    from pdamper import resources
-
-    d = len(scenario.uncertain_inputs())
-    runs = n * (d + 2) + 1
-    if level == "map":
-        (_, _, nf), (_, _, nx) = scenario.map_ranges()
-        counts = scenario.map_particles()
-        one = resources.analytic_map_cost(float(nf) * nx * (1 if counts is None
-                                                            else counts.size))
-    elif level == "dem":  # N (d + 2) + 1 DEM runs at the excitation, one after another
-        one = scenario.excitation_cost("dem")
-    elif level == "level3":
-        one = resources.pseudo_force_cost(scenario.simulation.duration, _SAMPLE_RATE,
-                                          scenario.structure_model().natural_frequency)
-    else:
-        one = resources.analytic_map_cost(1.0)
-    resources.require(resources.Cost(
-        "the uncertainty propagation", one.seconds * runs, one.memory,
-        f"{runs} runs, each {one.detail}", (("uncertainty", n / 64),), runs=runs,
-        longest=one.seconds), force)
-
-
-def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str | None = None,
-                       progress=None, batch=None):
-    """Propagate the scenario's uncertain inputs to its ``"level2"``, ``"map"`` or
-    ``"level3"`` answers with ``n`` base points (:func:`pdamper.design.uncertainty.propagate`). A
-    sample the models refuse is an error naming its field and the sample."""
-    from pdamper.design.uncertainty import check_points, propagate
-
-    check_points(n)
-    inputs = scenario.uncertain_inputs()
-    if level == "level2":
-        evaluate, units = level2_answers(scenario, model), LEVEL2_UNITS
-    elif level == "map":
-        evaluate, units = map_answers(scenario, model or "analytic"), MAP_UNITS
-    elif level == "dem":
-        evaluate, units = dem_answers(scenario), LEVEL2_UNITS
-    else:
-        evaluate, units = level3_answers(scenario, model), LEVEL3_UNITS
-
-    def checked(values):
-        try:
-            return evaluate(values)
-        except InputError as exc:
-            shown = ", ".join(f"{k} = {v:.6g}" for k, v in values.items())
-            hint = " (narrow the standard deviations)" if exc.field in values else ""
-            raise InputError(exc.field, f"at the uncertainty sample {shown}: "
-                             f"{exc.message}{hint}") from None
-
-    result = propagate(checked, inputs, n, seed, units=units, progress=progress, batch=batch)
-    if "envelope" in result.bands:  # its times: release to the end of the run [s]
-        import numpy as np
-
-        result.bands["envelope"]["time"] = np.linspace(0.0, scenario.simulation.duration,
-                                                       ENVELOPE_POINTS)
-    return result
-
-
-__all__ = ["FIT_VALUE", "MAP_BANDS", "UNCERTAIN_FIELDS", "add_fit_inputs", "check_cost",
-           "dem_answers", "dem_batch", "dem_point", "extract_uncertain", "fit_uncertainty", "is_uncertain",
-           "level2_answers", "level3_answers", "map_answers", "parse_uncertain",
-           "propagate_scenario", "sampled_damper", "with_values"]
+__all__ = ["FIT_VALUE", "UNCERTAIN_FIELDS", "add_fit_inputs", "extract_uncertain",
+           "fit_uncertainty", "is_uncertain", "parse_uncertain", "sampled_damper",
+           "with_values"]

@@ -743,7 +743,7 @@ DEMDamper.__init__.__signature__ = inspect.Signature([  # type: ignore[attr-defi
 
 
 #: The keys of :meth:`DEMResult.summary <pdamper.dem.DEMResult.summary>` among a point's
-#: diagnostics (besides ``wall_seconds`` and ``steps``, which are the totals there).
+#: diagnostics (besides ``wall_seconds`` and ``steps``: the whole run, as in the summary).
 #: (The wall times beside ``wall_seconds`` stay out: a map's points are compared and
 #: reused without their timings.)
 RUN_KEYS = ("total_steps", "excitation_steps", "settle_steps", "energy_balance_error",
@@ -754,9 +754,9 @@ def point_diagnostics(run: SteadyRun) -> dict:
     """The per-point diagnostics of a Level II run, as plain values (SI units).
 
     The run's keys come from :meth:`DEMResult.summary <pdamper.dem.DEMResult.summary>`:
-    ``wall_seconds`` [s] and ``steps`` are the point's whole run, settling included (the
-    same as ``total_wall_seconds`` and ``total_steps``; ``pdamper dem --json`` reports
-    the excitation's under these two names), ``total_steps``, ``excitation_steps``,
+    ``wall_seconds`` [s] and ``steps`` are the point's whole run, settling included (as in
+    ``pdamper dem --json``; the same as ``total_wall_seconds`` and ``total_steps``),
+    ``total_steps``, ``excitation_steps``,
     ``settle_steps`` (0 for a point that started from a bed settled once for the map),
     ``energy_balance_error`` [-],
     ``max_overlap_ratio`` [-] (largest overlap / radius), ``max_impact_velocity`` [m/s]
@@ -778,9 +778,9 @@ def point_diagnostics(run: SteadyRun) -> dict:
     res, st, mo = run.result, run.stationarity, run.motion
     s = res.summary()
     return {
-        # a map point's work, settling included (its long-standing meaning here)
-        "wall_seconds": s["total_wall_seconds"],
-        "steps": s["total_steps"],
+        # a map point's work, settling included (the summary's meaning of the two keys)
+        "wall_seconds": s["wall_seconds"],
+        "steps": s["steps"],
         **{k: s[k] for k in RUN_KEYS},
         "random_packing": int(run.packing == "random"),
         "cycles": int(st.cycles),

@@ -22,7 +22,7 @@ if TYPE_CHECKING:
 
 class _Band(Protocol):
     """What the band figures read of N realisations of one run (a
-    :class:`~pdamper.reports.realisations.Level3Band`)."""
+    :class:`~pdamper.runs.realisations.Level3Band`)."""
 
     model: str
     at: float
@@ -274,7 +274,7 @@ def plot_trajectory_band(band: _Band, ax: Axes | None = None, label: str | None 
     sampled trajectories as a line, their pointwise min-max shaded, and the amplitude at
     ``band.at`` as a point with its min-max bar (drawn at -X, on the negative peaks' side).
 
-    ``band``: a :class:`~pdamper.reports.realisations.Level3Band` (``trajectory()``,
+    ``band``: a :class:`~pdamper.runs.realisations.Level3Band` (``trajectory()``,
     ``amplitude_at()``, ``at``, ``count``).
     """
     ax = _axes(ax)

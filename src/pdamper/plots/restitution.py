@@ -119,7 +119,7 @@ def plot_cor_sensitivity(study, ax=None, quantity: str = "loss_factor"):
     Parameters
     ----------
     study
-        :class:`pdamper.reports.cor_sensitivity.CORSensitivity`.
+        :class:`pdamper.runs.cor_sensitivity.CORSensitivity`.
     """
     ax = _axes(ax)
     ds = study.level2

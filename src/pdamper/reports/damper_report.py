@@ -1,21 +1,8 @@
 """A report of the user's own damper: one self-contained ``report.html`` for any scenario.
 
-:func:`run_damper_report` computes, from one :class:`~pdamper.io.scenario.Scenario`:
-
-- Level II: the analytical map (loss factor, effective mass, motion mode) over ``[map]``
-  and, when asked (``dem=True``), the DEM map on ``[map] dem_frequency x dem_amplitude``
-  (the sweep engine, cached in the output directory as ``pdamper paper`` does);
-- Level III: the structure's free decay (``[structure]``, one DOF or N modes) with the
-  models compared: the analytical formulas (model 3), the effective fields (model 2: the
-  scenario's ``[fields] file``, else the analytical map, clamped at its edges) and, with
-  ``dem=True``, the DEM (model 1);
-- the design landscape of ``[optimization]`` (its ``vary``, or the particle-count study)
-  with the analytical model, with the Pareto front of added mass against the objective, the
-  best design and the lightest within the tolerance;
-- the spread of the Level II and III answers under the inputs given as ``"value +- sd"``
-  (:mod:`pdamper.io.uncertain`), when the scenario has any;
-- the run time of each step, the version and the seeds.
-
+What the report shows is computed by :func:`pdamper.runs.damper_report.run_damper_report`
+(the maps, the free decays, the forced response, the design landscape, the uncertainty
+and the realisations of one scenario); :func:`figures` draws it, and
 :func:`write_damper_report` writes ``report.html`` (the look of ``pdamper paper``'s page,
 :mod:`pdamper.reports.html`) and ``results.json``. :func:`merge_sections` is where further
 sections (the forced response, realisation bands) join the page.
@@ -23,113 +10,19 @@ sections (the forced response, realisation bands) join the page.
 
 from __future__ import annotations
 
-import functools
 import io
 import json
-import time
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pdamper.reports.html import _STYLE, ReportFigure, _e, _img, _table
+from pdamper.runs.damper_report import DamperReport, _timed
 
 if TYPE_CHECKING:  # pragma: no cover
-    import xarray as xr
     from matplotlib.figure import Figure
-
-    from pdamper.coupling.results import FreeVibrationResult
-    from pdamper.damper import ParticleDamper
-    from pdamper.design.study import DesignStudyResult
-    from pdamper.io.scenario import Scenario
-
-#: Base points of the report's uncertainty propagation (a power of two; N (d + 2) runs).
-DEFAULT_UNCERTAINTY_POINTS = 32
-
-
-@dataclass
-class DamperReport:
-    """What :func:`run_damper_report` computed."""
-
-    title: str
-    version: str
-    inputs: dict
-    damper: ParticleDamper | None = None
-    structure: object = None
-    level2_map: xr.Dataset | None = None  # analytical
-    dem_map: xr.Dataset | None = None  # DEM, or None
-    runs: dict = field(default_factory=dict)  # label -> FreeVibrationResult
-    sources: dict = field(default_factory=dict)  # label -> what the model rests on
-    empty: FreeVibrationResult | None = None  # run without particles
-    study: DesignStudyResult | None = None
-    study_model: str = "analytic"
-    uncertainty: dict = field(default_factory=dict)  # "level2"/"level3" -> result
-    timings: dict = field(default_factory=dict)
-    seeds: dict = field(default_factory=dict)
-    at: float = 0.0
-    figures: list = field(default_factory=list)
-    uncertain: tuple = ()  # the scenario's "value +- sd" inputs
-    forced: dict = field(default_factory=dict)  # label -> FRFResult (harmonic balance)
-    forced_load: Any = None  # the HarmonicLoad of the forced response
-    band: Any = None  # Level3Band of the DEM's realisations (with dem and realisations)
-
-    def models(self) -> list[dict]:
-        """One row per Level III run: label, model, source, amplitude at ``at``, final
-        amplitude, wall time."""
-        out = []
-        for label, run in self.runs.items():
-            reached = run.time[-1] >= self.at * (1.0 - 1e-9)
-            out.append({"label": label, "model": run.model, "source": self.sources[label],
-                        "amplitude_at": run.amplitude_at(self.at) if reached else None,
-                        "final_amplitude": run.final_amplitude,
-                        "seconds": self.timings.get(f"Level III: {label}")})
-        return out
-
-    def forced_summary(self) -> dict | None:
-        """The forced response in brief: the load and, per model, the largest steady
-        amplitude of the output point and its frequency (harmonic balance, every stable
-        branch), next to the structure's without particles."""
-        if not self.forced:
-            return None
-        out: dict[str, Any] = {"load": self.forced_load.as_dict(), "models": {}}
-        for label, r in self.forced.items():
-            f = r.frequency
-            hb = r.harmonic_balance
-            # the largest stable solution per frequency (-inf where there is none)
-            best = np.max(np.where(hb.steady & np.isfinite(hb.amplitude), hb.amplitude,
-                                   -np.inf), axis=1)
-            i = int(np.argmax(best))
-            lin = np.abs(r.linear)
-            j = int(np.argmax(lin))
-            out["models"][label] = {
-                "peak_amplitude": float(best[i]) if np.isfinite(best[i]) else None,
-                "peak_frequency": float(f[i]) if np.isfinite(best[i]) else None,
-                "several_solutions": bool((np.isin(hb.branch, ("stable", "unstable"))
-                                           .sum(axis=1) > 1).any()),
-                "frequency_range": [float(f[0]), float(f[-1])], "points": int(f.size)}
-            out["no_particles"] = {"peak_amplitude": float(lin[j]),
-                                   "peak_frequency": float(f[j])}
-        out["units"] = {"peak_amplitude": "m", "peak_frequency": "Hz"}
-        return out
-
-    def as_dict(self) -> dict:
-        return {"title": self.title, "version": self.version, "seeds": self.seeds,
-                "at": self.at, "models": self.models(), "timings": self.timings,
-                "design_study": None if self.study is None else
-                {**self.study.as_dict(), "model": self.study_model},
-                "uncertainty": {k: v.as_dict() for k, v in self.uncertainty.items()},
-                "forced_response": self.forced_summary(),
-                "realisations": None if self.band is None else self.band.as_dict(),
-                "figures": [f.name for f in self.figures], "inputs": self.inputs}
-
-
-def _timed(rep: DamperReport, key: str, fn: Callable[..., Any]) -> Any:
-    t0 = time.perf_counter()
-    out = fn()
-    rep.timings[key] = time.perf_counter() - t0
-    return out
 
 
 def _png(fig) -> bytes:
@@ -143,185 +36,6 @@ def _one_count(ds, count: int):
     if "particles" in ds.dims:
         return ds.sel(particles=count, method="nearest")
     return ds
-
-
-def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int | None = None,
-                      uncertainty_seed: int = 0, out: Path | None = None,
-                      realisations: int | None = None,
-                      progress: Callable[[str], None] | None = None,
-                      **sweep_options: Any) -> DamperReport:
-    """Compute the report of ``scenario`` (module docstring).
-
-    Parameters
-    ----------
-    scenario
-        The :class:`~pdamper.io.scenario.Scenario` (its resources judged by the caller).
-    dem
-        Add the DEM: its Level II map and Level III model 1.
-    uncertainty
-        Base points of the propagation of the ``"value +- sd"`` inputs (default
-        :data:`DEFAULT_UNCERTAINTY_POINTS` when the scenario has any; none without).
-    uncertainty_seed
-        Seed of its Sobol' sequence.
-    realisations
-        With ``dem``: also run DEM model 1 from this many random packings (seeds
-        ``dem.seed + k``) and show their band (:class:`~pdamper.reports.realisations.
-        Level3Band`).
-    out
-        Directory of the DEM map's cache.
-    sweep_options
-        ``workers``, ``scheduler`` of the DEM map.
-    """
-    from pdamper import __version__
-    from pdamper.coupling import Simulation
-    from pdamper.models import AnalyticalDamper
-    from pdamper.reports.maps import run_map
-
-    sc = scenario
-    say = progress or (lambda _m: None)
-    damper, structure = sc.damper(), sc.structure_model()
-    x0, duration = sc.structure.initial_displacement, sc.simulation.duration
-    rep = DamperReport(sc.title, __version__, sc.model_dump(mode="json"), damper, structure,
-                       at=min(sc.optimization.at, duration))
-    rep.seeds = {"dem.seed": sc.dem.seed, "optimization.seed": sc.optimization.seed}
-    rep.uncertain = sc.uncertain_inputs()
-
-    say("Level II: analytical map")
-    rep.level2_map = _timed(rep, "Level II: analytical map",
-                            lambda: run_map(sc, "analytic").dataset)
-    if dem:
-        from pdamper.dem import warmup
-
-        say("compiling the DEM kernels (first run only, then cached)")
-        _timed(rep, "DEM kernels", lambda: warmup((sc.dem.integrator,)))
-        f, x = sc.dem_map_grid()
-        say(f"Level II: DEM map {len(f)} x {len(x)}")
-        target = None if out is None else Path(out) / "dem_map.nc"
-        rep.dem_map = _timed(rep, "Level II: DEM map", lambda: run_map(
-            sc, "dem", frequency=f, amplitude=x, particles=np.array([damper.count]),
-            out=target, cache=True, **sweep_options).dataset)
-
-    gravity = sc.excitation.gravity
-    models = level3_models(sc, damper, dem)
-    for label, (model, source) in models.items():
-        say(f"Level III: {label}")
-        rep.runs[label] = _timed(rep, f"Level III: {label}", lambda m=model: Simulation(
-            structure, m, x0).run(duration, sc.simulation.sample_rate))
-        rep.sources[label] = source
-    rep.empty = _timed(rep, "Level III: no particles", lambda: Simulation(
-        structure, AnalyticalDamper(damper.with_count(0), gravity=gravity), x0).run(
-        duration, sc.simulation.sample_rate))
-
-    say("forced response (harmonic balance)")
-    _timed(rep, "forced response", lambda: forced_response(rep, models, structure, x0))
-    if dem and realisations is not None and realisations > 1:
-        from pdamper.reports.realisations import run_level3_realisations
-
-        say(f"Level III: DEM model 1, {realisations} realisations")
-        rep.band = _timed(rep, "Level III: DEM realisations", lambda: run_level3_realisations(
-            sc, realisations, "dem", **sweep_options))
-        rep.seeds["realisation_seeds"] = rep.band.seeds
-
-    say("design landscape")
-    rep.study = _timed(rep, "design study", lambda: design_study(sc, damper, structure))
-
-    if sc.uncertain_inputs():
-        from pdamper.io.uncertain import propagate_scenario
-
-        n = DEFAULT_UNCERTAINTY_POINTS if uncertainty is None else uncertainty
-        rep.seeds["uncertainty_seed"] = uncertainty_seed
-        for level in ("level2", "level3"):
-            say(f"uncertainty: {level}")
-            rep.uncertainty[level] = _timed(
-                rep, f"uncertainty ({level})", lambda lv=level: propagate_scenario(
-                    sc, lv, n, uncertainty_seed, model="analytic"))
-    say("figures")
-    rep.figures = _timed(rep, "figures", lambda: figures(rep))
-    return rep
-
-
-#: Frequencies of the report's forced response, over (1 -+ FORCED_SPAN) x the structure's
-#: first natural frequency.
-FORCED_POINTS = 81
-FORCED_SPAN = 0.4
-
-
-def forced_load(structure: Any, x0: float) -> Any:
-    """The harmonic force of the report's forced response: the amplitude [N] that drives
-    the structure without particles, at its first natural frequency, to the release
-    amplitude ``|x0|`` (so that the damper works in the range of strokes of the free
-    decay)."""
-    from pdamper.coupling.frf import HarmonicLoad, linear_frf
-
-    f_n = float(structure.natural_frequency)
-    unit = abs(complex(linear_frf(structure, HarmonicLoad("force", 1.0), [f_n])[0]))
-    return HarmonicLoad("force", abs(x0) / unit)
-
-
-def forced_response(rep: DamperReport, models: dict, structure: Any, x0: float) -> None:
-    """Harmonic balance of every report model that has one (the pseudo-force coupling:
-    the analytical formulas and the effective fields) under :func:`forced_load`, over
-    :data:`FORCED_POINTS` frequencies around the first natural frequency; into
-    ``rep.forced`` and ``rep.forced_load``."""
-    from pdamper.coupling.frf import HARMONIC_BALANCE, frequency_response
-
-    load = forced_load(structure, x0)
-    f_n = float(structure.natural_frequency)
-    f = np.linspace((1.0 - FORCED_SPAN) * f_n, (1.0 + FORCED_SPAN) * f_n, FORCED_POINTS)
-    rep.forced_load = load
-    for label, (model, _source) in models.items():
-        if model.coupling in HARMONIC_BALANCE:
-            rep.forced[label] = frequency_response(model, structure, load, f, sweep="none")
-
-
-def level3_models(sc: Scenario, damper: ParticleDamper, dem: bool) -> dict[str, tuple]:
-    """The report's Level III models, ``label -> (model, what its data rest on)``: the
-    analytical formulas, the effective fields (the scenario's map file, else the analytical
-    map of ``[map]``, clamped) and, with ``dem``, the DEM co-simulation."""
-    from pdamper.models import EffectiveFieldDamper
-
-    models = {"analytical formulas (model 3)": (sc.model("analytic", damper), "Eqs. 5-22")}
-    if sc.fields.file is not None:
-        models["effective fields (model 2)"] = (sc.model("fields", damper),
-                                                f"map {sc.fields.file}")
-    else:
-        f, x = sc.map_grid()
-        fmap = effective_field_map(damper, f, x, sc.excitation.gravity)
-        opts = {**sc.fields.options(), "file": None, "extrapolation": "clamp"}
-        models["effective fields (model 2)"] = (
-            EffectiveFieldDamper(damper, field=fmap, **opts),
-            "analytical map of [map], clamped at its edges")
-    if dem:
-        models["DEM (model 1)"] = (sc.model("dem", damper), "DEM co-simulation")
-    return models
-
-
-def effective_field_map(damper: ParticleDamper, frequency: np.ndarray, amplitude: np.ndarray,
-                        gravity: float) -> xr.Dataset:
-    """The analytical map of ``damper`` on a grid: model 2's fields without a map file."""
-    from pdamper.analysis.fields import effective_field
-    from pdamper.models import AnalyticalDamper
-
-    return effective_field(AnalyticalDamper(damper, gravity=gravity), frequency, amplitude)
-
-
-def design_study(sc: Scenario, damper: ParticleDamper, structure: Any) -> DesignStudyResult:
-    """The design study of ``[optimization]`` (its ``vary``, or the particle count in
-    whole layers) with the analytical model, in-process."""
-    from pdamper.design.study import DesignVariable, optimize_design
-
-    o = sc.optimization
-    variables = o.variables()
-    if not variables:
-        step = damper.per_layer if o.step is None else o.step
-        counts = tuple(range(0, damper.max_count, step))
-        variables = [DesignVariable("particles", counts,
-                                    spec=f"particles={counts[0]}:{counts[-1]}:{step}")]
-    return optimize_design(structure, damper, sc.structure.initial_displacement, variables,
-                           o.objective, o.at, model=functools.partial(sc.model, "analytic"),
-                           threshold=o.threshold, method=o.method, max_grid=o.max_grid,
-                           max_evaluations=o.max_evaluations, seed=o.seed, workers=0,
-                           tolerance=o.tolerance)
 
 
 def figures(rep: DamperReport) -> list[ReportFigure]:
@@ -644,9 +358,12 @@ def _structure_text(s) -> str:
 
 
 def write_damper_report(rep: DamperReport, out: Path, extra: Sequence[str] = ()) -> list[Path]:
-    """Write ``report.html`` and ``results.json`` under ``out``; returns the paths."""
+    """Write ``report.html`` and ``results.json`` under ``out``; returns the paths. The
+    figures are made first, unless ``rep`` has them (their time under ``"figures"``)."""
     from pdamper.files import atomic_write_text
 
+    if not rep.figures:
+        rep.figures = _timed(rep, "figures", lambda: figures(rep))
     out = Path(out)
     page = render_damper_report(rep, extra or merge_sections())
     html_path = atomic_write_text(out / "report.html", page, "out")
@@ -675,5 +392,5 @@ def _json_default(o):
     raise TypeError(f"not JSON serialisable: {type(o)}")
 
 
-__all__ = ["DEFAULT_UNCERTAINTY_POINTS", "DamperReport", "merge_sections",
-           "render_damper_report", "run_damper_report", "write_damper_report"]
+__all__ = ["figures", "merge_sections", "render_damper_report", "uncertainty_figure",
+           "write_damper_report"]

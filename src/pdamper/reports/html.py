@@ -79,7 +79,7 @@ def render_report(*, title: str, version: str, rows: Sequence, figures: Sequence
         pdamper version.
     rows
         The comparison rows (``quantity``, ``paper``, ``ours``, ``agrees``, ``source``,
-        ``note`` attributes), e.g. :class:`pdamper.reports.paper_case_study.Row`.
+        ``note`` attributes), e.g. :class:`pdamper.runs.paper_case_study.Row`.
     figures
         The figures, in order.
     models

@@ -1,4 +1,4 @@
-"""The Python API of DEM realisations (``pdamper.reports.realisations``)."""
+"""The Python API of DEM realisations (``pdamper.runs.realisations``)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import pytest
 
 from pdamper.errors import InputError
 from pdamper.io.scenario import load_scenario
-from pdamper.reports.realisations import check_realisations, run_realisations, with_seed
+from pdamper.runs.realisations import check_realisations, run_realisations, with_seed
 
 _SHORT = {"particles.count": 8, "dem.cycles": 2, "dem.skip_cycles": 1,
           "dem.packing": "random", "dem.seed": 3}
@@ -54,7 +54,8 @@ def test_case_study_draws_dem_model1_as_a_band(tmp_path):
     import json
 
     from pdamper.coupling import Simulation
-    from pdamper.reports.paper_case_study import run_case_study, write_case_study
+    from pdamper.reports.paper_case_study import write_case_study
+    from pdamper.runs.paper_case_study import run_case_study
 
     sc = load_scenario(None, {"simulation.duration": "0.8 s", "map.frequency": "5Hz:10Hz:2",
                               "map.amplitude": "10mm:50mm:2", "map.dem_frequency": "10Hz",

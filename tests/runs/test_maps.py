@@ -1,10 +1,10 @@
-"""pdamper.reports.maps: the cached maps of ``pdamper paper`` and ``pdamper map``."""
+"""pdamper.runs.maps: the cached maps of ``pdamper paper`` and ``pdamper map``."""
 
 import numpy as np
 
 import pdamper._version
 from pdamper.io.scenario import Scenario
-from pdamper.reports.maps import map_context, run_map
+from pdamper.runs.maps import map_context, run_map
 
 
 def test_a_cached_map_is_reused_only_by_the_code_that_made_it(tmp_path, monkeypatch):

@@ -19,7 +19,7 @@ seed, and every realisation can be run again on its own with that seed.
 Example::
 
     from pdamper.io.scenario import load_scenario
-    from pdamper.reports.realisations import run_realisations
+    from pdamper.runs.realisations import run_realisations
 
     sc = load_scenario(None, {"dem.packing": "random", "particles.count": 16})
     res = run_realisations(sc, 5, serial=True)
@@ -40,6 +40,7 @@ import numpy as np
 
 from pdamper import resources
 from pdamper.errors import InputError
+from pdamper.runs.resources import check_resources, excitation_cost
 
 if TYPE_CHECKING:
     from pathlib import Path
@@ -53,7 +54,7 @@ if TYPE_CHECKING:
     from pdamper.models.base import DamperModel, DamperResponse
     from pdamper.models.dem import DEMDamper
     from pdamper.models.fields import EffectiveFieldDamper
-    from pdamper.reports.maps import MapRun
+    from pdamper.runs.maps import MapRun
 
 #: The quantities whose spread over the realisations is reported.
 SPREAD_KEYS = ("loss_factor", "effective_mass_ratio")
@@ -67,8 +68,10 @@ def run_summary(model: DEMDamper, response: DamperResponse) -> dict:
     loss factor, effective mass ratio, dissipated energy per cycle [J], energy ledger [J],
     stationarity, motion mode and the run's diagnostics (SI units): the keys of
     :meth:`DEMResult.summary <pdamper.dem.DEMResult.summary>` (``steps`` and
-    ``wall_seconds`` are the excitation's; ``settle_steps``, ``settle_seconds`` the
-    settling's; ``total_steps``, ``total_wall_seconds`` both)."""
+    ``wall_seconds`` are the whole run, settling included, as in a map's diagnostics;
+    ``excitation_steps``, ``excitation_wall_seconds`` the excitation's; ``settle_steps``,
+    ``settle_seconds`` the settling's; ``total_steps``, ``total_wall_seconds`` the same
+    sums as ``steps``, ``wall_seconds``)."""
     r = response
     res = r.details.item()
     st = r.diagnostics["stationarity"].item()
@@ -146,7 +149,7 @@ def check_realisations(count: Any, scenario: Scenario | None = None, *,
     if n == 1 or scenario is None:
         return n
     # the count is judged before any run: N runs of one DEM run's cost each
-    one = scenario.excitation_cost("dem")
+    one = excitation_cost(scenario, "dem")
     assert one is not None  # the DEM states what a run costs
     resources.require(resources.Cost(
         "the realisations", one.seconds * n, one.memory,
@@ -251,9 +254,10 @@ def spread(values: ArrayLike) -> dict:
 
 
 def _scaled_check(scenario, run: str, model: str | None, n: int, force: bool) -> None:
-    """The cost check of ``scenario.check_resources(run, model)`` for ``n`` runs of it:
-    every time cost it implies, ``n`` times over (memory is per run: one at a time per
-    worker); the driver ``realisations`` is named when the count is what inflates it."""
+    """The cost check of :func:`~pdamper.runs.resources.check_resources` of ``run`` with
+    ``model`` for ``n`` runs of it: every time cost it implies, ``n`` times over (memory is
+    per run: one at a time per worker); the driver ``realisations`` is named when the
+    count is what inflates it."""
     def require(cost, force_=False):
         if cost.seconds > 0:
             cost = resources.Cost(
@@ -265,7 +269,7 @@ def _scaled_check(scenario, run: str, model: str | None, n: int, force: bool) ->
                 remedy="ask for fewer realisations" if n > USUAL_REALISATIONS else cost.remedy)
         return resources.require(cost, force_)
 
-    scenario.check_resources(run, model, force, require=require)
+    check_resources(scenario, run, model, force, require=require)
 
 
 def _need_random(model, n: int) -> None:
@@ -410,19 +414,19 @@ def run_map_realisations(scenario: Scenario, model_name: str, count: int, *,
                          particles: ArrayLike | None = None, out: Path | None = None,
                          keep_partial: bool = False, progress: Callable | None = None,
                          force: bool = False, **sweep_options: Any) -> MapRun:
-    """The map of :func:`pdamper.reports.maps.run_map` from ``count`` realisations
+    """The map of :func:`pdamper.runs.maps.run_map` from ``count`` realisations
     (seeds ``dem.seed + k``), combined by :func:`combine_realisations`.
 
     Each realisation is a map on the sweep engine; the realisations share one dask cluster
     and, with ``out``, one ``<out>.partial/`` store (a point's key holds the scenario, its
     seed included, so a stopped run started again computes only the missing points of
-    every realisation). Returns a :class:`~pdamper.reports.maps.MapRun` whose counts are
+    every realisation). Returns a :class:`~pdamper.runs.maps.MapRun` whose counts are
     over every realisation's points.
     """
     import time
 
     from pdamper.files import atomic_write_netcdf
-    from pdamper.reports.maps import (
+    from pdamper.runs.maps import (
         MapRun,
         map_axes,
         map_context,
@@ -472,11 +476,11 @@ def run_map_realisations(scenario: Scenario, model_name: str, count: int, *,
 
 
 def _map_points(scenario, model_name, f, x, particles, store, progress, opts):
-    """One realisation's map on the sweep engine (as :func:`pdamper.reports.maps.run_map`
+    """One realisation's map on the sweep engine (as :func:`pdamper.runs.maps.run_map`
     computes a DEM map), its points kept in ``store``; ``(dataset, sweep)``."""
     from pdamper import __version__
     from pdamper.analysis.fields import sweep_field
-    from pdamper.reports.maps import _retry_if, map_context
+    from pdamper.runs.maps import _retry_if, map_context
 
     model = scenario.map_model(model_name)
     context = map_context(scenario.for_map(), model_name)

@@ -1,0 +1,82 @@
+"""The structure a scenario describes (``[structure]``): the 1-DOF of Eq. (23), N modes
+from a CSV file (:mod:`pdamper.io.modes`) or the Timoshenko cantilever of Sect. 4.1 with a
+tip mass, reduced to its first bending modes.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from pdamper.errors import InputError
+from pdamper.parameters import vertical_dampers_paper as paper
+
+if TYPE_CHECKING:  # pragma: no cover
+    from pdamper.io.scenario import BeamSpec, Scenario
+    from pdamper.structure import SingleDOFStructure
+    from pdamper.structure.modal import ModalStructure
+
+#: The paper's beam (Sect. 4.1): the defaults of ``[structure] beam``.
+_BEAM, _ = paper.paper_beam()
+
+
+def structure_model(sc: Scenario) -> SingleDOFStructure | ModalStructure:
+    """The :class:`~pdamper.structure.SingleDOFStructure` of Eq. (23) (M defaults to the
+    paper's, see :mod:`pdamper.parameters.vertical_dampers_paper`), or the
+    :class:`~pdamper.structure.modal.ModalStructure` of ``[structure] modes`` or
+    ``beam``."""
+    from pdamper.structure import SingleDOFStructure
+
+    s = sc.structure
+    if s.modes is not None:
+        from pdamper.io.modes import read_modes
+
+        return read_modes(s.modes)
+    if s.beam is not None:
+        return beam_structure(s.beam)
+    return SingleDOFStructure(mass=paper.PAPER_MASS if s.mass is None else s.mass,
+                              damping=s.damping, stiffness=s.stiffness)
+
+
+def beam_structure(spec: BeamSpec) -> ModalStructure:
+    """The :class:`~pdamper.structure.modal.ModalStructure` of ``[structure] beam``: the
+    Timoshenko beam (:class:`~pdamper.structure.beam.TimoshenkoBeam`, default the paper's)
+    with its tip mass, damper and release at ``damper_position``, results at
+    ``observation_position`` (both default the tip; positions [m] from the clamp)."""
+    from pdamper.io.scenario import _material
+    from pdamper.structure.beam import TimoshenkoBeam, TipMass
+    from pdamper.structure.modal import ModalStructure
+
+    if spec.material is not None:
+        m = _material(spec.material, "structure.beam.material")
+        e, nu, rho = m.youngs_modulus, m.poisson_ratio, m.density
+    else:
+        e, nu, rho = (_BEAM.youngs_modulus if spec.youngs_modulus is None
+                      else spec.youngs_modulus,
+                      _BEAM.poisson_ratio if spec.poisson_ratio is None
+                      else spec.poisson_ratio,
+                      _BEAM.density if spec.density is None else spec.density)
+    zeta = spec.damping_ratio
+    if isinstance(zeta, list) and len(zeta) != spec.modes:
+        raise InputError("structure.beam.damping_ratio", f"must be one ratio or one per "
+                         f"mode ({spec.modes}), got {len(zeta)}")
+    pos = {}
+    for key in ("damper_position", "observation_position"):
+        v = getattr(spec, key)
+        if v is not None and v > spec.length * (1.0 + 1e-12):
+            raise InputError(f"structure.beam.{key}", f"must be in (0, {spec.length:g}] m "
+                             f"(the beam's length), got {v:g} m")
+        # "700 mm" is 0.7000000000000001 m: the tip of a 0.7 m beam, not beyond it
+        pos[key] = None if v is None else min(v, spec.length)
+    try:
+        beam = TimoshenkoBeam(length=spec.length, width=spec.width, height=spec.height,
+                              youngs_modulus=e, poisson_ratio=nu, density=rho,
+                              shear_coefficient=spec.shear_coefficient,
+                              elements=spec.elements)
+        return ModalStructure.from_beam(
+            beam, TipMass(spec.tip_mass), spec.modes,
+            damper_position=pos["damper_position"],
+            output_position=pos["observation_position"],
+            release_position=pos["damper_position"], damping_ratio=zeta)
+    except InputError as exc:
+        field = exc.field.removeprefix("beam.").removeprefix("structure.")
+        raise InputError(f"structure.beam.{field}", exc.message) from None

@@ -1,0 +1,232 @@
+"""What the runs of a scenario imply (memory, time steps, grid points), judged before they
+start.
+
+:func:`check_resources` refuses a run of a :class:`~pdamper.io.scenario.Scenario` whose
+implied memory or time is above the limits of :mod:`pdamper.resources` (with ``force``: up
+to the hard limits), naming the input that drives the cost; :func:`check_runs` judges the
+runs a command is about to make. The costs themselves are the models' own
+(:meth:`pdamper.models.DamperModel.excitation_cost`, ``map_cost``,
+``free_vibration_cost``); this module says which runs a scenario asks for and what each
+input drives relative to the defaults (the paper's case).
+
+What has no physical meaning in any model is refused when the scenario is read
+(:meth:`pdamper.io.scenario.Scenario.check_physics`), whichever command reads it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING, Any
+
+from pdamper import resources
+from pdamper.errors import InputError
+from pdamper.io.scenario import Scenario
+from pdamper.parameters import vertical_dampers_paper as paper
+
+if TYPE_CHECKING:  # pragma: no cover
+    from pdamper.damper import ParticleDamper
+    from pdamper.models.base import DamperModel
+
+#: Runs whose cost :func:`check_resources` judges.
+RUNS = ("excitation", "map", "simulation", "optimization", "case_study", "case_study_dem")
+#: Usual (f [Hz], X [m]) of a Level II run: the paper's benchmark point; of the two, the
+#: one further above its usual value is named when a motion is too fast.
+USUAL_EXCITATION = paper.BENCHMARK_EXCITATION
+
+#: A judge of one cost, ``require(cost, force)`` (:func:`pdamper.resources.require`).
+Require = Callable[..., Any]
+
+
+def check_runs(scenario: Scenario, runs: Iterable[str], model: str | None = None,
+               force: bool = False) -> Scenario:
+    """:func:`check_resources` of each of ``runs`` with ``model`` and ``force``; returns
+    ``scenario`` (a command's ``load_scenario(...)`` followed by the judgement of the runs
+    it is about to make)."""
+    for run in runs:
+        check_resources(scenario, run, model, force)
+    return scenario
+
+
+def check_resources(scenario: Scenario, run: str, model: str | None = None,
+                    force: bool = False, require: Require | None = None) -> None:
+    """Refuse a run whose implied memory or time is above the limits of
+    :mod:`pdamper.resources` (``force``: up to the hard limits), or for which its model's
+    physics does not hold (the DEM's contact law).
+
+    Parameters
+    ----------
+    scenario
+        The :class:`~pdamper.io.scenario.Scenario`.
+    run
+        ``"excitation"`` (Level II at ``[excitation]``), ``"map"`` (Level II over
+        ``[map]``), ``"simulation"`` (Level III, ``[simulation]``), ``"optimization"``
+        (``[optimization]``), ``"case_study"`` or ``"case_study_dem"`` (the paper's,
+        without or with the DEM model 1 run).
+    model
+        Damper fidelity of ``excitation``, ``map`` and ``simulation`` (default
+        ``"analytic"``; for ``simulation`` and ``optimization`` the ``[simulation]``
+        model).
+    force
+        Allow more than the limits, up to what this machine can hold.
+    require
+        The judge of each cost, ``require(cost, force)`` (default
+        :func:`pdamper.resources.require`; e.g. one that counts N realisations of a run).
+
+    Raises
+    ------
+    InputError
+        The input that drives a cost above the limits (its message names ``--force``
+        where forcing would allow it), or ``run`` for an unknown run.
+
+    Examples
+    --------
+    >>> from pdamper.io.scenario import load_scenario
+    >>> s = load_scenario(None, {"map.frequency": "2Hz:20Hz:10000"})
+    >>> try:
+    ...     check_resources(s, "map")
+    ... except InputError as exc:
+    ...     print(exc.field, "--force" in exc.message)
+    map.frequency True
+    """
+    from pdamper.models import get_damper_model
+
+    if run not in RUNS:
+        raise InputError("run", f"must be one of {', '.join(RUNS)}, got {run!r}")
+    req = resources.require if require is None else require
+    damper = scenario.damper()
+    default = Scenario()
+    field = "model" if model else "simulation.model"
+    sim = scenario.simulation
+    if run == "excitation":
+        cost = excitation_cost(scenario, model or "analytic", damper)
+        if cost is not None:
+            req(cost, force)
+    elif run == "map":
+        _check_map(scenario, damper, get_damper_model(model or "analytic", "model"), default,
+                   force, req)
+    elif run == "simulation":
+        cls = get_damper_model(model or sim.model, field)
+        _check_simulation(scenario, damper, cls, sim.duration, sim.sample_rate, default,
+                          force, req)
+    elif run == "optimization":
+        cls = get_damper_model(model or sim.model, field)
+        _check_optimization(scenario, damper, cls, default, force, req)
+    else:  # the paper's case study (pdamper.runs.paper_case_study)
+        analytic = get_damper_model("analytic")
+        _check_map(scenario, damper, analytic, default, force, req)
+        for duration in (sim.duration, max(sim.duration, paper.PAPER_DURATION)):
+            _check_simulation(scenario, damper, analytic, duration, sim.sample_rate, default,
+                              force, req)
+        _check_optimization(scenario, damper, analytic, default, force, req)
+        if run == "case_study_dem":
+            _check_simulation(scenario, damper, get_damper_model("dem"), sim.duration,
+                              sim.sample_rate, default, force, req)
+
+
+def excitation_cost(scenario: Scenario, model: str = "analytic",
+                    damper: ParticleDamper | None = None) -> resources.Cost | None:
+    """What one Level II response of fidelity ``model`` at ``[excitation]`` costs
+    (:meth:`pdamper.models.DamperModel.excitation_cost`; None: not worth judging), for
+    ``damper`` (default the scenario's)."""
+    from pdamper.models import get_damper_model
+
+    cls = get_damper_model(model, "model")
+    d = scenario.damper() if damper is None else damper
+    x = scenario.excitation
+    return cls.excitation_cost(d, x.frequency, x.amplitude, scenario.settings_of(cls),
+                               gravity=x.gravity, usual=USUAL_EXCITATION,
+                               damper_drivers=_damper_drivers(d, Scenario()))
+
+
+def _damper_drivers(damper: ParticleDamper, default: Scenario) -> list[tuple]:
+    """The damper's inputs that drive a run's cost, relative to the default damper: the
+    particle count (time ~ n_p) and the radius (the contact time ~ r: time ~ 1 / r)."""
+    dm = default.damper()
+    return [("particles.count", damper.count / dm.count),
+            ("particles.radius", dm.particle_radius / damper.particle_radius, True)]
+
+
+def _check_map(sc: Scenario, damper: ParticleDamper, cls: type[DamperModel],
+               default: Scenario, force: bool, req: Require) -> None:
+    """Cost of the Level II map of ``[map]``: its grid and result arrays, and the model's
+    runs at every point."""
+    (f0, f1, nf), (x0, x1, nx) = sc.map_ranges()
+    (_, _, nf0), (_, _, nx0) = default.map_ranges()
+    counts = sc.map_particles()
+    axes = (("map.frequency", nf / nf0), ("map.amplitude", nx / nx0),
+            ("map.particles", 1.0 if counts is None else float(counts.size)))
+    points = float(nf) * float(nx) * (1.0 if counts is None else float(counts.size))
+    # the grid and the four result arrays [8 bytes each], whichever the model
+    req(resources.Cost("the map", 0.0, points * 40.0, f"{points:.3g} points", axes), force)
+    req(cls.map_cost(damper, (f0, f1, nf), (x0, x1, nx), points, sc.settings_of(cls),
+                     gravity=sc.excitation.gravity, usual=USUAL_EXCITATION, axes=axes,
+                     damper_drivers=_damper_drivers(damper, default)), force)
+
+
+def _check_simulation(sc: Scenario, damper: ParticleDamper, cls: type[DamperModel],
+                      duration: float, sample_rate: float, default: Scenario, force: bool,
+                      req: Require) -> None:
+    """Cost of one Level III free vibration of ``duration`` [s] sampled at
+    ``sample_rate`` [Hz]."""
+    structure = sc.structure_model()
+    ds = default.simulation
+    drivers = [("simulation.duration", duration / ds.duration),
+               ("simulation.sample_rate", sample_rate / ds.sample_rate),
+               ("structure.stiffness", structure.natural_frequency
+                / default.structure_model().natural_frequency)]
+    req(cls.free_vibration_cost(
+        damper, duration, sample_rate, structure.natural_frequency, sc.settings_of(cls),
+        x0=sc.structure.initial_displacement, drivers=drivers,
+        damper_drivers=_damper_drivers(damper, default)), force)
+
+
+def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperModel],
+                        default: Scenario, force: bool, req: Require) -> None:
+    """Cost of the design study (:func:`pdamper.design.optimize_design`): one free
+    vibration of ``at`` plus two periods, sampled at 200 Hz, per candidate (the
+    particle counts of the paper's study, the grid of ``vary``, or the optimiser's
+    budget), and the values of each varied variable, judged from their numbers before
+    they are built."""
+    from pdamper.design.study import USUAL_VALUES, values_cost, variable_field
+
+    structure = sc.structure_model()
+    o = sc.optimization
+    at = o.at
+    duration = at + 2.0 / structure.natural_frequency
+    d0 = default.damper()
+    step = o.step or damper.per_layer
+    counts = range(0, damper.max_count, step)
+    drivers: tuple = (("optimization.at", at / default.optimization.at),)
+    if o.vary:
+        sizes = o.sizes()
+        for name, size in sizes:
+            req(values_cost(name, size), force)
+        grid = math.prod(size for _, size in sizes)
+        method = o.method
+        if method == "auto":
+            method = "grid" if grid <= o.max_grid else "optimize"
+        if method == "grid" and math.isfinite(grid):
+            candidates = grid
+            drivers += tuple((variable_field(name), size / USUAL_VALUES)
+                             for name, size in sizes)
+        else:
+            candidates = o.max_evaluations
+            drivers += (("optimization.max_evaluations",
+                         candidates / default.optimization.max_evaluations),)
+    else:
+        candidates = len(counts)
+        drivers += (("optimization.step", (d0.per_layer / step)
+                     * (damper.max_count / d0.max_count), True),)
+    # one candidate; where the time grows with the count, the mean count stands for all
+    one = cls.free_vibration_cost(damper, duration, 200.0, structure.natural_frequency,
+                                  sc.settings_of(cls), x0=sc.structure.initial_displacement,
+                                  count=max(1, round(counts[-1] / 2)) if counts else 1)
+    req(resources.Cost(
+        "the optimisation", one.seconds * candidates,
+        one.memory + candidates * resources.BYTES_PER_CANDIDATE,
+        f"{candidates:.3g} candidates, each {one.detail}", drivers,
+        runs=int(min(candidates, 2**62)), longest=one.seconds), force)
+
+
+__all__ = ["RUNS", "USUAL_EXCITATION", "check_resources", "check_runs", "excitation_cost"]
