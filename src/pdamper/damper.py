@@ -6,17 +6,25 @@ paper values: the paper's damper is :data:`pdamper.parameters.PAPER_DAMPER`.
 
 The lattice capacity of a box (spheres per layer, layers, ``n_max``) has its one home here;
 :mod:`pdamper.dem.packing` places spheres on that lattice.
+
+Each quantity of the damper is declared once, as a field of :class:`ParticleDamper`
+(:func:`pdamper.settings.declared_field`: unit, range, docstring and its one name, the
+scenario key ``section.key`` such as ``container.length``). The scenario's ``[container]``
+and ``[particles]`` sections, the uncertain inputs (:func:`uncertain_fields`) and the design
+variables of :mod:`pdamper.design.study` derive their units, ranges and docs from these
+declarations (:func:`quantity`, :data:`QUANTITIES`).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 from pdamper.contact.restitution import RestitutionCurve
 from pdamper.errors import InputError, check_range
 from pdamper.materials import Material
+from pdamper.settings import check_setting, declaration, declarations, declared_field
 
 #: Relative tolerance of the "how many diameters fit" counts, so that e.g. 0.04 / 0.01
 #: counts 4 although the floating-point quotient may be 3.9999999999999996.
@@ -124,31 +132,53 @@ class ParticleDamper:
     (192, 0.1, 132.4)
     """
 
-    length: float
-    width: float
-    depth: float
-    particle_radius: float
-    count: int
-    particle_material: Material
-    wall_material: Material
-    container_mass: float = 0.0
-    friction: float | None = None
-    restitution_pp: RestitutionCurve | None = None
-    restitution_pw: RestitutionCurve | None = None
+    length: float = declared_field(
+        "Inner height L of the container along the excitation (vertical).", unit="m",
+        low=0.0, low_inclusive=False, kind="number", key="container.length")
+    width: float = declared_field("Inner width of the container (horizontal).", unit="m",
+                                  low=0.0, low_inclusive=False, kind="number",
+                                  key="container.width")
+    depth: float = declared_field("Inner depth of the container (horizontal).", unit="m",
+                                  low=0.0, low_inclusive=False, kind="number",
+                                  key="container.depth")
+    particle_radius: float = declared_field("Sphere radius r.", unit="m", low=0.0,
+                                            low_inclusive=False, kind="number",
+                                            key="particles.radius")
+    count: int = declared_field("Number of spheres n_p, at most n_max of the container.",
+                                low=0, kind="whole", key="particles.count")
+    particle_material: Material = declared_field("Material of the spheres.", kind="material",
+                                                 key="particles.material")
+    wall_material: Material = declared_field("Material of the container's walls.",
+                                             kind="material", key="container.material")
+    container_mass: float = declared_field(
+        "m_con, the container alone (Eq. 4 of the complex power method).", default=0.0,
+        unit="kg", low=0.0, key="container.mass")
+    friction: float | None = declared_field(
+        "Sliding friction coefficient mu of every contact (the DEM's).", default=None,
+        low=0.0, kind="number", none="not given (the analytical and field models do not "
+        "use it)", key="particles.friction")
+    restitution_pp: RestitutionCurve | None = declared_field(
+        "COR curve e(v) of sphere-sphere impacts (a constant COR at the edges; the DEM's).",
+        default=None, low=0.0, high=1.0, low_inclusive=False, kind="curve",
+        none="not given (the analytical and field models do not use it)",
+        key="dem.restitution_pp")
+    restitution_pw: RestitutionCurve | None = declared_field(
+        "COR curve e(v) of sphere-wall impacts (a constant COR at the edges; the DEM's).",
+        default=None, low=0.0, high=1.0, low_inclusive=False, kind="curve",
+        none="not given (the analytical and field models do not use it)",
+        key="dem.restitution_pw")
 
     def __post_init__(self) -> None:
-        for name in ("length", "width", "depth"):
-            check_range(f"container.{name}", getattr(self, name), low=0.0, low_inclusive=False,
-                        unit="m")
-        check_range("particles.radius", self.particle_radius, low=0.0, low_inclusive=False,
-                    unit="m")
-        check_range("container.mass", self.container_mass, low=0.0, unit="kg")
+        # every quantity against its declaration; the whole count, the types of the
+        # materials and curves and what depends on two quantities below
+        for name in ("length", "width", "depth", "particle_radius", "container_mass",
+                     "friction"):
+            decl = declaration(ParticleDamper, name)
+            check_setting(decl["key"], getattr(self, name), decl)
         for name, material in (("particles.material", self.particle_material),
                                ("container.material", self.wall_material)):
             if not isinstance(material, Material):
                 raise InputError(name, f"must be a Material, got {material!r}")
-        if self.friction is not None:
-            check_range("particles.friction", self.friction, low=0.0)
         for name in ("restitution_pp", "restitution_pw"):
             curve = getattr(self, name)
             if curve is not None and not isinstance(curve, RestitutionCurve):
@@ -172,6 +202,12 @@ class ParticleDamper:
                              f"must be in [0, {self.max_count}] (n_max of this container), "
                              f"got {self.count}")
         object.__setattr__(self, "count", int(self.count))
+
+    @classmethod
+    def declarations(cls) -> dict[str, dict]:
+        """Every quantity's declaration by field name: ``unit``, ``kind``, range, ``key``
+        (the scenario key), ``doc`` and ``default`` (None: required)."""
+        return declarations(cls)
 
     @property
     def box(self) -> tuple[float, float, float]:
@@ -218,3 +254,37 @@ class ParticleDamper:
         return replace(self,
                        restitution_pp=self.restitution_pp if restitution_pp is None else restitution_pp,
                        restitution_pw=self.restitution_pw if restitution_pw is None else restitution_pw)
+
+
+#: The damper's quantities by their one name (the scenario key ``section.key``, as errors,
+#: ``--uncertain`` and the scenario write them) -> the :class:`ParticleDamper` field.
+QUANTITIES: dict[str, str] = {declaration(ParticleDamper, f.name)["key"]: f.name
+                              for f in fields(ParticleDamper)}
+
+
+def quantity(key: str) -> dict:
+    """The declaration of the damper's quantity ``key`` (``"container.length"``), with
+    ``doc``, ``default`` and ``attribute`` (its :class:`ParticleDamper` field).
+
+    >>> q = quantity("container.length")
+    >>> q["unit"], q["low"], q["attribute"]
+    ('m', 0.0, 'length')
+    """
+    if key not in QUANTITIES:
+        raise InputError(key, f"is no quantity of the damper; these are: "
+                         f"{', '.join(QUANTITIES)}")
+    name = QUANTITIES[key]
+    return {**ParticleDamper.declarations()[name], "attribute": name}
+
+
+def uncertain_fields() -> dict[str, tuple[str, float, float]]:
+    """The damper's quantities that may carry an uncertainty (the numbers: not the
+    materials, not the count): scenario key -> (SI unit, low, high) of their declarations,
+    an open end as -inf or inf (the truncation of the uncertain input)."""
+    out = {}
+    for key in QUANTITIES:
+        q = quantity(key)
+        if q["kind"] in ("number", "curve"):
+            out[key] = (q["unit"], -math.inf if q["low"] is None else float(q["low"]),
+                        math.inf if q["high"] is None else float(q["high"]))
+    return out
