@@ -20,11 +20,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, fields, replace
+from typing import Any
 
 from pdamper.contact.restitution import RestitutionCurve
 from pdamper.errors import InputError, check_range
 from pdamper.materials import Material
-from pdamper.settings import check_setting, declaration, declarations, declared_field
+from pdamper.settings import check_setting, declaration, declarations, declared_field, setting
 
 #: Relative tolerance of the "how many diameters fit" counts, so that e.g. 0.04 / 0.01
 #: counts 4 although the floating-point quotient may be 3.9999999999999996.
@@ -102,25 +103,12 @@ def max_particles(box: Sequence[float], radius: float, gap: float = 0.0) -> int:
 class ParticleDamper:
     """A rectangular container with ``count`` equal spheres.
 
-    Parameters
-    ----------
-    length
-        Inner height L of the container along the excitation (vertical) [m].
-    width, depth
-        Inner horizontal dimensions [m].
-    particle_radius
-        Sphere radius [m].
-    count
-        Number of spheres n_p [-], 0 <= n_p <= n_max.
-    particle_material, wall_material
-        :class:`~pdamper.materials.Material` of spheres and walls.
-    container_mass
-        m_con [kg], the container alone (used by Eq. 4 of the complex power method).
-    friction
-        Sliding friction coefficient mu [-] of every contact; needed by the DEM only.
-    restitution_pp, restitution_pw
-        Coefficient-of-restitution curves ``e(v)`` of sphere-sphere and sphere-wall impacts
-        (Level I); needed by the DEM only.
+    Each field is a quantity declared once (:func:`pdamper.settings.declared_field`): its
+    unit (SI), range, meaning and its one name, the scenario key (``container.length``,
+    ``particles.radius``, ...); :meth:`declarations` lists them, :data:`QUANTITIES` maps the
+    names to the fields. Positional order: ``length, width, depth, particle_radius, count,
+    particle_material, wall_material``, then ``container_mass`` [kg], ``friction`` [-],
+    ``restitution_pp`` and ``restitution_pw`` (COR curves e(v)).
 
     Examples
     --------
@@ -133,40 +121,49 @@ class ParticleDamper:
     """
 
     length: float = declared_field(
-        "Inner height L of the container along the excitation (vertical).", unit="m",
-        low=0.0, low_inclusive=False, kind="number", key="container.length")
-    width: float = declared_field("Inner width of the container (horizontal).", unit="m",
-                                  low=0.0, low_inclusive=False, kind="number",
-                                  key="container.width")
-    depth: float = declared_field("Inner depth of the container (horizontal).", unit="m",
-                                  low=0.0, low_inclusive=False, kind="number",
-                                  key="container.depth")
-    particle_radius: float = declared_field("Sphere radius r.", unit="m", low=0.0,
-                                            low_inclusive=False, kind="number",
-                                            key="particles.radius")
-    count: int = declared_field("Number of spheres n_p, at most n_max of the container.",
-                                low=0, kind="whole", key="particles.count")
-    particle_material: Material = declared_field("Material of the spheres.", kind="material",
-                                                 key="particles.material")
-    wall_material: Material = declared_field("Material of the container's walls.",
-                                             kind="material", key="container.material")
+        "Inner height L of the container along the excitation (vertical); the clearance is "
+        "h = L (1 - n_p / n_max).",
+        unit="m", low=0.0, low_inclusive=False, kind="number", key="container.length")
+    width: float = declared_field(
+        "Inner width of the container (horizontal).",
+        unit="m", low=0.0, low_inclusive=False, kind="number", key="container.width")
+    depth: float = declared_field(
+        "Inner depth of the container (horizontal).",
+        unit="m", low=0.0, low_inclusive=False, kind="number", key="container.depth")
+    particle_radius: float = declared_field(
+        "Sphere radius r.",
+        unit="m", low=0.0, low_inclusive=False, kind="number", key="particles.radius")
+    count: int = declared_field(
+        "Number of spheres n_p, at most n_max (spheres per lattice layer x layers: 192 in the "
+        "benchmark container).",
+        low=0, kind="whole", key="particles.count")
+    particle_material: Material = declared_field(
+        "Material of the spheres (docs/materials.md; in a scenario a library name or an "
+        "inline table).",
+        kind="material", key="particles.material")
+    wall_material: Material = declared_field(
+        "Material of the container's walls (docs/materials.md; in a scenario a library name "
+        "or an inline table).",
+        kind="material", key="container.material")
     container_mass: float = declared_field(
-        "m_con, the container alone (Eq. 4 of the complex power method).", default=0.0,
-        unit="kg", low=0.0, key="container.mass")
+        "m_con, the container alone (Eq. 4 of the complex power method).",
+        default=0.0, unit="kg", low=0.0, key="container.mass")
     friction: float | None = declared_field(
-        "Sliding friction coefficient mu of every contact (the DEM's).", default=None,
-        low=0.0, kind="number", none="not given (the analytical and field models do not "
-        "use it)", key="particles.friction")
+        "Sliding friction coefficient mu of every contact (needed by the DEM only).",
+        default=None, low=0.0, kind="number", key="particles.friction",
+        none="not given (the analytical and field models do not use it)")
     restitution_pp: RestitutionCurve | None = declared_field(
-        "COR curve e(v) of sphere-sphere impacts (a constant COR at the edges; the DEM's).",
+        "COR curve e(v) of sphere-sphere impacts, Level I (needed by the DEM only; in a "
+        "scenario a constant COR or [restitution]).",
         default=None, low=0.0, high=1.0, low_inclusive=False, kind="curve",
-        none="not given (the analytical and field models do not use it)",
-        key="dem.restitution_pp")
+        key="dem.restitution_pp",
+        none="not given (the analytical and field models do not use it)")
     restitution_pw: RestitutionCurve | None = declared_field(
-        "COR curve e(v) of sphere-wall impacts (a constant COR at the edges; the DEM's).",
+        "COR curve e(v) of sphere-wall impacts, Level I (needed by the DEM only; in a "
+        "scenario a constant COR or [restitution]).",
         default=None, low=0.0, high=1.0, low_inclusive=False, kind="curve",
-        none="not given (the analytical and field models do not use it)",
-        key="dem.restitution_pw")
+        key="dem.restitution_pw",
+        none="not given (the analytical and field models do not use it)")
 
     def __post_init__(self) -> None:
         # every quantity against its declaration; the whole count, the types of the
@@ -275,6 +272,17 @@ def quantity(key: str) -> dict:
                          f"{', '.join(QUANTITIES)}")
     name = QUANTITIES[key]
     return {**ParticleDamper.declarations()[name], "attribute": name}
+
+
+def quantity_setting(key: str, default: Any, **changes: Any) -> Any:
+    """A field of a scenario section declared by the damper's quantity ``key`` (its unit,
+    kind, range, doc and key; ``default``: the section's, ``changes``: e.g. ``none=""``
+    where the section always has a value): :func:`pdamper.settings.setting` of it."""
+    q = quantity(key)
+    args = {k: q[k] for k in ("unit", "low", "high", "low_inclusive", "high_inclusive", "kind",
+                              "infinite", "none")}
+    return setting(default, q["doc"], choices=tuple(q["choices"]), key=key,
+                   **{**args, **changes})
 
 
 def uncertain_fields() -> dict[str, tuple[str, float, float]]:

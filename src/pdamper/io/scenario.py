@@ -40,7 +40,8 @@ from pydantic import (
 from pdamper import resources
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.contact.law import DAMPING_MODELS
-from pdamper.dem.settings import EngineSettings, Settings
+from pdamper.damper import QUANTITIES, ParticleDamper, quantity_setting
+from pdamper.dem.settings import EngineSettings, Settings, setting
 from pdamper.errors import InputError
 from pdamper.io.restitution import MODELS as COR_MODELS
 from pdamper.io.restitution import RestitutionSpec, resolve_files
@@ -61,7 +62,6 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from pdamper.contact.restitution import RestitutionCurve
     from pdamper.coupling.loads import LoadHistory
-    from pdamper.damper import ParticleDamper
     from pdamper.design.study import DesignVariable
     from pdamper.materials import Material
     from pdamper.models.base import DamperModel
@@ -106,29 +106,69 @@ class _Section(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
 
 
-class MaterialSpec(_Section):
+class _DeclaredSection(Settings):
+    """A section whose keys are declared (:func:`~pdamper.settings.setting`): each value
+    checked against its declaration, a quantity read with its unit at the edge;
+    :meth:`declarations` lists them."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True,
+                              validate_default=False)
+    # validated inside the scenario: its errors name the field (_first_error)
+    __init__ = BaseModel.__init__
+
+    @classmethod
+    def _edge(cls, name: str, value: Any, decl: dict) -> Any:
+        if decl["unit"] and decl["kind"] == "number" and value is not None:
+            return parse_quantity(value, decl["unit"], name)
+        return value
+
+
+class MaterialSpec(_DeclaredSection):
     """A material given by its constants instead of a library name."""
 
+    prefix: ClassVar[str] = "material."
+
     name: str
-    youngs_modulus: Modulus
-    poisson_ratio: Annotated[float, Field(gt=-1, lt=0.5)]
-    density: Density
-    yield_strength: Modulus | None = None
+    youngs_modulus: float = setting(..., "Young's modulus E.", unit="Pa", low=0.0,
+                                    low_inclusive=False, kind="number")
+    poisson_ratio: float = setting(..., "Poisson's ratio nu.", low=-1.0, high=0.5,
+                                   low_inclusive=False, high_inclusive=False, kind="number")
+    density: float = setting(..., "Density rho.", unit="kg/m^3", low=0.0, low_inclusive=False,
+                             kind="number")
+    yield_strength: float | None = setting(
+        None, "Yield strength (Thornton's COR curve).", unit="Pa", low=0.0,
+        low_inclusive=False, kind="number", none="not given")
 
 
-class ContainerSpec(_Section):
-    length: PositiveLength = _D.length
-    width: PositiveLength = _D.width
-    depth: PositiveLength = _D.depth
-    material: str | MaterialSpec = _D.wall_material.name
-    mass: Mass = _D.container_mass
+class ContainerSpec(_DeclaredSection):
+    """Cuboid particle container, inner dimensions.
+
+    Every key is a quantity of :class:`~pdamper.damper.ParticleDamper`, declared there
+    (:func:`~pdamper.damper.quantity_setting`)."""
+
+    prefix: ClassVar[str] = "container."
+
+    length: float = quantity_setting("container.length", _D.length)
+    width: float = quantity_setting("container.width", _D.width)
+    depth: float = quantity_setting("container.depth", _D.depth)
+    material: str | MaterialSpec = quantity_setting("container.material",
+                                                    _D.wall_material.name)
+    mass: float = quantity_setting("container.mass", _D.container_mass)
 
 
-class ParticlesSpec(_Section):
-    count: Annotated[int, Field(ge=0, strict=True)] = _D.count
-    radius: PositiveLength = _D.particle_radius
-    material: str | MaterialSpec = _D.particle_material.name
-    friction: Annotated[float, Field(ge=0)] = paper.PAPER_FRICTION  # (_D.friction)
+class ParticlesSpec(_DeclaredSection):
+    """Equal spheres of one material.
+
+    Every key is a quantity of :class:`~pdamper.damper.ParticleDamper`, declared there
+    (:func:`~pdamper.damper.quantity_setting`)."""
+
+    prefix: ClassVar[str] = "particles."
+
+    count: int = quantity_setting("particles.count", _D.count)
+    radius: float = quantity_setting("particles.radius", _D.particle_radius)
+    material: str | MaterialSpec = quantity_setting("particles.material",
+                                                    _D.particle_material.name)
+    friction: float = quantity_setting("particles.friction", paper.PAPER_FRICTION, none="")
 
 
 class ExcitationSpec(_Section):
@@ -501,17 +541,17 @@ class Scenario(_Section):
 
     # -- builders of the domain objects ------------------------------------------------
     def damper(self) -> ParticleDamper:
-        """The :class:`~pdamper.damper.ParticleDamper` this scenario describes."""
-        from pdamper.damper import ParticleDamper
-
-        c, p = self.container, self.particles
-        sphere = _material(p.material, "particles.material")
-        wall = _material(c.material, "container.material")
-        pp, pw = self.restitution_curves(sphere, wall, p.radius)
-        return ParticleDamper(length=c.length, width=c.width, depth=c.depth,
-                              particle_radius=p.radius, count=p.count,
-                              particle_material=sphere, wall_material=wall,
-                              container_mass=c.mass, friction=p.friction,
+        """The :class:`~pdamper.damper.ParticleDamper` this scenario describes: every
+        ``[container]`` and ``[particles]`` key is a quantity of the damper, given to the
+        field its declaration names (:data:`~pdamper.damper.QUANTITIES`)."""
+        values = {attribute: getattr(getattr(self, section), name)
+                  for key, attribute in QUANTITIES.items()
+                  for section, _, name in [key.partition(".")]
+                  if section in ("container", "particles")}
+        sphere = _material(values.pop("particle_material"), "particles.material")
+        wall = _material(values.pop("wall_material"), "container.material")
+        pp, pw = self.restitution_curves(sphere, wall, self.particles.radius)
+        return ParticleDamper(**values, particle_material=sphere, wall_material=wall,
                               restitution_pp=pp, restitution_pw=pw)
 
     def restitution_curves(self, sphere: Material, wall: Material,
