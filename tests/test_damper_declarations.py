@@ -188,3 +188,27 @@ def test_scenario_sections_hand_their_declarations_to_a_resolver():
         for key, d in cls.declarations().items():
             assert d == {**settings.declaration(cls, key), "doc": d["doc"],
                          "default": d["default"]}
+
+
+@pytest.mark.long
+def test_the_type_checker_rejects_a_misspelt_damper_quantity(tmp_path, monkeypatch):
+    """The damper's quantities are plain dataclass fields to mypy: a misspelt one, as an
+    attribute or a keyword, and a missing required one are type errors."""
+    from pathlib import Path
+
+    api = pytest.importorskip("mypy.api")
+    import pdamper
+
+    monkeypatch.setenv("MYPYPATH", str(Path(pdamper.__file__).parents[1]))
+    snippet = tmp_path / "snippet.py"
+    snippet.write_text("from pdamper.damper import ParticleDamper\n\n\n"
+                       "def f(d: ParticleDamper) -> float:\n"
+                       "    ParticleDamper(lenght=0.12)\n"
+                       "    ParticleDamper()\n"
+                       "    return d.lenght\n", encoding="utf-8")
+    out, _, status = api.run([str(snippet), "--ignore-missing-imports",
+                              "--cache-dir", str(tmp_path / "cache")])
+    assert status == 1, out
+    assert 'no attribute "lenght"' in out
+    assert 'Unexpected keyword argument "lenght"' in out
+    assert 'Missing positional arguments "length"' in out

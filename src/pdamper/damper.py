@@ -8,7 +8,7 @@ The lattice capacity of a box (spheres per layer, layers, ``n_max``) has its one
 :mod:`pdamper.dem.packing` places spheres on that lattice.
 
 Each quantity of the damper is declared once, as a field of :class:`ParticleDamper`
-(:func:`pdamper.settings.declared_field`: unit, range, docstring and its one name, the
+(:func:`pdamper.settings.declared` metadata: unit, range, docstring and its one name, the
 scenario key ``section.key`` such as ``container.length``). The scenario's ``[container]``
 and ``[particles]`` sections, the uncertain inputs (:func:`uncertain_fields`) and the design
 variables of :mod:`pdamper.design.study` derive their units, ranges and docs from these
@@ -19,13 +19,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
 from pdamper.contact.restitution import RestitutionCurve
 from pdamper.errors import InputError, check_range
 from pdamper.materials import Material
-from pdamper.settings import check_setting, declaration, declarations, declared_field, setting
+from pdamper.settings import check_setting, declaration, declarations, declared, setting
 
 #: Relative tolerance of the "how many diameters fit" counts, so that e.g. 0.04 / 0.01
 #: counts 4 although the floating-point quotient may be 3.9999999999999996.
@@ -103,7 +103,7 @@ def max_particles(box: Sequence[float], radius: float, gap: float = 0.0) -> int:
 class ParticleDamper:
     """A rectangular container with ``count`` equal spheres.
 
-    Each field is a quantity declared once (:func:`pdamper.settings.declared_field`): its
+    Each field is a quantity declared once (:func:`pdamper.settings.declared`): its
     unit (SI), range, meaning and its one name, the scenario key (``container.length``,
     ``particles.radius``, ...); :meth:`declarations` lists them, :data:`QUANTITIES` maps the
     names to the fields. Positional order: ``length, width, depth, particle_radius, count,
@@ -120,50 +120,50 @@ class ParticleDamper:
     (192, 0.1, 132.4)
     """
 
-    length: float = declared_field(
+    length: float = field(metadata=declared(
         "Inner height L of the container along the excitation (vertical); the clearance is "
         "h = L (1 - n_p / n_max).",
-        unit="m", low=0.0, low_inclusive=False, kind="number", key="container.length")
-    width: float = declared_field(
+        unit="m", low=0.0, low_inclusive=False, kind="number", key="container.length"))
+    width: float = field(metadata=declared(
         "Inner width of the container (horizontal).",
-        unit="m", low=0.0, low_inclusive=False, kind="number", key="container.width")
-    depth: float = declared_field(
+        unit="m", low=0.0, low_inclusive=False, kind="number", key="container.width"))
+    depth: float = field(metadata=declared(
         "Inner depth of the container (horizontal).",
-        unit="m", low=0.0, low_inclusive=False, kind="number", key="container.depth")
-    particle_radius: float = declared_field(
+        unit="m", low=0.0, low_inclusive=False, kind="number", key="container.depth"))
+    particle_radius: float = field(metadata=declared(
         "Sphere radius r.",
-        unit="m", low=0.0, low_inclusive=False, kind="number", key="particles.radius")
-    count: int = declared_field(
+        unit="m", low=0.0, low_inclusive=False, kind="number", key="particles.radius"))
+    count: int = field(metadata=declared(
         "Number of spheres n_p, at most n_max (spheres per lattice layer x layers: 192 in the "
         "benchmark container).",
-        low=0, kind="whole", key="particles.count")
-    particle_material: Material = declared_field(
+        low=0, kind="whole", key="particles.count"))
+    particle_material: Material = field(metadata=declared(
         "Material of the spheres (docs/materials.md; in a scenario a library name or an "
         "inline table).",
-        kind="material", key="particles.material")
-    wall_material: Material = declared_field(
+        kind="material", key="particles.material"))
+    wall_material: Material = field(metadata=declared(
         "Material of the container's walls (docs/materials.md; in a scenario a library name "
         "or an inline table).",
-        kind="material", key="container.material")
-    container_mass: float = declared_field(
+        kind="material", key="container.material"))
+    container_mass: float = field(default=0.0, metadata=declared(
         "m_con, the container alone (Eq. 4 of the complex power method).",
-        default=0.0, unit="kg", low=0.0, key="container.mass")
-    friction: float | None = declared_field(
+        unit="kg", low=0.0, kind="number", key="container.mass"))
+    friction: float | None = field(default=None, metadata=declared(
         "Sliding friction coefficient mu of every contact (needed by the DEM only).",
-        default=None, low=0.0, kind="number", key="particles.friction",
-        none="not given (the analytical and field models do not use it)")
-    restitution_pp: RestitutionCurve | None = declared_field(
+        low=0.0, kind="number", key="particles.friction",
+        none="not given (the analytical and field models do not use it)"))
+    restitution_pp: RestitutionCurve | None = field(default=None, metadata=declared(
         "COR curve e(v) of sphere-sphere impacts, Level I (needed by the DEM only; in a "
         "scenario a constant COR or [restitution]).",
-        default=None, low=0.0, high=1.0, low_inclusive=False, kind="curve",
+        low=0.0, high=1.0, low_inclusive=False, kind="curve",
         key="dem.restitution_pp",
-        none="not given (the analytical and field models do not use it)")
-    restitution_pw: RestitutionCurve | None = declared_field(
+        none="not given (the analytical and field models do not use it)"))
+    restitution_pw: RestitutionCurve | None = field(default=None, metadata=declared(
         "COR curve e(v) of sphere-wall impacts, Level I (needed by the DEM only; in a "
         "scenario a constant COR or [restitution]).",
-        default=None, low=0.0, high=1.0, low_inclusive=False, kind="curve",
+        low=0.0, high=1.0, low_inclusive=False, kind="curve",
         key="dem.restitution_pw",
-        none="not given (the analytical and field models do not use it)")
+        none="not given (the analytical and field models do not use it)"))
 
     def __post_init__(self) -> None:
         # every quantity against its declaration; the whole count, the types of the

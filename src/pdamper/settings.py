@@ -2,7 +2,7 @@
 
 A setting is a field of a frozen :class:`Settings` model declared with :func:`setting`; a
 quantity of a frozen dataclass (the damper's, :class:`pdamper.damper.ParticleDamper`) is
-declared with :func:`declared_field`, which takes the same arguments. The declaration is the
+declared by the metadata :func:`declared` makes, from the same arguments. The declaration is the
 one place of a value's constraint (checked by :func:`check_setting`, with the messages of
 :func:`pdamper.errors.check_range`), its unit (SI inside; the scenario and the command line
 parse quantities with this unit at the edges) and its description (the docstring of the
@@ -66,27 +66,25 @@ def setting(default: Any, doc: str, *, unit: str = "", low: float | None = None,
     return Field(default, description=doc, json_schema_extra=extra)
 
 
-def declared_field(doc: str, *, default: Any = dataclasses.MISSING, unit: str = "",
-                   low: float | None = None, high: float | None = None,
-                   low_inclusive: bool = True, high_inclusive: bool = True,
-                   choices: tuple[str, ...] = (), kind: str = "", infinite: bool = False,
-                   none: str = "", key: str = "") -> Any:
-    """A field of a frozen dataclass declared as :func:`setting` declares a setting (no
-    ``default``: a required field); :func:`declaration` and :func:`declarations` read it.
-    The dataclass checks its values with :func:`check_setting` (``__post_init__``)."""
-    if default is dataclasses.MISSING and not (kind or choices):
-        raise ValueError("a required field declares its kind")
-    decl = _declare(None if default is dataclasses.MISSING else default, unit=unit,
-                    low=low, high=high, low_inclusive=low_inclusive,
+def declared(doc: str, *, kind: str, unit: str = "", low: float | None = None,
+             high: float | None = None, low_inclusive: bool = True,
+             high_inclusive: bool = True, choices: tuple[str, ...] = (),
+             infinite: bool = False, none: str = "", key: str = "") -> dict[str, Any]:
+    """The metadata that declares a field of a frozen dataclass as :func:`setting` declares
+    a setting: ``dataclasses.field(metadata=declared(doc, kind=..., unit=..., low=...))``
+    (with ``default=`` where it has one; the type checker sees a plain dataclass field).
+    :func:`declaration` and :func:`declarations` read it; the dataclass checks its values
+    with :func:`check_setting` (``__post_init__``)."""
+    decl = _declare(None, unit=unit, low=low, high=high, low_inclusive=low_inclusive,
                     high_inclusive=high_inclusive, choices=choices, kind=kind,
                     infinite=infinite, none=none, key=key)
-    return dataclasses.field(default=default, metadata={"declaration": decl, "doc": doc})
+    return {"declaration": decl, "doc": doc}
 
 
 def declaration(cls: type, name: str) -> dict:
     """The declaration (unit, kind, range, choices, key) of field ``name`` of ``cls``: a
     :class:`Settings` model (any pydantic model whose fields use :func:`setting`) or a
-    dataclass whose fields use :func:`declared_field`; empty for a field declared without."""
+    dataclass whose fields carry :func:`declared` metadata; empty for a field declared without."""
     if dataclasses.is_dataclass(cls):
         fields = {f.name: f for f in dataclasses.fields(cls)}
         return dict(fields[name].metadata.get("declaration", {}))
@@ -219,4 +217,4 @@ class Settings(BaseModel):
 
 
 __all__ = ["KINDS", "Settings", "allowed", "check_setting", "declaration", "declarations",
-           "declared_field", "setting"]
+           "declared", "setting"]
