@@ -22,7 +22,7 @@ ROOT = Path(pdamper.__file__).parent
 #: Level of each top-level module or package of ``pdamper``.
 LEVELS = {
     "__init__": 0, "_version": 0, "_numba_cache": 0, "errors": 0, "units": 0, "constants": 0,
-    "files": 0,
+    "files": 0, "settings": 0,                     # the one declaration mechanism
     "sweep": 0,                                       # generic resumable sweeps (dask)
     "materials": 1, "contact": 1, "damper": 1,        # Level I and the design object
     "resources": 1,                                   # what a run of the design implies

@@ -6,17 +6,26 @@ paper values: the paper's damper is :data:`pdamper.parameters.PAPER_DAMPER`.
 
 The lattice capacity of a box (spheres per layer, layers, ``n_max``) has its one home here;
 :mod:`pdamper.dem.packing` places spheres on that lattice.
+
+Each quantity of the damper is declared once, as a field of :class:`ParticleDamper`
+(:func:`pdamper.settings.declared` metadata: unit, range, docstring and its one name, the
+scenario key ``section.key`` such as ``container.length``). The scenario's ``[container]``
+and ``[particles]`` sections, the uncertain inputs (:func:`uncertain_fields`) and the design
+variables of :mod:`pdamper.design.study` derive their units, ranges and docs from these
+declarations (:func:`quantity`, :data:`QUANTITIES`).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, fields, replace
+from typing import Any
 
 from pdamper.contact.restitution import RestitutionCurve
 from pdamper.errors import InputError, check_range
 from pdamper.materials import Material
+from pdamper.settings import check_setting, declaration, declarations, declared, setting
 
 #: Relative tolerance of the "how many diameters fit" counts, so that e.g. 0.04 / 0.01
 #: counts 4 although the floating-point quotient may be 3.9999999999999996.
@@ -94,25 +103,12 @@ def max_particles(box: Sequence[float], radius: float, gap: float = 0.0) -> int:
 class ParticleDamper:
     """A rectangular container with ``count`` equal spheres.
 
-    Parameters
-    ----------
-    length
-        Inner height L of the container along the excitation (vertical) [m].
-    width, depth
-        Inner horizontal dimensions [m].
-    particle_radius
-        Sphere radius [m].
-    count
-        Number of spheres n_p [-], 0 <= n_p <= n_max.
-    particle_material, wall_material
-        :class:`~pdamper.materials.Material` of spheres and walls.
-    container_mass
-        m_con [kg], the container alone (used by Eq. 4 of the complex power method).
-    friction
-        Sliding friction coefficient mu [-] of every contact; needed by the DEM only.
-    restitution_pp, restitution_pw
-        Coefficient-of-restitution curves ``e(v)`` of sphere-sphere and sphere-wall impacts
-        (Level I); needed by the DEM only.
+    Each field is a quantity declared once (:func:`pdamper.settings.declared`): its
+    unit (SI), range, meaning and its one name, the scenario key (``container.length``,
+    ``particles.radius``, ...); :meth:`declarations` lists them, :data:`QUANTITIES` maps the
+    names to the fields. Positional order: ``length, width, depth, particle_radius, count,
+    particle_material, wall_material``, then ``container_mass`` [kg], ``friction`` [-],
+    ``restitution_pp`` and ``restitution_pw`` (COR curves e(v)).
 
     Examples
     --------
@@ -124,31 +120,62 @@ class ParticleDamper:
     (192, 0.1, 132.4)
     """
 
-    length: float
-    width: float
-    depth: float
-    particle_radius: float
-    count: int
-    particle_material: Material
-    wall_material: Material
-    container_mass: float = 0.0
-    friction: float | None = None
-    restitution_pp: RestitutionCurve | None = None
-    restitution_pw: RestitutionCurve | None = None
+    length: float = field(metadata=declared(
+        "Inner height L of the container along the excitation (vertical); the clearance is "
+        "h = L (1 - n_p / n_max).",
+        unit="m", low=0.0, low_inclusive=False, kind="number", key="container.length"))
+    width: float = field(metadata=declared(
+        "Inner width of the container (horizontal).",
+        unit="m", low=0.0, low_inclusive=False, kind="number", key="container.width"))
+    depth: float = field(metadata=declared(
+        "Inner depth of the container (horizontal).",
+        unit="m", low=0.0, low_inclusive=False, kind="number", key="container.depth"))
+    particle_radius: float = field(metadata=declared(
+        "Sphere radius r.",
+        unit="m", low=0.0, low_inclusive=False, kind="number", key="particles.radius"))
+    count: int = field(metadata=declared(
+        "Number of spheres n_p, at most n_max (spheres per lattice layer x layers: 192 in the "
+        "benchmark container).",
+        low=0, kind="whole", key="particles.count"))
+    particle_material: Material = field(metadata=declared(
+        "Material of the spheres (docs/materials.md; in a scenario a library name or an "
+        "inline table).",
+        kind="material", key="particles.material"))
+    wall_material: Material = field(metadata=declared(
+        "Material of the container's walls (docs/materials.md; in a scenario a library name "
+        "or an inline table).",
+        kind="material", key="container.material"))
+    container_mass: float = field(default=0.0, metadata=declared(
+        "m_con, the container alone (Eq. 4 of the complex power method).",
+        unit="kg", low=0.0, kind="number", key="container.mass"))
+    friction: float | None = field(default=None, metadata=declared(
+        "Sliding friction coefficient mu of every contact (needed by the DEM only).",
+        low=0.0, kind="number", key="particles.friction",
+        none="not given (the analytical and field models do not use it)"))
+    restitution_pp: RestitutionCurve | None = field(default=None, metadata=declared(
+        "COR curve e(v) of sphere-sphere impacts, Level I (needed by the DEM only; in a "
+        "scenario a constant COR or [restitution]).",
+        low=0.0, high=1.0, low_inclusive=False, kind="curve",
+        key="dem.restitution_pp",
+        none="not given (the analytical and field models do not use it)"))
+    restitution_pw: RestitutionCurve | None = field(default=None, metadata=declared(
+        "COR curve e(v) of sphere-wall impacts, Level I (needed by the DEM only; in a "
+        "scenario a constant COR or [restitution]).",
+        low=0.0, high=1.0, low_inclusive=False, kind="curve",
+        key="dem.restitution_pw",
+        none="not given (the analytical and field models do not use it)"))
 
     def __post_init__(self) -> None:
-        for name in ("length", "width", "depth"):
-            check_range(f"container.{name}", getattr(self, name), low=0.0, low_inclusive=False,
-                        unit="m")
-        check_range("particles.radius", self.particle_radius, low=0.0, low_inclusive=False,
-                    unit="m")
-        check_range("container.mass", self.container_mass, low=0.0, unit="kg")
+        # every quantity against its declaration; the whole count, the types of the
+        # materials and curves and what depends on two quantities below
+        for name in ("length", "width", "depth", "particle_radius", "container_mass",
+                     "friction"):
+            decl = declaration(ParticleDamper, name)
+            check_setting(decl["key"], getattr(self, name), decl)
         for name, material in (("particles.material", self.particle_material),
                                ("container.material", self.wall_material)):
             if not isinstance(material, Material):
                 raise InputError(name, f"must be a Material, got {material!r}")
-        if self.friction is not None:
-            check_range("particles.friction", self.friction, low=0.0)
         for name in ("restitution_pp", "restitution_pw"):
             curve = getattr(self, name)
             if curve is not None and not isinstance(curve, RestitutionCurve):
@@ -172,6 +199,12 @@ class ParticleDamper:
                              f"must be in [0, {self.max_count}] (n_max of this container), "
                              f"got {self.count}")
         object.__setattr__(self, "count", int(self.count))
+
+    @classmethod
+    def declarations(cls) -> dict[str, dict]:
+        """Every quantity's declaration by field name: ``unit``, ``kind``, range, ``key``
+        (the scenario key), ``doc`` and ``default`` (None: required)."""
+        return declarations(cls)
 
     @property
     def box(self) -> tuple[float, float, float]:
@@ -218,3 +251,48 @@ class ParticleDamper:
         return replace(self,
                        restitution_pp=self.restitution_pp if restitution_pp is None else restitution_pp,
                        restitution_pw=self.restitution_pw if restitution_pw is None else restitution_pw)
+
+
+#: The damper's quantities by their one name (the scenario key ``section.key``, as errors,
+#: ``--uncertain`` and the scenario write them) -> the :class:`ParticleDamper` field.
+QUANTITIES: dict[str, str] = {declaration(ParticleDamper, f.name)["key"]: f.name
+                              for f in fields(ParticleDamper)}
+
+
+def quantity(key: str) -> dict:
+    """The declaration of the damper's quantity ``key`` (``"container.length"``), with
+    ``doc``, ``default`` and ``attribute`` (its :class:`ParticleDamper` field).
+
+    >>> q = quantity("container.length")
+    >>> q["unit"], q["low"], q["attribute"]
+    ('m', 0.0, 'length')
+    """
+    if key not in QUANTITIES:
+        raise InputError(key, f"is no quantity of the damper; these are: "
+                         f"{', '.join(QUANTITIES)}")
+    name = QUANTITIES[key]
+    return {**ParticleDamper.declarations()[name], "attribute": name}
+
+
+def quantity_setting(key: str, default: Any, **changes: Any) -> Any:
+    """A field of a scenario section declared by the damper's quantity ``key`` (its unit,
+    kind, range, doc and key; ``default``: the section's, ``changes``: e.g. ``none=""``
+    where the section always has a value): :func:`pdamper.settings.setting` of it."""
+    q = quantity(key)
+    args = {k: q[k] for k in ("unit", "low", "high", "low_inclusive", "high_inclusive", "kind",
+                              "infinite", "none")}
+    return setting(default, q["doc"], choices=tuple(q["choices"]), key=key,
+                   **{**args, **changes})
+
+
+def uncertain_fields() -> dict[str, tuple[str, float, float]]:
+    """The damper's quantities that may carry an uncertainty (the numbers: not the
+    materials, not the count): scenario key -> (SI unit, low, high) of their declarations,
+    an open end as -inf or inf (the truncation of the uncertain input)."""
+    out = {}
+    for key in QUANTITIES:
+        q = quantity(key)
+        if q["kind"] in ("number", "curve"):
+            out[key] = (q["unit"], -math.inf if q["low"] is None else float(q["low"]),
+                        math.inf if q["high"] is None else float(q["high"]))
+    return out

@@ -6,6 +6,9 @@ with the messages of :func:`pdamper.errors.check_range`), its unit (SI inside; t
 and the command line parse quantities with this unit at the edges) and its description
 (the docstring of the field, the scenario reference and the command line's help).
 
+The declaration machinery (:func:`setting`, :class:`Settings`, :func:`declaration`,
+:func:`check_setting`) is :mod:`pdamper.settings`, re-exported here.
+
 - :class:`EngineSettings`: the DEM engine and its integrators (:class:`pdamper.dem.DEMEngine`).
 - The Level II settings of the DEM damper (run plan, steady-state criterion, accuracy target)
   are in :mod:`pdamper.models.settings`; the scenario's ``[dem]`` section and the ``dem``
@@ -17,11 +20,6 @@ changes (:meth:`Settings.clone`), as scikit-learn's estimators are.
 
 from __future__ import annotations
 
-import math
-from typing import TYPE_CHECKING, Any, ClassVar, Self
-
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
-
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.dem.inputs import (
     DEFAULT_GEAR_TOLERANCE,
@@ -29,10 +27,17 @@ from pdamper.dem.inputs import (
     DEFAULT_SAFETY,
     INTEGRATORS,
 )
-from pdamper.errors import InputError, check_range, check_whole
 
-if TYPE_CHECKING:  # pragma: no cover
-    from pydantic.json_schema import JsonDict
+# the declaration machinery is level 0 (the damper, level 1, declares its quantities with
+# it too); re-exported for the settings of the DEM and their users
+from pdamper.settings import (  # noqa: F401
+    KINDS,
+    Settings,
+    allowed,
+    check_setting,
+    declaration,
+    setting,
+)
 
 #: ``integrator="auto"`` runs Gear and hands over to velocity Verlet while Gear's mean step
 #: over a judgement window of the excitation is below AUTO_COST_RATIO x the step Verlet would
@@ -45,141 +50,6 @@ if TYPE_CHECKING:  # pragma: no cover
 #: 2 s and made it 14-80 % slower than Gear. Both integrators meet the verification table
 #: of docs/verification.md.
 AUTO_COST_RATIO = 1.0
-#: Kinds of value a setting holds (the check its declaration implies).
-KINDS = ("number", "whole", "flag", "choice", "cycles")
-
-
-def setting(default: Any, doc: str, *, unit: str = "", low: float | None = None,
-            high: float | None = None, low_inclusive: bool = True,
-            high_inclusive: bool = True, choices: tuple[str, ...] = (), kind: str = "",
-            infinite: bool = False, none: str = "") -> Any:
-    """Declare a setting: its ``default``, docstring ``doc`` and ``unit`` (SI, "" for
-    dimensionless), its range (``low``/``high`` as :func:`~pdamper.errors.check_range`;
-    ``infinite``: ``inf`` allowed too) or ``choices``; ``kind`` (default: from the
-    default's type) and ``none``: what None means (empty: None not allowed)."""
-    if not kind:
-        kind = ("choice" if choices else "flag" if isinstance(default, bool)
-                else "whole" if isinstance(default, int) else "number")
-    if kind not in KINDS:
-        raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
-    extra: JsonDict = {"unit": unit, "kind": kind, "low": low, "high": high,
-                       "low_inclusive": low_inclusive, "high_inclusive": high_inclusive,
-                       "choices": list(choices), "infinite": infinite, "none": none}
-    return Field(default, description=doc, json_schema_extra=extra)
-
-
-def declaration(cls: type[BaseModel], name: str) -> dict:
-    """The declaration (unit, kind, range, choices) of field ``name`` of ``cls``."""
-    extra = cls.model_fields[name].json_schema_extra
-    return dict(extra) if isinstance(extra, dict) else {}
-
-
-def allowed(decl: dict) -> str:
-    """The allowed values of a declaration, as the error messages write them."""
-    if decl["kind"] == "choice":
-        return "one of " + ", ".join(decl["choices"])
-    if decl["kind"] == "flag":
-        return "true or false"
-    if decl["kind"] == "cycles":
-        return "'auto' or a whole number >= 1"
-    lo = "[" if decl["low_inclusive"] else "("
-    hi = "]" if decl["high_inclusive"] else ")"
-    low, high = decl["low"], decl["high"]
-    text = f"{lo}{'-inf' if low is None else f'{low:g}'}, {'inf' if high is None else f'{high:g}'}{hi}"
-    return f"whole number >= {low:g}" if decl["kind"] == "whole" else text
-
-
-def check_setting(name: str, value: Any, decl: dict) -> Any:
-    """``value`` checked against the declaration ``decl`` of setting ``name``; raises
-    :class:`~pdamper.errors.InputError` naming ``name`` and the allowed range."""
-    if value is None and decl.get("none"):
-        return None
-    kind = decl["kind"]
-    if kind == "choice":
-        if value not in decl["choices"]:
-            raise InputError(name, f"must be one of {', '.join(decl['choices'])}, "
-                             f"got {value!r}")
-        return value
-    if kind == "flag":
-        import numpy as np
-
-        if not isinstance(value, bool | np.bool_):
-            raise InputError(name, f"must be true or false, got {value!r}")
-        return bool(value)
-    if kind == "cycles":
-        if value == "auto":
-            return "auto"
-        if isinstance(value, str):
-            raise InputError(name, f"must be 'auto' or a whole number >= 1, got {value!r}")
-        return check_whole(name, value, low=1)
-    if kind == "whole":
-        return check_whole(name, value, low=None if decl["low"] is None else int(decl["low"]))
-    if decl["infinite"] and isinstance(value, int | float) and value == math.inf:
-        return math.inf
-    return check_range(name, value, low=decl["low"], high=decl["high"],
-                       low_inclusive=decl["low_inclusive"],
-                       high_inclusive=decl["high_inclusive"], unit=decl["unit"])
-
-
-class Settings(BaseModel):
-    """Frozen settings of one concern; every field declared with :func:`setting`.
-
-    Construction checks every value against its declaration and raises
-    :class:`~pdamper.errors.InputError` (the field named with :attr:`prefix`).
-    """
-
-    model_config = ConfigDict(frozen=True, extra="forbid", validate_default=False)
-
-    #: Prefix of the field names in errors (``"dem."``: as the scenario's section).
-    prefix: ClassVar[str] = ""
-
-    def __init__(self, **data: Any) -> None:
-        try:
-            super().__init__(**data)
-        except ValidationError as exc:
-            raise self._error(exc) from None
-
-    @classmethod
-    def _error(cls, exc: ValidationError) -> InputError:
-        err = exc.errors()[0]
-        name = ".".join(str(p) for p in err["loc"])
-        if err["type"] == "extra_forbidden":
-            return InputError(cls.prefix + name, f"unknown setting of {cls.__name__}; known: "
-                              f"{', '.join(cls.model_fields)}")
-        return InputError(cls.prefix + name, err["msg"].removeprefix("Value error, "))
-
-    @classmethod
-    def _edge(cls, name: str, value: Any, decl: dict) -> Any:
-        """A value as given at the edge, made a value of the setting (the scenario parses
-        quantities with units here); identity for the Python API (SI)."""
-        return value
-
-    @field_validator("*", mode="before")
-    @classmethod
-    def _declared(cls, value: Any, info) -> Any:
-        decl = declaration(cls, info.field_name)
-        if not decl:  # a field of a subclass not declared with setting()
-            return value
-        try:
-            return check_setting(info.field_name, cls._edge(info.field_name, value, decl), decl)
-        except InputError as exc:  # pydantic adds the location
-            raise ValueError(exc.message) from None
-
-    # -- scikit-learn style ------------------------------------------------------------
-    def get_params(self) -> dict[str, Any]:
-        """Every setting by name (the defaults included)."""
-        return {name: getattr(self, name) for name in type(self).model_fields}
-
-    def clone(self, **changes: Any) -> Self:
-        """A copy with ``changes`` (checked as at construction)."""
-        return type(self)(**{**self.get_params(), **changes})
-
-    @classmethod
-    def declarations(cls) -> dict[str, dict]:
-        """Every field's declaration: ``unit``, ``kind``, range, ``choices``, ``doc`` and
-        ``default``."""
-        return {name: {**declaration(cls, name), "doc": f.description, "default": f.default}
-                for name, f in cls.model_fields.items()}
 
 
 class EngineSettings(Settings):

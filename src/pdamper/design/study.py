@@ -79,7 +79,7 @@ from typing import TYPE_CHECKING, Any, Protocol, TypeVar, cast
 import numpy as np
 
 from pdamper.coupling.simulation import Simulation
-from pdamper.damper import ParticleDamper
+from pdamper.damper import ParticleDamper, quantity
 from pdamper.design.parallel import Outcome, evaluate_parallel
 from pdamper.errors import InputError, check_range
 from pdamper.resources import (  # noqa: F401 - the study's defaults
@@ -87,6 +87,7 @@ from pdamper.resources import (  # noqa: F401 - the study's defaults
     DEFAULT_MAX_GRID,
     DEFAULT_TOLERANCE,
 )
+from pdamper.settings import check_setting
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -120,18 +121,40 @@ class _VariableKind:
     unit: str
     attribute: str  # ParticleDamper field
     description: str
+    #: the quantity's one name, its scenario key (``"particles.count"``)
+    field: str = ""
 
 
-#: Design variables: name -> kind, unit, the :class:`ParticleDamper` field it sets.
+#: A variable's kind from the kind of its quantity's declaration.
+_KINDS = {"whole": "integer", "number": "continuous", "material": "categorical"}
+
+
+def _variable(key: str) -> _VariableKind:
+    """The design variable of the damper's quantity ``key``: kind, unit, field and doc from
+    its declaration (:func:`pdamper.damper.quantity`)."""
+    q = quantity(key)
+    return _VariableKind(_KINDS[q["kind"]], q["unit"], q["attribute"], q["doc"], key)
+
+
+#: Design variables: name -> kind, unit, the :class:`ParticleDamper` field it sets and the
+#: quantity's scenario key (``field``), derived from the damper's declarations. The names
+#: are the keys of a study's designs in its results; ``--vary`` also takes the scenario key
+#: (``particles.count=16:176:16``) and the field's name.
 VARIABLES: dict[str, _VariableKind] = {
-    "particles": _VariableKind("integer", "", "count", "particle count n_p"),
-    "radius": _VariableKind("continuous", "m", "particle_radius", "sphere radius"),
-    "container_length": _VariableKind("continuous", "m", "length",
-                                      "container length L (vertical)"),
-    "container_width": _VariableKind("continuous", "m", "width", "container width"),
-    "container_depth": _VariableKind("continuous", "m", "depth", "container depth"),
-    "particle_material": _VariableKind("categorical", "", "particle_material",
-                                       "particle material"),
+    "particles": _variable("particles.count"),
+    "radius": _variable("particles.radius"),
+    "container_length": _variable("container.length"),
+    "container_width": _variable("container.width"),
+    "container_depth": _variable("container.depth"),
+    "particle_material": _variable("particles.material"),
+}
+#: Every name ``--vary`` takes for a variable: its name, its quantity's scenario key and
+#: :class:`ParticleDamper` field, and the short names in use before these.
+VARIABLE_NAMES: dict[str, str] = {
+    **{alias: name for name, v in VARIABLES.items()
+       for alias in (v.field.replace(".", "_"), v.attribute)},
+    "particle_count": "particles", "length": "container_length", "material": "particle_material",
+    **{name: name for name in VARIABLES},
 }
 
 
@@ -175,14 +198,12 @@ class DesignVariable:
 
 
 def _name(raw: str) -> str:
-    name = raw.strip().lower().replace("-", "_")
-    aliases = {"count": "particles", "particle_count": "particles", "particle_radius": "radius",
-               "length": "container_length", "material": "particle_material"}
-    name = aliases.get(name, name)
-    if name not in VARIABLES:
+    name = raw.strip().lower().replace("-", "_").replace(".", "_")
+    if name not in VARIABLE_NAMES:
         raise InputError("optimization.vary", f"unknown design variable {raw.strip()!r}; "
-                         f"known: {', '.join(n.replace('_', '-') for n in VARIABLES)}")
-    return name
+                         f"known: {', '.join(n.replace('_', '-') for n in VARIABLES)} (or "
+                         f"their scenario keys: {', '.join(v.field for v in VARIABLES.values())})")
+    return VARIABLE_NAMES[name]
 
 
 #: Usual number of values of a design variable (the paper's study: 12 layers).
@@ -257,15 +278,14 @@ def _parse(spec: str) -> _Spec:
                 raise InputError(where, f"{text!r}: stop - start = {b - a} is not a multiple of "
                                  f"the step {step} (particle counts use start:stop:STEP, e.g. "
                                  "16:176:16)")
-            if a < 0:
-                raise InputError(where, f"counts must be >= 0, got {text!r}")
+            check_setting(where, a, quantity(kind.field))  # the stop is above the start
             return _Spec(name, "range", start=a, stop=b, step=step)
         try:
             values = tuple(int(p) for p in text.split(","))
         except ValueError:
             raise InputError(where, f"expected whole numbers, got {text!r}") from None
-        if any(v < 0 for v in values):
-            raise InputError(where, f"counts must be >= 0, got {text!r}")
+        for v in values:
+            check_setting(where, v, quantity(kind.field))
         return _Spec(name, "list", values)
     # continuous
     parts = text.split(":")
@@ -293,7 +313,7 @@ def _parse(spec: str) -> _Spec:
                          f"got {text!r}")
     # the ends decide for a range: the values between them are between them
     for v in out.items or (out.start, out.stop):
-        check_range(where, v, low=0.0, low_inclusive=False, unit=kind.unit)
+        check_setting(where, v, quantity(kind.field))
     return out
 
 
@@ -633,7 +653,8 @@ class DesignStudyResult:
             "evaluations": len(self.candidates),
             "infeasible": sum(c.status == "infeasible" for c in self.candidates),
             "failed": sum(c.status == "failed" for c in self.candidates),
-            "variables": [{"name": v.name, "spec": v.spec, "kind": v.kind,
+            "variables": [{"name": v.name, "field": VARIABLES[v.name].field,
+                           "spec": v.spec, "kind": v.kind,
                            "values": None if v.values is None else list(v.values),
                            "bounds": None if v.bounds is None else list(v.bounds)}
                           for v in self.variables],

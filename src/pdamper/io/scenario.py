@@ -35,8 +35,10 @@ from pydantic import (
 )
 
 from pdamper.constants import STANDARD_GRAVITY
+from pdamper.damper import QUANTITIES, ParticleDamper
 from pdamper.dem.settings import EngineSettings, Settings
 from pdamper.errors import InputError
+from pdamper.io.damper_sections import ContainerSpec, MaterialSpec, ParticlesSpec
 from pdamper.io.grids import _grid, _range_text, count_grid, grid, parse_axis
 from pdamper.io.quantities import (
     Count,
@@ -73,7 +75,6 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from pdamper.contact.restitution import RestitutionCurve
     from pdamper.coupling.loads import LoadHistory
-    from pdamper.damper import ParticleDamper
     from pdamper.design.study import DesignVariable
     from pdamper.materials import Material
     from pdamper.models.base import DamperModel
@@ -86,31 +87,6 @@ _D = paper.PAPER_DAMPER
 
 class _Section(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
-
-
-class MaterialSpec(_Section):
-    """A material given by its constants instead of a library name."""
-
-    name: str
-    youngs_modulus: Modulus
-    poisson_ratio: Annotated[float, Field(gt=-1, lt=0.5)]
-    density: Density
-    yield_strength: Modulus | None = None
-
-
-class ContainerSpec(_Section):
-    length: PositiveLength = _D.length
-    width: PositiveLength = _D.width
-    depth: PositiveLength = _D.depth
-    material: str | MaterialSpec = _D.wall_material.name
-    mass: Mass = _D.container_mass
-
-
-class ParticlesSpec(_Section):
-    count: Annotated[int, Field(ge=0, strict=True)] = _D.count
-    radius: PositiveLength = _D.particle_radius
-    material: str | MaterialSpec = _D.particle_material.name
-    friction: Annotated[float, Field(ge=0)] = paper.PAPER_FRICTION  # (_D.friction)
 
 
 class ExcitationSpec(_Section):
@@ -415,17 +391,17 @@ class Scenario(_Section):
 
     # -- builders of the domain objects ------------------------------------------------
     def damper(self) -> ParticleDamper:
-        """The :class:`~pdamper.damper.ParticleDamper` this scenario describes."""
-        from pdamper.damper import ParticleDamper
-
-        c, p = self.container, self.particles
-        sphere = _material(p.material, "particles.material")
-        wall = _material(c.material, "container.material")
-        pp, pw = self.restitution_curves(sphere, wall, p.radius)
-        return ParticleDamper(length=c.length, width=c.width, depth=c.depth,
-                              particle_radius=p.radius, count=p.count,
-                              particle_material=sphere, wall_material=wall,
-                              container_mass=c.mass, friction=p.friction,
+        """The :class:`~pdamper.damper.ParticleDamper` this scenario describes: every
+        ``[container]`` and ``[particles]`` key is a quantity of the damper, given to the
+        field its declaration names (:data:`~pdamper.damper.QUANTITIES`)."""
+        values = {attribute: getattr(getattr(self, section), name)
+                  for key, attribute in QUANTITIES.items()
+                  for section, _, name in [key.partition(".")]
+                  if section in ("container", "particles")}
+        sphere = _material(values.pop("particle_material"), "particles.material")
+        wall = _material(values.pop("wall_material"), "container.material")
+        pp, pw = self.restitution_curves(sphere, wall, self.particles.radius)
+        return ParticleDamper(**values, particle_material=sphere, wall_material=wall,
                               restitution_pp=pp, restitution_pw=pw)
 
     def restitution_curves(self, sphere: Material, wall: Material,

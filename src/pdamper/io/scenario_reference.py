@@ -151,7 +151,27 @@ def _attribute_docs(model: type) -> dict[str, str]:
     return docs
 
 
+def _declared(info: FieldInfo) -> dict:
+    """The declaration of a field declared with :func:`pdamper.settings.setting` (empty
+    for one that is not)."""
+    extra = info.json_schema_extra
+    return dict(extra) if isinstance(extra, dict) and "kind" in extra else {}
+
+
+def _declared_constraint(decl: dict) -> str:
+    if decl["kind"] not in ("number", "whole", "curve"):
+        return ""
+    parts = []
+    if decl["low"] is not None:
+        parts.append(f"{'>=' if decl['low_inclusive'] else '>'} {decl['low']:g}")
+    if decl["high"] is not None:
+        parts.append(f"{'<=' if decl['high_inclusive'] else '<'} {decl['high']:g}")
+    return ", ".join(parts)
+
+
 def _unit(annotation: Any, info: FieldInfo) -> str:
+    if decl := _declared(info):
+        return decl["unit"]
     for func in _validators(_all_meta(annotation, info)):
         unit = _unit_of(func)
         if unit:
@@ -160,6 +180,8 @@ def _unit(annotation: Any, info: FieldInfo) -> str:
 
 
 def _constraint(annotation: Any, info: FieldInfo) -> str:
+    if decl := _declared(info):
+        return _declared_constraint(decl)
     parts = []
     for m in _all_meta(annotation, info):
         for name, op in _OPS.items():

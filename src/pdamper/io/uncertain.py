@@ -26,23 +26,18 @@ import math
 import re
 from typing import Any
 
+from pdamper.damper import QUANTITIES, quantity, uncertain_fields
 from pdamper.errors import InputError
 
-#: Fields that may be given as ``"value +- sd"``: SI unit and valid range (truncation).
+#: Fields that may be given as ``"value +- sd"``: SI unit and valid range (truncation). The
+#: damper's are derived from its declarations (:func:`pdamper.damper.uncertain_fields`).
 UNCERTAIN_FIELDS: dict[str, tuple[str, float, float]] = {
-    "particles.friction": ("", 0.0, math.inf),
-    "particles.radius": ("m", 0.0, math.inf),
-    "container.length": ("m", 0.0, math.inf),
-    "container.width": ("m", 0.0, math.inf),
-    "container.depth": ("m", 0.0, math.inf),
-    "container.mass": ("kg", 0.0, math.inf),
+    **uncertain_fields(),
     "excitation.frequency": ("Hz", 0.0, math.inf),
     "excitation.amplitude": ("m", 0.0, math.inf),
     "structure.mass": ("kg", 0.0, math.inf),
     "structure.stiffness": ("N/m", 0.0, math.inf),
     "structure.damping": ("kg/s", 0.0, math.inf),
-    "dem.restitution_pp": ("", 0.0, 1.0),
-    "dem.restitution_pw": ("", 0.0, 1.0),
 }
 _SPLIT = re.compile(r"\s*(?:\+-|\+/-|±)\s*")
 
@@ -61,6 +56,7 @@ def parse_uncertain(text: str, field: str):
     (0.12, 0.0001)
     """
     from pdamper.design.uncertainty import UncertainInput
+    from pdamper.settings import check_setting
     from pdamper.units import parse_quantity
 
     if field not in UNCERTAIN_FIELDS:
@@ -76,7 +72,9 @@ def parse_uncertain(text: str, field: str):
     if not sd > 0:
         raise InputError(field, f"the standard deviation must be > 0 (leave out '+- sd' for "
                          f"an exact value), got {parts[1]!r}")
-    if not low <= value <= high:
+    if field in QUANTITIES:  # a quantity of the damper: its declaration's check and message
+        check_setting(field, value, quantity(field))
+    elif not low <= value <= high:
         raise InputError(field, f"the nominal value must be in the field's range "
                          f"[{low:g}, {high:g}], got {parts[0]!r}")
     return UncertainInput(field, value, sd, low, high, unit)
