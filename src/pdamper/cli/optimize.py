@@ -14,14 +14,16 @@ from pdamper.cli._common import (
     ScenarioOpt,
     check_plot,
     emit,
+    figure_last,
     load,
     metadata,
     plot_param,
-    write_figure,
 )
 from pdamper.errors import InputError
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from pdamper.coupling.loads import LoadHistory
     from pdamper.design.study import DesignStudyResult, DesignVariable
     from pdamper.io.scenario import Scenario
@@ -101,10 +103,10 @@ def optimize(
     n_workers = _worker_count(sc.optimization.workers, proto)
     res, seeds = _study(sc, damper, variables, history, n_workers,
                         _realisation_count(sc, realisations, force))
+    payload, lines = _report(sc, res, history, n_workers, seeds)
+    emit(payload, as_json, "\n".join(lines))  # the study first: a figure cannot lose it
     if plot_path is not None:
         _figure(res, plot_path)
-    payload, lines = _report(sc, res, history, n_workers, seeds)
-    emit(payload, as_json, "\n".join(lines))
 
 
 def _workers(workers: str | None) -> int | str | None:
@@ -219,13 +221,16 @@ def _study(sc: Scenario, damper: Any, variables: list[DesignVariable],
 
 def _figure(res: DesignStudyResult, path: Path) -> None:
     """The design landscape to ``--plot``."""
-    from matplotlib.figure import Figure
+    def draw() -> Figure:
+        from matplotlib.figure import Figure
 
-    from pdamper.plots import plot_design_landscape
+        from pdamper.plots import plot_design_landscape
 
-    fig = Figure(figsize=(7, 5), layout="constrained")
-    plot_design_landscape(res, ax=fig.subplots())
-    write_figure(fig, path, dpi=120)
+        fig = Figure(figsize=(7, 5), layout="constrained")
+        plot_design_landscape(res, ax=fig.subplots())
+        return fig
+
+    figure_last(draw, path, dpi=120)
 
 
 #: Scale and column head of each objective in the text.

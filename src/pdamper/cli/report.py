@@ -69,6 +69,13 @@ def report(
                 out=cache, progress=say, realisations=n_real, **options)
             written = damper_report.write_damper_report(rep, stage)
     files = [target / p.relative_to(stage) for p in written]
+    if rep.figure_errors:  # the results are written; the missing figures end the command
+        from pdamper.errors import OutputError
+
+        name, why = next(iter(rep.figure_errors.items()))
+        raise OutputError("out", f"the figure {name} could not be drawn ({why}); "
+                          f"results.json and report.html without "
+                          f"{', '.join(rep.figure_errors)} are in {target}")
     payload = {"out": str(target), "files": [str(p) for p in files],
                "figures": [f.name for f in rep.figures], "seconds": time.perf_counter() - t0,
                "version": rep.version, "seeds": rep.seeds}

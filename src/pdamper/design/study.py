@@ -412,6 +412,18 @@ class Objective:
     band: tuple[float, ...] | None = None
     frf_load: Any = None
 
+    @property
+    def label(self) -> str:
+        """The objective in words with its display unit, e.g. ``"settling time [s]"``
+        (:data:`OBJECTIVE_LABELS`)."""
+        return (f"{OBJECTIVE_LABELS[self.name].format(at=self.at)} "
+                f"[{DISPLAY_UNITS[self.unit][0]}]")
+
+    @property
+    def display_scale(self) -> float:
+        """Factor from the SI value to the unit of :attr:`label` (1e3 for metres)."""
+        return DISPLAY_UNITS[self.unit][1]
+
     def evaluate(self, res: FreeVibrationResult | LoadResponse | FRFResult
                  ) -> tuple[float, dict]:
         """Objective value of a :class:`~pdamper.coupling.FreeVibrationResult` (of a
@@ -484,6 +496,17 @@ OBJECTIVES.update(FRF_OBJECTIVES)
 #: natural frequency below and above it, in this many frequencies; default load 2 N.
 FRF_BAND = (0.5, 1.5, 41)
 FRF_LOAD = "2 N"
+#: What each objective is, in words, for axes and tables (the value in the unit of
+#: :attr:`Objective.display_unit`); every key of :data:`OBJECTIVES` has one.
+OBJECTIVE_LABELS = {"amplitude-at": "amplitude at t = {at:g} s",
+                    "settling-time": "settling time",
+                    "mean-damping": "mean damping ratio",
+                    "peak": "peak |displacement| under the load history",
+                    "rms": "RMS displacement under the load history",
+                    "peak-frf": "largest steady amplitude over the band",
+                    "rms-frf": "RMS of the steady amplitude over the band"}
+#: Unit in which objectives of each SI unit are shown, and its factor from SI.
+DISPLAY_UNITS = {"m": ("mm", 1e3), "s": ("s", 1.0), "1": ("-", 1.0)}
 
 
 def make_objective(name: str, at: float, initial_displacement: float,

@@ -74,6 +74,7 @@ class DamperReport:
     forced: dict = field(default_factory=dict)  # label -> FRFResult (harmonic balance)
     forced_load: Any = None  # the HarmonicLoad of the forced response
     band: Any = None  # Level3Band of the DEM's realisations (with dem and realisations)
+    figure_errors: dict = field(default_factory=dict)  # figure name -> why it is missing
 
     def models(self) -> list[dict]:
         """One row per Level III run: label, model, source, amplitude at ``at``, final
@@ -122,7 +123,8 @@ class DamperReport:
                 "uncertainty": {k: v.as_dict() for k, v in self.uncertainty.items()},
                 "forced_response": self.forced_summary(),
                 "realisations": None if self.band is None else self.band.as_dict(),
-                "figures": [f.name for f in self.figures], "inputs": self.inputs}
+                "figures": [f.name for f in self.figures],
+                "figure_errors": dict(self.figure_errors), "inputs": self.inputs}
 
 
 def _timed(rep: DamperReport, key: str, fn: Callable[..., Any]) -> Any:
@@ -307,8 +309,10 @@ def effective_field_map(damper: ParticleDamper, frequency: np.ndarray, amplitude
 
 def design_study(sc: Scenario, damper: ParticleDamper, structure: Any) -> DesignStudyResult:
     """The design study of ``[optimization]`` (its ``vary``, or the particle count in
-    whole layers) with the analytical model, in-process."""
-    from pdamper.design.study import DesignVariable, optimize_design
+    whole layers) with the analytical model, in-process; every objective, those on the
+    response to ``[load]`` and the forced-response ones over ``[optimization] band``
+    included."""
+    from pdamper.design.study import LOAD_OBJECTIVES, DesignVariable, optimize_design
 
     o = sc.optimization
     variables = o.variables()
@@ -321,75 +325,105 @@ def design_study(sc: Scenario, damper: ParticleDamper, structure: Any) -> Design
                            o.objective, o.at, model=functools.partial(sc.model, "analytic"),
                            threshold=o.threshold, method=o.method, max_grid=o.max_grid,
                            max_evaluations=o.max_evaluations, seed=o.seed, workers=0,
-                           tolerance=o.tolerance)
+                           tolerance=o.tolerance,
+                           load=sc.load.history() if o.objective in LOAD_OBJECTIVES else None,
+                           tail=sc.load.tail, band=o.frf_band(), frf_load=o.frf_load)
 
 
 def figures(rep: DamperReport) -> list[ReportFigure]:
-    """The report's figures (PNG)."""
+    """The report's figures (PNG). A figure that cannot be drawn is left out and its error
+    kept in ``rep.figure_errors`` (``name -> message``): the computed answers and the other
+    figures stand, and the command ends non-zero naming it."""
     from matplotlib.figure import Figure
 
     from pdamper import plots
 
-    out = []
+    out: list[ReportFigure] = []
     assert rep.damper is not None  # (set by run_damper_report, as the maps)
-    ds = _one_count(rep.level2_map, rep.damper.count)
-    fig = Figure(figsize=(15, 4.4), layout="constrained")
-    a = fig.subplots(1, 3)
-    plots.plot_mode_map(ds, ax=a[0])
-    plots.plot_loss_factor_map(ds, ax=a[1])
-    plots.plot_effective_mass_map(ds, ax=a[2])
-    a[0].set_title("motion mode")
-    a[1].set_title("loss factor")
-    a[2].set_title("effective mass ratio")
-    out.append(ReportFigure("level2_map", f"Level II map of the analytical model, "
-                            f"{rep.damper.count} particles (Eqs. 5-22)", _png(fig)))
-    if rep.dem_map is not None:
-        dm = _one_count(rep.dem_map, rep.damper.count)
-        fig = Figure(figsize=(10, 4.4), layout="constrained")
-        a = fig.subplots(1, 2)
-        plots.plot_loss_factor_map(dm, ax=a[0])
-        plots.plot_effective_mass_map(dm, ax=a[1])
-        a[0].set_title("loss factor (DEM)")
-        a[1].set_title("effective mass ratio (DEM)")
-        out.append(ReportFigure("level2_dem_map", "Level II map of the DEM (complex power "
-                                "method, Eqs. 1-4)", _png(fig)))
-    fig = Figure(figsize=(11, 7.5), layout="constrained")
-    a = fig.subplots(2, 1)
-    plots.plot_model_trajectories(rep.runs, ax=a[0], envelope=rep.empty)
-    a[0].set_title("free decay of the structure with the damper")
-    plots.plot_model_damping_ratios(rep.runs, ax=a[1])
-    a[1].set_title("damping ratio per cycle (Eqs. 24-25)")
-    out.append(ReportFigure("free_decay", "free decay and damping ratio, the models compared",
-                            _png(fig)))
-    fig = Figure(figsize=(8, 5.2), layout="constrained")
-    assert rep.study is not None  # the report always runs its design study
-    plots.plot_design_landscape(rep.study, ax=fig.subplots())
-    out.append(ReportFigure("design_landscape", "design landscape (analytical model) with the "
-                            "Pareto front of added mass against the objective", _png(fig)))
-    if "level3" in rep.uncertainty:
-        out.append(ReportFigure("uncertainty", "spread of the answers under the uncertain "
-                                "inputs (histograms, the envelope's 5-95 % band) and the "
-                                "inputs' total Sobol' indices",
-                                _png(uncertainty_figure(rep.uncertainty))))
-    if rep.forced:
-        from pdamper.plots.frf import plot_frf
+    damper = rep.damper
 
-        fig = Figure(figsize=(9, 6.5), layout="constrained")
-        axes = fig.subplots(2, 1, sharex=True)
-        for i, (label, r) in enumerate(rep.forced.items()):
-            plot_frf(r, axes=axes, label=label, linear=i == 0, color=("C0", "C4", "C5")[i % 3])
-        axes[0].set_title(f"forced response, {rep.forced_load.amplitude:.3g} N at the "
-                          "damper's point")
-        out.append(ReportFigure("forced_response", "amplitude and phase of the structure "
-                                "under a harmonic force, the models compared (harmonic "
-                                "balance)", _png(fig)))
-    if rep.band is not None:
+    def add(name: str, caption: str, draw: Callable[[], Figure]) -> None:
+        try:
+            out.append(ReportFigure(name, caption, _png(draw())))
+        except Exception as exc:  # noqa: BLE001 - a figure never loses the results
+            rep.figure_errors[name] = f"{type(exc).__name__}: {exc}"
+
+    def level2_map() -> Figure:
+        ds = _one_count(rep.level2_map, damper.count)
+        fig = Figure(figsize=(15, 4.4), layout="constrained")
+        a = fig.subplots(1, 3)
+        plots.plot_mode_map(ds, ax=a[0])
+        plots.plot_loss_factor_map(ds, ax=a[1])
+        plots.plot_effective_mass_map(ds, ax=a[2])
+        a[0].set_title("motion mode")
+        a[1].set_title("loss factor")
+        a[2].set_title("effective mass ratio")
+        return fig
+
+    add("level2_map", f"Level II map of the analytical model, {damper.count} particles "
+        "(Eqs. 5-22)", level2_map)
+    if rep.dem_map is not None:
+        def dem_map() -> Figure:
+            dm = _one_count(rep.dem_map, damper.count)
+            fig = Figure(figsize=(10, 4.4), layout="constrained")
+            a = fig.subplots(1, 2)
+            plots.plot_loss_factor_map(dm, ax=a[0])
+            plots.plot_effective_mass_map(dm, ax=a[1])
+            a[0].set_title("loss factor (DEM)")
+            a[1].set_title("effective mass ratio (DEM)")
+            return fig
+
+        add("level2_dem_map", "Level II map of the DEM (complex power method, Eqs. 1-4)",
+            dem_map)
+
+    def free_decay() -> Figure:
         fig = Figure(figsize=(11, 7.5), layout="constrained")
         a = fig.subplots(2, 1)
-        plots.plot_trajectory_band(rep.band, ax=a[0], label="DEM (model 1)")
-        plots.plot_damping_ratio_band(rep.band, ax=a[1], label="DEM (model 1)")
-        out.append(ReportFigure("realisations", "DEM model 1 over random packings: the "
-                                "band of the free decay and of the damping ratio", _png(fig)))
+        plots.plot_model_trajectories(rep.runs, ax=a[0], envelope=rep.empty)
+        a[0].set_title("free decay of the structure with the damper")
+        plots.plot_model_damping_ratios(rep.runs, ax=a[1])
+        a[1].set_title("damping ratio per cycle (Eqs. 24-25)")
+        return fig
+
+    add("free_decay", "free decay and damping ratio, the models compared", free_decay)
+
+    def landscape() -> Figure:
+        fig = Figure(figsize=(8, 5.2), layout="constrained")
+        assert rep.study is not None  # the report always runs its design study
+        plots.plot_design_landscape(rep.study, ax=fig.subplots())
+        return fig
+
+    add("design_landscape", "design landscape (analytical model) with the Pareto front of "
+        "added mass against the objective", landscape)
+    if "level3" in rep.uncertainty:
+        add("uncertainty", "spread of the answers under the uncertain inputs (histograms, "
+            "the envelope's 5-95 % band) and the inputs' total Sobol' indices",
+            lambda: uncertainty_figure(rep.uncertainty))
+    if rep.forced:
+        def forced() -> Figure:
+            from pdamper.plots.frf import plot_frf
+
+            fig = Figure(figsize=(9, 6.5), layout="constrained")
+            axes = fig.subplots(2, 1, sharex=True)
+            for i, (label, r) in enumerate(rep.forced.items()):
+                plot_frf(r, axes=axes, label=label, linear=i == 0,
+                         color=("C0", "C4", "C5")[i % 3])
+            axes[0].set_title(f"forced response, {rep.forced_load.amplitude:.3g} N at the "
+                              "damper's point")
+            return fig
+
+        add("forced_response", "amplitude and phase of the structure under a harmonic "
+            "force, the models compared (harmonic balance)", forced)
+    if rep.band is not None:
+        def band() -> Figure:
+            fig = Figure(figsize=(11, 7.5), layout="constrained")
+            a = fig.subplots(2, 1)
+            plots.plot_trajectory_band(rep.band, ax=a[0], label="DEM (model 1)")
+            plots.plot_damping_ratio_band(rep.band, ax=a[1], label="DEM (model 1)")
+            return fig
+
+        add("realisations", "DEM model 1 over random packings: the band of the free decay "
+            "and of the damping ratio", band)
     return out
 
 
@@ -498,6 +532,11 @@ def _band_html(rep: DamperReport) -> list[str]:
 
 
 def _fig(rep: DamperReport, name: str) -> list[str]:
+    """The figure ``name`` as HTML, or the sentence saying why it could not be drawn."""
+    if name in rep.figure_errors:
+        return [f"<p><strong>The figure {_e(name)} could not be drawn</strong> "
+                f"({_e(rep.figure_errors[name])}); the numbers of this section and "
+                "results.json are complete.</p>"]
     return [_img(f) for f in rep.figures if f.name == name]
 
 
@@ -597,10 +636,8 @@ def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:
                      [[k, f"{v:.3f}"] for k, v in rep.timings.items()], "timings",
                      [["", "num"]] * len(rep.timings))
     seeds = ", ".join(f"{k} = {v}" for k, v in rep.seeds.items())
-    figs = {f.name: f for f in rep.figures}
-
     def fig(name):
-        return [_img(figs[name])] if name in figs else []
+        return _fig(rep, name)
 
     parts = [
         "<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
@@ -648,11 +685,12 @@ def write_damper_report(rep: DamperReport, out: Path, extra: Sequence[str] = ())
     from pdamper.files import atomic_write_text
 
     out = Path(out)
-    page = render_damper_report(rep, extra or merge_sections())
-    html_path = atomic_write_text(out / "report.html", page, "out")
+    # the answers first, the page with its figures after them
     data = json.dumps(_finite(json.loads(json.dumps(rep.as_dict(), default=_json_default))),
                       indent=2, allow_nan=False)
     json_path = atomic_write_text(out / "results.json", data + "\n", "out")
+    page = render_damper_report(rep, extra or merge_sections())
+    html_path = atomic_write_text(out / "report.html", page, "out")
     return [html_path, json_path]
 
 
