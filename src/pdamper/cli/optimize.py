@@ -296,7 +296,9 @@ def _candidate_lines(res: DesignStudyResult) -> list[str]:
         if c.objective is not None and "objective_std" in c.extra:
             value += f" +- {c.extra['objective_std'] * shown[0]:.2g}"
         mass = f"{c.mass * 1e3:8.1f}" if c.mass is not None else "       -"
-        mark = "  <- best" if c is res.best else ""
+        mark = ("" if c is not res.best else "  <- best" if not res.failures
+                else f"  <- best of the {sum(d.status == 'ok' for d in res.candidates)} "
+                     "evaluated")
         if c is light and c is not res.best:
             mark = f"  <- lightest within {res.tolerance * 100:g} %"
         lines.append("  " + "  ".join(cells) + f"  {mass}  {value}{mark}")
@@ -306,9 +308,16 @@ def _candidate_lines(res: DesignStudyResult) -> list[str]:
                            else f"{n} {c.design[n]}" for n in names)
         return f"{design} ({c.mass * 1e3:.1f} g, {c.objective * shown[0]:.4g})"
 
+    from pdamper.design.study import describe_design
+
+    for c in res.failures:  # every failure with its reason
+        lines.append(f"failed: {describe_design(c, names)}: {c.reason}")
     front = res.front
     lines.append(f"Pareto front of added mass vs {shown[1]} ({len(front)}, lightest first): "
                  + ("; ".join(brief(c) for c in front) if front else "none"))
-    lines.append(f"lightest within {res.tolerance * 100:g} % of the best: "
-                 + (brief(light) if light is not None else "none"))
+    if res.no_best is not None:
+        lines.append(f"best: none: {res.no_best}")
+    else:
+        lines.append(f"lightest within {res.tolerance * 100:g} % of the best: "
+                     + (brief(light) if light is not None else "none"))
     return lines

@@ -82,7 +82,8 @@ def report(
     st = rep.study
     assert st is not None  # (run_damper_report makes the design study)
     lines = [f"report of {sc.title!r} in {target}/ ({payload['seconds']:.1f} s)",
-             f"  best design: {damper_report._brief(st.best, [v.name for v in st.variables])}",
+             f"  best design: {damper_report._brief(st.best, [v.name for v in st.variables])}"
+             + ("" if st.no_best is None else f" ({st.no_best})"),
              f"  lightest within {st.tolerance * 100:g} %: "
              f"{damper_report._brief(st.lightest_within, [v.name for v in st.variables])}"]
     for level, r in rep.uncertainty.items():

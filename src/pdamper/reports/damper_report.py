@@ -625,13 +625,13 @@ def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:
         land_rows.append([*(_value(c.design.get(n)) for n in names),
                           "" if c.mass is None else f"{c.mass * 1e3:.1f}",
                           "" if c.objective is None else f"{c.objective:.5g}",
-                          c.status, mark])
+                          c.status + (f": {c.reason}" if c.reason else ""), mark])
     land = _table([*names, "added mass [g]", f"{st.objective.name} [{st.objective.unit}]",
                    "status", "on the front"], land_rows, "landscape",
                   [["num"] * len(names) + ["num", "num", "", ""]] * len(land_rows))
     summary = (f"best: {_brief(best, names)}; lightest within {st.tolerance * 100:g} % of "
                f"the best: {_brief(light, names)}; {len(st.front)} designs on the Pareto "
-               "front.")
+               "front." + ("" if st.no_best is None else f" No best design: {st.no_best}."))
     timings = _table(["step", "wall time [s]"],
                      [[k, f"{v:.3f}"] for k, v in rep.timings.items()], "timings",
                      [["", "num"]] * len(rep.timings))
