@@ -22,7 +22,8 @@ def report(
         "--realisations", help="With --dem: also run DEM model 1 from N random packings and "
         "show their band (default: none).")] = None,
     uncertainty: Annotated[int | None, typer.Option(
-        "--uncertainty", help="Base points of the propagation of the inputs given as "
+        "--uncertainty", parser=_uncertainty.points,
+        help="Base points of the propagation of the inputs given as "
         "'value +- sd' (a power of two; default 32 when there are any).")] = None,
     uncertain: _uncertainty.UncertainOpt = None,
     uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,

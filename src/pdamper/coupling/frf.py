@@ -79,6 +79,13 @@ DEFAULT_STEADY = SteadyStateCriterion(rtol=1e-3, atol=1e-3, quiet_window_cycles=
 MAX_FREQUENCIES = 100_000
 LOAD_KINDS = ("force", "base")
 SWEEPS = ("up", "down", "both")
+#: Smallest harmonic load amplitude, by unit, and why: below it the load is below what
+#: any measurement resolves, and the solution's stroke grids underflow long before the
+#: number itself does (a force of 1e-200 N).
+MIN_LOAD = {"N": (1e-6, "below 1 uN, the weight of 0.1 mg, no measured load is resolved"),
+            "m": (1e-9, "a base motion below 1 nm is below any meaningful displacement"),
+            "m/s^2": (1e-6, "below 1e-6 m/s^2 (0.1 ug) no accelerometer resolves a base "
+                            "motion")}
 
 
 # ----------------------------------------------------------------------------- inputs
@@ -97,7 +104,11 @@ class HarmonicLoad:
         if self.kind not in LOAD_KINDS:
             raise InputError("load", f"must be one of {', '.join(LOAD_KINDS)}, got {self.kind!r}")
         unit = "N" if self.kind == "force" else ("m/s^2" if self.acceleration else "m")
-        check_range(self.kind, self.amplitude, low=0.0, low_inclusive=False, unit=unit)
+        low, why = MIN_LOAD[unit]
+        try:
+            check_range(self.kind, self.amplitude, low=low, unit=unit)
+        except InputError as exc:
+            raise InputError(exc.field, f"{exc.message} ({why})") from None
         object.__setattr__(self, "amplitude", float(self.amplitude))
 
     @property
@@ -141,11 +152,12 @@ class HarmonicLoad:
         # "0.3g": g is the standard gravity (pint reads a bare g as gram)
         accel = re.sub(r"(?<=[\d.\s])g$", " g0", str(text).strip())
         try:
-            return cls("base", parse_quantity(accel, "m/s^2", name), acceleration=True)
+            value = parse_quantity(accel, "m/s^2", name)
         except InputError:
             what = "a force (e.g. '2N'), or a base " if kind is None else "a base "
             raise InputError(name, f"must be {what}displacement (e.g. '1mm') or acceleration "
                              f"(e.g. '0.3g', '3m/s^2') amplitude, got {text!r}") from None
+        return cls("base", value, acceleration=True)  # its range checked as every load's
 
     def reference(self, omega: float) -> float:
         """Amplitude of the reference signal the phase is measured against: the force [N]
@@ -157,6 +169,29 @@ class HarmonicLoad:
     def as_dict(self) -> dict:
         return {"kind": self.kind, "amplitude": self.amplitude, "unit": self.unit,
                 "acceleration": self.acceleration}
+
+
+def check_damped(structure) -> None:
+    """Refuse a structure with an undamped mode for a forced response: at that mode's
+    natural frequency the response without particles is unbounded (the receptance divides
+    by ``2 zeta_i w_i W = 0``), and every bound of the damper's stroke with it. The free
+    decay of an undamped structure is well defined and not judged here. Raises InputError
+    naming the damping (``structure.damping`` of the 1-DOF, ``structure.damping_ratios``
+    of the modes)."""
+    from pdamper.structure import SingleDOFStructure
+
+    if isinstance(structure, SingleDOFStructure):
+        if not structure.damping > 0:
+            raise InputError("structure.damping", "must be > 0 kg/s for a forced response "
+                             "(damping ratio in (0, 1)): the undamped structure's response "
+                             "at its natural frequency is unbounded; got 0 kg/s")
+        return
+    z = np.asarray(_modal(structure).damping_ratios, float)
+    bad = np.flatnonzero(~(z > 0))
+    if bad.size:
+        raise InputError("structure.damping_ratios", f"must be in (0, 1) for a forced "
+                         f"response: mode {int(bad[0]) + 1} is undamped (damping ratio 0), "
+                         "its response at its natural frequency is unbounded")
 
 
 def _modal(structure):
@@ -960,6 +995,7 @@ def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
                          f"got {type(model).__name__}")
     if not isinstance(load, HarmonicLoad):
         raise InputError("load", f"must be a HarmonicLoad, got {type(load).__name__}")
+    check_damped(structure)
     s = _modal(structure)
     f = np.atleast_1d(np.asarray(frequency, float))
     if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):

@@ -535,7 +535,9 @@ def make_objective(name: str, at: float, initial_displacement: float,
     check_range("optimization.at", at, low=0.0, low_inclusive=False, unit="s")
     sense, unit = OBJECTIVES[name]
     if name in FRF_OBJECTIVES:
-        from pdamper.coupling.frf import HarmonicLoad
+        from pdamper.coupling.frf import HarmonicLoad, check_damped
+
+        check_damped(structure)  # before any design: its forced response must be bounded
 
         if band is None:
             lo, hi, n = FRF_BAND

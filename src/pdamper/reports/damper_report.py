@@ -75,6 +75,7 @@ class DamperReport:
     forced_load: Any = None  # the HarmonicLoad of the forced response
     band: Any = None  # Level3Band of the DEM's realisations (with dem and realisations)
     figure_errors: dict = field(default_factory=dict)  # figure name -> why it is missing
+    not_applicable: dict = field(default_factory=dict)  # result key -> why it is null
 
     def models(self) -> list[dict]:
         """One row per Level III run: label, model, source, amplitude at ``at``, final
@@ -123,6 +124,8 @@ class DamperReport:
                 "uncertainty": {k: v.as_dict() for k, v in self.uncertainty.items()},
                 "forced_response": self.forced_summary(),
                 "realisations": None if self.band is None else self.band.as_dict(),
+                **({"not_applicable": dict(self.not_applicable)} if self.not_applicable
+                   else {}),
                 "figures": [f.name for f in self.figures],
                 "figure_errors": dict(self.figure_errors), "inputs": self.inputs}
 
@@ -265,8 +268,15 @@ def forced_response(rep: DamperReport, models: dict, structure: Any, x0: float) 
     the analytical formulas and the effective fields) under :func:`forced_load`, over
     :data:`FORCED_POINTS` frequencies around the first natural frequency; into
     ``rep.forced`` and ``rep.forced_load``."""
-    from pdamper.coupling.frf import HARMONIC_BALANCE, frequency_response
+    from pdamper.coupling.frf import HARMONIC_BALANCE, check_damped, frequency_response
+    from pdamper.errors import InputError
 
+    try:
+        check_damped(structure)
+    except InputError as exc:  # an undamped structure: no bounded forced response
+        rep.not_applicable["forced_response"] = (
+            f"the structure has an undamped mode ({exc.field}: {exc.message})")
+        return
     load = forced_load(structure, x0)
     f_n = float(structure.natural_frequency)
     f = np.linspace((1.0 - FORCED_SPAN) * f_n, (1.0 + FORCED_SPAN) * f_n, FORCED_POINTS)
@@ -490,7 +500,9 @@ def merge_sections(forced_response: str | None = None,
 def _forced_html(rep: DamperReport) -> list[str]:
     summary = rep.forced_summary()
     if summary is None:
-        return []
+        why = rep.not_applicable.get("forced_response")
+        return [] if why is None else ["<h2>Forced response</h2>",
+                                       f"<p>Not applicable: {_e(why)}.</p>"]
     load = rep.forced_load
     rows = [[label, _mm(m["peak_amplitude"]), "" if m["peak_frequency"] is None
              else f"{m['peak_frequency']:.3f}",
