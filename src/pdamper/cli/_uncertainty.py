@@ -152,8 +152,9 @@ def lines(result, scale: dict[str, tuple[float, str]]) -> list[str]:
 
 def map_spread(sc, model: str, n: int, seed: int, ds, out):
     """The map's spread under the uncertain inputs: ``<answer>_mean``, ``_std``, ``_p5``
-    ... ``_p95`` variables added to ``ds`` (and to the NetCDF file ``out``, written
-    again), and the result's JSON without the per-cell bands (they are in the file)."""
+    ... ``_p95`` variables added to ``ds`` (and the NetCDF file ``out`` written with
+    them, its only write: the nominal map alone never reaches it), and the result's JSON
+    without the per-cell bands (they are in the file)."""
     from pdamper.io.uncertain import MAP_BANDS, propagate_scenario
 
     spread = propagate_scenario(sc, "map", n, seed, model=model)
