@@ -175,6 +175,10 @@ def _table(res: FRFResult) -> list[str]:
         for c in res.sweeps.values():
             flag = "" if c.steady[i] else "*"
             row += f"  {c.amplitude[i] * 1e3:6.2f}{flag}"
+            if not c.steady[i] and c.amplitude_std is not None and c.amplitude_mean is not \
+                    None and np.isfinite(c.amplitude_std[i]):
+                row += (f" (last windows {c.amplitude_mean[i] * 1e3:.2f} +- "
+                        f"{c.amplitude_std[i] * 1e3:.2f})")
         lines.append(row)
     for name, c in res.sweeps.items():
         k = int(np.argmax(c.amplitude))
@@ -184,5 +188,9 @@ def _table(res: FRFResult) -> list[str]:
                      f"m_eff {c.effective_mass[k] * 1e3:.1f} g, "
                      f"{md.title if md is not None else 'unclassified'}); "
                      f"{int(np.count_nonzero(~c.steady))} point(s) not steady (*)")
+    if any(not np.all(c.steady) for c in res.sweeps.values()):
+        lines.append("amplitudes: the first harmonic of the output point over the step's last "
+                     "window; * not steady: the mean and standard deviation over its last "
+                     "windows show the scatter of that one value")
     return lines
 
