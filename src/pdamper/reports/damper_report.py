@@ -344,97 +344,120 @@ def figures(rep: DamperReport) -> list[ReportFigure]:
     """The report's figures (PNG). A figure that cannot be drawn is left out and its error
     kept in ``rep.figure_errors`` (``name -> message``): the computed answers and the other
     figures stand, and the command ends non-zero naming it."""
+    assert rep.damper is not None  # (set by run_damper_report, as the maps)
+    wanted: list[tuple[str, str, Callable[[DamperReport], Figure]]] = [
+        ("level2_map", f"Level II map of the analytical model, {rep.damper.count} particles "
+         "(Eqs. 5-22)", _level2_figure)]
+    if rep.dem_map is not None:
+        wanted.append(("level2_dem_map", "Level II map of the DEM (complex power method, "
+                       "Eqs. 1-4)", _dem_map_figure))
+    wanted += [("free_decay", "free decay and damping ratio, the models compared",
+                _free_decay_figure),
+               ("design_landscape", "design landscape (analytical model) with the Pareto "
+                "front of added mass against the objective", _landscape_figure)]
+    if "level3" in rep.uncertainty:
+        wanted.append(("uncertainty", "spread of the answers under the uncertain inputs "
+                       "(histograms, the envelope's 5-95 % band) and the inputs' total "
+                       "Sobol' indices", lambda r: uncertainty_figure(r.uncertainty)))
+    if rep.forced:
+        wanted.append(("forced_response", "amplitude and phase of the structure under a "
+                       "harmonic force, the models compared (harmonic balance)",
+                       _forced_figure))
+    if rep.band is not None:
+        wanted.append(("realisations", "DEM model 1 over random packings: the band of the "
+                       "free decay and of the damping ratio", _band_figure))
+    out: list[ReportFigure] = []
+    for name, caption, draw in wanted:
+        try:
+            out.append(ReportFigure(name, caption, _png(draw(rep))))
+        except Exception as exc:  # noqa: BLE001 - a figure never loses the results
+            rep.figure_errors[name] = f"{type(exc).__name__}: {exc}"
+    return out
+
+
+def _level2_figure(rep: DamperReport) -> Figure:
     from matplotlib.figure import Figure
 
     from pdamper import plots
 
-    out: list[ReportFigure] = []
-    assert rep.damper is not None  # (set by run_damper_report, as the maps)
-    damper = rep.damper
+    assert rep.damper is not None
+    ds = _one_count(rep.level2_map, rep.damper.count)
+    fig = Figure(figsize=(15, 4.4), layout="constrained")
+    a = fig.subplots(1, 3)
+    plots.plot_mode_map(ds, ax=a[0])
+    plots.plot_loss_factor_map(ds, ax=a[1])
+    plots.plot_effective_mass_map(ds, ax=a[2])
+    a[0].set_title("motion mode")
+    a[1].set_title("loss factor")
+    a[2].set_title("effective mass ratio")
+    return fig
 
-    def add(name: str, caption: str, draw: Callable[[], Figure]) -> None:
-        try:
-            out.append(ReportFigure(name, caption, _png(draw())))
-        except Exception as exc:  # noqa: BLE001 - a figure never loses the results
-            rep.figure_errors[name] = f"{type(exc).__name__}: {exc}"
 
-    def level2_map() -> Figure:
-        ds = _one_count(rep.level2_map, damper.count)
-        fig = Figure(figsize=(15, 4.4), layout="constrained")
-        a = fig.subplots(1, 3)
-        plots.plot_mode_map(ds, ax=a[0])
-        plots.plot_loss_factor_map(ds, ax=a[1])
-        plots.plot_effective_mass_map(ds, ax=a[2])
-        a[0].set_title("motion mode")
-        a[1].set_title("loss factor")
-        a[2].set_title("effective mass ratio")
-        return fig
+def _dem_map_figure(rep: DamperReport) -> Figure:
+    from matplotlib.figure import Figure
 
-    add("level2_map", f"Level II map of the analytical model, {damper.count} particles "
-        "(Eqs. 5-22)", level2_map)
-    if rep.dem_map is not None:
-        def dem_map() -> Figure:
-            dm = _one_count(rep.dem_map, damper.count)
-            fig = Figure(figsize=(10, 4.4), layout="constrained")
-            a = fig.subplots(1, 2)
-            plots.plot_loss_factor_map(dm, ax=a[0])
-            plots.plot_effective_mass_map(dm, ax=a[1])
-            a[0].set_title("loss factor (DEM)")
-            a[1].set_title("effective mass ratio (DEM)")
-            return fig
+    from pdamper import plots
 
-        add("level2_dem_map", "Level II map of the DEM (complex power method, Eqs. 1-4)",
-            dem_map)
+    assert rep.damper is not None
+    dm = _one_count(rep.dem_map, rep.damper.count)
+    fig = Figure(figsize=(10, 4.4), layout="constrained")
+    a = fig.subplots(1, 2)
+    plots.plot_loss_factor_map(dm, ax=a[0])
+    plots.plot_effective_mass_map(dm, ax=a[1])
+    a[0].set_title("loss factor (DEM)")
+    a[1].set_title("effective mass ratio (DEM)")
+    return fig
 
-    def free_decay() -> Figure:
-        fig = Figure(figsize=(11, 7.5), layout="constrained")
-        a = fig.subplots(2, 1)
-        plots.plot_model_trajectories(rep.runs, ax=a[0], envelope=rep.empty)
-        a[0].set_title("free decay of the structure with the damper")
-        plots.plot_model_damping_ratios(rep.runs, ax=a[1])
-        a[1].set_title("damping ratio per cycle (Eqs. 24-25)")
-        return fig
 
-    add("free_decay", "free decay and damping ratio, the models compared", free_decay)
+def _free_decay_figure(rep: DamperReport) -> Figure:
+    from matplotlib.figure import Figure
 
-    def landscape() -> Figure:
-        fig = Figure(figsize=(8, 5.2), layout="constrained")
-        assert rep.study is not None  # the report always runs its design study
-        plots.plot_design_landscape(rep.study, ax=fig.subplots())
-        return fig
+    from pdamper import plots
 
-    add("design_landscape", "design landscape (analytical model) with the Pareto front of "
-        "added mass against the objective", landscape)
-    if "level3" in rep.uncertainty:
-        add("uncertainty", "spread of the answers under the uncertain inputs (histograms, "
-            "the envelope's 5-95 % band) and the inputs' total Sobol' indices",
-            lambda: uncertainty_figure(rep.uncertainty))
-    if rep.forced:
-        def forced() -> Figure:
-            from pdamper.plots.frf import plot_frf
+    fig = Figure(figsize=(11, 7.5), layout="constrained")
+    a = fig.subplots(2, 1)
+    plots.plot_model_trajectories(rep.runs, ax=a[0], envelope=rep.empty)
+    a[0].set_title("free decay of the structure with the damper")
+    plots.plot_model_damping_ratios(rep.runs, ax=a[1])
+    a[1].set_title("damping ratio per cycle (Eqs. 24-25)")
+    return fig
 
-            fig = Figure(figsize=(9, 6.5), layout="constrained")
-            axes = fig.subplots(2, 1, sharex=True)
-            for i, (label, r) in enumerate(rep.forced.items()):
-                plot_frf(r, axes=axes, label=label, linear=i == 0,
-                         color=("C0", "C4", "C5")[i % 3])
-            axes[0].set_title(f"forced response, {rep.forced_load.amplitude:.3g} N at the "
-                              "damper's point")
-            return fig
 
-        add("forced_response", "amplitude and phase of the structure under a harmonic "
-            "force, the models compared (harmonic balance)", forced)
-    if rep.band is not None:
-        def band() -> Figure:
-            fig = Figure(figsize=(11, 7.5), layout="constrained")
-            a = fig.subplots(2, 1)
-            plots.plot_trajectory_band(rep.band, ax=a[0], label="DEM (model 1)")
-            plots.plot_damping_ratio_band(rep.band, ax=a[1], label="DEM (model 1)")
-            return fig
+def _landscape_figure(rep: DamperReport) -> Figure:
+    from matplotlib.figure import Figure
 
-        add("realisations", "DEM model 1 over random packings: the band of the free decay "
-            "and of the damping ratio", band)
-    return out
+    from pdamper import plots
+
+    fig = Figure(figsize=(8, 5.2), layout="constrained")
+    assert rep.study is not None  # the report always runs its design study
+    plots.plot_design_landscape(rep.study, ax=fig.subplots())
+    return fig
+
+
+def _forced_figure(rep: DamperReport) -> Figure:
+    from matplotlib.figure import Figure
+
+    from pdamper.plots.frf import plot_frf
+
+    fig = Figure(figsize=(9, 6.5), layout="constrained")
+    axes = fig.subplots(2, 1, sharex=True)
+    for i, (label, r) in enumerate(rep.forced.items()):
+        plot_frf(r, axes=axes, label=label, linear=i == 0, color=("C0", "C4", "C5")[i % 3])
+    axes[0].set_title(f"forced response, {rep.forced_load.amplitude:.3g} N at the "
+                      "damper's point")
+    return fig
+
+
+def _band_figure(rep: DamperReport) -> Figure:
+    from matplotlib.figure import Figure
+
+    from pdamper import plots
+
+    fig = Figure(figsize=(11, 7.5), layout="constrained")
+    a = fig.subplots(2, 1)
+    plots.plot_trajectory_band(rep.band, ax=a[0], label="DEM (model 1)")
+    plots.plot_damping_ratio_band(rep.band, ax=a[1], label="DEM (model 1)")
+    return fig
 
 
 def uncertainty_figure(results: dict) -> Figure:
