@@ -94,6 +94,11 @@ SCENARIOS = {
     "undamped_peak_frf": '[structure]\ndamping = "0 kg/s"\n[optimization]\n'
                          'objective = "peak-frf"\n',
     "frf_load_tiny": '[optimization]\nobjective = "peak-frf"\nfrf_load = "1e-200 N"\n',
+    # -- every design objective in a report and with --plot
+    "study_rms_load": '[load]\nforce = "load_force.csv"\n[optimization]\nobjective = "rms"\n'
+                      'vary = ["particles=0:32:32"]\n',
+    "study_peak_frf": '[optimization]\nobjective = "peak-frf"\nband = "4Hz:7Hz:3"\n'
+                      'vary = ["particles=0:32:32"]\n',
     # -- COR fit uncertainty through the DEM (--uncertain restitution.PAIR=fit)
     "cor_fit_small": '[particles]\ncount = 4\n[dem]\ncycles = 2\nskip_cycles = 1\n'
                      '[restitution]\nparticle_wall = { model = "table", file = "cor.csv", '
@@ -677,6 +682,14 @@ CASES += [
                               "0.5s", "--json"], OK()),
     ("ok-report-undamped", ["report", "--scenario", "{scenario:undamped}", "--out", "{tmp}/r",
                             "--json"], OK()),
+    ("ok-report-objective-rms-load", ["report", "--scenario", "{scenario:study_rms_load}",
+                                      "--out", "{tmp}/r", "--json"], OK()),
+    ("ok-report-objective-peak-frf", ["report", "--scenario", "{scenario:study_peak_frf}",
+                                      "--out", "{tmp}/r", "--json"], OK()),
+    ("ok-optimize-plot-peak-frf", ["optimize", "--scenario", "{scenario:study_peak_frf}",
+                                   "--plot", "{tmp}/landscape.png", "--json"], OK()),
+    ("ok-optimize-plot-rms-load", ["optimize", "--scenario", "{scenario:study_rms_load}",
+                                   "--plot", "{tmp}/landscape.png", "--json"], OK()),
     ("ok-analytic-uncertainty-seed", ["analytic", "--scenario", "{scenario:uncertain_friction}",
                                       "--uncertainty", "4", "--uncertainty-seed", "7",
                                       "--json"], OK()),
