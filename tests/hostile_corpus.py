@@ -88,6 +88,17 @@ SCENARIOS = {
     # -- forced response (frf): loads, frequency grids, structures
     "frf_dem_three_modes": '[simulation]\nmodel = "dem"\n[structure]\n'
                            'beam = { modes = 3, elements = 20 }\n',
+    # -- degenerate values: undamped and overdamped structures, loads below any measurement
+    "undamped": '[structure]\ndamping = "0 kg/s"\n',
+    "overdamped": '[structure]\ndamping = "1e9 kg/s"\n',
+    "undamped_peak_frf": '[structure]\ndamping = "0 kg/s"\n[optimization]\n'
+                         'objective = "peak-frf"\n',
+    "frf_load_tiny": '[optimization]\nobjective = "peak-frf"\nfrf_load = "1e-200 N"\n',
+    # -- every design objective in a report and with --plot
+    "study_rms_load": '[load]\nforce = "load_force.csv"\n[optimization]\nobjective = "rms"\n'
+                      'vary = ["particles=0:32:32"]\n',
+    "study_peak_frf": '[optimization]\nobjective = "peak-frf"\nband = "4Hz:7Hz:3"\n'
+                      'vary = ["particles=0:32:32"]\n',
     # -- COR fit uncertainty through the DEM (--uncertain restitution.PAIR=fit)
     "cor_fit_small": '[particles]\ncount = 4\n[dem]\ncycles = 2\nskip_cycles = 1\n'
                      '[restitution]\nparticle_wall = { model = "table", file = "cor.csv", '
@@ -140,6 +151,9 @@ FILES = {
     "load_ragged.csv": "time [s], force [N]\n0, 0\n1, 1, 2\n",
     "load_no_time.csv": "force [N], force2 [kN]\n0, 0\n1, 1\n",
     "load_years.csv": "time [year], force [N]\n0, 0\n1, 1\n",
+    "modes_undamped.csv": "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n5.56, 0, 0.81\n",
+    "modes_overdamped.csv": "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n"
+                            "5.56, 1e6, 0.81\n",
     "load_modes_two.csv": "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n"
                           "5.56, 0.0052, 0.81\n46.3, 0.01, -0.9\n",
 }
@@ -620,6 +634,65 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
                               "{tmp}/load_force.csv", "--json"], OK()),
     ("load-dem-beyond-hertz", ["simulate", "--model", "dem", "--base-acceleration",
                                "{tmp}/load_acc_huge.csv"], Error("base_acceleration")),
+]
+
+# -- degenerate values reaching the numerics: a declared range, or finite numbers
+CASES += [
+    ("frf-force-1e-200N", ["frf", "--force", "1e-200N", "--frequency", "5Hz"], Error("force")),
+    ("frf-force-1e-320N", ["frf", "--force", "1e-320N", "--frequency", "5Hz"], Error("force")),
+    ("frf-base-1e-300mm", ["frf", "--base", "1e-300mm", "--frequency", "5Hz"], Error("base")),
+    ("frf-base-1e-300g", ["frf", "--base", "1e-300g", "--frequency", "5Hz"], Error("base")),
+    ("frf-undamped-structure", ["frf", "--frequency", "5Hz", "--scenario",
+                                "{scenario:undamped}"], Error("structure.damping")),
+    ("frf-overdamped-structure", ["frf", "--frequency", "5Hz", "--scenario",
+                                  "{scenario:overdamped}"], Error("structure.damping")),
+    ("simulate-overdamped-structure", ["simulate", "--scenario", "{scenario:overdamped}"],
+     Error("structure.damping")),
+    ("frf-modes-undamped", ["frf", "--frequency", "5.56Hz", "--modes",
+                            "{tmp}/modes_undamped.csv"], Error("structure.damping_ratios")),
+    ("frf-modes-overdamped", ["frf", "--frequency", "5Hz:6Hz:3", "--modes",
+                              "{tmp}/modes_overdamped.csv"], Error("structure.modes")),
+    ("simulate-modes-overdamped", ["simulate", "--modes", "{tmp}/modes_overdamped.csv"],
+     Error("structure.modes")),
+    ("optimize-frf-load-1e-200N", ["optimize", "--objective", "peak-frf", "--frf-load",
+                                   "1e-200N"], Error("optimization.frf_load")),
+    ("optimize-frf-load-1e-200N-scenario", ["optimize", "--scenario",
+                                            "{scenario:frf_load_tiny}"],
+     Error("optimization.frf_load")),
+    ("optimize-peak-frf-undamped", ["optimize", "--objective", "peak-frf", "--scenario",
+                                    "{scenario:undamped}"], Error("structure.damping")),
+    ("optimize-peak-frf-undamped-scenario", ["optimize", "--scenario",
+                                             "{scenario:undamped_peak_frf}"],
+     Error("structure.damping")),
+    ("optimize-peak-frf-modes-undamped", ["optimize", "--objective", "peak-frf", "--modes",
+                                          "{tmp}/modes_undamped.csv"],
+     Error("structure.damping_ratios")),
+    ("analytic-uncertainty-seed-negative", ["analytic", "--scenario",
+                                            "{scenario:uncertain_friction}", "--uncertainty",
+                                            "4", "--uncertainty-seed", "-1"],
+     Error("--uncertainty-seed")),
+    ("analytic-uncertainty-fraction", ["analytic", "--scenario", "{scenario:uncertain_friction}",
+                                       "--uncertainty", "4.0"], Error("--uncertainty")),
+    ("report-uncertainty-fraction", ["report", "--scenario", "{scenario:uncertain_friction}",
+                                     "--out", "{tmp}/r", "--uncertainty", "4.0"],
+     Error("--uncertainty")),
+    ("ok-frf-force-1uN", ["frf", "--force", "1uN", "--frequency", "5Hz:6Hz:3", "--json"], OK()),
+    ("ok-frf-base-1nm", ["frf", "--base", "1nm", "--frequency", "5Hz:6Hz:3", "--json"], OK()),
+    ("ok-simulate-undamped", ["simulate", "--scenario", "{scenario:undamped}", "--duration",
+                              "0.5s", "--json"], OK()),
+    ("ok-report-undamped", ["report", "--scenario", "{scenario:undamped}", "--out", "{tmp}/r",
+                            "--json"], OK()),
+    ("ok-report-objective-rms-load", ["report", "--scenario", "{scenario:study_rms_load}",
+                                      "--out", "{tmp}/r", "--json"], OK()),
+    ("ok-report-objective-peak-frf", ["report", "--scenario", "{scenario:study_peak_frf}",
+                                      "--out", "{tmp}/r", "--json"], OK()),
+    ("ok-optimize-plot-peak-frf", ["optimize", "--scenario", "{scenario:study_peak_frf}",
+                                   "--plot", "{tmp}/landscape.png", "--json"], OK()),
+    ("ok-optimize-plot-rms-load", ["optimize", "--scenario", "{scenario:study_rms_load}",
+                                   "--plot", "{tmp}/landscape.png", "--json"], OK()),
+    ("ok-analytic-uncertainty-seed", ["analytic", "--scenario", "{scenario:uncertain_friction}",
+                                      "--uncertainty", "4", "--uncertainty-seed", "7",
+                                      "--json"], OK()),
 ]
 
 #: Address space [bytes] a case may map beyond what the test process holds

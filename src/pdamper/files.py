@@ -395,6 +395,10 @@ def atomic_directory(path: str | os.PathLike[str], field: str = "out") -> Iterat
     interrupt), the staging directory is removed and ``path`` is as it was: no empty
     directory, no partial files.
 
+    The staging directory is made where its files are renamed to: inside an existing
+    ``path`` (which may be a mount point, a device of its own: a rename across devices
+    fails), beside a missing one (which then appears on its parent's device).
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -411,8 +415,9 @@ def atomic_directory(path: str | os.PathLike[str], field: str = "out") -> Iterat
             # an interrupt between the directory's creation and ``stage`` being set would
             # leave it behind: it is held until ``stage`` is known, then raised in here
             with signals_deferred():
-                stage = Path(tempfile.mkdtemp(dir=target.absolute().parent,
-                                              prefix=f".{target.name}.", suffix=".tmp"))
+                home = target if target.is_dir() else target.absolute().parent
+                stage = Path(tempfile.mkdtemp(dir=home, prefix=f".{target.name}.",
+                                              suffix=".tmp"))
         except OSError as exc:
             raise OutputError(field, f"cannot write {target}: {_reason(exc)}") from None
         try:

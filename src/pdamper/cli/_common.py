@@ -162,6 +162,25 @@ def write_figure(fig: Figure, path: Path, dpi: int = 110, field: str = "plot") -
     return atomic_write_bytes(path, buf.getbuffer(), field)
 
 
+def figure_last(draw: Callable[[], Figure], path: Path, dpi: int = 110,
+                field: str = "plot") -> Path:
+    """Draw a figure with ``draw()`` and write it to ``path`` (:func:`write_figure`), called
+    after the command's results (JSON, NetCDF) were written: a figure that cannot be drawn
+    leaves them and ends as an unwritten output (one line naming ``field``, status 1),
+    not as a traceback that loses the computed answer."""
+    from pdamper.errors import OutputError, PdamperError
+
+    try:
+        fig = draw()
+    except PdamperError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - any drawing failure: the results stand
+        raise OutputError(field, f"the figure {path.name} could not be drawn "
+                          f"({type(exc).__name__}: {exc}); the results were written before "
+                          "it") from exc
+    return write_figure(fig, path, dpi, field)
+
+
 def flag_name(flag: str) -> str:
     """The parameter of a flag: ``"--free-flight/--no-free-flight"`` -> ``"free_flight"``."""
     return flag.split("/")[0].removeprefix("--").replace("-", "_")

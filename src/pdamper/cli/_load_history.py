@@ -5,8 +5,12 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from pdamper.cli._common import emit, metadata, write_figure
+from pdamper.cli._common import emit, figure_last, metadata
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 
 def response_payload(res, seconds: float) -> dict:
@@ -62,8 +66,6 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
     if len(runs) > 1:
         payload["models"] = {n: response_payload(r, seconds[n]) for n, r in runs.items()}
     payload.update(meta)
-    if plot is not None:
-        _figure(plot, runs, history)
     what = "force" if history.kind == "force" else "base acceleration"
     lines = [f"{what} {history.source}: {history.time.size} samples over "
              f"{history.duration:g} s (+ {tail:g} s free tail), linear between samples"]
@@ -74,10 +76,13 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
                      f"{r.peak_acceleration:.4g} m/s^2, RMS {r.rms_acceleration:.4g} m/s^2; "
                      f"damper dissipated {r.dissipated_energy:.4g} J"
                      + (f" in {len(r.cycles)} updates" if r.cycles else ""))
-    emit(payload, as_json, "\n".join(lines))
+    emit(payload, as_json, "\n".join(lines))  # the results first: a figure cannot lose them
+    if plot is not None:
+        figure_last(lambda: _figure(runs, history), plot)
 
 
-def _figure(path: Path, runs: dict, history) -> None:
+def _figure(runs: dict, history) -> Figure:
+    """The figure of ``--plot`` (written after the results)."""
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(11, 10), layout="constrained")
@@ -101,4 +106,4 @@ def _figure(path: Path, runs: dict, history) -> None:
     axes[2].set_title("damper at its updates")
     if any(r.cycles for r in runs.values()):
         axes[2].legend(fontsize="x-small", loc="upper right")
-    write_figure(fig, path, dpi=110)
+    return fig

@@ -5,12 +5,40 @@
 
 from __future__ import annotations
 
+import re
 from typing import Annotated
 
 import typer
 
+
+def _whole(text: object, what: str, low: int) -> int:
+    """A whole number >= ``low`` from the option's text (``"4.0"`` is refused: a count or a
+    seed is written as one); refused as the option's one-line usage error."""
+    if isinstance(text, int) and not isinstance(text, bool):
+        value = text
+    else:
+        raw = str(text).strip()
+        if not re.fullmatch(r"[+-]?\d+", raw):
+            raise typer.BadParameter(f"must be {what}, got {raw!r}")
+        value = int(raw)
+    if value < low:
+        raise typer.BadParameter(f"must be {what}, got {value}")
+    return value
+
+
+def points(text: object) -> int:
+    """``--uncertainty N`` as a whole number (a power of two is judged by
+    :func:`pdamper.design.uncertainty.check_points`)."""
+    return _whole(text, "a whole number (a power of two of base points, e.g. 32)", 1)
+
+
+def seed(text: object) -> int:
+    """``--uncertainty-seed`` as a whole number >= 0."""
+    return _whole(text, "a whole number >= 0 (the seed of the Sobol' sequence)", 0)
+
+
 UncertaintyOpt = Annotated[int | None, typer.Option(
-    "--uncertainty", help="Propagate the inputs given as 'value +- sd' (scenario or "
+    "--uncertainty", parser=points, help="Propagate the inputs given as 'value +- sd' (scenario or "
     "--uncertain) with N quasi-Monte Carlo base points (a power of two; N (inputs + 2) "
     "runs): mean, std, percentiles and Sobol' indices of the answers.")]
 UncertainOpt = Annotated[list[str] | None, typer.Option(
@@ -19,7 +47,7 @@ UncertainOpt = Annotated[list[str] | None, typer.Option(
     "'container.length=120mm+-0.1mm'; repeatable. 'pdamper dem' also takes "
     "'restitution.particle_wall=fit': the fitted COR curve's parameter covariance.")]
 UncertaintySeedOpt = Annotated[int, typer.Option(
-    "--uncertainty-seed", help="Seed of the scrambled Sobol' sequence (recorded).")]
+    "--uncertainty-seed", parser=seed, help="Seed of the scrambled Sobol' sequence (recorded).")]
 
 
 def fits(items: list[str] | None) -> list[str]:
@@ -124,8 +152,9 @@ def lines(result, scale: dict[str, tuple[float, str]]) -> list[str]:
 
 def map_spread(sc, model: str, n: int, seed: int, ds, out):
     """The map's spread under the uncertain inputs: ``<answer>_mean``, ``_std``, ``_p5``
-    ... ``_p95`` variables added to ``ds`` (and to the NetCDF file ``out``, written
-    again), and the result's JSON without the per-cell bands (they are in the file)."""
+    ... ``_p95`` variables added to ``ds`` (and the NetCDF file ``out`` written with
+    them, its only write: the nominal map alone never reaches it), and the result's JSON
+    without the per-cell bands (they are in the file)."""
     from pdamper.runs.uncertainty import MAP_BANDS, propagate_scenario
 
     spread = propagate_scenario(sc, "map", n, seed, model=model)

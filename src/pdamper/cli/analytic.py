@@ -49,9 +49,12 @@ def analytic(
         "optimal_stroke": damper.optimal_stroke,
         "subharmonic_order": int(bed.subharmonic_order),
         "bed_mass": damper.bed_mass,
-        # without gravity the ratio is unbounded: null in JSON
+        # without gravity the ratio is unbounded: null in JSON, with the reason
         "acceleration_ratio": (x * (2 * math.pi * f) ** 2 / bed.gravity if bed.gravity > 0
                                else None),
+        **({} if bed.gravity > 0 else {"not_applicable": {
+            "acceleration_ratio": "gravity is 0: the acceleration ratio X W^2 / g is "
+                                  "unbounded (the bed is never held by its weight)"}}),
         "gravity": bed.gravity,
         "eta_max": ETA_MAX,
         "units": {"gravity": "m/s^2", "dissipated_energy_per_cycle": "J", "clearance": "m",

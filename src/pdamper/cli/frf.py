@@ -16,13 +16,15 @@ from pdamper.cli._common import (
     check_output,
     check_plot,
     emit,
+    figure_last,
     load,
     metadata,
     plot_param,
-    write_figure,
 )
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from pdamper.coupling.frf import FRFResult
 
 #: Default load and frequency grid (the paper's structure, resonance near 5.5 Hz).
@@ -92,15 +94,15 @@ def frf(
     meta = metadata(sc)
     if out_path is not None:
         _write_response(out_path, res, meta)
-    if plot_path is not None:
-        _figure(res, plot_path)
     payload = res.as_dict()
     payload["frf_inputs"] = payload.pop("inputs")  # "inputs" is the scenario's, as everywhere
     payload["units"] = {"frequency": "Hz", "amplitude": "m", "stroke": "m", "phase": "rad",
                         "loss_factor": "1", "effective_mass": "kg", "wall_seconds": "s",
                         "load": load_.unit}
     payload.update(meta)
-    emit(payload, as_json, "\n".join(_table(res)))
+    emit(payload, as_json, "\n".join(_table(res)))  # the results first: a figure cannot lose them
+    if plot_path is not None:
+        _figure(res, plot_path)
 
 
 def _frequencies(text: str) -> np.ndarray | list[float]:
@@ -136,13 +138,16 @@ def _write_response(out: Path, res: FRFResult, meta: dict) -> None:
 
 def _figure(res: FRFResult, path: Path) -> None:
     """Amplitude and phase against frequency to ``--plot``."""
-    from matplotlib.figure import Figure
+    def draw() -> Figure:
+        from matplotlib.figure import Figure
 
-    from pdamper.plots.frf import plot_frf
+        from pdamper.plots.frf import plot_frf
 
-    fig = Figure(figsize=(8, 6.5), layout="constrained")
-    plot_frf(res, axes=fig.subplots(2, 1, sharex=True))
-    write_figure(fig, path, dpi=110)
+        fig = Figure(figsize=(8, 6.5), layout="constrained")
+        plot_frf(res, axes=fig.subplots(2, 1, sharex=True))
+        return fig
+
+    figure_last(draw, path, dpi=110)
 
 
 def _table(res: FRFResult) -> list[str]:
@@ -170,6 +175,10 @@ def _table(res: FRFResult) -> list[str]:
         for c in res.sweeps.values():
             flag = "" if c.steady[i] else "*"
             row += f"  {c.amplitude[i] * 1e3:6.2f}{flag}"
+            if not c.steady[i] and c.amplitude_std is not None and c.amplitude_mean is not \
+                    None and np.isfinite(c.amplitude_std[i]):
+                row += (f" (last windows {c.amplitude_mean[i] * 1e3:.2f} +- "
+                        f"{c.amplitude_std[i] * 1e3:.2f})")
         lines.append(row)
     for name, c in res.sweeps.items():
         k = int(np.argmax(c.amplitude))
@@ -179,5 +188,9 @@ def _table(res: FRFResult) -> list[str]:
                      f"m_eff {c.effective_mass[k] * 1e3:.1f} g, "
                      f"{md.title if md is not None else 'unclassified'}); "
                      f"{int(np.count_nonzero(~c.steady))} point(s) not steady (*)")
+    if any(not np.all(c.steady) for c in res.sweeps.values()):
+        lines.append("amplitudes: the first harmonic of the output point over the step's last "
+                     "window; * not steady: the mean and standard deviation over its last "
+                     "windows show the scatter of that one value")
     return lines
 

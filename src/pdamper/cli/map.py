@@ -85,17 +85,20 @@ def map_(
         options["scheduler"] = scheduler
     meta = metadata(sc, model=model, seed=sc.dem.seed)
     n_real = _realisation_count(sc, model, realisations, uncertainty, force)
+    # with --uncertainty the file is written once, at the end, with its bands: a failed or
+    # interrupted sampling leaves no map without them
+    first_out = out_path if uncertainty is None else None
     with _progress(sys.stderr, as_json or quiet()) as progress:
         if n_real > 1:
             from pdamper.runs.realisations import run_map_realisations
 
-            result = run_map_realisations(sc, model, n_real, out=out_path,
+            result = run_map_realisations(sc, model, n_real, out=first_out,
                                           keep_partial=keep_partial, progress=progress,
                                           force=force, **options)
         else:
             from pdamper.runs.maps import run_map
 
-            result = run_map(sc, model, out=out_path, keep_partial=keep_partial,
+            result = run_map(sc, model, out=first_out, keep_partial=keep_partial,
                              progress=progress, **options)
     payload, human = _summary(sc, model, result, out_path, n_real, meta)
     if uncertainty is not None:  # the spread of every cell, added to the map and its file

@@ -14,14 +14,16 @@ from pdamper.cli._common import (
     ScenarioOpt,
     check_plot,
     emit,
+    figure_last,
     load,
     metadata,
     plot_param,
-    write_figure,
 )
 from pdamper.errors import InputError
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from pdamper.coupling.loads import LoadHistory
     from pdamper.design.study import DesignStudyResult, DesignVariable
     from pdamper.io.scenario import Scenario
@@ -101,10 +103,10 @@ def optimize(
     n_workers = _worker_count(sc.optimization.workers, proto)
     res, seeds = _study(sc, damper, variables, history, n_workers,
                         _realisation_count(sc, realisations, force))
+    payload, lines = _report(sc, res, history, n_workers, seeds)
+    emit(payload, as_json, "\n".join(lines))  # the study first: a figure cannot lose it
     if plot_path is not None:
         _figure(res, plot_path)
-    payload, lines = _report(sc, res, history, n_workers, seeds)
-    emit(payload, as_json, "\n".join(lines))
 
 
 def _workers(workers: str | None) -> int | str | None:
@@ -219,13 +221,16 @@ def _study(sc: Scenario, damper: Any, variables: list[DesignVariable],
 
 def _figure(res: DesignStudyResult, path: Path) -> None:
     """The design landscape to ``--plot``."""
-    from matplotlib.figure import Figure
+    def draw() -> Figure:
+        from matplotlib.figure import Figure
 
-    from pdamper.plots import plot_design_landscape
+        from pdamper.plots import plot_design_landscape
 
-    fig = Figure(figsize=(7, 5), layout="constrained")
-    plot_design_landscape(res, ax=fig.subplots())
-    write_figure(fig, path, dpi=120)
+        fig = Figure(figsize=(7, 5), layout="constrained")
+        plot_design_landscape(res, ax=fig.subplots())
+        return fig
+
+    figure_last(draw, path, dpi=120)
 
 
 #: Scale and column head of each objective in the text.
@@ -291,7 +296,9 @@ def _candidate_lines(res: DesignStudyResult) -> list[str]:
         if c.objective is not None and "objective_std" in c.extra:
             value += f" +- {c.extra['objective_std'] * shown[0]:.2g}"
         mass = f"{c.mass * 1e3:8.1f}" if c.mass is not None else "       -"
-        mark = "  <- best" if c is res.best else ""
+        mark = ("" if c is not res.best else "  <- best" if not res.failures
+                else f"  <- best of the {sum(d.status == 'ok' for d in res.candidates)} "
+                     "evaluated")
         if c is light and c is not res.best:
             mark = f"  <- lightest within {res.tolerance * 100:g} %"
         lines.append("  " + "  ".join(cells) + f"  {mass}  {value}{mark}")
@@ -301,9 +308,16 @@ def _candidate_lines(res: DesignStudyResult) -> list[str]:
                            else f"{n} {c.design[n]}" for n in names)
         return f"{design} ({c.mass * 1e3:.1f} g, {c.objective * shown[0]:.4g})"
 
+    from pdamper.design.study import describe_design
+
+    for c in res.failures:  # every failure with its reason
+        lines.append(f"failed: {describe_design(c, names)}: {c.reason}")
     front = res.front
     lines.append(f"Pareto front of added mass vs {shown[1]} ({len(front)}, lightest first): "
                  + ("; ".join(brief(c) for c in front) if front else "none"))
-    lines.append(f"lightest within {res.tolerance * 100:g} % of the best: "
-                 + (brief(light) if light is not None else "none"))
+    if res.no_best is not None:
+        lines.append(f"best: none: {res.no_best}")
+    else:
+        lines.append(f"lightest within {res.tolerance * 100:g} % of the best: "
+                     + (brief(light) if light is not None else "none"))
     return lines

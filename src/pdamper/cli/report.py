@@ -22,7 +22,8 @@ def report(
         "--realisations", help="With --dem: also run DEM model 1 from N random packings and "
         "show their band (default: none).")] = None,
     uncertainty: Annotated[int | None, typer.Option(
-        "--uncertainty", help="Base points of the propagation of the inputs given as "
+        "--uncertainty", parser=_uncertainty.points,
+        help="Base points of the propagation of the inputs given as "
         "'value +- sd' (a power of two; default 32 when there are any).")] = None,
     uncertain: _uncertainty.UncertainOpt = None,
     uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
@@ -70,13 +71,21 @@ def report(
                 out=cache, progress=say, realisations=n_real, **options)
             written = damper_report.write_damper_report(rep, stage)
     files = [target / p.relative_to(stage) for p in written]
+    if rep.figure_errors:  # the results are written; the missing figures end the command
+        from pdamper.errors import OutputError
+
+        name, why = next(iter(rep.figure_errors.items()))
+        raise OutputError("out", f"the figure {name} could not be drawn ({why}); "
+                          f"results.json and report.html without "
+                          f"{', '.join(rep.figure_errors)} are in {target}")
     payload = {"out": str(target), "files": [str(p) for p in files],
                "figures": [f.name for f in rep.figures], "seconds": time.perf_counter() - t0,
                "version": rep.version, "seeds": rep.seeds}
     st = rep.study
     assert st is not None  # (run_damper_report makes the design study)
     lines = [f"report of {sc.title!r} in {target}/ ({payload['seconds']:.1f} s)",
-             f"  best design: {damper_report._brief(st.best, [v.name for v in st.variables])}",
+             f"  best design: {damper_report._brief(st.best, [v.name for v in st.variables])}"
+             + ("" if st.no_best is None else f" ({st.no_best})"),
              f"  lightest within {st.tolerance * 100:g} %: "
              f"{damper_report._brief(st.lightest_within, [v.name for v in st.variables])}"]
     for level, r in rep.uncertainty.items():

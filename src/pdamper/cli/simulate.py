@@ -16,14 +16,16 @@ from pdamper.cli._common import (
     check_output,
     check_plot,
     emit,
+    figure_last,
     load,
     metadata,
     plot_param,
-    write_figure,
 )
 from pdamper.errors import InputError
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from pdamper.io.scenario import Scenario
 
 
@@ -171,10 +173,10 @@ def _release(sc: Scenario, models: dict[str, Any], banded: list[str], n_real: in
         spread = propagate_scenario(sc, "level3", uncertainty, uncertainty_seed)
         payload["uncertainty"] = spread.as_dict()
     payload.update(meta)
-    if plot is not None:
-        _figure(plot, runs, aligned, comparisons, bands)
     lines = _human(structure, x0, models, runs, seconds, bands, aligned, comparisons, spread)
-    emit(payload, as_json, "\n".join(lines))
+    emit(payload, as_json, "\n".join(lines))  # the results first: a figure cannot lose them
+    if plot is not None:
+        figure_last(lambda: _figure(runs, aligned, comparisons, bands), plot)
 
 
 def _check_uncertainty(sc: Scenario, uncertainty: int | None, force: bool) -> None:
@@ -363,7 +365,8 @@ def _human(structure: Any, x0: float, models: dict[str, Any], runs: dict[str, An
     return lines
 
 
-def _figure(path: Path, runs: dict, aligned, comparisons: dict, bands: dict) -> None:
+def _figure(runs: dict, aligned, comparisons: dict, bands: dict) -> Figure:
+    """The figure of ``--plot`` (written after the results)."""
     from matplotlib.figure import Figure
 
     from pdamper import plots
@@ -382,4 +385,4 @@ def _figure(path: Path, runs: dict, aligned, comparisons: dict, bands: dict) -> 
     if aligned is not None:
         plots.plot_phase_drift(comparisons, ax=axes[2])
         axes[2].set_title("phase drift against the measurement")
-    write_figure(fig, path, dpi=110)
+    return fig

@@ -41,6 +41,16 @@ class Band:
     error: float
     rms_error: float
 
+    def as_dict(self) -> dict:
+        """JSON of the band; a band without a compared cycle has its damping ratios null,
+        with the reason under ``not_applicable``."""
+        from pdamper.coupling.results import with_reasons
+
+        why = ("no measured cycle in this band is within the model's range of amplitudes"
+               if self.cycles == 0 else "not a finite number")
+        return with_reasons(vars(self), dict.fromkeys(
+            ("measured_zeta", "model_zeta", "error", "rms_error"), why))
+
 
 @dataclass(frozen=True)
 class ModelComparison:
@@ -82,16 +92,21 @@ class ModelComparison:
     final_phase_drift: float
 
     def as_dict(self) -> dict:
-        return {
+        from pdamper.coupling.results import with_reasons
+
+        no_peaks = "no negative peak after the release to compare"
+        return with_reasons({
             "model": self.model, "peaks": self.peaks, "peak_rms_error": self.peak_rms_error,
             "peak_rms_relative": self.peak_rms_relative,
             "peak_errors": [float(v) for v in self.peak_errors],
-            "damping_ratio_bands": [vars(b) for b in self.bands],
+            "damping_ratio_bands": [b.as_dict() for b in self.bands],
             "zeta_rms_error": self.zeta_rms_error,
             "time_drift": [float(v) for v in self.time_drift],
             "phase_drift": [float(v) for v in self.phase_drift],
             "final_phase_drift": self.final_phase_drift,
-        }
+        }, {"peak_rms_error": no_peaks, "peak_rms_relative": no_peaks,
+            "final_phase_drift": no_peaks,
+            "zeta_rms_error": "no measured cycle is within the model's range of amplitudes"})
 
 
 def _band_edges(amplitudes: np.ndarray, bands: int | Sequence[float]) -> np.ndarray:

@@ -77,8 +77,17 @@ DEFAULT_MAX_CYCLES = 2000
 DEFAULT_STEADY = SteadyStateCriterion(rtol=1e-3, atol=1e-3, quiet_window_cycles=0)
 #: Most frequencies of one response (a typo guard: a 121-point response takes seconds).
 MAX_FREQUENCIES = 100_000
+#: Windows over which a stepped-sine step's amplitude scatter is reported (FRFCurve).
+SCATTER_WINDOWS = 5
 LOAD_KINDS = ("force", "base")
 SWEEPS = ("up", "down", "both")
+#: Smallest harmonic load amplitude, by unit, and why: below it the load is below what
+#: any measurement resolves, and the solution's stroke grids underflow long before the
+#: number itself does (a force of 1e-200 N).
+MIN_LOAD = {"N": (1e-6, "below 1 uN, the weight of 0.1 mg, no measured load is resolved"),
+            "m": (1e-9, "a base motion below 1 nm is below any meaningful displacement"),
+            "m/s^2": (1e-6, "below 1e-6 m/s^2 (0.1 ug) no accelerometer resolves a base "
+                            "motion")}
 
 
 # ----------------------------------------------------------------------------- inputs
@@ -97,7 +106,11 @@ class HarmonicLoad:
         if self.kind not in LOAD_KINDS:
             raise InputError("load", f"must be one of {', '.join(LOAD_KINDS)}, got {self.kind!r}")
         unit = "N" if self.kind == "force" else ("m/s^2" if self.acceleration else "m")
-        check_range(self.kind, self.amplitude, low=0.0, low_inclusive=False, unit=unit)
+        low, why = MIN_LOAD[unit]
+        try:
+            check_range(self.kind, self.amplitude, low=low, unit=unit)
+        except InputError as exc:
+            raise InputError(exc.field, f"{exc.message} ({why})") from None
         object.__setattr__(self, "amplitude", float(self.amplitude))
 
     @property
@@ -141,11 +154,12 @@ class HarmonicLoad:
         # "0.3g": g is the standard gravity (pint reads a bare g as gram)
         accel = re.sub(r"(?<=[\d.\s])g$", " g0", str(text).strip())
         try:
-            return cls("base", parse_quantity(accel, "m/s^2", name), acceleration=True)
+            value = parse_quantity(accel, "m/s^2", name)
         except InputError:
             what = "a force (e.g. '2N'), or a base " if kind is None else "a base "
             raise InputError(name, f"must be {what}displacement (e.g. '1mm') or acceleration "
                              f"(e.g. '0.3g', '3m/s^2') amplitude, got {text!r}") from None
+        return cls("base", value, acceleration=True)  # its range checked as every load's
 
     def reference(self, omega: float) -> float:
         """Amplitude of the reference signal the phase is measured against: the force [N]
@@ -157,6 +171,29 @@ class HarmonicLoad:
     def as_dict(self) -> dict:
         return {"kind": self.kind, "amplitude": self.amplitude, "unit": self.unit,
                 "acceleration": self.acceleration}
+
+
+def check_damped(structure) -> None:
+    """Refuse a structure with an undamped mode for a forced response: at that mode's
+    natural frequency the response without particles is unbounded (the receptance divides
+    by ``2 zeta_i w_i W = 0``), and every bound of the damper's stroke with it. The free
+    decay of an undamped structure is well defined and not judged here. Raises InputError
+    naming the damping (``structure.damping`` of the 1-DOF, ``structure.damping_ratios``
+    of the modes)."""
+    from pdamper.structure import SingleDOFStructure
+
+    if isinstance(structure, SingleDOFStructure):
+        if not structure.damping > 0:
+            raise InputError("structure.damping", "must be > 0 kg/s for a forced response "
+                             "(damping ratio in (0, 1)): the undamped structure's response "
+                             "at its natural frequency is unbounded; got 0 kg/s")
+        return
+    z = np.asarray(_modal(structure).damping_ratios, float)
+    bad = np.flatnonzero(~(z > 0))
+    if bad.size:
+        raise InputError("structure.damping_ratios", f"must be in (0, 1) for a forced "
+                         f"response: mode {int(bad[0]) + 1} is undamped (damping ratio 0), "
+                         "its response at its natural frequency is unbounded")
 
 
 def _modal(structure):
@@ -370,6 +407,13 @@ class FRFCurve:
         Harmonic balance: ``"stable"``, ``"unstable"``, ``"edge"`` or ``""`` (padding).
     cycles
         Sweep: load cycles run at the frequency [-].
+    amplitude_mean, amplitude_std
+        Sweep: the output amplitude over the step's last :data:`SCATTER_WINDOWS` windows
+        (each as long as the window ``amplitude`` is read from: one load cycle of a
+        pseudo-force model, the judged cycles of the DEM, at least 3), their mean and sample
+        standard deviation [m] (NaN with one window). On a steady step they agree with
+        ``amplitude``; on a step that is not steady (a chaotic bed) the spread is the
+        scatter the single ``amplitude`` carries.
     """
 
     amplitude: np.ndarray
@@ -381,6 +425,8 @@ class FRFCurve:
     steady: np.ndarray
     branch: np.ndarray | None = None
     cycles: np.ndarray | None = None
+    amplitude_mean: np.ndarray | None = None
+    amplitude_std: np.ndarray | None = None
     diagnostics: dict = field(default_factory=dict, repr=False, compare=False)
 
 
@@ -486,7 +532,13 @@ class FRFResult:
                                {"long_name": "harmonic balance branch: stable, unstable, edge"})
         if self.sweeps:
             ds = ds.assign_coords(sweep=("sweep", list(self.sweeps)))
-            for k, (unit, name) in {**meta, "cycles": ("1", "load cycles run")}.items():
+            extra = {"cycles": ("1", "load cycles run")}
+            if all(c.amplitude_mean is not None for c in self.sweeps.values()):
+                extra.update(amplitude_mean=("m", "output amplitude, mean over the last "
+                                                  "windows"),
+                             amplitude_std=("m", "output amplitude, sample standard "
+                                                 "deviation over the last windows"))
+            for k, (unit, name) in {**meta, **extra}.items():
                 v = np.stack([getattr(c, k) for c in self.sweeps.values()])
                 ds[f"sweep_{k}"] = (("sweep", "frequency"),
                                     v.astype("i1") if k == "steady" else v,
@@ -513,6 +565,14 @@ class FRFResult:
                 out["branch"] = str(c.branch[idx])
             if c.cycles is not None:
                 out["cycles"] = int(c.cycles[idx])
+            if c.amplitude_mean is not None and c.amplitude_std is not None:
+                from pdamper.coupling.results import with_reasons
+
+                out.update(with_reasons(
+                    {"amplitude_mean": float(c.amplitude_mean[idx]),
+                     "amplitude_std": float(c.amplitude_std[idx])},
+                    {"amplitude_std": "the step ran one window: no spread to report",
+                     "amplitude_mean": "the step ran no whole window"}))
             return out
 
         points = []
@@ -661,6 +721,7 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
     mode = np.full(freqs.size, -1)
     steady = np.zeros(freqs.size, bool)
     cycles = np.zeros(freqs.size, int)
+    spread = (np.full(freqs.size, np.nan), np.full(freqs.size, np.nan))
     x_prev = 0.0
     for i in _sweep_order(freqs, direction):
         f = float(freqs[i])
@@ -674,6 +735,7 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
             if tables is not None:
                 tables[f] = table
         amps: list[float] = []
+        outs: list[float] = []  # the output point's amplitude per cycle
         xo_hat = xd_hat = 0j
         ok = False
         m = dm = eta = 0.0
@@ -700,18 +762,28 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
             xd_hat, xo_hat = complex(phi @ hat[:n]), complex(psi @ hat[:n])
             x_prev = abs(xd_hat)
             amps.append(x_prev)
+            outs.append(abs(xo_hat))
             if transient <= criterion.rtol * forced and steady_amplitudes(amps, criterion):
                 ok = True
                 break
         cycles[i] = len(amps)
         steady[i] = ok
+        spread[0][i], spread[1][i] = _scatter(outs[-SCATTER_WINDOWS:])
         out["amplitude"][i] = abs(xo_hat)
         out["phase"][i] = float(np.angle(xo_hat))  # against the reference signal
         out["stroke"][i] = abs(xd_hat)
         out["loss_factor"][i], out["effective_mass"][i], mode[i] = eta, m, md
     return FRFCurve(amplitude=out["amplitude"], phase=out["phase"], stroke=out["stroke"],
                     loss_factor=out["loss_factor"], effective_mass=out["effective_mass"],
-                    mode=mode, steady=steady, cycles=cycles)
+                    mode=mode, steady=steady, cycles=cycles, amplitude_mean=spread[0],
+                    amplitude_std=spread[1])
+
+
+def _scatter(values: Sequence[float]) -> tuple[float, float]:
+    """Mean and sample standard deviation of window amplitudes (NaN: too few)."""
+    v = np.asarray(values, float)
+    mean = float(np.mean(v)) if v.size else math.nan
+    return mean, float(np.std(v, ddof=1)) if v.size > 1 else math.nan
 
 
 def _propagators(a: np.ndarray, period: float, om: float, eye: np.ndarray):
@@ -756,6 +828,7 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
     mode = np.full(freqs.size, -1)
     steady = np.zeros(freqs.size, bool)
     cycles = np.zeros(freqs.size, int)
+    spread = (np.full(freqs.size, np.nan), np.full(freqs.size, np.nan))
     walls = np.zeros(freqs.size)
     steps = np.zeros(freqs.size)
     particles = None
@@ -775,12 +848,15 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
             settle = False
         period = 1.0 / f
         t0 = time.perf_counter()
+        stop = _steady_stop(period, f, criterion)
         res = engine.run(max_cycles * period, sample_rate=sample_rate_per_cycle * f,
-                         settle=settle, stop=_steady_stop(period, f, criterion))
+                         settle=settle, stop=stop)
         walls[i] = time.perf_counter() - t0
         steps[i] = res.steps
         step = _co_simulation_step(res, model, f, phase0, criterion)
-        cycles[i], steady[i], mode[i] = step.cycles, step.steady, step.mode
+        # steady only where the stop rule ended the step: one that ran to the cap is not
+        cycles[i], steady[i], mode[i] = step.cycles, step.steady and stop.fired, step.mode
+        spread[0][i], spread[1][i] = step.window_mean, step.window_std
         out["amplitude"][i] = out["stroke"][i] = abs(step.hat)
         out["phase"][i] = float(np.angle(step.hat))  # against the reference signal
         out["loss_factor"][i], out["effective_mass"][i] = step.loss_factor, step.effective_mass
@@ -793,24 +869,34 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
                          "wall_seconds": walls[i]})
     return FRFCurve(amplitude=out["amplitude"], phase=out["phase"], stroke=out["stroke"],
                     loss_factor=out["loss_factor"], effective_mass=out["effective_mass"],
-                    mode=mode, steady=steady, cycles=cycles,
+                    mode=mode, steady=steady, cycles=cycles, amplitude_mean=spread[0],
+                    amplitude_std=spread[1],
                     diagnostics={"wall_seconds": walls, "steps": steps})
 
 
-def _steady_stop(period: float, f: float,
-                 criterion: SteadyStateCriterion) -> Callable[[Any], bool]:
+class _SteadyStop:
     """The engine's stop rule of a co-simulation step at ``f`` [Hz]: the container's
-    per-cycle amplitudes are steady (:func:`steady_amplitudes`)."""
+    per-cycle amplitudes are steady (:func:`steady_amplitudes`). The engine asks it at the
+    end of every whole load cycle before the cap; ``fired`` says whether it ended the step
+    (a step that ran to the cap was never judged steady there)."""
 
-    def stop(res: Any) -> bool:
+    def __init__(self, period: float, f: float, criterion: SteadyStateCriterion) -> None:
+        self.period, self.f, self.criterion = period, f, criterion
+        self.fired = False
+
+    def __call__(self, res: Any) -> bool:
         t = res.time
-        k = int((t[-1] - t[0]) / period + 1e-9)
-        if k < criterion.min_cycles:
+        k = int((t[-1] - t[0]) / self.period + 1e-9)
+        if k < self.criterion.min_cycles:
             return False
-        amps = _cycle_amplitudes(t, res.container_position, f, k)
-        return steady_amplitudes(amps, criterion)
+        amps = _cycle_amplitudes(t, res.container_position, self.f, k)
+        self.fired = steady_amplitudes(amps, self.criterion)
+        return self.fired
 
-    return stop
+
+def _steady_stop(period: float, f: float, criterion: SteadyStateCriterion) -> _SteadyStop:
+    """The stop rule of a co-simulation step (:class:`_SteadyStop`)."""
+    return _SteadyStop(period, f, criterion)
 
 
 class _Step(NamedTuple):
@@ -823,6 +909,8 @@ class _Step(NamedTuple):
     effective_mass: float  # m_eff over the same cycles [kg] (Eq. 4; NaN: too few samples)
     mode: int              # motion-mode code (-1: none)
     phase_end: float       # load phase at the run's end, in [0, 2 pi) [rad]
+    window_mean: float = math.nan  # amplitude over the last windows: mean [m]
+    window_std: float = math.nan   # and sample standard deviation [m] (NaN: one window)
 
 
 def _co_simulation_step(res: Any, model: Any, f: float, phase0: float,
@@ -853,9 +941,31 @@ def _co_simulation_step(res: Any, model: Any, f: float, phase0: float,
         eta, m_eff = cp.loss_factor, cp.effective_mass
     except InputError:  # too few samples: left NaN
         pass
+    mean, std = _scatter(_window_amplitudes(t, res.container_position, f, phase0, k, last))
     return _Step(k, steady_amplitudes(amps, criterion), hat, eta, m_eff,
                  _dem_mode(res, f, k, last),
-                 float(th[-1] + om * (t[-1] - tt[-1])) % (2 * math.pi))
+                 float(th[-1] + om * (t[-1] - tt[-1])) % (2 * math.pi), mean, std)
+
+
+def _window_amplitudes(t: np.ndarray, x: np.ndarray, f: float, phase0: float, k: int,
+                       last: int) -> list[float]:
+    """First-harmonic amplitude of ``x`` over each of the last :data:`SCATTER_WINDOWS`
+    windows of ``last`` whole cycles (at least 3) ending at cycle ``k``, latest first."""
+    om = 2.0 * math.pi * f
+    width = max(3, last)
+    out = []
+    for w in range(SCATTER_WINDOWS):
+        end = k - w * width
+        start = end - width
+        if start < 0:
+            break
+        sel = (t >= t[0] + start / f - 1e-12) & (t <= t[0] + end / f + 1e-12)
+        if np.count_nonzero(sel) < 3:
+            break
+        tt = t[sel]
+        th = om * (tt - t[0]) + phase0
+        out.append(abs(2.0 / (tt[-1] - tt[0]) * np.trapezoid(x[sel] * np.exp(-1j * th), tt)))
+    return out
 
 
 def _dem_mode(res, f: float, cycles: int, last: int) -> int:
@@ -960,6 +1070,7 @@ def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
                          f"got {type(model).__name__}")
     if not isinstance(load, HarmonicLoad):
         raise InputError("load", f"must be a HarmonicLoad, got {type(load).__name__}")
+    check_damped(structure)
     s = _modal(structure)
     f = np.atleast_1d(np.asarray(frequency, float))
     if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):

@@ -216,15 +216,31 @@ class LoadResponse:
         return float(np.max(np.abs(self.displacement[sel]))), _rms(self.time[sel],
                                                                    self.displacement[sel])
 
+    def not_applicable(self) -> dict[str, str]:
+        """Why the energy terms that are not numbers are not applicable to this run."""
+        if self.kind != "force":
+            why = ("under base motion the load is the base's motion, whose work divides "
+                   "between the structure and the damper's container (which moves with the "
+                   "base); the energy balance is reported for a force")
+            return dict.fromkeys(("input_work", "structural_dissipation", "energy_change",
+                                  "energy_balance_error"), why)
+        if not self.input_work != 0.0:
+            return {"energy_balance_error": "the load did no work on the structure "
+                                            "(input_work = 0): its relative error is undefined"}
+        return {}
+
     def summary(self) -> dict:
-        """Scalars of the run (SI units)."""
-        return {"peak": self.peak, "rms": self.rms, "peak_acceleration": self.peak_acceleration,
-                "rms_acceleration": self.rms_acceleration,
-                "dissipated_energy": self.dissipated_energy,
-                "input_work": _finite_or_none(self.input_work),
-                "structural_dissipation": _finite_or_none(self.structural_dissipation),
-                "energy_change": _finite_or_none(self.energy_change),
-                "energy_balance_error": _finite_or_none(self.energy_balance_error)}
+        """Scalars of the run (SI units); the energy terms that do not apply are null, with
+        the reason under ``not_applicable``."""
+        from pdamper.coupling.results import with_reasons
+
+        return with_reasons(
+            {"peak": self.peak, "rms": self.rms, "peak_acceleration": self.peak_acceleration,
+             "rms_acceleration": self.rms_acceleration,
+             "dissipated_energy": self.dissipated_energy, "input_work": self.input_work,
+             "structural_dissipation": self.structural_dissipation,
+             "energy_change": self.energy_change,
+             "energy_balance_error": self.energy_balance_error}, self.not_applicable())
 
     def to_dataset(self) -> xr.Dataset:
         """The response history as an :class:`xarray.Dataset` with units."""
@@ -250,10 +266,6 @@ class LoadResponse:
                    "peak": self.peak, "rms": self.rms,
                    "dissipated_energy": self.dissipated_energy},
         )
-
-
-def _finite_or_none(v: float) -> float | None:
-    return float(v) if math.isfinite(v) else None
 
 
 def _rms(t: np.ndarray, x: np.ndarray) -> float:

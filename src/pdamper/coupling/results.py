@@ -123,3 +123,27 @@ class FreeVibrationResult:
             coords={"time": ("time", self.time, {"units": "s"})},
             attrs={"model": self.model},
         )
+
+
+def with_reasons(values: dict[str, Any], reasons: dict[str, str]) -> dict[str, Any]:
+    """``values`` as JSON: every non-finite number becomes null and is listed, with the
+    reason from ``reasons``, in a sibling ``not_applicable`` (``{key: reason}``), so that a
+    reader never meets a bare null where a number was promised.
+
+    >>> with_reasons({"a": 1.0, "b": float("nan")}, {"b": "no load"})
+    {'a': 1.0, 'b': None, 'not_applicable': {'b': 'no load'}}
+    """
+    import math
+
+    out: dict[str, Any] = {}
+    why: dict[str, str] = {}
+    for key, v in values.items():
+        if v is None or isinstance(v, float | np.floating) and not math.isfinite(v):
+            out[key] = None
+            why[key] = reasons.get(key, "not a finite number in this run")
+        else:
+            out[key] = v
+    if why:
+        out["not_applicable"] = why
+    return out
+

@@ -432,6 +432,18 @@ class Objective:
     band: tuple[float, ...] | None = None
     frf_load: Any = None
 
+    @property
+    def label(self) -> str:
+        """The objective in words with its display unit, e.g. ``"settling time [s]"``
+        (:data:`OBJECTIVE_LABELS`)."""
+        return (f"{OBJECTIVE_LABELS[self.name].format(at=self.at)} "
+                f"[{DISPLAY_UNITS[self.unit][0]}]")
+
+    @property
+    def display_scale(self) -> float:
+        """Factor from the SI value to the unit of :attr:`label` (1e3 for metres)."""
+        return DISPLAY_UNITS[self.unit][1]
+
     def evaluate(self, res: FreeVibrationResult | LoadResponse | FRFResult
                  ) -> tuple[float, dict]:
         """Objective value of a :class:`~pdamper.coupling.FreeVibrationResult` (of a
@@ -504,6 +516,17 @@ OBJECTIVES.update(FRF_OBJECTIVES)
 #: natural frequency below and above it, in this many frequencies; default load 2 N.
 FRF_BAND = (0.5, 1.5, 41)
 FRF_LOAD = "2 N"
+#: What each objective is, in words, for axes and tables (the value in the unit of
+#: :attr:`Objective.display_unit`); every key of :data:`OBJECTIVES` has one.
+OBJECTIVE_LABELS = {"amplitude-at": "amplitude at t = {at:g} s",
+                    "settling-time": "settling time",
+                    "mean-damping": "mean damping ratio",
+                    "peak": "peak |displacement| under the load history",
+                    "rms": "RMS displacement under the load history",
+                    "peak-frf": "largest steady amplitude over the band",
+                    "rms-frf": "RMS of the steady amplitude over the band"}
+#: Unit in which objectives of each SI unit are shown, and its factor from SI.
+DISPLAY_UNITS = {"m": ("mm", 1e3), "s": ("s", 1.0), "1": ("-", 1.0)}
 
 
 def make_objective(name: str, at: float, initial_displacement: float,
@@ -532,7 +555,9 @@ def make_objective(name: str, at: float, initial_displacement: float,
     check_range("optimization.at", at, low=0.0, low_inclusive=False, unit="s")
     sense, unit = OBJECTIVES[name]
     if name in FRF_OBJECTIVES:
-        from pdamper.coupling.frf import HarmonicLoad
+        from pdamper.coupling.frf import HarmonicLoad, check_damped
+
+        check_damped(structure)  # before any design: its forced response must be bounded
 
         if band is None:
             lo, hi, n = FRF_BAND
@@ -606,7 +631,11 @@ class DesignCandidate:
 class DesignStudyResult:
     """The landscape of a design study and its best design.
 
-    ``best`` is None when no design could be evaluated.
+    ``best`` is None when no design could be evaluated, or when designs failed and the
+    evaluated ones are no comparison (one survivor, or only the bare structure: a design is
+    never best because the others failed); :attr:`no_best` says why in a sentence. Where
+    designs failed and a best is named, it is the best of the evaluated designs, and
+    :attr:`failures` lists the others with their reasons.
     """
 
     best: DesignCandidate | None
@@ -633,6 +662,44 @@ class DesignStudyResult:
         return lightest_within(self.candidates, self.best, self.tolerance,
                                self.objective.sense)
 
+    @property
+    def failures(self) -> tuple[DesignCandidate, ...]:
+        """The designs whose evaluation failed, each with its reason."""
+        return tuple(c for c in self.candidates if c.status == "failed")
+
+    @property
+    def no_best(self) -> str | None:
+        """Why the study names no best design, in a sentence (None: it names one)."""
+        if self.best is not None:
+            return None
+        n, names = len(self.candidates), [v.name for v in self.variables]
+        failed = self.failures
+        infeasible = [c for c in self.candidates if c.status == "infeasible"]
+        if failed:
+            which = "; ".join(describe_design(c, names) for c in failed[:3])
+            more = f"; {len(failed) - 3} more" if len(failed) > 3 else ""
+            ok = [c for c in self.candidates if c.status == "ok"]
+            left = ("none" if not ok else "only " + "; ".join(describe_design(c, names)
+                                                             for c in ok))
+            return (f"{len(failed)} of {n} designs failed ({which}{more}: each with its "
+                    f"reason in the failures) and {left} could be evaluated: no design is "
+                    "named best because the others failed; remove the cause of the failures")
+        if infeasible and len(infeasible) == n:
+            reasons = list(dict.fromkeys(c.reason for c in infeasible))
+            more = (f" and {len(reasons) - 1} more reason(s)" if len(reasons) > 1 else "")
+            return (f"no design is feasible: all {n} designs are outside what can be built "
+                    f"or run ({describe_design(infeasible[0], names)}: {reasons[0]}{more}); change "
+                    "the ranges of the design variables")
+        return "no design was evaluated"
+
+    def not_applicable(self) -> dict[str, str]:
+        """``key -> reason`` of the result keys that are null (``best``,
+        ``lightest_within``)."""
+        why = self.no_best
+        if why is None:
+            return {}
+        return {"best": why, "lightest_within": f"there is no best design: {why}"}
+
     def as_dict(self) -> dict:
         return {
             "best": None if self.best is None else self.best.as_dict(),
@@ -653,12 +720,26 @@ class DesignStudyResult:
             "evaluations": len(self.candidates),
             "infeasible": sum(c.status == "infeasible" for c in self.candidates),
             "failed": sum(c.status == "failed" for c in self.candidates),
+            "failures": [{**{v.name: c.design[v.name] for v in self.variables},
+                          "reason": c.reason} for c in self.failures],
+            **({"not_applicable": na} if (na := self.not_applicable()) else {}),
             "variables": [{"name": v.name, "field": VARIABLES[v.name].field,
                            "spec": v.spec, "kind": v.kind,
                            "values": None if v.values is None else list(v.values),
                            "bounds": None if v.bounds is None else list(v.bounds)}
                           for v in self.variables],
         }
+
+
+def describe_design(c: DesignCandidate, names: Sequence[str]) -> str:
+    """Design ``c`` by the variables ``names``, in words: ``"particles 32, radius 3 mm"``."""
+    parts = []
+    for name in names:
+        v = c.design[name]
+        label = name.replace("_", " ")
+        parts.append(f"{label} {v * 1e3:g} mm" if VARIABLES[name].unit == "m"
+                     and isinstance(v, float) else f"{label} {v}")
+    return ", ".join(parts)
 
 
 # ----------------------------------------------------------------------------- added mass
@@ -984,9 +1065,20 @@ def run_design_study(
         _differential_evolution(land, variables, objective, max_evaluations, seed)
     sign = 1.0 if objective.sense == "min" else -1.0
     ok = [c for c in land.candidates if c.status == "ok"]
-    best = min(ok, key=lambda c: _score(c, sign)) if ok else None
+    best = min(ok, key=lambda c: _score(c, sign)) if _comparable(land.candidates) else None
     return DesignStudyResult(best, tuple(land.candidates), variables, objective, method,
                              seed if method == "optimize" else None, tolerance)
+
+
+def _comparable(candidates: Sequence[DesignCandidate]) -> bool:
+    """Whether the evaluated designs can name a best: some were evaluated and, where
+    others failed, at least two with at least one damper among them (a design is never
+    best because the others failed: the bare structure, or the one survivor, alone is no
+    comparison)."""
+    ok = [c for c in candidates if c.status == "ok"]
+    if not any(c.status == "failed" for c in candidates):
+        return bool(ok)
+    return len(ok) >= 2 and any(c.particles > 0 for c in ok)
 
 
 def _score(c: DesignCandidate, sign: float) -> float:

@@ -17,7 +17,8 @@ the second (optional) at the observation point whose displacement the results re
 damper's point. Rows are sorted by frequency.
 
 Problems (no header, a column without a unit, an unknown unit, a missing or repeated
-column, a value that is not a finite number, a frequency <= 0, a damping ratio < 0, a
+column, a value that is not a finite number, a frequency <= 0, a damping ratio outside
+[0, 1), a
 damper point that does not move in any mode) are one-line
 :class:`~pdamper.errors.InputError` naming the file, the row (line number in the file) and
 the column.
@@ -76,8 +77,11 @@ def read_modes(path: str | Path):
                    FIELD)
     order = [cols["frequency"], cols["damping ratio"], *shapes]
     data = t.values(order)
-    for c, (ok, msg) in enumerate(((data[:, 0] > 0, "the frequency must be > 0"),
-                                   (data[:, 1] >= 0, "the damping ratio must be >= 0"))):
+    for c, ok, msg in ((0, data[:, 0] > 0, "the frequency must be > 0"),
+                       (1, data[:, 1] >= 0, "the damping ratio must be >= 0"),
+                       (1, data[:, 1] < 1, "the damping ratio must be below 1, in [0, 1) "
+                                           "(a vibration mode: at 1 and above it does not "
+                                           "oscillate)")):
         bad = np.flatnonzero(~ok)
         if bad.size:
             raise t.error(t.rows[bad[0]][0], order[c], msg)

@@ -126,10 +126,7 @@ def plot_design_landscape(study: DesignStudyResult, ax: Axes | None = None) -> A
     """
     ax = _axes(ax)
     names = [v.name for v in study.variables]
-    unit = {"m": 1e3, "s": 1.0, "1": 1.0}[study.objective.unit]
-    ylabel = {"amplitude-at": f"amplitude at t = {study.at:g} s [mm]",
-              "settling-time": "settling time [s]",
-              "mean-damping": "mean damping ratio [-]"}[study.objective.name]
+    unit, ylabel = study.objective.display_scale, study.objective.label
     if len(names) == 1:
         _landscape_of_one(ax, study, names, unit, ylabel)
     else:

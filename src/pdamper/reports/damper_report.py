@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import io
 import json
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -39,13 +39,46 @@ def _one_count(ds, count: int):
 
 
 def figures(rep: DamperReport) -> list[ReportFigure]:
-    """The report's figures (PNG)."""
+    """The report's figures (PNG). A figure that cannot be drawn is left out and its error
+    kept in ``rep.figure_errors`` (``name -> message``): the computed answers and the other
+    figures stand, and the command ends non-zero naming it."""
+    assert rep.damper is not None  # (set by run_damper_report, as the maps)
+    wanted: list[tuple[str, str, Callable[[DamperReport], Figure]]] = [
+        ("level2_map", f"Level II map of the analytical model, {rep.damper.count} particles "
+         "(Eqs. 5-22)", _level2_figure)]
+    if rep.dem_map is not None:
+        wanted.append(("level2_dem_map", "Level II map of the DEM (complex power method, "
+                       "Eqs. 1-4)", _dem_map_figure))
+    wanted += [("free_decay", "free decay and damping ratio, the models compared",
+                _free_decay_figure),
+               ("design_landscape", "design landscape (analytical model) with the Pareto "
+                "front of added mass against the objective", _landscape_figure)]
+    if "level3" in rep.uncertainty:
+        wanted.append(("uncertainty", "spread of the answers under the uncertain inputs "
+                       "(histograms, the envelope's 5-95 % band) and the inputs' total "
+                       "Sobol' indices", lambda r: uncertainty_figure(r.uncertainty)))
+    if rep.forced:
+        wanted.append(("forced_response", "amplitude and phase of the structure under a "
+                       "harmonic force, the models compared (harmonic balance)",
+                       _forced_figure))
+    if rep.band is not None:
+        wanted.append(("realisations", "DEM model 1 over random packings: the band of the "
+                       "free decay and of the damping ratio", _band_figure))
+    out: list[ReportFigure] = []
+    for name, caption, draw in wanted:
+        try:
+            out.append(ReportFigure(name, caption, _png(draw(rep))))
+        except Exception as exc:  # noqa: BLE001 - a figure never loses the results
+            rep.figure_errors[name] = f"{type(exc).__name__}: {exc}"
+    return out
+
+
+def _level2_figure(rep: DamperReport) -> Figure:
     from matplotlib.figure import Figure
 
     from pdamper import plots
 
-    out = []
-    assert rep.damper is not None  # (set by run_damper_report, as the maps)
+    assert rep.damper is not None
     ds = _one_count(rep.level2_map, rep.damper.count)
     fig = Figure(figsize=(15, 4.4), layout="constrained")
     a = fig.subplots(1, 3)
@@ -55,56 +88,74 @@ def figures(rep: DamperReport) -> list[ReportFigure]:
     a[0].set_title("motion mode")
     a[1].set_title("loss factor")
     a[2].set_title("effective mass ratio")
-    out.append(ReportFigure("level2_map", f"Level II map of the analytical model, "
-                            f"{rep.damper.count} particles (Eqs. 5-22)", _png(fig)))
-    if rep.dem_map is not None:
-        dm = _one_count(rep.dem_map, rep.damper.count)
-        fig = Figure(figsize=(10, 4.4), layout="constrained")
-        a = fig.subplots(1, 2)
-        plots.plot_loss_factor_map(dm, ax=a[0])
-        plots.plot_effective_mass_map(dm, ax=a[1])
-        a[0].set_title("loss factor (DEM)")
-        a[1].set_title("effective mass ratio (DEM)")
-        out.append(ReportFigure("level2_dem_map", "Level II map of the DEM (complex power "
-                                "method, Eqs. 1-4)", _png(fig)))
+    return fig
+
+
+def _dem_map_figure(rep: DamperReport) -> Figure:
+    from matplotlib.figure import Figure
+
+    from pdamper import plots
+
+    assert rep.damper is not None
+    dm = _one_count(rep.dem_map, rep.damper.count)
+    fig = Figure(figsize=(10, 4.4), layout="constrained")
+    a = fig.subplots(1, 2)
+    plots.plot_loss_factor_map(dm, ax=a[0])
+    plots.plot_effective_mass_map(dm, ax=a[1])
+    a[0].set_title("loss factor (DEM)")
+    a[1].set_title("effective mass ratio (DEM)")
+    return fig
+
+
+def _free_decay_figure(rep: DamperReport) -> Figure:
+    from matplotlib.figure import Figure
+
+    from pdamper import plots
+
     fig = Figure(figsize=(11, 7.5), layout="constrained")
     a = fig.subplots(2, 1)
     plots.plot_model_trajectories(rep.runs, ax=a[0], envelope=rep.empty)
     a[0].set_title("free decay of the structure with the damper")
     plots.plot_model_damping_ratios(rep.runs, ax=a[1])
     a[1].set_title("damping ratio per cycle (Eqs. 24-25)")
-    out.append(ReportFigure("free_decay", "free decay and damping ratio, the models compared",
-                            _png(fig)))
+    return fig
+
+
+def _landscape_figure(rep: DamperReport) -> Figure:
+    from matplotlib.figure import Figure
+
+    from pdamper import plots
+
     fig = Figure(figsize=(8, 5.2), layout="constrained")
     assert rep.study is not None  # the report always runs its design study
     plots.plot_design_landscape(rep.study, ax=fig.subplots())
-    out.append(ReportFigure("design_landscape", "design landscape (analytical model) with the "
-                            "Pareto front of added mass against the objective", _png(fig)))
-    if "level3" in rep.uncertainty:
-        out.append(ReportFigure("uncertainty", "spread of the answers under the uncertain "
-                                "inputs (histograms, the envelope's 5-95 % band) and the "
-                                "inputs' total Sobol' indices",
-                                _png(uncertainty_figure(rep.uncertainty))))
-    if rep.forced:
-        from pdamper.plots.frf import plot_frf
+    return fig
 
-        fig = Figure(figsize=(9, 6.5), layout="constrained")
-        axes = fig.subplots(2, 1, sharex=True)
-        for i, (label, r) in enumerate(rep.forced.items()):
-            plot_frf(r, axes=axes, label=label, linear=i == 0, color=("C0", "C4", "C5")[i % 3])
-        axes[0].set_title(f"forced response, {rep.forced_load.amplitude:.3g} N at the "
-                          "damper's point")
-        out.append(ReportFigure("forced_response", "amplitude and phase of the structure "
-                                "under a harmonic force, the models compared (harmonic "
-                                "balance)", _png(fig)))
-    if rep.band is not None:
-        fig = Figure(figsize=(11, 7.5), layout="constrained")
-        a = fig.subplots(2, 1)
-        plots.plot_trajectory_band(rep.band, ax=a[0], label="DEM (model 1)")
-        plots.plot_damping_ratio_band(rep.band, ax=a[1], label="DEM (model 1)")
-        out.append(ReportFigure("realisations", "DEM model 1 over random packings: the "
-                                "band of the free decay and of the damping ratio", _png(fig)))
-    return out
+
+def _forced_figure(rep: DamperReport) -> Figure:
+    from matplotlib.figure import Figure
+
+    from pdamper.plots.frf import plot_frf
+
+    fig = Figure(figsize=(9, 6.5), layout="constrained")
+    axes = fig.subplots(2, 1, sharex=True)
+    for i, (label, r) in enumerate(rep.forced.items()):
+        plot_frf(r, axes=axes, label=label, linear=i == 0, color=("C0", "C4", "C5")[i % 3])
+    axes[0].set_title(f"forced response, {rep.forced_load.amplitude:.3g} N at the "
+                      "damper's point")
+    return fig
+
+
+def _band_figure(rep: DamperReport) -> Figure:
+    from matplotlib.figure import Figure
+
+    from pdamper import plots
+
+    fig = Figure(figsize=(11, 7.5), layout="constrained")
+    a = fig.subplots(2, 1)
+    plots.plot_trajectory_band(rep.band, ax=a[0], label="DEM (model 1)")
+    plots.plot_damping_ratio_band(rep.band, ax=a[1], label="DEM (model 1)")
+    return fig
 
 
 def uncertainty_figure(results: dict) -> Figure:
@@ -170,7 +221,9 @@ def merge_sections(forced_response: str | None = None,
 def _forced_html(rep: DamperReport) -> list[str]:
     summary = rep.forced_summary()
     if summary is None:
-        return []
+        why = rep.not_applicable.get("forced_response")
+        return [] if why is None else ["<h2>Forced response</h2>",
+                                       f"<p>Not applicable: {_e(why)}.</p>"]
     load = rep.forced_load
     rows = [[label, _mm(m["peak_amplitude"]), "" if m["peak_frequency"] is None
              else f"{m['peak_frequency']:.3f}",
@@ -212,6 +265,11 @@ def _band_html(rep: DamperReport) -> list[str]:
 
 
 def _fig(rep: DamperReport, name: str) -> list[str]:
+    """The figure ``name`` as HTML, or the sentence saying why it could not be drawn."""
+    if name in rep.figure_errors:
+        return [f"<p><strong>The figure {_e(name)} could not be drawn</strong> "
+                f"({_e(rep.figure_errors[name])}); the numbers of this section and "
+                "results.json are complete.</p>"]
     return [_img(f) for f in rep.figures if f.name == name]
 
 
@@ -300,21 +358,19 @@ def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:
         land_rows.append([*(_value(c.design.get(n)) for n in names),
                           "" if c.mass is None else f"{c.mass * 1e3:.1f}",
                           "" if c.objective is None else f"{c.objective:.5g}",
-                          c.status, mark])
+                          c.status + (f": {c.reason}" if c.reason else ""), mark])
     land = _table([*names, "added mass [g]", f"{st.objective.name} [{st.objective.unit}]",
                    "status", "on the front"], land_rows, "landscape",
                   [["num"] * len(names) + ["num", "num", "", ""]] * len(land_rows))
     summary = (f"best: {_brief(best, names)}; lightest within {st.tolerance * 100:g} % of "
                f"the best: {_brief(light, names)}; {len(st.front)} designs on the Pareto "
-               "front.")
+               "front." + ("" if st.no_best is None else f" No best design: {st.no_best}."))
     timings = _table(["step", "wall time [s]"],
                      [[k, f"{v:.3f}"] for k, v in rep.timings.items()], "timings",
                      [["", "num"]] * len(rep.timings))
     seeds = ", ".join(f"{k} = {v}" for k, v in rep.seeds.items())
-    figs = {f.name: f for f in rep.figures}
-
     def fig(name):
-        return [_img(figs[name])] if name in figs else []
+        return _fig(rep, name)
 
     parts = [
         "<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
@@ -365,11 +421,12 @@ def write_damper_report(rep: DamperReport, out: Path, extra: Sequence[str] = ())
     if not rep.figures:
         rep.figures = _timed(rep, "figures", lambda: figures(rep))
     out = Path(out)
-    page = render_damper_report(rep, extra or merge_sections())
-    html_path = atomic_write_text(out / "report.html", page, "out")
+    # the answers first, the page with its figures after them
     data = json.dumps(_finite(json.loads(json.dumps(rep.as_dict(), default=_json_default))),
                       indent=2, allow_nan=False)
     json_path = atomic_write_text(out / "results.json", data + "\n", "out")
+    page = render_damper_report(rep, extra or merge_sections())
+    html_path = atomic_write_text(out / "report.html", page, "out")
     return [html_path, json_path]
 
 

@@ -70,6 +70,8 @@ class DamperReport:
     forced: dict = field(default_factory=dict)  # label -> FRFResult (harmonic balance)
     forced_load: Any = None  # the HarmonicLoad of the forced response
     band: Any = None  # Level3Band of the DEM's realisations (with dem and realisations)
+    figure_errors: dict = field(default_factory=dict)  # figure name -> why it is missing
+    not_applicable: dict = field(default_factory=dict)  # result key -> why it is null
 
     def models(self) -> list[dict]:
         """One row per Level III run: label, model, source, amplitude at ``at``, final
@@ -118,7 +120,10 @@ class DamperReport:
                 "uncertainty": {k: v.as_dict() for k, v in self.uncertainty.items()},
                 "forced_response": self.forced_summary(),
                 "realisations": None if self.band is None else self.band.as_dict(),
-                "figures": [f.name for f in self.figures], "inputs": self.inputs}
+                **({"not_applicable": dict(self.not_applicable)} if self.not_applicable
+                   else {}),
+                "figures": [f.name for f in self.figures],
+                "figure_errors": dict(self.figure_errors), "inputs": self.inputs}
 
 
 def _timed(rep: DamperReport, key: str, fn: Callable[..., Any]) -> Any:
@@ -244,8 +249,15 @@ def forced_response(rep: DamperReport, models: dict, structure: Any, x0: float) 
     the analytical formulas and the effective fields) under :func:`forced_load`, over
     :data:`FORCED_POINTS` frequencies around the first natural frequency; into
     ``rep.forced`` and ``rep.forced_load``."""
-    from pdamper.coupling.frf import HARMONIC_BALANCE, frequency_response
+    from pdamper.coupling.frf import HARMONIC_BALANCE, check_damped, frequency_response
+    from pdamper.errors import InputError
 
+    try:
+        check_damped(structure)
+    except InputError as exc:  # an undamped structure: no bounded forced response
+        rep.not_applicable["forced_response"] = (
+            f"the structure has an undamped mode ({exc.field}: {exc.message})")
+        return
     load = forced_load(structure, x0)
     f_n = float(structure.natural_frequency)
     f = np.linspace((1.0 - FORCED_SPAN) * f_n, (1.0 + FORCED_SPAN) * f_n, FORCED_POINTS)
@@ -288,8 +300,10 @@ def effective_field_map(damper: ParticleDamper, frequency: np.ndarray, amplitude
 
 def design_study(sc: Scenario, damper: ParticleDamper, structure: Any) -> DesignStudyResult:
     """The design study of ``[optimization]`` (its ``vary``, or the particle count in
-    whole layers) with the analytical model, in-process."""
-    from pdamper.design.study import DesignVariable, optimize_design
+    whole layers) with the analytical model, in-process; every objective, those on the
+    response to ``[load]`` and the forced-response ones over ``[optimization] band``
+    included."""
+    from pdamper.design.study import LOAD_OBJECTIVES, DesignVariable, optimize_design
 
     o = sc.optimization
     variables = o.variables()
@@ -302,7 +316,9 @@ def design_study(sc: Scenario, damper: ParticleDamper, structure: Any) -> Design
                            o.objective, o.at, model=functools.partial(sc.model, "analytic"),
                            threshold=o.threshold, method=o.method, max_grid=o.max_grid,
                            max_evaluations=o.max_evaluations, seed=o.seed, workers=0,
-                           tolerance=o.tolerance)
+                           tolerance=o.tolerance,
+                           load=sc.load.history() if o.objective in LOAD_OBJECTIVES else None,
+                           tail=sc.load.tail, band=o.frf_band(), frf_load=o.frf_load)
 
 
 __all__ = ["DEFAULT_UNCERTAINTY_POINTS", "FORCED_POINTS", "FORCED_SPAN", "DamperReport",

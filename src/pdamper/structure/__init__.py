@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass
 
 from pdamper.constants import STANDARD_GRAVITY
-from pdamper.errors import check_range
+from pdamper.errors import InputError, check_range
 
 
 @dataclass(frozen=True)
@@ -43,6 +43,11 @@ class SingleDOFStructure:
         check_range("structure.damping", self.damping, low=0.0, unit="kg/s")
         check_range("structure.stiffness", self.stiffness, low=0.0, low_inclusive=False,
                     unit="N/m")
+        critical = 2.0 * math.sqrt(self.stiffness * self.mass)
+        if not self.damping < critical:  # a damping ratio of 1 and above does not oscillate
+            raise InputError("structure.damping", f"must be in [0, {critical:.4g}) kg/s, below "
+                             f"the critical damping 2 sqrt(K M) (a vibrating structure: damping "
+                             f"ratio < 1), got {self.damping:g} kg/s")
 
     @property
     def angular_frequency(self) -> float:

@@ -112,8 +112,10 @@ class ModalStructure:
             raise InputError("structure.frequencies", "must be one or more finite positive "
                              "frequencies in ascending order")
         z = np.broadcast_to(np.asarray(self.damping_ratios, float), (n,)).copy()
-        if not np.all(np.isfinite(z)) or np.any(z < 0):
-            raise InputError("structure.damping_ratios", "must be finite and >= 0")
+        if not np.all((z >= 0) & (z < 1)):  # NaN fails both
+            raise InputError("structure.damping_ratios", f"must be in [0, 1) (a vibration "
+                             f"mode: at a ratio of 1 and above it does not oscillate), got "
+                             f"{', '.join(f'{v:g}' for v in z)}")
         shapes: dict[str, np.ndarray] = {}
         for name in ("damper_shape", "output_shape", "release_shape"):
             v = getattr(self, name)
