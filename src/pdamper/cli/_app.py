@@ -17,6 +17,25 @@ from typer.core import TyperCommand, TyperGroup
 from pdamper.cli import _quiet
 
 
+def _declared(command, ctx) -> None:
+    """Before help is shown: the help of each option that sets a scenario key completed
+    from the key's declaration (:func:`pdamper.cli._common.declared_help`; only then, so that
+    a command's start-up reads no schema), and every help text escaped for rich, which
+    otherwise takes a bracketed unit (``[Hz]``, ``[kg^-0.5]``, ``[dem] cycles``) for
+    markup and drops it."""
+    from rich.markup import escape
+
+    from pdamper.cli._common import declared_help
+
+    if command.help and not getattr(command, "_escaped", False):
+        command.help = escape(command.help)
+        command._escaped = True
+    for p in command.get_params(ctx):
+        if getattr(p, "help", None) and not getattr(p, "_escaped", False):
+            p.help = escape(declared_help(p.help))
+            p._escaped = True
+
+
 def _untyped(params: list) -> list:
     """Options without the column of type names (``<str>``, ``<bool>``) that typer's help
     shows: an empty metavar is what that column prints (the help text says what a value
@@ -33,6 +52,18 @@ class _Group(TyperGroup):
     def get_params(self, ctx):
         return _untyped(super().get_params(ctx))
 
+    def format_help(self, ctx, formatter):
+        _declared(self, ctx)
+        for name in self.list_commands(ctx):
+            sub = self.get_command(ctx, name)
+            if sub is not None and sub.short_help and not getattr(sub, "_escaped_short",
+                                                                  False):
+                from rich.markup import escape
+
+                sub.short_help = escape(sub.short_help)
+                sub._escaped_short = True
+        return super().format_help(ctx, formatter)
+
 
 class _Command(TyperCommand):
     """A command: help without type names, and the group's ``--quiet`` accepted after the
@@ -46,6 +77,10 @@ class _Command(TyperCommand):
                       *(p for p in root.params if p.name == "quiet"),
                       *(p for p in params if p.name == "help")]
         return _untyped(params)
+
+    def format_help(self, ctx, formatter):
+        _declared(self, ctx)
+        return super().format_help(ctx, formatter)
 
 
 app = typer.Typer(

@@ -24,7 +24,8 @@ if TYPE_CHECKING:  # pragma: no cover
 ScenarioOpt = Annotated[Path | None, typer.Option("--scenario", "-s", help="Scenario TOML file.")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON for scripts.")]
 ModelOpt = Annotated[str | None, typer.Option(
-    "--model", "--damper", help="Damper model (fidelity): analytic, fields or dem.")]
+    "--model", "--damper", help="\x00scenario key simulation.model\x00Damper model "
+    "(fidelity)")]  # (key_help's text: key_help is defined below)
 ForceOpt = Annotated[bool, typer.Option(
     "--force", help="Run although the implied memory or time is above the limits "
     "(see pdamper.resources); never beyond what this machine can hold.")]
@@ -181,6 +182,46 @@ def figure_last(draw: Callable[[], Figure], path: Path, dpi: int = 110,
     return write_figure(fig, path, dpi, field)
 
 
+#: Start of a help text that names the scenario key its option sets (:func:`key_help`).
+KEY_HELP = "\x00scenario key "
+
+
+def key_help(key: str, note: str = "") -> str:
+    """The help text of an option that sets the scenario key ``key``: the key's declaration
+    (:func:`pdamper.io.scenario_reference.declaration_of`: its unit, allowed values and
+    choices, and its description where ``note`` is empty) completes it when help is shown
+    (:func:`declared_help`), so that the command line says what docs/scenario.md says and
+    no command restates a unit or a list of choices. ``note``: what the option itself adds
+    (an example of its text)."""
+    return f"{KEY_HELP}{key}\x00{note}"
+
+
+def help_key(text: str | None) -> str | None:
+    """The scenario key a help text of :func:`key_help` names (None for any other)."""
+    if not text or not text.startswith(KEY_HELP):
+        return None
+    return text[len(KEY_HELP):].split("\x00", 1)[0]
+
+
+def declared_help(text: str) -> str:
+    """A help text of :func:`key_help` completed from the key's declaration: the
+    description, the unit in brackets, the allowed values or the choices, and the key
+    (``"Excitation frequency, e.g. '10Hz' [Hz], > 0 (scenario: excitation.frequency)."``);
+    any other text as it is."""
+    key = help_key(text)
+    if key is None:
+        return text
+    from pdamper.io.scenario_reference import declaration_of
+
+    note = text[len(KEY_HELP) + len(key) + 1:]
+    d = declaration_of(key)
+    what = (note or d.doc.split(". ")[0]).rstrip(". ")
+    unit = f" [{d.unit}]" if d.unit not in ("", "1") else ""
+    allowed = (f", one of {', '.join(d.choices)}" if d.choices
+               else f", {d.allowed}" if d.allowed and d.allowed != "any" else "")
+    return f"{what}{unit}{allowed} (scenario: {d.key})."
+
+
 def flag_name(flag: str) -> str:
     """The parameter of a flag: ``"--free-flight/--no-free-flight"`` -> ``"free_flight"``."""
     return flag.split("/")[0].removeprefix("--").replace("-", "_")
@@ -200,8 +241,9 @@ def with_flags(rows: tuple[tuple[str, str, type, str], ...]
                if p.name != "flags"]
         made = [inspect.Parameter(flag_name(flag), inspect.Parameter.KEYWORD_ONLY,
                                   default=None, annotation=Annotated[
-                                      kind | None, typer.Option(flag, help=text)])
-                for flag, _, kind, text in rows]
+                                      kind | None, typer.Option(flag, help=key_help(
+                                          key, text))])
+                for flag, key, kind, text in rows]
         keys = {flag_name(flag): key for flag, key, _, _ in rows}
 
         @functools.wraps(func)

@@ -7,16 +7,20 @@ from typing import Annotated
 import typer
 
 from pdamper.cli import _uncertainty
-from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, emit, load, metadata
+from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, emit, key_help, load, metadata
 
 
 def analytic(
-    frequency: Annotated[str | None, typer.Option(help="Excitation frequency, e.g. '10Hz'.")] = None,
-    amplitude: Annotated[str | None, typer.Option(help="Container stroke X, e.g. '32mm'.")] = None,
-    particles: Annotated[int | None, typer.Option(help="Number of spheres.")] = None,
+    frequency: Annotated[str | None, typer.Option(help=key_help(
+        "excitation.frequency", "Excitation frequency, e.g. '10Hz'."))] = None,
+    amplitude: Annotated[str | None, typer.Option(help=key_help("excitation.amplitude",
+                                                                "Container stroke X, e.g. '32mm'."))] = None,
+    particles: Annotated[int | None, typer.Option(help=key_help("particles.count",
+                                                                "Number of spheres."))] = None,
     gravity: Annotated[str | None, typer.Option(
-        "--gravity", help="g, e.g. '9.81 m/s^2' (default); '0 m/s^2' for a structure in "
-                          "orbit.")] = None,
+        "--gravity", help=key_help("excitation.gravity",
+                                   "g, e.g. '9.81 m/s^2' (default); '0 m/s^2' for a structure in "
+                          "orbit."))] = None,
     uncertainty: _uncertainty.UncertaintyOpt = None,
     uncertain: _uncertainty.UncertainOpt = None,
     uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,

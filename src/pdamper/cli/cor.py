@@ -25,6 +25,7 @@ from pdamper.cli._common import (
     ScenarioOpt,
     check_plot,
     emit,
+    key_help,
     load,
     metadata,
     plot_param,
@@ -47,11 +48,14 @@ def cor(
         "--model", help="Target COR curve: 0.6, paper, thornton or a CSV table, optionally "
                         "*scale (default: the scenario's COR curve of this pair).")] = None,
     damping_model: Annotated[str | None, typer.Option(
-        "--damping-model", help="Damping law: exact (default) or gonthier.")] = None,
+        "--damping-model", help=key_help("dem.damping_model",
+                                         "Damping law of the impacts (default: the scenario's)"))] = None,
     integrator: Annotated[str | None, typer.Option(
-        "--integrator", help="gear (default) or verlet.")] = None,
+        "--integrator", help=key_help("dem.integrator",
+                                      "Integrator of the impacts (default: gear)"))] = None,
     radius: Annotated[str | None, typer.Option(
-        "--radius", help="Sphere radius, e.g. '5mm' (default: the scenario's).")] = None,
+        "--radius", help=key_help("particles.radius",
+                                  "Sphere radius, e.g. '5mm' (default: the scenario's)."))] = None,
     plot: Annotated[str | None, plot_param("the target and simulated COR")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,

@@ -22,7 +22,7 @@ from typing import Annotated
 
 import typer
 
-from pdamper.cli._common import JsonOpt, ScenarioOpt, check_plot, emit, load, metadata, plot_param
+from pdamper.cli._common import JsonOpt, ScenarioOpt, check_plot, emit, key_help, load, metadata, plot_param
 
 
 def _points(text: str):
@@ -53,14 +53,17 @@ def cor_sensitivity(
     level3: Annotated[bool, typer.Option(
         "--level3/--no-level3", help="Also run DEM model 1 on the structure.")] = True,
     duration: Annotated[str | None, typer.Option(
-        "--duration", help="Level III simulated time, e.g. '2s' (default: the scenario's).")
+        "--duration", help=key_help("simulation.duration",
+                                    "Level III simulated time, e.g. '2s' (default: the scenario's)."))
     ] = None,
     cycles: Annotated[int | None, typer.Option(
-        "--cycles", help="Level II cycles per point (default: the scenario's [dem] value if "
-                         "it sets one, else 48).")] = None,
+        "--cycles", help=key_help("dem.cycles",
+                                  "Level II cycles per point (default: the scenario's [dem] value if "
+                         "it sets one, else 48)."))] = None,
     skip_cycles: Annotated[int | None, typer.Option(
-        "--skip-cycles", help="Cycles left out of the complex power (default: the "
-                              "scenario's, else 16).")] = None,
+        "--skip-cycles", help=key_help("dem.skip_cycles",
+                                       "Cycles left out of the complex power (default: the "
+                              "scenario's, else 16)."))] = None,
     plot: Annotated[str | None, plot_param("the loss factors and amplitudes per COR variant")] = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,

@@ -17,6 +17,7 @@ from pdamper.cli._common import (
     check_plot,
     emit,
     figure_last,
+    key_help,
     load,
     metadata,
     plot_param,
@@ -57,17 +58,20 @@ def frf(
         help="Frequencies 'start:stop:count', e.g. '3Hz:9Hz:121' (default), or one.")] = None,
     sweep: Annotated[str, typer.Option(
         help="Stepped-sine direction: up, down or both.")] = "both",
-    particles: Annotated[int | None, typer.Option(help="Number of spheres.")] = None,
+    particles: Annotated[int | None, typer.Option(help=key_help("particles.count",
+                                                                "Number of spheres."))] = None,
     fields: Annotated[Path | None, typer.Option(
-        help="Effective-field map (NetCDF from `pdamper map`) of the fields model.")] = None,
+        help=key_help("fields.file",
+                      "Effective-field map (NetCDF from `pdamper map`) of the fields model."))] = None,
     max_cycles: Annotated[int | None, typer.Option(
         "--max-cycles", help="Most load cycles per frequency step of the stepped sine "
                              "(default 2000; the DEM 60).")] = None,
     plot: Annotated[str | None, plot_param("the amplitude and phase against frequency")] = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file of the response.")] = None,
     modes: Annotated[Path | None, typer.Option(
-        help="The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
-             "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF.")] = None,
+        help=key_help("structure.modes",
+                      "The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
+             "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF."))] = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal, TextIO
 import typer
 
 from pdamper.cli import _uncertainty
-from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, check_output, emit, load
+from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, check_output, emit, key_help, load
 from pdamper.cli._quiet import quiet
 from pdamper.errors import InputError
 
@@ -29,11 +29,14 @@ def map_(
     model: Annotated[str, typer.Option(
         help="Damper model (fidelity): analytic, fields or dem.")] = "analytic",
     frequency: Annotated[str | None, typer.Option(
-        help="Grid 'start:stop:count' (or 'log:start:stop:count'), e.g. '2Hz:20Hz:14'.")] = None,
+        help=key_help("map.frequency",
+                      "Grid 'start:stop:count' (or 'log:start:stop:count'), e.g. '2Hz:20Hz:14'."))] = None,
     amplitude: Annotated[str | None, typer.Option(
-        help="Grid 'start:stop:count' (or 'log:...'), e.g. '1mm:200mm:24'.")] = None,
+        help=key_help("map.amplitude",
+                      "Grid 'start:stop:count' (or 'log:...'), e.g. '1mm:200mm:24'."))] = None,
     particles: Annotated[str | None, typer.Option(
-        help="Number of spheres, or a particle-count axis '16:96:6' (or 'log:...').")] = None,
+        help=key_help("map.particles",
+                      "Number of spheres, or a particle-count axis '16:96:6' (or 'log:...')."))] = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file to write.")] = None,
     uncertainty: _uncertainty.UncertaintyOpt = None,
     uncertain: _uncertainty.UncertainOpt = None,

@@ -15,6 +15,7 @@ from pdamper.cli._common import (
     check_plot,
     emit,
     figure_last,
+    key_help,
     load,
     metadata,
     plot_param,
@@ -31,49 +32,63 @@ if TYPE_CHECKING:
 
 def optimize(
     model: ModelOpt = None,
-    at: Annotated[str | None, typer.Option(help="Objective time T, e.g. '0.8s'.")] = None,
-    step: Annotated[int | None, typer.Option(help="Particle-count increment (default: one layer).")] = None,
+    at: Annotated[str | None, typer.Option(help=key_help("optimization.at",
+                                                         "Objective time T, e.g. '0.8s'."))] = None,
+    step: Annotated[int | None, typer.Option(help=key_help(
+        "optimization.step", "Particle-count increment (default: one layer)."))] = None,
     vary: Annotated[list[str] | None, typer.Option(
-        "--vary", help="Design variable, repeatable: 'particles=16:176:16' (start:stop:step), "
+        "--vary", help=key_help("optimization.vary",
+                                "Design variable, repeatable: 'particles=16:176:16' (start:stop:step), "
         "'radius=3mm:6mm:4' (start:stop:count), 'container-length=100mm:140mm:3', "
-        "'particle-material=S235,PVC'. Default: the particle count.")] = None,
+        "'particle-material=S235,PVC'. Default: the particle count."))] = None,
     objective: Annotated[str | None, typer.Option(
-        help="amplitude-at (min), settling-time (min) or mean-damping (max) of the free "
+        help=key_help("optimization.objective",
+                      "amplitude-at (min), settling-time (min) or mean-damping (max) of the free "
              "decay; peak or rms (min) of the response to --load / --base-acceleration; "
-             "peak-frf or rms-frf (min) of the forced response to --frf-load.")] = None,
+             "peak-frf or rms-frf (min) of the forced response to --frf-load."))] = None,
     band: Annotated[str | None, typer.Option(
-        help="Frequencies of peak-frf and rms-frf, 'start:stop:count', e.g. '3Hz:9Hz:41' "
-             "(default 0.5-1.5 times the first natural frequency).")] = None,
+        help=key_help("optimization.band",
+                      "Frequencies of peak-frf and rms-frf, 'start:stop:count', e.g. '3Hz:9Hz:41' "
+             "(default 0.5-1.5 times the first natural frequency)."))] = None,
     frf_load: Annotated[str | None, typer.Option(
-        "--frf-load", help="Harmonic load of peak-frf and rms-frf: a force ('2N', default) "
-                           "or a base motion ('1mm', '0.3g').")] = None,
+        "--frf-load", help=key_help("optimization.frf_load",
+                                    "Harmonic load of peak-frf and rms-frf: a force ('2N', default) "
+                           "or a base motion ('1mm', '0.3g')."))] = None,
     threshold: Annotated[str | None, typer.Option(
-        help="Settling threshold, e.g. '15mm' (default |x0| / 4).")] = None,
+        help=key_help("optimization.threshold",
+                      "Settling threshold, e.g. '15mm' (default |x0| / 4)."))] = None,
     method: Annotated[str | None, typer.Option(
-        help="auto, grid (brute force) or optimize (scipy differential evolution).")] = None,
+        help=key_help("optimization.method",
+                      "auto, grid (brute force) or optimize (scipy differential evolution)."))] = None,
     workers: Annotated[str | None, typer.Option(
-        help="Parallel dask workers; 0 = in-process; auto = 0 for cheap models, all cores "
-             "for the DEM (when dask.distributed is installed).")] = None,
+        help=key_help("optimization.workers",
+                      "Parallel dask workers; 0 = in-process; auto = 0 for cheap models, all cores "
+             "for the DEM (when dask.distributed is installed)."))] = None,
     scheduler: Annotated[str | None, typer.Option(
-        help="Address of an existing dask scheduler.")] = None,
+        help=key_help("optimization.scheduler", "Address of an existing dask scheduler."))] = None,
     max_evaluations: Annotated[int | None, typer.Option(
-        "--max-evaluations", help="Evaluation budget of the optimiser.")] = None,
-    seed: Annotated[int | None, typer.Option(help="Seed of the optimiser.")] = None,
+        "--max-evaluations", help=key_help("optimization.max_evaluations",
+                                           "Evaluation budget of the optimiser."))] = None,
+    seed: Annotated[int | None, typer.Option(help=key_help("optimization.seed",
+                                                           "Seed of the optimiser."))] = None,
     tolerance: Annotated[str | None, typer.Option(
-        help="Relative tolerance on the objective: the lightest design within it of the best "
+        help=key_help("optimization.tolerance",
+                      "Relative tolerance on the objective: the lightest design within it of the best "
              "is reported with the Pareto front of added (bed) mass against the objective, "
-             "e.g. '5%' or 0.05; in [0 %, 100 %) (default 5 %).")] = None,
+             "e.g. '5%' or 0.05; in [0 %, 100 %) (default 5 %)."))] = None,
     plot: Annotated[str | None, plot_param("the design landscape")] = None,
     modes: Annotated[Path | None, typer.Option(
-        help="The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
-             "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF.")] = None,
+        help=key_help("structure.modes",
+                      "The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
+             "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF."))] = None,
     load_file: Annotated[Path | None, typer.Option(
-        "--load", help="Force history for the peak and rms objectives (CSV with unit "
-                       "headers, e.g. 'time [s], force [N]'; docs/forced.md).")] = None,
+        "--load", help=key_help("load.force", "Force history for the peak and rms objectives (CSV with unit "
+                       "headers, e.g. 'time [s], force [N]'; docs/forced.md)."))] = None,
     base_acceleration: Annotated[Path | None, typer.Option(
-        "--base-acceleration", help="Base-acceleration history for peak and rms.")] = None,
+        "--base-acceleration", help=key_help("load.base_acceleration",
+                                             "Base-acceleration history for peak and rms."))] = None,
     tail: Annotated[str | None, typer.Option(
-        help="Free vibration after the load record, e.g. '1s' (default 0).")] = None,
+        help=key_help("load.tail", "Free vibration after the load record, e.g. '1s' (default 0)."))] = None,
     realisations: Annotated[str | None, typer.Option(
         "--realisations", help="Evaluate every design from N random packings (DEM; seeds "
         "dem.seed ... dem.seed + N - 1): the objective is their mean, each candidate has "

@@ -17,6 +17,7 @@ from pdamper.cli._common import (
     check_plot,
     emit,
     figure_last,
+    key_help,
     load,
     metadata,
     plot_param,
@@ -61,12 +62,16 @@ def _table(label: str, res) -> list[str]:
 
 def simulate(
     model: ModelOpt = None,
-    particles: Annotated[int | None, typer.Option(help="Number of spheres.")] = None,
-    duration: Annotated[str | None, typer.Option(help="Simulated time, e.g. '2s'.")] = None,
+    particles: Annotated[int | None, typer.Option(help=key_help("particles.count",
+                                                                "Number of spheres."))] = None,
+    duration: Annotated[str | None, typer.Option(help=key_help("simulation.duration",
+                                                               "Simulated time, e.g. '2s'."))] = None,
     initial_displacement: Annotated[str | None, typer.Option(
-        "--initial-displacement", help="Release deflection x0, e.g. '-58mm'.")] = None,
+        "--initial-displacement", help=key_help("structure.initial_displacement",
+                                                "Release deflection x0, e.g. '-58mm'."))] = None,
     fields: Annotated[Path | None, typer.Option(
-        help="Effective-field map (NetCDF from `pdamper map`) of the fields model.")] = None,
+        help=key_help("fields.file",
+                      "Effective-field map (NetCDF from `pdamper map`) of the fields model."))] = None,
     compare: Annotated[str | None, typer.Option(
         help="Several models overlaid, e.g. 'analytic,fields,dem'.")] = None,
     measured: Annotated[Path | None, typer.Option(
@@ -76,19 +81,21 @@ def simulate(
         "the trajectories and damping ratios (and the phase drift)")] = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file for the trajectory.")] = None,
     modes: Annotated[Path | None, typer.Option(
-        help="The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
-             "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF.")] = None,
+        help=key_help("structure.modes",
+                      "The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
+             "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF."))] = None,
     uncertainty: _uncertainty.UncertaintyOpt = None,
     uncertain: _uncertainty.UncertainOpt = None,
     uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
     load_file: Annotated[Path | None, typer.Option(
-        "--load", help="Force history on the structure (CSV with unit headers, e.g. "
-                       "'time [s], force [N]'; docs/forced.md) instead of the release.")] = None,
+        "--load", help=key_help("load.force", "Force history on the structure (CSV with unit headers, e.g. "
+                       "'time [s], force [N]'; docs/forced.md) instead of the release."))] = None,
     base_acceleration: Annotated[Path | None, typer.Option(
-        "--base-acceleration", help="Base-acceleration history (CSV with unit headers, e.g. "
-                                    "'time [s], acceleration [m/s^2]').")] = None,
+        "--base-acceleration", help=key_help("load.base_acceleration",
+                                             "Base-acceleration history (CSV with unit headers, e.g. "
+                                    "'time [s], acceleration [m/s^2]')."))] = None,
     tail: Annotated[str | None, typer.Option(
-        help="Free vibration after the load record, e.g. '1s' (default 0).")] = None,
+        help=key_help("load.tail", "Free vibration after the load record, e.g. '1s' (default 0)."))] = None,
     realisations: Annotated[str | None, typer.Option(
         "--realisations", help="N realisations of each model that has them: the DEM from N "
         "random packings (seeds dem.seed ... dem.seed + N - 1, in parallel), the effective "
@@ -96,8 +103,9 @@ def simulate(
         "'realisations' holds the band (amplitude at [optimization] at, envelope, damping "
         "ratio per amplitude), the plot shows it (default 1: one run).")] = None,
     at: Annotated[str | None, typer.Option(
-        help="Time of the realisations' amplitude band, e.g. '0.75s' (default [optimization] "
-             "at, the objective time).")] = None,
+        help=key_help("optimization.at",
+                      "Time of the realisations' amplitude band, e.g. '0.75s' (default [optimization] "
+             "at, the objective time)."))] = None,
     workers: Annotated[int | None, typer.Option(
         help="Worker processes of the local cluster for --realisations (default: every "
              "core).")] = None,

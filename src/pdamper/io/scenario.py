@@ -197,7 +197,9 @@ class LoadSpec(_Section):
 
 
 class SimulationSpec(_Section):
-    model: str = Field(default="analytic", validation_alias=AliasChoices("model", "damper"))
+    #: the damper's fidelity (:data:`pdamper.models.registry.DAMPER_MODELS`)
+    model: str = Field(default="analytic", validation_alias=AliasChoices("model", "damper"),
+                       json_schema_extra={"choices": ["analytic", "fields", "dem"]})
     duration: Duration = paper.PAPER_DURATION
     sample_rate: Frequency = 2000.0
 
@@ -228,7 +230,8 @@ class OptimizationSpec(_Section):
     max_evaluations: Annotated[int, Field(ge=4, strict=True)] = DEFAULT_MAX_EVALUATIONS
     max_grid: Annotated[int, Field(ge=1, strict=True)] = DEFAULT_MAX_GRID
     seed: Annotated[int, Field(ge=0, strict=True)] = 0
-    tolerance: Annotated[float, BeforeValidator(_tolerance)] = DEFAULT_TOLERANCE
+    tolerance: Annotated[float, BeforeValidator(_tolerance), Field(json_schema_extra={
+        "allowed": '>= 0, < 1 (a fraction, or a percentage: "5%")'})] = DEFAULT_TOLERANCE
 
     def variables(self) -> list[DesignVariable]:
         """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary`` (judge
@@ -266,7 +269,8 @@ class MapSpec(_Section):
 
     frequency: Annotated[str, _grid("Hz")] = _range_text(paper.PAPER_MAP_FREQUENCY, "Hz", 1.0)
     amplitude: Annotated[str, _grid("m")] = _range_text(paper.PAPER_MAP_AMPLITUDE, "mm", 1e3)
-    particles: str | Count | None = None
+    particles: Annotated[str | Count | None, Field(json_schema_extra={
+        "allowed": '>= 1 (one count) or a grid "start:stop:count"'})] = None
     dem_frequency: Annotated[str, _grid("Hz")] = CASE_STUDY_DEM_FREQUENCY
     dem_amplitude: Annotated[str, _grid("m")] = CASE_STUDY_DEM_AMPLITUDE
     dem_packing: str | None = MAP_DEM_PACKING

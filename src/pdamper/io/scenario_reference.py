@@ -14,6 +14,8 @@ writes it; ``--check docs/scenario.md`` exits with status 1 if the file differs.
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import inspect
 import re
 import sys
@@ -159,6 +161,10 @@ def _declared(info: FieldInfo) -> dict:
 
 
 def _declared_constraint(decl: dict) -> str:
+    if decl["kind"] == "cycles":
+        from pdamper.settings import allowed
+
+        return allowed(decl).replace("'", '"')
     if decl["kind"] not in ("number", "whole", "curve"):
         return ""
     parts = []
@@ -182,8 +188,15 @@ def _unit(annotation: Any, info: FieldInfo) -> str:
 def _constraint(annotation: Any, info: FieldInfo) -> str:
     if decl := _declared(info):
         return _declared_constraint(decl)
+    extra = info.json_schema_extra
+    if isinstance(extra, dict) and isinstance(extra.get("allowed"), str):
+        return extra["allowed"]  # a value parsed from text says its range in words
     parts = []
-    for m in _all_meta(annotation, info):
+    meta = _all_meta(annotation, info)
+    for m in list(meta):  # a Field(...) inside an Annotated member keeps its own metadata
+        if isinstance(m, FieldInfo):
+            meta.extend(m.metadata)
+    for m in meta:
         for name, op in _OPS.items():
             value = getattr(m, name, None)
             if value is not None and type(m).__name__.lower() in (name, "interval",
@@ -297,18 +310,57 @@ def _role(match: re.Match) -> str:
     return "`" + match.group(1).replace(" ", "") + "`"
 
 
-def _table(path: str, model: type[BaseModel], defaults: dict[str, Any],
-           notes: dict[tuple[str, str], list[tuple[str, bool, str]]],
-           nested: list[tuple[str, type[BaseModel]]]) -> list[str]:
+@dataclasses.dataclass(frozen=True)
+class Declaration:
+    """What the scenario declares of one key: the row of docs/scenario.md, and the help of
+    every command-line option that sets the key (:mod:`pdamper.cli._common`)."""
+
+    #: Dotted path of the key (``"excitation.frequency"``, ``"dem.safety"``).
+    key: str
+    #: Every name the key may be written under in its table (the first is the key's own).
+    names: tuple[str, ...]
+    #: Type as the page writes it (``"number"``, ``"integer (optional)"``, ...).
+    type: str
+    #: SI unit a bare number is read in; ``"1"`` for a dimensionless number, ``""`` for a
+    #: value that is not a number.
+    unit: str
+    #: Default as the page writes it.
+    default: str
+    #: Allowed values (``"> 0"``, ``">= 0, <= 1"``, ``"any"``), ``""`` for a non-number.
+    allowed: str
+    #: Description.
+    doc: str
+    #: The allowed choices of a choice (``("exact", "gonthier", "tsuji")``), else empty.
+    choices: tuple[str, ...] = ()
+
+    @property
+    def numeric(self) -> bool:
+        """The key takes a number (possibly also something else)."""
+        return any(w in self.type for w in ("number", "integer"))
+
+
+def _choices(annotation: Any, info: FieldInfo) -> tuple[str, ...]:
+    extra = info.json_schema_extra
+    if isinstance(extra, dict) and extra.get("choices"):
+        return tuple(str(c) for c in extra["choices"])  # type: ignore[union-attr]
+    out: list[str] = []
+    for member in _members(annotation):
+        if get_origin(member) is Literal:
+            out += [str(v) for v in get_args(member)]
+    return tuple(out)
+
+
+def _declarations_of(path: str, model: type[BaseModel], defaults: dict[str, Any],
+                     notes: dict[tuple[str, str], list[tuple[str, bool, str]]]
+                     ) -> list[Declaration]:
     section = path.split(".")[0]
-    rows = ["| key | type | unit | default | allowed | description |",
-            "|---|---|---|---|---|---|"]
+    out = []
     attribute_docs = _attribute_docs(model)
     for name, info in model.model_fields.items():
         annotation = info.annotation
-        for member in _members(annotation):
-            if _is_model(member):
-                nested.append((f"{path}.{name}", member))
+        type_name = _type_name(annotation) + (" (optional)" if _optional(annotation) else "")
+        numeric = any(w in type_name for w in ("number", "integer"))
+        unit = _unit(annotation, info) or ("1" if numeric else "")
         if info.is_required():
             default = "required"
         elif "." not in path and name in defaults:
@@ -316,12 +368,73 @@ def _table(path: str, model: type[BaseModel], defaults: dict[str, Any],
         else:
             default = _format_default(info.default, _unit(annotation, info))
         key_notes = notes.get((section, name), []) if "." not in path else []
-        keys = ", ".join(f"`{k}`" for k in _aliases(name, info))
+        allowed = _constraint(annotation, info) or ("any" if numeric else "")
+        out.append(Declaration(
+            f"{path}.{name}", tuple(_aliases(name, info)), type_name, unit, default, allowed,
+            _description(info, key_notes, attribute_docs.get(name, "")),
+            _choices(annotation, info)))
+    return out
+
+
+def _table(declarations: list[Declaration]) -> list[str]:
+    rows = ["| key | type | unit | default | allowed | description |",
+            "|---|---|---|---|---|---|"]
+    for d in declarations:
         rows.append("| " + " | ".join(_cell(c) for c in (
-            keys, _type_name(annotation) + (" (optional)" if _optional(annotation) else ""),
-            _unit(annotation, info), default, _constraint(annotation, info),
-            _description(info, key_notes, attribute_docs.get(name, "")))) + " |")
+            ", ".join(f"`{k}`" for k in d.names), d.type, d.unit, d.default, d.allowed,
+            d.doc)) + " |")
     return rows
+
+
+def _tables() -> list[tuple[str, type[BaseModel], list[str]]]:
+    """Every table of the scenario once: ``(path, model, every path it stands at)``."""
+    from pdamper.io.scenario import Scenario
+
+    top = {n for n, i in Scenario.model_fields.items()
+           if not any(_is_model(m) for m in _members(i.annotation))}
+    order: list[tuple[str, type[BaseModel]]] = []
+    for name, info in Scenario.model_fields.items():
+        if name not in top:
+            _walk(name, info.annotation, order)
+    paths: dict[type, list[str]] = {}
+    for path, model in order:
+        paths.setdefault(model, []).append(path)
+    return [(path, model, list(dict.fromkeys(paths[model]))) for path, model in order
+            if paths[model][0] == path]
+
+
+@functools.cache
+def declarations() -> dict[str, Declaration]:
+    """Every key of the scenario by its dotted path (each path of a table that stands at
+    several), with its aliases' paths: the one table that docs/scenario.md, the scenario's
+    errors and the command line's help read.
+
+    >>> d = declarations()["excitation.frequency"]
+    >>> d.unit, d.allowed
+    ('Hz', '> 0')
+    """
+    example = _example_values()
+    _, notes = _example_comments()
+    out: dict[str, Declaration] = {}
+    for path, model, paths in _tables():
+        rows = _declarations_of(path, model, example.get(path, {}) if "." not in path
+                                else {}, notes)
+        for where in paths:
+            for d in rows:
+                row = d if where == path else dataclasses.replace(
+                    d, key=where + d.key[len(path):])
+                for name in d.names:
+                    out.setdefault(f"{where}.{name}", row)
+    return out
+
+
+def declaration_of(key: str) -> Declaration:
+    """The declaration of the scenario key ``key`` (a dotted path, or an alias of one);
+    ``KeyError`` naming the key for one the scenario does not have."""
+    try:
+        return declarations()[key]
+    except KeyError:
+        raise KeyError(f"the scenario has no key {key!r}") from None
 
 
 def reference() -> str:
@@ -359,8 +472,8 @@ def reference() -> str:
         text = _doc(model) or (section_notes.get(path, "") if "." not in path else "")
         if text:
             out += [text[0].upper() + text[1:], ""]
-        out += [*_table(path, model, example.get(path, {}) if "." not in path else {},
-                        notes, []), ""]
+        out += [*_table(_declarations_of(path, model, example.get(path, {})
+                                         if "." not in path else {}, notes)), ""]
     return "\n".join(out).rstrip("\n") + "\n"
 
 
