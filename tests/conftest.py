@@ -14,6 +14,14 @@ from pathlib import Path
 import pytest
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+# One BLAS thread per process, set before numpy loads its BLAS (here, in the xdist workers
+# and in every child, which inherit it): the suite runs one process per core already, and
+# its BLAS calls are on matrices of a few rows (an 8 x 8 matrix exponential per cycle of a
+# load history), where OpenBLAS's threads only wait for a core: with them such a call took
+# 0.16 ms on a quiet machine and 3-10 ms beside another worker, 0.01 ms without them.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("MKL_NUM_THREADS", "1")
 
 #: The DEM kernels warmed before pytest-xdist's workers start, one group per process, the
 #: groups at once: "gear" and "verlet" compile apart; "auto" adds its hand-over to them.
