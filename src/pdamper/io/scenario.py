@@ -21,7 +21,7 @@ import math
 import tomllib
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import (
     AfterValidator,
@@ -32,25 +32,24 @@ from pydantic import (
     Field,
     PrivateAttr,
     ValidationError,
-    create_model,
     field_validator,
+    model_serializer,
     model_validator,
 )
+from pydantic.fields import FieldInfo
 
 from pdamper import resources
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.contact.law import DAMPING_MODELS
-from pdamper.dem.settings import EngineSettings, Settings
+from pdamper.dem.settings import Settings
 from pdamper.errors import InputError
 from pdamper.io.restitution import MODELS as COR_MODELS
 from pdamper.io.restitution import RestitutionSpec, resolve_files
 from pdamper.models.settings import (
+    CONCERN_NAMES,
+    FLAT,
     PAPER_CYCLES,
-    AccuracyTarget,
-    ContactLaw,
     DEMSettings,
-    RunPlan,
-    SteadyState,
 )
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID, DEFAULT_TOLERANCE
@@ -411,65 +410,151 @@ DEM_SET_ELSEWHERE = {"gravity": "excitation.gravity"}
 #: Keys of ``[dem]`` that are not settings of the DEM damper: the constant CORs of the damper
 #: (or ``[restitution]``).
 DEM_SCENARIO_ONLY = ("restitution_pp", "restitution_pw")
-#: ``[dem.<table>]``: the settings of one concern in a table of its own (the same keys as
-#: flat ``[dem]`` keys, which stay the plain way of writing them).
-DEM_TABLES: dict[str, type[Settings]] = {
-    "plan": RunPlan, "steady_state": SteadyState, "accuracy_target": AccuracyTarget,
-    "contact": ContactLaw, "engine": EngineSettings}
+#: ``[dem.<table>]``: the settings of one concern in a table of its own, the canonical form
+#: (:data:`~pdamper.models.settings.CONCERN_NAMES`); flat ``[dem]`` keys and the old table
+#: names of :data:`DEM_TABLE_ALIASES` are aliases.
+DEM_TABLES: dict[str, type[Settings]] = dict(CONCERN_NAMES)
+#: Old names of the ``[dem.<table>]`` tables -> their canonical name.
+DEM_TABLE_ALIASES = {"steady_state": "steady", "accuracy_target": "accuracy"}
 
 
-class _DEMSection(Settings):
-    """The ``[dem]`` section: the settings of :class:`~pdamper.models.settings.DEMSettings`
-    (but those of :data:`DEM_SET_ELSEWHERE`) with units at the edge, flat or in the tables
-    of :data:`DEM_TABLES`."""
+def _elsewhere(name: str) -> str:
+    section, _, key = DEM_SET_ELSEWHERE[name].partition(".")
+    return f"is set by [{section}] {key}"
 
-    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True,
-                              validate_default=False)
-    prefix: ClassVar[str] = "dem."
-    # validated inside the scenario: its errors name the field (_first_error)
-    __init__ = BaseModel.__init__
+
+class DEMSpec(DEMSettings):
+    """Options of the DEM model (``pdamper dem``, ``--model dem``), one table per concern:
+    ``[dem.plan]``, ``[dem.steady]``, ``[dem.accuracy]``, ``[dem.contact]`` and
+    ``[dem.engine]`` (:class:`~pdamper.models.settings.DEMSettings`; g is ``[excitation]
+    gravity``, the seed and the transient tolerance are ``[dem.plan]``'s). Each key may
+    also be written flat in ``[dem]`` (``cycles = 8`` is ``[dem.plan] cycles = 8``), the
+    old tables ``[dem.steady_state]`` and ``[dem.accuracy_target]`` are
+    ``[dem.steady]`` and ``[dem.accuracy]``; a key given twice is an error, a command-line
+    option replaces the key in whichever form the file gives it. ``restitution_pp`` and
+    ``restitution_pw``: constant CORs (or ``[restitution]``)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=False)
+
+    restitution_pp: Restitution = _D.restitution_pp.e
+    restitution_pw: Restitution = _D.restitution_pw.e
 
     @classmethod
-    def _edge(cls, name: str, value: Any, decl: dict) -> Any:
-        if decl["unit"] and value is not None:
-            return parse_quantity(value, decl["unit"], name)
-        return value
+    def _edge_concern(cls, concern: str, values: dict[str, Any]) -> dict[str, Any]:
+        decls = DEM_TABLES[concern].declarations()
+        out = {}
+        for name, value in values.items():
+            unit = decls[name]["unit"] if name in decls else ""
+            out[name] = (parse_quantity(value, unit, name)
+                         if unit and value is not None else value)
+        return out
+
+    @classmethod
+    def canonical(cls, data: dict[str, Any]) -> dict[str, Any]:
+        """``data`` as given in the file with the old table names made canonical; refuses
+        the settings another section sets (:data:`DEM_SET_ELSEWHERE`)."""
+        out: dict[str, Any] = {}
+        for key, value in data.items():
+            table = DEM_TABLE_ALIASES.get(key, key)
+            if table in DEM_TABLES and isinstance(value, dict):
+                if table in out:
+                    raise InputError("dem", f"[dem.{table}] given twice (also as [dem.{key}])")
+                for name in value:
+                    if name in DEM_SET_ELSEWHERE:
+                        raise InputError(cls.prefix + name, _elsewhere(name))
+                out[table] = value
+            elif key not in FLAT and key not in DEM_SCENARIO_ONLY and "__" not in key \
+                    and key not in DEM_TABLES:
+                raise InputError(cls.prefix + key, "unknown key (check the spelling; `pdamper "
+                                 "example-scenario` lists the keys)")
+            elif key in DEM_SET_ELSEWHERE:
+                raise InputError(cls.prefix + key, _elsewhere(key))
+            else:
+                out[key] = value
+        return out
 
     @model_validator(mode="before")
     @classmethod
     def _tables(cls, data: Any) -> Any:
-        if not isinstance(data, dict) or not any(
-                isinstance(data.get(t), dict) for t in DEM_TABLES):
+        if not isinstance(data, dict):
             return data
-        flat = {k: v for k, v in data.items()
-                if not (k in DEM_TABLES and isinstance(v, dict))}
-        for table, concern in DEM_TABLES.items():
-            for key, value in (data.get(table) or {}).items():
-                if key not in concern.model_fields:
-                    raise ValueError(f"[dem.{table}] has no setting {key!r}; its settings: "
-                                     f"{', '.join(concern.model_fields)}")
-                if key in flat:
-                    raise ValueError(f"{key} given twice, flat and in [dem.{table}]")
-                flat[key] = value
-        return flat
+        return cls.concerns_of(cls.canonical(data))
+
+    def __init__(self, **data: Any) -> None:
+        try:
+            BaseModel.__init__(self, **data)
+        except ValidationError as exc:
+            raise _first_error(exc) from None
+
+    @classmethod
+    def override(cls, section: dict[str, Any], name: str, value: Any) -> None:
+        """Set setting ``name`` (a flat name, ``concern.name`` or ``concern__name``) to
+        ``value`` in the ``[dem]`` table ``section`` as read from a file, replacing it in
+        whichever form the file gives it (flat, ``[dem.<concern>]`` or an old table name):
+        a command-line option overrides the file."""
+        canonical = DEMSettings.aliases().get(name.replace(".", "__"), name)
+        if canonical not in DEMSettings.declarations():
+            section[name] = value  # not a setting: validated (and refused) as given
+            return
+        concern, _, key = canonical.partition(".")
+        section.pop(key, None)
+        for table in (concern, *(a for a, c in DEM_TABLE_ALIASES.items() if c == concern)):
+            if isinstance(section.get(table), dict):
+                section[table].pop(key, None)
+        section.setdefault(concern, {})
+        if not isinstance(section[concern], dict):
+            raise InputError(f"dem.{concern}", "must be a table")
+        section[concern][key] = value
+
+    @classmethod
+    def declarations(cls) -> dict[str, dict]:
+        """Every key of the section under its canonical dotted name (``"engine.
+        gear_tolerance"``, ``"restitution_pp"``) with ``unit``, ``kind``, range, ``doc`` and
+        ``default``; the other names are in :meth:`aliases`."""
+        out = {k: v for k, v in DEMSettings.declarations().items()
+               if v["name"] not in DEM_SET_ELSEWHERE}
+        for name in DEM_SCENARIO_ONLY:
+            f = cls.model_fields[name]
+            out[name] = {"unit": "", "kind": "number", "low": 0.0, "high": 1.0,
+                         "low_inclusive": True, "high_inclusive": True, "choices": [],
+                         "infinite": False, "none": "", "doc": f.description or
+                         "Constant coefficient of restitution (or [restitution]).",
+                         "default": f.default, "concern": "", "name": name}
+        return out
+
+    @classmethod
+    def aliases(cls) -> dict[str, str]:
+        """Alias -> canonical dotted name: flat keys (``cycles`` -> ``plan.cycles``), the old
+        tables (``steady_state.steady_windows`` -> ``steady.steady_windows``) and
+        ``concern__name``."""
+        decls = cls.declarations()
+        out = {k: v for k, v in DEMSettings.aliases().items() if v in decls}
+        for old, new in DEM_TABLE_ALIASES.items():
+            out.update({f"{old}.{k.partition('.')[2]}": k for k in decls
+                        if k.startswith(new + ".")})
+        return out
+
+    @model_serializer(mode="wrap")
+    def _flat_dump(self, handler: Any) -> dict[str, Any]:
+        # the section's values written flat, under the keys the JSON outputs and the map
+        # files' keys have always used
+        data = handler(self)
+        out = {name: data[name] for name in DEM_SCENARIO_ONLY}
+        for name, concern in FLAT.items():
+            if name not in DEM_SET_ELSEWHERE:
+                out[name] = data[concern][name]
+        return out
+
+    @classmethod
+    def flat_fields(cls) -> dict[str, FieldInfo]:
+        """Every key of the section by its flat name (the constant CORs included)."""
+        return {**{n: cls.model_fields[n] for n in DEM_SCENARIO_ONLY},
+                **{n: f for n, f in DEMSettings.flat_fields().items()
+                   if n not in DEM_SET_ELSEWHERE}}
 
     def options(self) -> dict:
-        """Keyword arguments of :class:`pdamper.models.DEMDamper`."""
-        return self.model_dump(exclude=set(DEM_SCENARIO_ONLY))
-
-
-#: Options of the DEM damper model (:class:`pdamper.models.DEMDamper`): its settings,
-#: derived from their declarations, and the constant CORs.
-if TYPE_CHECKING:  # built from the declarations at run time: a type checker sees a class
-    class DEMSpec(_DEMSection):
-        def __getattr__(self, name: str) -> Any: ...
-else:
-    DEMSpec = create_model(
-        "DEMSpec", __base__=_DEMSection, __module__=__name__,
-        restitution_pp=(Restitution, _D.restitution_pp.e),
-        restitution_pw=(Restitution, _D.restitution_pw.e),
-        **{name: (info.annotation, info) for name, info in DEMSettings.model_fields.items()
-           if name not in DEM_SET_ELSEWHERE})
+        """Keyword arguments of :class:`pdamper.models.DEMDamper`: the five concerns."""
+        return {name: getattr(self, name) for name in DEM_TABLES}
 
 
 class Scenario(_Section):
@@ -575,8 +660,7 @@ class Scenario(_Section):
         dem_packing`` (unless that is None)."""
         if self.map.dem_packing is None:
             return self
-        return self.model_copy(update={"dem": self.dem.model_copy(
-            update={"packing": self.map.dem_packing})})
+        return self.model_copy(update={"dem": self.dem.clone(packing=self.map.dem_packing)})
 
     def map_model(self, name: str, damper: ParticleDamper | None = None) -> DamperModel:
         """The damper model of a map: :meth:`model` of :meth:`for_map`."""
@@ -878,6 +962,9 @@ def _first_error(exc: ValidationError) -> InputError:
     # own error names the sub-key, not "should be a valid string"
     err = next((e for e in errors if not (e["type"] == "string_type"
                                           and isinstance(e.get("input"), dict))), errors[0])
+    cause = (err.get("ctx") or {}).get("error")
+    if isinstance(cause, InputError):  # raised by a section's own checks: names its field
+        return cause
     loc = ".".join(str(p) for p in err["loc"]
                    if str(p) not in ("str", "MaterialSpec", *COR_MODELS)
                    and not str(p).startswith("function-"))
@@ -997,7 +1084,12 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None, *,
         node = data.setdefault(section, {})
         if not isinstance(node, dict):
             raise InputError(section, "must be a table")
-        node[name] = value
+        spec = Scenario.model_fields.get(section)
+        override = getattr(spec.annotation if spec is not None else None, "override", None)
+        if override is not None:  # the option wins over the key in whichever table form
+            override(node, name, value)
+        else:
+            node[name] = value
     sc = scenario_from_dict(data)
     for run in runs:
         sc.check_resources(run, model, force)
@@ -1142,7 +1234,7 @@ sample_rate = "{q(dem.sample_rate, 'Hz')}"     # of the force and container seri
 # snapshot_rate = "200 Hz"  # particle snapshots per second (default: first and last)
 error_estimate = {str(dem.error_estimate).lower()}     # estimate the integration error of eta and m_eff
                             # from a refined companion run (~2x the cost; docs/dem.md)
-accuracy = {dem.accuracy}             # its target (relative); a run missing it is redone
+accuracy = {dem.accuracy.accuracy}             # its target (relative); a run missing it is redone
 max_refinements = {dem.max_refinements}         # refined, at most this many times
 gear_free_flight = {str(dem.gear_free_flight).lower()}    # Gear steps only spheres that may touch something,
                             # the others fly their exact parabola (docs/dem.md)

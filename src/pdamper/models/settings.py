@@ -15,13 +15,15 @@ use it where it acts, and, for a command-line flag, add one row to
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
+from typing import TYPE_CHECKING, Any, ClassVar, Self, TypeVar
 
-from pydantic import create_model
+from pydantic import Field
+from pydantic.fields import FieldInfo
 
 from pdamper.analysis.stationarity import SteadyStateCriterion
 from pdamper.contact.law import DAMPING_MODELS, DEFAULT_MIN_IMPACT_VELOCITY, FRICTION_MODELS
 from pdamper.dem.settings import EngineSettings, Settings, setting
+from pdamper.errors import InputError
 
 #: ``cycles`` value that runs until the loss factor is steady (the default).
 AUTO = "auto"
@@ -162,6 +164,12 @@ class ContactLaw(Settings):
 #: The concerns whose settings a DEM damper takes, in the order of :class:`DEMSettings`.
 CONCERNS: tuple[type[Settings], ...] = (RunPlan, SteadyState, AccuracyTarget, ContactLaw,
                                         EngineSettings)
+#: The name of each concern in :class:`DEMSettings`, :class:`~pdamper.models.DEMDamper`
+#: (``model.plan``), ``get_params(deep=True)`` (``plan__cycles``) and the scenario's
+#: ``[dem.<name>]`` tables.
+CONCERN_NAMES: dict[str, type[Settings]] = {
+    "plan": RunPlan, "steady": SteadyState, "accuracy": AccuracyTarget,
+    "contact": ContactLaw, "engine": EngineSettings}
 #: Engine settings that a Level II run sets itself: the seed is the plan's, the start from
 #: rest follows ``transient_tolerance`` and ``skip_cycles``.
 ENGINE_SET_BY_RUN = ("seed", "transient_cycles", "gear_transient_tolerance")
@@ -170,45 +178,362 @@ ENGINE_SET_BY_RUN = ("seed", "transient_cycles", "gear_transient_tolerance")
 DAMPER_DEFAULTS: dict[str, Any] = {"integrator": "gear"}
 
 
-def _fields() -> dict[str, tuple]:
-    out: dict[str, tuple] = {}
-    for concern in CONCERNS:
-        for name, info in concern.model_fields.items():
+def _flat() -> dict[str, str]:
+    out: dict[str, str] = {}
+    for concern_name, concern in CONCERN_NAMES.items():
+        for name in concern.model_fields:
             if concern is EngineSettings and name in ENGINE_SET_BY_RUN:
                 continue
             if name in out:  # pragma: no cover - checked by the tests too
                 raise TypeError(f"setting {name!r} declared twice")
-            if name in DAMPER_DEFAULTS:
-                info = info.merge_field_infos(info, default=DAMPER_DEFAULTS[name])
-            out[name] = (info.annotation, info)
+            out[name] = concern_name
     return out
 
 
-_S = TypeVar("_S", bound=Settings)
+#: Every setting of the DEM damper by its flat name (``cycles``, ``gear_tolerance``) ->
+#: the concern that declares it (``plan``, ``engine``): the flat keyword arguments of
+#: :class:`~pdamper.models.DEMDamper` and flat ``[dem]`` keys are aliases of
+#: ``<concern>.<name>``.
+FLAT: dict[str, str] = _flat()
 
 
-class _DEMSettingsBase(Settings):
+def default_concern(name: str) -> Settings:
+    """The default settings of concern ``name`` for a DEM damper (:data:`DAMPER_DEFAULTS`
+    applied)."""
+    cls = CONCERN_NAMES[name]
+    return cls(**{k: v for k, v in DAMPER_DEFAULTS.items() if k in cls.model_fields})
+
+
+def _is_concern_value(name: str, value: Any) -> bool:
+    # ``accuracy`` is both a concern and a setting of it: a table or a Settings object is
+    # the concern, a number the setting
+    return isinstance(value, dict | Settings) or name != "accuracy"
+
+
+def route(data: dict[str, Any], prefix: str = "dem.") -> dict[str, dict[str, Any]]:
+    """The settings ``data`` by concern: ``{"plan": {...}, "engine": {...}}``.
+
+    ``data`` holds concerns (a :class:`Settings` object or a dict of its settings, under
+    :data:`CONCERN_NAMES`), flat names (:data:`FLAT`) and ``concern__name`` keys
+    (scikit-learn's nesting); each setting may be given once. A concern given as an object
+    contributes the values set on it (its defaults stay the damper's), which the keys given
+    beside it replace."""
+    out: dict[str, dict[str, Any]] = {name: {} for name in CONCERN_NAMES}
+    base: dict[str, dict[str, Any]] = {}
+    where: dict[str, str] = {}
+
+    def put(concern: str, name: str, value: Any, given: str) -> None:
+        cls = CONCERN_NAMES[concern]
+        if name not in cls.model_fields or (cls is EngineSettings
+                                            and name in ENGINE_SET_BY_RUN):
+            field = prefix.rstrip(".") if "." in given else prefix + given
+            raise InputError(field, f"{cls.__name__} ({concern}) has no setting "
+                             f"{name!r} a DEM damper takes; its settings: "
+                             f"{', '.join(n for n, c in FLAT.items() if c == concern)}")
+        key = f"{concern}.{name}"
+        if key in where:
+            raise InputError(prefix.rstrip("."), f"{name} given twice, as {where[key]} and "
+                             f"as {given}")
+        where[key] = given
+        out[concern][name] = value
+
+    for key, value in data.items():
+        concern, sep, name = key.partition("__")
+        if sep:
+            if concern not in CONCERN_NAMES:
+                raise InputError(prefix + key, f"unknown concern {concern!r}; known: "
+                                 f"{', '.join(CONCERN_NAMES)}")
+            put(concern, name, value, f"{concern}.{name}")
+        elif key in CONCERN_NAMES and _is_concern_value(key, value):
+            if isinstance(value, Settings):
+                if not isinstance(value, CONCERN_NAMES[key]):
+                    raise InputError(prefix + key, f"must be a {CONCERN_NAMES[key].__name__}, "
+                                     f"got {type(value).__name__}")
+                # an object is the base of its concern: keys given beside it replace its values
+                base[key] = {k: getattr(value, k) for k in value.model_fields_set
+                             if not (key == "engine" and k in ENGINE_SET_BY_RUN)}
+                continue
+            if not isinstance(value, dict):
+                raise InputError(prefix + key, f"must be a {CONCERN_NAMES[key].__name__} or a "
+                                 f"table of its settings, got {value!r}")
+            for name, v in value.items():
+                put(key, name, v, f"{key}.{name}")
+        elif key in FLAT:
+            put(FLAT[key], key, value, key)
+        else:
+            raise InputError(prefix + key, "unknown setting of the DEM damper; known: "
+                             f"{', '.join(FLAT)}")
+    return {name: {**base.get(name, {}), **values} for name, values in out.items()}
+
+
+class FlatSettings:
+    """Every setting of the DEM damper read by its flat name (``model.cycles`` is
+    ``model.plan.cycles``), typed; read-only: a change goes through the concern (``clone``).
+    ``accuracy`` is the concern :class:`AccuracyTarget` (its target: ``accuracy.accuracy``)."""
+
+    if TYPE_CHECKING:
+        plan: RunPlan
+        steady: SteadyState
+        accuracy: AccuracyTarget
+        contact: ContactLaw
+        engine: EngineSettings
+
+    @property
+    def cycles(self) -> int | str:
+        return self.plan.cycles
+
+    @property
+    def skip_cycles(self) -> int:
+        return self.plan.skip_cycles
+
+    @property
+    def max_cycles(self) -> int:
+        return self.plan.max_cycles
+
+    @property
+    def packing(self) -> str:
+        return self.plan.packing
+
+    @property
+    def seed(self) -> int:
+        return self.plan.seed
+
+    @property
+    def sample_rate(self) -> float:
+        return self.plan.sample_rate
+
+    @property
+    def snapshot_rate(self) -> float | None:
+        return self.plan.snapshot_rate
+
+    @property
+    def transient_tolerance(self) -> float | None:
+        return self.plan.transient_tolerance
+
+    @property
+    def window_cycles(self) -> int:
+        return self.steady.window_cycles
+
+    @property
+    def steady_windows(self) -> int:
+        return self.steady.steady_windows
+
+    @property
+    def steady_rtol(self) -> float:
+        return self.steady.steady_rtol
+
+    @property
+    def steady_atol(self) -> float:
+        return self.steady.steady_atol
+
+    @property
+    def quiet_window_cycles(self) -> int:
+        return self.steady.quiet_window_cycles
+
+    @property
+    def quiet_scatter(self) -> float:
+        return self.steady.quiet_scatter
+
+    @property
+    def quiet_windows(self) -> int:
+        return self.steady.quiet_windows
+
+    @property
+    def quiet_skip_cycles(self) -> int:
+        return self.steady.quiet_skip_cycles
+
+    @property
+    def error_estimate(self) -> bool:
+        return self.accuracy.error_estimate
+
+    @property
+    def max_refinements(self) -> int:
+        return self.accuracy.max_refinements
+
+    @property
+    def damping_model(self) -> str:
+        return self.contact.damping_model
+
+    @property
+    def min_impact_velocity(self) -> float:
+        return self.contact.min_impact_velocity
+
+    @property
+    def friction_model(self) -> str:
+        return self.contact.friction_model
+
+    @property
+    def integrator(self) -> str:
+        return self.engine.integrator
+
+    @property
+    def safety(self) -> float:
+        return self.engine.safety
+
+    @property
+    def gravity(self) -> float:
+        return self.engine.gravity
+
+    @property
+    def gear_tolerance(self) -> float | None:
+        return self.engine.gear_tolerance
+
+    @property
+    def gear_velocity_scale(self) -> float:
+        return self.engine.gear_velocity_scale
+
+    @property
+    def gear_adaptive(self) -> bool:
+        return self.engine.gear_adaptive
+
+    @property
+    def max_step(self) -> float:
+        return self.engine.max_step
+
+    @property
+    def skin(self) -> float | None:
+        return self.engine.skin
+
+    @property
+    def settle_time(self) -> float | None:
+        return self.engine.settle_time
+
+    @property
+    def max_overlap(self) -> float | None:
+        return self.engine.max_overlap
+
+    @property
+    def reference_velocity(self) -> float | None:
+        return self.engine.reference_velocity
+
+    @property
+    def gear_contact_bound(self) -> bool:
+        return self.engine.gear_contact_bound
+
+    @property
+    def auto_cost_ratio(self) -> float:
+        return self.engine.auto_cost_ratio
+
+    @property
+    def gear_free_flight(self) -> bool:
+        return self.engine.gear_free_flight
+
+
+class DEMSettings(FlatSettings, Settings):
+    """Every setting of :class:`~pdamper.models.DEMDamper`, by concern: ``plan``
+    (:class:`RunPlan`), ``steady`` (:class:`SteadyState`), ``accuracy``
+    (:class:`AccuracyTarget`), ``contact`` (:class:`ContactLaw`) and ``engine``
+    (:class:`~pdamper.dem.settings.EngineSettings`, the integrator defaulting to the paper's
+    Gear; ``seed``, ``transient_cycles`` and ``gear_transient_tolerance`` are the run's).
+
+    Constructed from concerns, flat names (aliases: ``DEMSettings(cycles=8)`` is
+    ``DEMSettings(plan=RunPlan(cycles=8))``) or ``concern__name`` keys; a setting given twice
+    is an error. Errors name the flat setting (``dem.cycles``), as the scenario's ``[dem]``
+    section does.
+    """
+
     prefix: ClassVar[str] = "dem."
+
+    plan: RunPlan = Field(default_factory=lambda: default_concern("plan"))  # type: ignore[assignment]
+    steady: SteadyState = Field(default_factory=lambda: default_concern("steady"))  # type: ignore[assignment]
+    accuracy: AccuracyTarget = Field(  # type: ignore[assignment]
+        default_factory=lambda: default_concern("accuracy"))
+    contact: ContactLaw = Field(default_factory=lambda: default_concern("contact"))  # type: ignore[assignment]
+    engine: EngineSettings = Field(default_factory=lambda: default_concern("engine"))  # type: ignore[assignment]
+
+    def __init__(self, **data: Any) -> None:
+        super().__init__(**self.concerns_of(data))
+
+    @classmethod
+    def _edge_concern(cls, concern: str, values: dict[str, Any]) -> dict[str, Any]:
+        """The values of one concern as given at the edge, made values of their settings
+        (the scenario parses quantities with units here); identity for the Python API."""
+        return values
+
+    @classmethod
+    def concerns_of(cls, data: dict[str, Any]) -> dict[str, Any]:
+        """``data`` (concerns, flat names, ``concern__name`` keys: :func:`route`) as the
+        five concern objects, each checked against its declarations (errors name
+        ``dem.<setting>``)."""
+        routed = route({k: v for k, v in data.items() if k in FLAT or k in CONCERN_NAMES
+                        or "__" in k}, cls.prefix)
+        out: dict[str, Any] = {k: v for k, v in data.items()
+                               if not (k in FLAT or k in CONCERN_NAMES or "__" in k)}
+        for name, values in routed.items():
+            concern = CONCERN_NAMES[name]
+            defaults = {k: v for k, v in DAMPER_DEFAULTS.items() if k in concern.model_fields}
+            try:
+                out[name] = concern(**{**defaults, **cls._edge_concern(name, values)})
+            except InputError as exc:
+                raise InputError(cls.prefix + exc.field, exc.message) from None
+        return out
+
+    def get_params(self, deep: bool = False) -> dict[str, Any]:
+        """The concerns by name; ``deep``: also every setting as ``concern__name``
+        (scikit-learn's convention: ``engine__gear_tolerance``)."""
+        out: dict[str, Any] = {name: getattr(self, name) for name in CONCERN_NAMES}
+        if deep:
+            for name in CONCERN_NAMES:
+                for key, value in getattr(self, name).get_params().items():
+                    if not (name == "engine" and key in ENGINE_SET_BY_RUN):
+                        out[f"{name}__{key}"] = value
+        return out
+
+    def clone(self, **changes: Any) -> Self:
+        """A copy with ``changes`` (concerns, flat names or ``concern__name`` keys), checked
+        as at construction."""
+        if not changes:
+            return self
+        routed = route(changes, self.prefix)
+        keep = {k: getattr(self, k) for k in type(self).model_fields if k not in CONCERN_NAMES}
+        merged = {name: {**getattr(self, name).get_params(), **routed[name]}
+                  for name in CONCERN_NAMES}
+        merged["engine"] = {k: v for k, v in merged["engine"].items()
+                            if k not in ENGINE_SET_BY_RUN}
+        return type(self)(**keep, **{k: v for k, v in changes.items() if k not in FLAT
+                                     and k not in CONCERN_NAMES and "__" not in k},
+                          **{f"{c}__{k}": v for c, vals in merged.items()
+                             for k, v in vals.items()})
 
     def engine_settings(self, **changes: Any) -> EngineSettings:
         """The :class:`EngineSettings` of these settings, with ``changes``."""
-        names = EngineSettings.model_fields
-        return EngineSettings(**{**{k: v for k, v in self.get_params().items() if k in names},
-                                 **changes})
+        return self.engine.clone(**changes) if changes else self.engine
 
     def concern(self, cls: type[_S]) -> _S:
         """The settings of one concern (``RunPlan``, ``SteadyState``, ...)."""
-        params = self.get_params()
-        return cls(**{k: params[k] for k in cls.model_fields if k in params})
+        return next(getattr(self, n) for n, c in CONCERN_NAMES.items() if c is cls)
+
+    @classmethod
+    def flat_fields(cls) -> dict[str, FieldInfo]:
+        """Every setting by its flat name: the declaration of its concern, with the damper's
+        default (:data:`DAMPER_DEFAULTS`)."""
+        out: dict[str, FieldInfo] = {}
+        for name, concern in FLAT.items():
+            info = CONCERN_NAMES[concern].model_fields[name]
+            if name in DAMPER_DEFAULTS:
+                info = FieldInfo.merge_field_infos(info, default=DAMPER_DEFAULTS[name])
+            out[name] = info
+        return out
+
+    @classmethod
+    def declarations(cls) -> dict[str, dict]:
+        """Every setting under its canonical dotted name (``"engine.gear_tolerance"``):
+        ``unit``, ``kind``, range, ``choices``, ``doc``, ``default`` (the damper's) and
+        ``concern``; :meth:`aliases` maps the other names to these."""
+        out: dict[str, dict] = {}
+        for name, concern in FLAT.items():
+            decl = CONCERN_NAMES[concern].declarations()[name]
+            out[f"{concern}.{name}"] = {**decl, "default": DAMPER_DEFAULTS.get(
+                name, decl["default"]), "concern": concern, "name": name}
+        return out
+
+    @classmethod
+    def aliases(cls) -> dict[str, str]:
+        """Alias -> canonical dotted name: the flat names (``cycles`` -> ``plan.cycles``)
+        and scikit-learn's ``plan__cycles``."""
+        out = {name: f"{concern}.{name}" for name, concern in FLAT.items()}
+        out.update({f"{concern}__{name}": f"{concern}.{name}" for name, concern in FLAT.items()})
+        return out
 
 
-#: Every setting of the DEM damper under its flat name (errors name ``dem.<name>``).
-if TYPE_CHECKING:  # built from the concerns' fields at run time: a type checker sees a class
-    class DEMSettings(_DEMSettingsBase):
-        def __getattr__(self, name: str) -> Any: ...
-else:
-    DEMSettings = create_model("DEMSettings", __base__=_DEMSettingsBase,
-                               __module__=__name__, **_fields())
-DEMSettings.__doc__ = ("Every setting of :class:`~pdamper.models.DEMDamper`, flat: the fields "
-                       "of " + ", ".join(c.__name__ for c in CONCERNS) + " (the engine's "
-                       "less " + ", ".join(ENGINE_SET_BY_RUN) + ").")
+_S = TypeVar("_S", bound=Settings)
