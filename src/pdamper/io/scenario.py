@@ -498,13 +498,16 @@ class DEMSpec(DEMSettings):
             return
         concern, _, key = canonical.partition(".")
         section.pop(key, None)
-        for table in (concern, *(a for a, c in DEM_TABLE_ALIASES.items() if c == concern)):
-            if isinstance(section.get(table), dict):
-                section[table].pop(key, None)
-        section.setdefault(concern, {})
-        if not isinstance(section[concern], dict):
-            raise InputError(f"dem.{concern}", "must be a table")
-        section[concern][key] = value
+        tables = [t for t in (concern, *(a for a, c in DEM_TABLE_ALIASES.items()
+                                         if c == concern)) if isinstance(section.get(t), dict)]
+        for table in tables:
+            section[table].pop(key, None)
+        # into the table the file writes the concern in (an old name stays the one table)
+        target = tables[0] if tables else concern
+        section.setdefault(target, {})
+        if not isinstance(section[target], dict):
+            raise InputError(f"dem.{target}", "must be a table")
+        section[target][key] = value
 
     @classmethod
     def declarations(cls) -> dict[str, dict]:

@@ -459,14 +459,16 @@ class DEMDamper(FlatSettings, DamperModel):
         return gear_tolerance_for(self.engine.gear_tolerance, packing)
 
     def _transient(self, packing: str) -> dict:
-        """Engine options of the start from rest of a Level II run from ``packing``: Gear's
-        tolerance (:meth:`gear_tolerance_for`); from a random bed ``transient_tolerance``
-        over the cycles every averaged window skips; from the lattice no transient
-        tolerance."""
-        tol = {"gear_tolerance": self.gear_tolerance_for(packing)}
+        """Engine options of the start from rest of a Level II run from ``packing``: from a
+        random bed ``transient_tolerance`` over the cycles every averaged window skips; from
+        the lattice no transient tolerance, and Gear's tolerance of the start where
+        ``engine.gear_tolerance`` is left to the declaration (None; the engine resolves
+        None itself for every other start: :meth:`gear_tolerance_for`)."""
         if packing == "lattice":
             # the lattice is integrated converged throughout (LATTICE_GEAR_TOLERANCE)
-            return tol
+            return ({"gear_tolerance": self.gear_tolerance_for(packing)}
+                    if self.engine.gear_tolerance is None else {})
+        tol: dict = {}
         # the same cycles however the run is judged: a run of the paper's 8 cycles, one
         # until steady and one with the rule for quiet beds off follow the same trajectory
         skip = min(self.skip_cycles, self.criterion.quiet_skip_cycles)
@@ -484,7 +486,7 @@ class DEMDamper(FlatSettings, DamperModel):
         (:meth:`gear_tolerance_for`), a number for every integrator; with ``integrator``
         ``"verlet"`` no Gear step is taken, and ``not_applicable`` says so."""
         packing = packing or self.initial_packing()
-        opts = self._transient(packing)
+        opts = {"gear_tolerance": self.gear_tolerance_for(packing), **self._transient(packing)}
         gear = self.integrator != "verlet"
         return {"start": packing, "seed": self.seed if packing == "random" else None,
                 "integrator": self.integrator,
@@ -606,7 +608,7 @@ class DEMDamper(FlatSettings, DamperModel):
             kernel = "verlet" if res.verlet_time > 0.5 * res.simulated_time else "gear"
         setting, factor = REFINEMENT[kernel]
         start = self._transient(run.packing)
-        value = (self.safety if setting == "safety" else float(start["gear_tolerance"]))
+        value = (self.safety if setting == "safety" else self.gear_tolerance_for(run.packing))
         # the refined companions refine the start from rest too: the transient tolerance
         # would otherwise steer both runs into the same state (8 Hz / 80 mm from the
         # lattice: error 0.001 reported where converged runs differ by 0.3)
