@@ -184,3 +184,14 @@ def test_the_settings_path_builds_no_model_at_run_time():
         assert "create_model" not in text, rel
         assert "def __getattr__(self" not in text, rel
     assert DEMSettings.declarations()["engine.gear_tolerance"]["concern"] == "engine"
+
+
+def test_every_flat_name_reads_typed_through_its_concern():
+    from pdamper.models.settings import FLAT, FlatSettings
+
+    s = DEMSettings(cycles=7, gear_tolerance=3e-6, damping_model="tsuji")
+    for name, concern in FLAT.items():
+        if name == "accuracy":  # the concern's name: its target is accuracy.accuracy
+            continue
+        assert isinstance(getattr(FlatSettings, name), property), name
+        assert getattr(s, name) == getattr(getattr(s, concern), name), name

@@ -4,12 +4,15 @@ Per concern: :class:`RunPlan` (how long and how a Level II run samples, its star
 :class:`SteadyState` (the steady-state criterion of a run until steady), :class:`AccuracyTarget`
 (the integration error estimate) and :class:`ContactLaw` (the damping law of the contact);
 the engine's own are :class:`~pdamper.dem.settings.EngineSettings`. :class:`DEMSettings`
-holds them all under their flat names, as :class:`~pdamper.models.DEMDamper` takes them and
-as the scenario's ``[dem]`` section and the ``dem`` command's options write them; it is
-derived from the concerns' declarations, not written again.
+holds the five as typed fields (``plan``, ``steady``, ``accuracy``, ``contact``,
+``engine``), as :class:`~pdamper.models.DEMDamper` takes them; the flat names
+(:data:`FLAT`: ``cycles`` is ``plan.cycles``) are aliases, as the scenario's flat ``[dem]``
+keys and the ``dem`` command's options write them, and read back typed through
+:class:`FlatSettings`.
 
 To add a setting: declare it (one :func:`~pdamper.dem.settings.setting` in its concern),
-use it where it acts, and, for a command-line flag, add one row to
+use it where it acts (through its concern; a typed flat read is a property of
+:class:`FlatSettings`), and, for a command-line flag, add one row to
 :data:`pdamper.cli.dem.FLAGS`. The scenario key follows from the declaration.
 """
 
