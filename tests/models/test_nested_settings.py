@@ -195,3 +195,10 @@ def test_every_flat_name_reads_typed_through_its_concern():
             continue
         assert isinstance(getattr(FlatSettings, name), property), name
         assert getattr(s, name) == getattr(getattr(s, concern), name), name
+
+
+def test_a_copy_with_a_flat_update_reaches_the_concern():
+    sc = load_scenario(None, {"dem.packing": "random"})
+    copy = sc.dem.model_copy(update={"seed": 6, "packing": "lattice"})
+    assert (copy.seed, copy.plan.seed, copy.packing) == (6, 6, "lattice")
+    assert sc.dem.seed == 0

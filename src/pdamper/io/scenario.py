@@ -436,8 +436,8 @@ class DEMSpec(DEMSettings):
 
     model_config = ConfigDict(extra="forbid", frozen=True, validate_default=False)
 
-    restitution_pp: Restitution = _D.restitution_pp.e
-    restitution_pw: Restitution = _D.restitution_pw.e
+    restitution_pp: Restitution = _D.restitution_pp.e  # type: ignore[union-attr]
+    restitution_pw: Restitution = _D.restitution_pw.e  # type: ignore[union-attr]
 
     @classmethod
     def _edge_concern(cls, concern: str, values: dict[str, Any]) -> dict[str, Any]:

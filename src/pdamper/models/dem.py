@@ -316,8 +316,8 @@ class DEMDamper(FlatSettings, DamperModel):
                 raise InputError("dem.max_cycles", f"must be >= skip_cycles + steady_windows x "
                                  f"window_cycles = {self.criterion.full_cycles}, got "
                                  f"{s.max_cycles}")
-        elif s.skip_cycles >= s.cycles:
-            raise InputError("dem.skip_cycles", f"must be in [0, {s.cycles - 1}] for "
+        elif s.skip_cycles >= int(s.cycles):  # a whole number here (not AUTO)
+            raise InputError("dem.skip_cycles", f"must be in [0, {int(s.cycles) - 1}] for "
                              f"{s.cycles} cycles, got {s.skip_cycles}")
         friction, cor_pp, cor_pw = damper.friction, damper.restitution_pp, damper.restitution_pw
         if friction is None or cor_pp is None or cor_pw is None:
@@ -563,7 +563,7 @@ class DEMDamper(FlatSettings, DamperModel):
         # what no run can do (more memory than the machine has, months of computing); the
         # edges (scenario, command line) hold runs to the lower limits unless forced
         d = self.damper
-        cycles = self.max_cycles if self.run_until_steady else self.cycles
+        cycles = self.max_cycles if self.run_until_steady else int(self.cycles)
         drivers: tuple[tuple, ...] = (
             ("dem.max_cycles" if self.run_until_steady else "dem.cycles", cycles),
             ("frequency", 1.0 / f, True), ("dem.sample_rate", self.sample_rate / f))
@@ -586,7 +586,7 @@ class DEMDamper(FlatSettings, DamperModel):
                              snapshot_rate=self.snapshot_rate, stop=steady,
                              start=self._settled(engine))
         else:
-            res = engine.run(self.cycles / f, sample_rate=self.sample_rate,
+            res = engine.run(int(self.cycles) / f, sample_rate=self.sample_rate,
                              snapshot_rate=self.snapshot_rate, start=self._settled(engine))
         st, motion = self.assess(res)
         power = res.complex_power(st.first_cycle - 1, st.last_cycle - st.first_cycle + 1)

@@ -18,6 +18,7 @@ use it where it acts (through its concern; a typed flat read is a property of
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any, ClassVar, Self, TypeVar
 
 from pydantic import Field
@@ -497,6 +498,14 @@ class DEMSettings(FlatSettings, Settings):
                                      and k not in CONCERN_NAMES and "__" not in k},
                           **{f"{c}__{k}": v for c, vals in merged.items()
                              for k, v in vals.items()})
+
+    def model_copy(self, *, update: Mapping[str, Any] | None = None,
+                   deep: bool = False) -> Self:
+        """A copy; ``update`` may name settings by flat name or ``concern__name`` (routed to
+        their concern and checked, as :meth:`clone`)."""
+        if update and any(k in FLAT or k in CONCERN_NAMES or "__" in k for k in update):
+            return self.clone(**update)
+        return super().model_copy(update=update, deep=deep)
 
     def engine_settings(self, **changes: Any) -> EngineSettings:
         """The :class:`EngineSettings` of these settings, with ``changes``."""
