@@ -202,3 +202,17 @@ def test_a_copy_with_a_flat_update_reaches_the_concern():
     copy = sc.dem.model_copy(update={"seed": 6, "packing": "lattice"})
     assert (copy.seed, copy.plan.seed, copy.packing) == (6, 6, "lattice")
     assert sc.dem.seed == 0
+
+
+def test_the_seed_and_the_transient_tolerance_are_declared_once_by_the_engine():
+    from pdamper.dem.settings import declaration
+
+    for plan_name, engine_name in (("seed", "seed"),
+                                   ("transient_tolerance", "gear_transient_tolerance")):
+        plan, engine = declaration(RunPlan, plan_name), declaration(EngineSettings, engine_name)
+        # unit, kind and range come from the engine's declaration; only what None means
+        # (and the default) is the plan's
+        assert {k: v for k, v in plan.items() if k != "none"} == \
+            {k: v for k, v in engine.items() if k != "none"}, plan_name
+    with pytest.raises(InputError, match="dem.transient_tolerance"):
+        DEMDamper(PAPER_DAMPER, transient_tolerance=0.0)

@@ -103,6 +103,21 @@ def setting(default: Any, doc: str, *, unit: str = "", low: float | None = None,
     return Field(default, description=doc, json_schema_extra=extra)
 
 
+def redeclare(cls: type[BaseModel], name: str, default: Any, doc: str, **changes: Any) -> Any:
+    """The declaration of setting ``name`` of ``cls`` (its unit, kind and range, declared
+    once there) for another concern that holds the same quantity with its own ``default``
+    and meaning ``doc``; ``changes``: entries of the declaration that differ (``none``).
+
+    >>> from pdamper.dem.settings import EngineSettings
+    >>> d = declaration(EngineSettings, "seed")
+    >>> f = redeclare(EngineSettings, "seed", 0, "Seed of the packing.", none="")
+    >>> f.json_schema_extra["low"] == d["low"], f.json_schema_extra["none"]
+    (True, '')
+    """
+    extra: JsonDict = {**declaration(cls, name), **changes}
+    return Field(default, description=doc, json_schema_extra=extra)
+
+
 def declaration(cls: type[BaseModel], name: str) -> dict:
     """The declaration (unit, kind, range, choices) of field ``name`` of ``cls``."""
     extra = cls.model_fields[name].json_schema_extra

@@ -26,7 +26,7 @@ from pydantic.fields import FieldInfo
 
 from pdamper.analysis.stationarity import SteadyStateCriterion
 from pdamper.contact.law import DAMPING_MODELS, DEFAULT_MIN_IMPACT_VELOCITY, FRICTION_MODELS
-from pdamper.dem.settings import EngineSettings, Settings, setting
+from pdamper.dem.settings import EngineSettings, Settings, redeclare, setting
 from pdamper.errors import InputError
 
 #: ``cycles`` value that runs until the loss factor is steady (the default).
@@ -86,18 +86,22 @@ class RunPlan(Settings):
         "lattice", "Initial packing: ``lattice`` (the paper's 4 x 4 layers), ``random`` "
         "(seeded by ``seed``) or ``auto`` (random where every sphere can be placed at random, "
         "else the lattice).", choices=PACKINGS)
-    seed: int = setting(0, "Seed of the random packing (recorded always).", low=0)
+    # the seed and the transient tolerance are the engine's settings (their range declared
+    # there), which a Level II run sets from these
+    seed: int = redeclare(EngineSettings, "seed", 0, "Seed of the random packing (recorded "
+                          "always; the engine's ``seed``).", none="")
     sample_rate: float = setting(
         DEFAULT_SAMPLE_RATE, "Samples per second of the force and container time series.",
         unit="Hz", low=0.0, low_inclusive=False)
     snapshot_rate: float | None = setting(
         None, "Particle snapshots per second.", unit="Hz", low=0.0, low_inclusive=False,
         kind="number", none="the first and last only")
-    transient_tolerance: float | None = setting(
-        DEFAULT_TRANSIENT_TOLERANCE, "Gear tolerance of the cycles that every averaged "
-        "window skips (the first ``min(skip_cycles, quiet_skip_cycles)``): the start from "
-        "rest, a transient no value is taken from.", low=0.0, low_inclusive=False,
-        kind="number", none="gear_tolerance throughout")
+    transient_tolerance: float | None = redeclare(
+        EngineSettings, "gear_transient_tolerance", DEFAULT_TRANSIENT_TOLERANCE,
+        "Gear tolerance of the cycles that every averaged window skips (the first "
+        "``min(skip_cycles, quiet_skip_cycles)``): the start from rest, a transient no value "
+        "is taken from (the engine's ``gear_transient_tolerance`` over its "
+        "``transient_cycles``).", none="gear_tolerance throughout")
 
 
 class SteadyState(Settings):
