@@ -216,3 +216,17 @@ def test_the_seed_and_the_transient_tolerance_are_declared_once_by_the_engine():
             {k: v for k, v in engine.items() if k != "none"}, plan_name
     with pytest.raises(InputError, match="dem.transient_tolerance"):
         DEMDamper(PAPER_DAMPER, transient_tolerance=0.0)
+
+
+def test_the_settings_given_are_known_by_flat_name_in_every_form():
+    assert DEMSettings().model_fields_set == set()
+    assert DEMSettings(cycles=3, engine__safety=0.01).model_fields_set == {"cycles", "safety"}
+    assert DEMSettings(plan=RunPlan(seed=2)).model_fields_set == {"seed"}
+    sc = scenario_from_dict({"dem": {"plan": {"cycles": 4}, "restitution_pp": 0.5}})
+    assert sc.dem.model_fields_set == {"cycles", "restitution_pp"}
+    # a copy keeps what was given and adds the change
+    assert sc.dem.clone(packing="random").model_fields_set == {"cycles", "restitution_pp",
+                                                               "packing"}
+    with pytest.raises(InputError, match="restitution.pp"):
+        scenario_from_dict({"dem": {"restitution_pp": 0.5},
+                            "restitution": {"pp": {"model": "constant", "e": 0.6}}})

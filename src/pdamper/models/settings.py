@@ -471,9 +471,21 @@ class DEMSettings(FlatSettings, Settings):
             concern = CONCERN_NAMES[name]
             defaults = {k: v for k, v in DAMPER_DEFAULTS.items() if k in concern.model_fields}
             try:
-                out[name] = concern(**{**defaults, **cls._edge_concern(name, values)})
+                obj = concern(**{**defaults, **cls._edge_concern(name, values)})
             except InputError as exc:
                 raise InputError(cls.prefix + exc.field, exc.message) from None
+            # what was given, not the damper's defaults (model_fields_set)
+            object.__setattr__(obj, "__pydantic_fields_set__", set(values))
+            out[name] = obj
+        return out
+
+    @property
+    def model_fields_set(self) -> set[str]:
+        """The settings given (by flat name, whichever form they were given in) and the
+        other fields given; a setting left at its default is not in it."""
+        out = {k for k in self.__pydantic_fields_set__ if k not in CONCERN_NAMES}
+        for name in CONCERN_NAMES:
+            out |= {k for k in getattr(self, name).model_fields_set if FLAT.get(k) == name}
         return out
 
     def get_params(self, deep: bool = False) -> dict[str, Any]:
@@ -498,10 +510,19 @@ class DEMSettings(FlatSettings, Settings):
                   for name in CONCERN_NAMES}
         merged["engine"] = {k: v for k, v in merged["engine"].items()
                             if k not in ENGINE_SET_BY_RUN}
-        return type(self)(**keep, **{k: v for k, v in changes.items() if k not in FLAT
-                                     and k not in CONCERN_NAMES and "__" not in k},
-                          **{f"{c}__{k}": v for c, vals in merged.items()
-                             for k, v in vals.items()})
+        new = type(self)(**keep, **{k: v for k, v in changes.items() if k not in FLAT
+                                    and k not in CONCERN_NAMES and "__" not in k},
+                         **{f"{c}__{k}": v for c, vals in merged.items()
+                            for k, v in vals.items()})
+        # the copy was given what this was given and the changes (as pydantic's model_copy)
+        object.__setattr__(new, "__pydantic_fields_set__", set(self.__pydantic_fields_set__)
+                           | {k for k in changes if k not in FLAT and k not in CONCERN_NAMES
+                              and "__" not in k})
+        for name in CONCERN_NAMES:
+            obj = getattr(new, name)
+            object.__setattr__(obj, "__pydantic_fields_set__", getattr(
+                self, name).model_fields_set | set(routed[name]))
+        return new
 
     def model_copy(self, *, update: Mapping[str, Any] | None = None,
                    deep: bool = False) -> Self:
