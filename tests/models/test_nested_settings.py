@@ -114,7 +114,8 @@ def test_the_dem_section_declares_every_key_under_its_canonical_name():
     for key, decl in decls.items():
         assert {"unit", "kind", "doc", "default"} <= set(decl), key
     assert aliases["gear_tolerance"] == "engine.gear_tolerance"
-    assert aliases["steady_state.steady_windows"] == "steady.steady_windows"
+    assert aliases["steady_state.steady_windows"] == "steady.windows"
+    assert aliases["steady_windows"] == "steady.windows" and aliases["steady_rtol"] == "steady.rtol"
     assert aliases["accuracy_target.accuracy"] == "accuracy.accuracy"
     assert set(aliases.values()) <= set(decls)
     # every flat key of the section resolves to one declaration
@@ -230,3 +231,25 @@ def test_the_settings_given_are_known_by_flat_name_in_every_form():
     with pytest.raises(InputError, match="restitution.pp"):
         scenario_from_dict({"dem": {"restitution_pp": 0.5},
                             "restitution": {"pp": {"model": "constant", "e": 0.6}}})
+
+
+def test_steady_state_is_the_criterion_under_its_own_names():
+    import dataclasses
+
+    from pdamper.analysis.stationarity import SteadyStateCriterion
+
+    names = {f.name for f in dataclasses.fields(SteadyStateCriterion)}
+    assert set(SteadyState.model_fields) <= names  # no field under another name
+    s = SteadyState(windows=4, rtol=0.2, atol=0.05, window_cycles=3)
+    c = s.criterion(skip_cycles=2)
+    assert (c.windows, c.rtol, c.atol, c.window_cycles, c.skip_cycles) == (4, 0.2, 0.05, 3, 2)
+    # the old names stay aliases: keyword, flat [dem] key, old table, attribute, error name
+    assert SteadyState(steady_windows=4) == SteadyState(windows=4)
+    assert s.steady_windows == 4 and DEMDamper(PAPER_DAMPER, steady_rtol=0.2).steady.rtol == 0.2
+    a = scenario_from_dict({"dem": {"steady_windows": 4}}).dem.steady
+    b = scenario_from_dict({"dem": {"steady": {"windows": 4}}}).dem.steady
+    c2 = scenario_from_dict({"dem": {"steady_state": {"steady_windows": 4}}}).dem.steady
+    assert a == b == c2 and a.windows == 4
+    with pytest.raises(InputError) as exc:
+        scenario_from_dict({"dem": {"steady": {"windows": 1}}})
+    assert exc.value.field == "dem.steady_windows"

@@ -47,7 +47,9 @@ from pdamper.io.restitution import MODELS as COR_MODELS
 from pdamper.io.restitution import RestitutionSpec, resolve_files
 from pdamper.models.settings import (
     CONCERN_NAMES,
+    FIELD,
     FLAT,
+    FLAT_NAME,
     PAPER_CYCLES,
     DEMSettings,
 )
@@ -492,16 +494,19 @@ class DEMSpec(DEMSettings):
         ``value`` in the ``[dem]`` table ``section`` as read from a file, replacing it in
         whichever form the file gives it (flat, ``[dem.<concern>]`` or an old table name):
         a command-line option overrides the file."""
-        canonical = DEMSettings.aliases().get(name.replace(".", "__"), name)
+        aliases = cls.aliases()
+        canonical = aliases.get(name) or aliases.get(name.replace(".", "__")) or name
         if canonical not in DEMSettings.declarations():
             section[name] = value  # not a setting: validated (and refused) as given
             return
         concern, _, key = canonical.partition(".")
-        section.pop(key, None)
+        flat = FLAT_NAME[(concern, key)]
+        section.pop(flat, None)
         tables = [t for t in (concern, *(a for a, c in DEM_TABLE_ALIASES.items()
                                          if c == concern)) if isinstance(section.get(t), dict)]
         for table in tables:
             section[table].pop(key, None)
+            section[table].pop(flat, None)
         # into the table the file writes the concern in (an old name stays the one table)
         target = tables[0] if tables else concern
         section.setdefault(target, {})
@@ -528,13 +533,15 @@ class DEMSpec(DEMSettings):
     @classmethod
     def aliases(cls) -> dict[str, str]:
         """Alias -> canonical dotted name: flat keys (``cycles`` -> ``plan.cycles``), the old
-        tables (``steady_state.steady_windows`` -> ``steady.steady_windows``) and
+        tables (``steady_state.steady_windows`` -> ``steady.windows``) and
         ``concern__name``."""
         decls = cls.declarations()
         out = {k: v for k, v in DEMSettings.aliases().items() if v in decls}
         for old, new in DEM_TABLE_ALIASES.items():
-            out.update({f"{old}.{k.partition('.')[2]}": k for k in decls
-                        if k.startswith(new + ".")})
+            for k, decl in decls.items():
+                if k.startswith(new + "."):
+                    out[f"{old}.{k.partition('.')[2]}"] = k
+                    out[f"{old}.{decl['name']}"] = k  # the old tables' flat names
         return out
 
     @model_serializer(mode="wrap")
@@ -545,7 +552,7 @@ class DEMSpec(DEMSettings):
         out = {name: data[name] for name in DEM_SCENARIO_ONLY}
         for name, concern in FLAT.items():
             if name not in DEM_SET_ELSEWHERE:
-                out[name] = data[concern][name]
+                out[name] = data[concern][FIELD[name]]
         return out
 
     @classmethod

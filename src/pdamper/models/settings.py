@@ -108,14 +108,17 @@ class SteadyState(Settings):
     """The steady-state criterion of a run until steady
     (:class:`~pdamper.analysis.stationarity.SteadyStateCriterion`, docs/fields.md)."""
 
+    #: The flat names of the fields whose names alone would not say they are the
+    #: criterion's (``DEMDamper(steady_windows=3)``, flat ``[dem]`` keys, errors).
+    flat_names: ClassVar[dict[str, str]] = {"windows": "steady_windows", "rtol": "steady_rtol",
+                                            "atol": "steady_atol"}
+
     window_cycles: int = setting(_STEADY.window_cycles, "Cycles per window of the "
                                  "criterion.", low=1)
-    steady_windows: int = setting(_STEADY.windows, "Windows whose loss factors must agree.",
-                                  low=2)
-    steady_rtol: float = setting(_STEADY.rtol, "Relative tolerance of the agreement: "
-                                 "``max(steady_rtol |eta|, steady_atol)``.", low=0.0)
-    steady_atol: float = setting(_STEADY.atol, "Absolute tolerance of the agreement.",
-                                 low=0.0)
+    windows: int = setting(_STEADY.windows, "Windows whose loss factors must agree.", low=2)
+    rtol: float = setting(_STEADY.rtol, "Relative tolerance of the agreement: "
+                          "``max(rtol |eta|, atol)``.", low=0.0)
+    atol: float = setting(_STEADY.atol, "Absolute tolerance of the agreement.", low=0.0)
     quiet_window_cycles: int = setting(
         _STEADY.quiet_window_cycles, "Cycles per window of a quiet bed (cycle-to-cycle "
         "scatter at most ``quiet_scatter`` x the tolerance; 0: no rule for quiet beds).",
@@ -127,14 +130,29 @@ class SteadyState(Settings):
         _STEADY.quiet_skip_cycles, "Cycles a quiet bed's window skips (at most "
         "``skip_cycles``).", low=0)
 
+    def __init__(self, **data: Any) -> None:
+        flat = {v: k for k, v in self.flat_names.items()}
+        super().__init__(**{flat.get(k, k): v for k, v in data.items()})
+
+    @property
+    def steady_windows(self) -> int:
+        """``windows`` under its flat name."""
+        return self.windows
+
+    @property
+    def steady_rtol(self) -> float:
+        """``rtol`` under its flat name."""
+        return self.rtol
+
+    @property
+    def steady_atol(self) -> float:
+        """``atol`` under its flat name."""
+        return self.atol
+
     def criterion(self, skip_cycles: int) -> SteadyStateCriterion:
-        """The criterion of these settings for runs that skip ``skip_cycles``."""
-        return SteadyStateCriterion(
-            window_cycles=self.window_cycles, windows=self.steady_windows,
-            rtol=self.steady_rtol, atol=self.steady_atol,
-            quiet_window_cycles=self.quiet_window_cycles, quiet_scatter=self.quiet_scatter,
-            quiet_windows=self.quiet_windows, quiet_skip_cycles=self.quiet_skip_cycles,
-            skip_cycles=skip_cycles)
+        """The criterion of these settings for runs that skip ``skip_cycles``: the fields are
+        the criterion's parameters, by the same names."""
+        return SteadyStateCriterion(**self.get_params(), skip_cycles=skip_cycles)
 
 
 class AccuracyTarget(Settings):
@@ -186,15 +204,17 @@ ENGINE_SET_BY_RUN = ("seed", "transient_cycles", "gear_transient_tolerance")
 DAMPER_DEFAULTS: dict[str, Any] = {"integrator": "gear"}
 
 
-def _flat() -> dict[str, str]:
-    out: dict[str, str] = {}
+def _flat() -> dict[str, tuple[str, str]]:
+    out: dict[str, tuple[str, str]] = {}
     for concern_name, concern in CONCERN_NAMES.items():
-        for name in concern.model_fields:
-            if concern is EngineSettings and name in ENGINE_SET_BY_RUN:
+        names: dict[str, str] = getattr(concern, "flat_names", {})
+        for field in concern.model_fields:
+            if concern is EngineSettings and field in ENGINE_SET_BY_RUN:
                 continue
+            name = names.get(field, field)
             if name in out:  # pragma: no cover - checked by the tests too
                 raise TypeError(f"setting {name!r} declared twice")
-            out[name] = concern_name
+            out[name] = (concern_name, field)
     return out
 
 
@@ -202,7 +222,13 @@ def _flat() -> dict[str, str]:
 #: the concern that declares it (``plan``, ``engine``): the flat keyword arguments of
 #: :class:`~pdamper.models.DEMDamper` and flat ``[dem]`` keys are aliases of
 #: ``<concern>.<name>``.
-FLAT: dict[str, str] = _flat()
+FLAT: dict[str, str] = {name: c for name, (c, _) in _flat().items()}
+#: The field of each flat name in its concern (the same name but ``steady_windows``,
+#: ``steady_rtol``, ``steady_atol``: ``SteadyState``'s ``windows``, ``rtol``, ``atol``, the
+#: criterion's names).
+FIELD: dict[str, str] = {name: f for name, (_, f) in _flat().items()}
+#: The flat name of each ``(concern, field)``.
+FLAT_NAME: dict[tuple[str, str], str] = {(c, f): n for n, (c, f) in _flat().items()}
 
 
 def default_concern(name: str) -> Settings:
@@ -232,6 +258,8 @@ def route(data: dict[str, Any], prefix: str = "dem.") -> dict[str, dict[str, Any
 
     def put(concern: str, name: str, value: Any, given: str) -> None:
         cls = CONCERN_NAMES[concern]
+        if name not in cls.model_fields and FLAT.get(name) == concern:
+            name = FIELD[name]  # a flat name in its table (the old tables' keys)
         if name not in cls.model_fields or (cls is EngineSettings
                                             and name in ENGINE_SET_BY_RUN):
             field = prefix.rstrip(".") if "." in given else prefix + given
@@ -267,7 +295,7 @@ def route(data: dict[str, Any], prefix: str = "dem.") -> dict[str, dict[str, Any
             for name, v in value.items():
                 put(key, name, v, f"{key}.{name}")
         elif key in FLAT:
-            put(FLAT[key], key, value, key)
+            put(FLAT[key], FIELD[key], value, key)
         else:
             raise InputError(prefix + key, "unknown setting of the DEM damper; known: "
                              f"{', '.join(FLAT)}")
@@ -324,15 +352,15 @@ class FlatSettings:
 
     @property
     def steady_windows(self) -> int:
-        return self.steady.steady_windows
+        return self.steady.windows
 
     @property
     def steady_rtol(self) -> float:
-        return self.steady.steady_rtol
+        return self.steady.rtol
 
     @property
     def steady_atol(self) -> float:
-        return self.steady.steady_atol
+        return self.steady.atol
 
     @property
     def quiet_window_cycles(self) -> int:
@@ -472,8 +500,9 @@ class DEMSettings(FlatSettings, Settings):
             defaults = {k: v for k, v in DAMPER_DEFAULTS.items() if k in concern.model_fields}
             try:
                 obj = concern(**{**defaults, **cls._edge_concern(name, values)})
-            except InputError as exc:
-                raise InputError(cls.prefix + exc.field, exc.message) from None
+            except InputError as exc:  # named by its flat name, as the [dem] keys
+                raise InputError(cls.prefix + FLAT_NAME.get((name, exc.field), exc.field),
+                                 exc.message) from None
             # what was given, not the damper's defaults (model_fields_set)
             object.__setattr__(obj, "__pydantic_fields_set__", set(values))
             out[name] = obj
@@ -485,7 +514,8 @@ class DEMSettings(FlatSettings, Settings):
         other fields given; a setting left at its default is not in it."""
         out = {k for k in self.__pydantic_fields_set__ if k not in CONCERN_NAMES}
         for name in CONCERN_NAMES:
-            out |= {k for k in getattr(self, name).model_fields_set if FLAT.get(k) == name}
+            out |= {FLAT_NAME[(name, k)] for k in getattr(self, name).model_fields_set
+                    if (name, k) in FLAT_NAME}
         return out
 
     def get_params(self, deep: bool = False) -> dict[str, Any]:
@@ -546,7 +576,7 @@ class DEMSettings(FlatSettings, Settings):
         default (:data:`DAMPER_DEFAULTS`)."""
         out: dict[str, FieldInfo] = {}
         for name, concern in FLAT.items():
-            info = CONCERN_NAMES[concern].model_fields[name]
+            info = CONCERN_NAMES[concern].model_fields[FIELD[name]]
             if name in DAMPER_DEFAULTS:
                 info = FieldInfo.merge_field_infos(info, default=DAMPER_DEFAULTS[name])
             out[name] = info
@@ -559,8 +589,8 @@ class DEMSettings(FlatSettings, Settings):
         ``concern``; :meth:`aliases` maps the other names to these."""
         out: dict[str, dict] = {}
         for name, concern in FLAT.items():
-            decl = CONCERN_NAMES[concern].declarations()[name]
-            out[f"{concern}.{name}"] = {**decl, "default": DAMPER_DEFAULTS.get(
+            decl = CONCERN_NAMES[concern].declarations()[FIELD[name]]
+            out[f"{concern}.{FIELD[name]}"] = {**decl, "default": DAMPER_DEFAULTS.get(
                 name, decl["default"]), "concern": concern, "name": name}
         return out
 
@@ -568,8 +598,11 @@ class DEMSettings(FlatSettings, Settings):
     def aliases(cls) -> dict[str, str]:
         """Alias -> canonical dotted name: the flat names (``cycles`` -> ``plan.cycles``)
         and scikit-learn's ``plan__cycles``."""
-        out = {name: f"{concern}.{name}" for name, concern in FLAT.items()}
-        out.update({f"{concern}__{name}": f"{concern}.{name}" for name, concern in FLAT.items()})
+        out = {name: f"{concern}.{FIELD[name]}" for name, concern in FLAT.items()}
+        out.update({f"{concern}__{FIELD[name]}": f"{concern}.{FIELD[name]}"
+                    for name, concern in FLAT.items()})
+        out.update({f"{concern}.{name}": f"{concern}.{FIELD[name]}"
+                    for name, concern in FLAT.items() if FIELD[name] != name})
         return out
 
 
