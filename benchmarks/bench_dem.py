@@ -59,7 +59,7 @@ def damper(integrator: str, cycles: int, safety: float = 0.02, repeat: int = 1):
     """The benchmark damper; the result with the shortest wall time of ``repeat`` runs."""
     best = None
     for _ in range(repeat):
-        sim = DEMDamper(PAPER_DAMPER, integrator=integrator, safety=safety).engine(
+        sim = DEMDamper(PAPER_DAMPER, integrator=integrator, safety=safety).build_engine(
             HarmonicMotion(0.032, 10.0))
         res = sim.run(cycles / 10.0, sample_rate=2000.0)
         if best is None or res.wall_seconds < best.wall_seconds:

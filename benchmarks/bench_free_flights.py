@@ -37,7 +37,7 @@ QUICK = ("fast corner", "tuned point", "mid map", "tuned, 96 spheres")
 
 def run(f, x, n, packing, cycles, free_flight):
     damper = dataclasses.replace(PAPER_DAMPER, count=n)
-    sim = DEMDamper(damper, packing=packing).engine(HarmonicMotion(x, f))
+    sim = DEMDamper(damper, packing=packing).build_engine(HarmonicMotion(x, f))
     sim.gear_free_flight = free_flight
     c0 = time.process_time()
     res = sim.run(cycles / f, sample_rate=2000.0)

@@ -107,7 +107,7 @@ def main(argv=None) -> dict:
     wall = ds["point_seconds"].values
     cycles = ds["cycles"].values.astype(float)
     model = sc.map_model("dem")
-    settle = model.engine(HarmonicMotion(0.01, 10.0)).settle_time  # same for every point
+    settle = model.build_engine(HarmonicMotion(0.01, 10.0)).settle_time  # same for every point
     needed = np.where(ok, cycles, np.nan)
     simulated = np.nansum(needed / f[:, None] + settle)  # what a run until steady needs
     liggghts = simulated * LIGGGHTS_WALL_PER_SIMULATED_SECOND / workers
@@ -117,7 +117,7 @@ def main(argv=None) -> dict:
     for a, fa in enumerate(f):
         for b, xb in enumerate(x):
             if ok[a, b]:
-                dt = model.engine(HarmonicMotion(float(xb), float(fa))).time_step
+                dt = model.build_engine(HarmonicMotion(float(xb), float(fa))).time_step
                 steps += (cycles[a, b] / fa + settle) / dt
     per_step = LIGGGHTS_CPU_PER_STEP_32 * (args.particles / 32) / workers
     liggghts_accurate = steps * per_step

@@ -149,7 +149,7 @@ def liggghts_single_run(src: Path, python: str = sys.executable) -> list[tuple[s
         return []
     code = ("from pdamper.dem import HarmonicMotion; from pdamper.models import DEMDamper; "
             "from pdamper.parameters import PAPER_DAMPER; "
-            "e = DEMDamper(PAPER_DAMPER).engine(HarmonicMotion(0.032, 10.0)); "
+            "e = DEMDamper(PAPER_DAMPER).build_engine(HarmonicMotion(0.032, 10.0)); "
             "print(e.time_step, e.rayleigh_time)")
     out = subprocess.run([python, "-c", code], env=_env(src), capture_output=True, text=True,
                          check=True).stdout.split()

@@ -51,7 +51,7 @@ IMPACT_BOUND = 2.0
 def profile(f, x, n, packing, integrator, cycles):
     model = DEMDamper(dataclasses.replace(PAPER_DAMPER, count=n), packing=packing,
                       integrator=integrator, cycles=cycles)
-    engine = model.engine(HarmonicMotion(x, f))
+    engine = model.build_engine(HarmonicMotion(x, f))
     bed = engine.settle()
     c0 = time.process_time()
     res = engine.run(cycles / f, sample_rate=model.sample_rate, start=bed, step_profile=True)

@@ -237,7 +237,7 @@ def level2_lines(frequency: float, amplitude: float, cycles: int, seeds) -> list
     for start, seed in seeds:
         for label, motion in (("X sin Wt", HarmonicMotion(amplitude, frequency)),
                               ("-X cos Wt", from_minimum)):
-            res = model(start, seed).engine(motion).run(cycles / frequency,
+            res = model(start, seed).build_engine(motion).run(cycles / frequency,
                                                         sample_rate=200 * frequency)
             tb = np.arange(cycles + 1) / frequency
             diss = np.diff(np.interp(tb, res.time, res.dissipated_normal

@@ -133,7 +133,7 @@ def _verlet_step(f, x_mm, n) -> tuple[float, float]:
     from pdamper.models import DEMDamper
     from pdamper.parameters import PAPER_DAMPER
 
-    eng = DEMDamper(PAPER_DAMPER.with_count(n)).engine(HarmonicMotion(x_mm * 1e-3, f))
+    eng = DEMDamper(PAPER_DAMPER.with_count(n)).build_engine(HarmonicMotion(x_mm * 1e-3, f))
     return eng.time_step, eng.rayleigh_time
 
 

@@ -103,6 +103,21 @@ def declarations(cls: type) -> dict[str, dict]:
             for name, f in cls.model_fields.items()}  # type: ignore[attr-defined]
 
 
+def redeclare(cls: type[BaseModel], name: str, default: Any, doc: str, **changes: Any) -> Any:
+    """The declaration of setting ``name`` of ``cls`` (its unit, kind and range, declared
+    once there) for another concern that holds the same quantity with its own ``default``
+    and meaning ``doc``; ``changes``: entries of the declaration that differ (``none``).
+
+    >>> from pdamper.dem.settings import EngineSettings
+    >>> d = declaration(EngineSettings, "seed")
+    >>> f = redeclare(EngineSettings, "seed", 0, "Seed of the packing.", none="")
+    >>> f.json_schema_extra["low"] == d["low"], f.json_schema_extra["none"]
+    (True, '')
+    """
+    extra: JsonDict = {**declaration(cls, name), **changes}
+    return Field(default, description=doc, json_schema_extra=extra)
+
+
 def allowed(decl: dict) -> str:
     """The allowed values of a declaration, as the error messages write them."""
     if decl["kind"] == "choice":

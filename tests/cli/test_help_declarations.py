@@ -130,7 +130,8 @@ def test_every_scenario_key_has_one_declaration_with_its_aliases():
     assert paths <= set(table)
     for key, d in table.items():
         assert d.key in paths
-        assert key.rsplit(".", 1)[1] in d.names
+        if key in paths:  # a key of the schema is its own declaration's key
+            assert d.key == key
     with pytest.raises(KeyError, match="no key 'excitation.nonsense'"):
         declaration_of("excitation.nonsense")
 

@@ -12,7 +12,7 @@ from pdamper.parameters import PAPER_DAMPER
 
 
 def _loss_and_mass(f, x, **options):
-    eng = DEMDamper(PAPER_DAMPER, settle_time=0.05, **options).engine(HarmonicMotion(x, f))
+    eng = DEMDamper(PAPER_DAMPER, settle_time=0.05, **options).build_engine(HarmonicMotion(x, f))
     res = eng.run(2.0 / f, sample_rate=4000.0)
     cp = res.complex_power(1)
     return cp.loss_factor, cp.effective_mass_ratio, res

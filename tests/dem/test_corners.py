@@ -14,7 +14,7 @@ from pdamper.parameters import PAPER_DAMPER
 
 
 def _run(f, x, n, cycles, **kw):
-    eng = DEMDamper(PAPER_DAMPER.with_count(n), settle_time=0.05, **kw).engine(
+    eng = DEMDamper(PAPER_DAMPER.with_count(n), settle_time=0.05, **kw).build_engine(
         HarmonicMotion(x, f))
     return eng.run(cycles / f, sample_rate=4000.0)
 

@@ -89,7 +89,7 @@ def test_settings_are_frozen_listed_and_cloned():
 def _setting_names() -> set[str]:
     from pdamper.models.settings import DEMSettings
 
-    return set(DEMSettings.model_fields) | set(EngineSettings.model_fields)
+    return set(DEMSettings.flat_fields()) | set(EngineSettings.model_fields)
 
 
 def _checks_of_settings(tree: ast.AST, where: str) -> list[str]:

@@ -51,7 +51,7 @@ def six_cycles():
     from pdamper.dem import HarmonicMotion
     from pdamper.models.dem import DEFAULT_SAMPLE_RATE
 
-    eng = DEMDamper(PAPER_DAMPER, cycles=6, skip_cycles=1).engine(HarmonicMotion(0.032, 10.0))
+    eng = DEMDamper(PAPER_DAMPER, cycles=6, skip_cycles=1).build_engine(HarmonicMotion(0.032, 10.0))
     return eng.run(0.6, sample_rate=DEFAULT_SAMPLE_RATE)
 
 
@@ -91,7 +91,7 @@ def test_early_stop_ends_at_the_first_whole_cycle_that_satisfies_it(six_cycles):
         asked.append(round(part.time[-1] * 10.0, 6))
         return part.time[-1] >= 0.3 - 1e-9
 
-    eng = DEMDamper(PAPER_DAMPER, cycles=6, skip_cycles=1).engine(HarmonicMotion(0.032, 10.0))
+    eng = DEMDamper(PAPER_DAMPER, cycles=6, skip_cycles=1).build_engine(HarmonicMotion(0.032, 10.0))
     part = eng.run(0.6, sample_rate=DEFAULT_SAMPLE_RATE, stop=stop)
     assert asked == [1.0, 2.0, 3.0] and part.stopped_early
     ref = truncate_result(six_cycles, 3)
@@ -167,8 +167,8 @@ def test_steady_options_are_checked():
     with pytest.raises(InputError, match="dem.quiet_skip_cycles"):
         DEMDamper(PAPER_DAMPER, quiet_skip_cycles=-1)
     # the full window must still fit: max_cycles is checked against it, not the quiet one
-    assert DEMDamper(PAPER_DAMPER, max_cycles=14).steady.min_cycles == 5
-    assert DEMDamper(PAPER_DAMPER, skip_cycles=0).steady.min_cycles == 4
+    assert DEMDamper(PAPER_DAMPER, max_cycles=14).criterion.min_cycles == 5
+    assert DEMDamper(PAPER_DAMPER, skip_cycles=0).criterion.min_cycles == 4
 
 
 @pytest.mark.slow
@@ -272,6 +272,8 @@ def test_a_run_from_the_lattice_is_integrated_converged_and_says_so():
     model = DEMDamper(PAPER_DAMPER)
     assert model._transient("lattice") == {"gear_tolerance": LATTICE_GEAR_TOLERANCE}
     assert DEMDamper(PAPER_DAMPER, gear_tolerance=2e-5)._transient("lattice") == {}
+    # the declared default's rule: an explicit 1e-5 is a value set, not the default
+    assert DEMDamper(PAPER_DAMPER, gear_tolerance=1e-5).protocol()["gear_tolerance"] == 1e-5
     p = model.protocol()
     assert p["start"] == "lattice" and p["seed"] is None
     assert p["gear_tolerance"] == LATTICE_GEAR_TOLERANCE
@@ -280,7 +282,10 @@ def test_a_run_from_the_lattice_is_integrated_converged_and_says_so():
     assert q["start"] == "random" and q["seed"] == 3 and q["gear_tolerance"] == 1e-5
     assert q["transient_tolerance"] == DEFAULT_TRANSIENT_TOLERANCE and q["transient_cycles"] == 1
     v = DEMDamper(PAPER_DAMPER, integrator="verlet").protocol()
-    assert v["gear_tolerance"] is None and v["transient_tolerance"] is None
+    # Verlet takes no Gear step: the tolerance of the start is still a number, and the
+    # protocol says why it does not act
+    assert v["gear_tolerance"] == LATTICE_GEAR_TOLERANCE and v["transient_tolerance"] is None
+    assert "verlet" in v["not_applicable"]["gear_tolerance"] and p["not_applicable"] == {}
 
 
 @pytest.mark.long

@@ -18,6 +18,7 @@ from pdamper.models.settings import (
     CONCERNS,
     DAMPER_DEFAULTS,
     ENGINE_SET_BY_RUN,
+    FIELD,
     DEMSettings,
     RunPlan,
     SteadyState,
@@ -33,12 +34,14 @@ def test_every_damper_setting_is_declared_in_exactly_one_concern():
         for name in concern.model_fields:
             if concern is EngineSettings and name in ENGINE_SET_BY_RUN:
                 continue
-            owners.setdefault(name, []).append(concern.__name__)
+            # by the flat name (SteadyState's windows, rtol, atol are steady_windows, ...)
+            flat = getattr(concern, "flat_names", {}).get(name, name)
+            owners.setdefault(flat, []).append(concern.__name__)
     assert {n: o for n, o in owners.items() if len(o) > 1} == {}
-    assert set(DEMSettings.model_fields) == set(owners)
-    for name, info in DEMSettings.model_fields.items():
+    assert set(DEMSettings.flat_fields()) == set(owners)
+    for name, info in DEMSettings.flat_fields().items():
         concern = next(c for c in CONCERNS if owners[name] == [c.__name__])
-        own = concern.model_fields[name]
+        own = concern.model_fields[FIELD[name]]
         assert info.description == own.description
         assert info.json_schema_extra == own.json_schema_extra
         assert info.default == DAMPER_DEFAULTS.get(name, own.default), name
@@ -54,7 +57,7 @@ def test_the_damper_takes_one_settings_object_or_the_settings_by_name():
     # the signature lists every setting (help(), inspection), no catch-all
     params = inspect.signature(DEMDamper).parameters
     assert list(params)[:2] == ["damper", "settings"]
-    assert set(list(params)[2:]) == set(DEMSettings.model_fields)
+    assert set(list(params)[2:]) == set(DEMSettings.flat_fields()) | {"plan", "steady", "contact", "engine"}
     with pytest.raises(TypeError, match="unexpected keyword argument 'gear_tolerence'"):
         DEMDamper(PAPER_DAMPER, gear_tolerence=1e-4)
     with pytest.raises(InputError, match="dem.settings|settings: must be a DEMSettings"):
@@ -64,7 +67,7 @@ def test_the_damper_takes_one_settings_object_or_the_settings_by_name():
 def test_get_params_and_clone_as_scikit_learn():
     m = DEMDamper(PAPER_DAMPER, cycles=8, packing="random", seed=4)
     p = m.get_params()
-    assert p["damper"] is PAPER_DAMPER and p["cycles"] == 8 and p["seed"] == 4
+    assert p["damper"] is PAPER_DAMPER and p["plan"].cycles == 8 and p["plan"].seed == 4
     assert set(p) == {"damper", *DEMDamper(PAPER_DAMPER).settings.get_params()}
     assert DEMDamper(**p).settings == m.settings
     c = m.clone(seed=5, damper=PAPER_DAMPER.with_count(16))

@@ -48,7 +48,7 @@ def inputs():
     comparisons = {"analytic": compare_with_measurement(run, run)}
     from pdamper.dem import HarmonicMotion
 
-    profiled = DEMDamper(PAPER_DAMPER).engine(HarmonicMotion(0.032, 10.0)).run(
+    profiled = DEMDamper(PAPER_DAMPER).build_engine(HarmonicMotion(0.032, 10.0)).run(
         0.2, sample_rate=1000.0, step_profile=True)
     return {
         "plot_step_profile": (profiled.step_profile(10, skip_cycles=1),),

@@ -61,7 +61,7 @@ class _Group(TyperGroup):
                 from rich.markup import escape
 
                 sub.short_help = escape(sub.short_help)
-                sub._escaped_short = True
+                setattr(sub, "_escaped_short", True)  # noqa: B010 (click's own class)
         return super().format_help(ctx, formatter)
 
 

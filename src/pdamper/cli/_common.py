@@ -21,11 +21,63 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from pdamper.io.scenario import Scenario
 
+#: Start of a help text that names the scenario key its option sets (:func:`key_help`).
+KEY_HELP = "\x00scenario key "
+
+
+def key_help(key: str, note: str = "") -> str:
+    """The help text of an option that sets the scenario key ``key``: the key's declaration
+    (:func:`pdamper.io.scenario_reference.declaration_of`: its unit, allowed values and
+    choices, and its description where ``note`` is empty) completes it when help is shown
+    (:func:`declared_help`), so that the command line says what docs/scenario.md says and
+    no command restates a unit or a list of choices. ``note``: what the option itself adds
+    (an example of its text)."""
+    return f"{KEY_HELP}{key}\x00{note}"
+
+
+def help_key(text: str | None) -> str | None:
+    """The scenario key a help text of :func:`key_help` names (None for any other)."""
+    if not text or not text.startswith(KEY_HELP):
+        return None
+    return text[len(KEY_HELP):].split("\x00", 1)[0]
+
+
+def declared_help(text: str) -> str:
+    """A help text of :func:`key_help` completed from the key's declaration: the
+    description, the unit in brackets, the allowed values or the choices, and the key
+    (``"Excitation frequency, e.g. '10Hz' [Hz], > 0 (scenario: excitation.frequency)."``);
+    any other text as it is."""
+    key = help_key(text)
+    if key is None:
+        return text
+    from pdamper.io.scenario_reference import declaration_of
+
+    note = text[len(KEY_HELP) + len(key) + 1:]
+    d = declaration_of(key)
+    what = (note or d.doc.split(". ")[0]).rstrip(". ")
+    unit = f" [{d.unit}]" if d.unit not in ("", "1") else ""
+    allowed = (f", one of {', '.join(d.choices)}" if d.choices
+               else f", {d.allowed}" if d.allowed and d.allowed != "any" else "")
+    return f"{what}{unit}{allowed} (scenario: {d.key})."
+
+
+ModelOpt = Annotated[str | None, typer.Option(
+    "--model", "--damper", help=key_help("simulation.model", "Damper model (fidelity)"))]
+#: The structure and the load histories, as the scenario's keys (simulate, optimize, frf).
+ModesOpt = Annotated[Path | None, typer.Option("--modes", help=key_help(
+    "structure.modes", "The structure's modes (CSV with unit headers: 'frequency [Hz], "
+    "damping ratio [1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF"))]
+LoadOpt = Annotated[Path | None, typer.Option("--load", help=key_help(
+    "load.force", "Force history on the structure (CSV with unit headers, e.g. 'time [s], "
+    "force [N]'; docs/forced.md)"))]
+BaseAccelerationOpt = Annotated[Path | None, typer.Option("--base-acceleration", help=key_help(
+    "load.base_acceleration", "Base-acceleration history (CSV with unit headers, e.g. "
+    "'time [s], acceleration [m/s^2]')"))]
+TailOpt = Annotated[str | None, typer.Option("--tail", help=key_help(
+    "load.tail", "Free vibration after the load record, e.g. '1s' (default 0)"))]
 ScenarioOpt = Annotated[Path | None, typer.Option("--scenario", "-s", help="Scenario TOML file.")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON for scripts.")]
-ModelOpt = Annotated[str | None, typer.Option(
-    "--model", "--damper", help="\x00scenario key simulation.model\x00Damper model "
-    "(fidelity)")]  # (key_help's text: key_help is defined below)
+
 ForceOpt = Annotated[bool, typer.Option(
     "--force", help="Run although the implied memory or time is above the limits "
     "(see pdamper.resources); never beyond what this machine can hold.")]
@@ -180,46 +232,6 @@ def figure_last(draw: Callable[[], Figure], path: Path, dpi: int = 110,
                           f"({type(exc).__name__}: {exc}); the results were written before "
                           "it") from exc
     return write_figure(fig, path, dpi, field)
-
-
-#: Start of a help text that names the scenario key its option sets (:func:`key_help`).
-KEY_HELP = "\x00scenario key "
-
-
-def key_help(key: str, note: str = "") -> str:
-    """The help text of an option that sets the scenario key ``key``: the key's declaration
-    (:func:`pdamper.io.scenario_reference.declaration_of`: its unit, allowed values and
-    choices, and its description where ``note`` is empty) completes it when help is shown
-    (:func:`declared_help`), so that the command line says what docs/scenario.md says and
-    no command restates a unit or a list of choices. ``note``: what the option itself adds
-    (an example of its text)."""
-    return f"{KEY_HELP}{key}\x00{note}"
-
-
-def help_key(text: str | None) -> str | None:
-    """The scenario key a help text of :func:`key_help` names (None for any other)."""
-    if not text or not text.startswith(KEY_HELP):
-        return None
-    return text[len(KEY_HELP):].split("\x00", 1)[0]
-
-
-def declared_help(text: str) -> str:
-    """A help text of :func:`key_help` completed from the key's declaration: the
-    description, the unit in brackets, the allowed values or the choices, and the key
-    (``"Excitation frequency, e.g. '10Hz' [Hz], > 0 (scenario: excitation.frequency)."``);
-    any other text as it is."""
-    key = help_key(text)
-    if key is None:
-        return text
-    from pdamper.io.scenario_reference import declaration_of
-
-    note = text[len(KEY_HELP) + len(key) + 1:]
-    d = declaration_of(key)
-    what = (note or d.doc.split(". ")[0]).rstrip(". ")
-    unit = f" [{d.unit}]" if d.unit not in ("", "1") else ""
-    allowed = (f", one of {', '.join(d.choices)}" if d.choices
-               else f", {d.allowed}" if d.allowed and d.allowed != "any" else "")
-    return f"{what}{unit}{allowed} (scenario: {d.key})."
 
 
 def flag_name(flag: str) -> str:

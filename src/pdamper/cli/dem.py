@@ -229,7 +229,7 @@ def _human_summary(sc: Scenario, count: int, model: DEMDamper, r: DamperResponse
             f"  integration error (estimate) eta +- {payload['loss_factor_error']:.2g}, "
             f"m_eff/m_bed +- {payload['effective_mass_ratio_error']:.2g}: "
             + ("within" if payload["accuracy_met"] else "NOT within")
-            + f" {100 * model.accuracy:g} % ({payload['accuracy_refinements']} refinements)\n"
+            + f" {100 * model.accuracy.accuracy:g} % ({payload['accuracy_refinements']} refinements)\n"
             f"  realisation spread (1e-9 m)  eta +- "
             f"{payload['realisation_loss_factor_spread']:.2g}, m_eff/m_bed +- "
             f"{payload['realisation_effective_mass_ratio_spread']:.2g}"

@@ -12,6 +12,7 @@ import typer
 from pdamper.cli._common import (
     JsonOpt,
     ModelOpt,
+    ModesOpt,
     ScenarioOpt,
     check_output,
     check_plot,
@@ -68,10 +69,7 @@ def frf(
                              "(default 2000; the DEM 60).")] = None,
     plot: Annotated[str | None, plot_param("the amplitude and phase against frequency")] = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file of the response.")] = None,
-    modes: Annotated[Path | None, typer.Option(
-        help=key_help("structure.modes",
-                      "The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
-             "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF."))] = None,
+    modes: ModesOpt = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:

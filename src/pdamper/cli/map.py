@@ -25,18 +25,22 @@ if TYPE_CHECKING:
     from pdamper.io.scenario import Scenario
 
 
+#: The grid of the map, as the scenario's ``[map]`` keys.
+FrequencyGridOpt = Annotated[str | None, typer.Option(help=key_help(
+    "map.frequency", "Grid 'start:stop:count' (or 'log:start:stop:count'), e.g. "
+    "'2Hz:20Hz:14'"))]
+AmplitudeGridOpt = Annotated[str | None, typer.Option(help=key_help(
+    "map.amplitude", "Grid 'start:stop:count' (or 'log:...'), e.g. '1mm:200mm:24'"))]
+ParticlesAxisOpt = Annotated[str | None, typer.Option(help=key_help(
+    "map.particles", "Number of spheres, or a particle-count axis '16:96:6' (or 'log:...')"))]
+
+
 def map_(
     model: Annotated[str, typer.Option(
         help="Damper model (fidelity): analytic, fields or dem.")] = "analytic",
-    frequency: Annotated[str | None, typer.Option(
-        help=key_help("map.frequency",
-                      "Grid 'start:stop:count' (or 'log:start:stop:count'), e.g. '2Hz:20Hz:14'."))] = None,
-    amplitude: Annotated[str | None, typer.Option(
-        help=key_help("map.amplitude",
-                      "Grid 'start:stop:count' (or 'log:...'), e.g. '1mm:200mm:24'."))] = None,
-    particles: Annotated[str | None, typer.Option(
-        help=key_help("map.particles",
-                      "Number of spheres, or a particle-count axis '16:96:6' (or 'log:...')."))] = None,
+    frequency: FrequencyGridOpt = None,
+    amplitude: AmplitudeGridOpt = None,
+    particles: ParticlesAxisOpt = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file to write.")] = None,
     uncertainty: _uncertainty.UncertaintyOpt = None,
     uncertain: _uncertainty.UncertainOpt = None,

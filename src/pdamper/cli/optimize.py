@@ -8,10 +8,14 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from pdamper.cli._common import (
+    BaseAccelerationOpt,
     ForceOpt,
     JsonOpt,
+    LoadOpt,
     ModelOpt,
+    ModesOpt,
     ScenarioOpt,
+    TailOpt,
     check_plot,
     emit,
     figure_last,
@@ -30,22 +34,26 @@ if TYPE_CHECKING:
     from pdamper.io.scenario import Scenario
 
 
+#: The design variables and the objective, as the scenario's ``[optimization]`` keys.
+VaryOpt = Annotated[list[str] | None, typer.Option("--vary", help=key_help(
+    "optimization.vary", "Design variable, repeatable: 'particles=16:176:16' "
+    "(start:stop:step), 'radius=3mm:6mm:4' (start:stop:count), "
+    "'container-length=100mm:140mm:3', 'particle-material=S235,PVC'. Default: the particle "
+    "count"))]
+ObjectiveOpt = Annotated[str | None, typer.Option(help=key_help(
+    "optimization.objective", "amplitude-at (min), settling-time (min) or mean-damping (max) "
+    "of the free decay; peak or rms (min) of the response to --load / --base-acceleration; "
+    "peak-frf or rms-frf (min) of the forced response to --frf-load"))]
+
+
 def optimize(
     model: ModelOpt = None,
     at: Annotated[str | None, typer.Option(help=key_help("optimization.at",
                                                          "Objective time T, e.g. '0.8s'."))] = None,
     step: Annotated[int | None, typer.Option(help=key_help(
         "optimization.step", "Particle-count increment (default: one layer)."))] = None,
-    vary: Annotated[list[str] | None, typer.Option(
-        "--vary", help=key_help("optimization.vary",
-                                "Design variable, repeatable: 'particles=16:176:16' (start:stop:step), "
-        "'radius=3mm:6mm:4' (start:stop:count), 'container-length=100mm:140mm:3', "
-        "'particle-material=S235,PVC'. Default: the particle count."))] = None,
-    objective: Annotated[str | None, typer.Option(
-        help=key_help("optimization.objective",
-                      "amplitude-at (min), settling-time (min) or mean-damping (max) of the free "
-             "decay; peak or rms (min) of the response to --load / --base-acceleration; "
-             "peak-frf or rms-frf (min) of the forced response to --frf-load."))] = None,
+    vary: VaryOpt = None,
+    objective: ObjectiveOpt = None,
     band: Annotated[str | None, typer.Option(
         help=key_help("optimization.band",
                       "Frequencies of peak-frf and rms-frf, 'start:stop:count', e.g. '3Hz:9Hz:41' "
@@ -77,18 +85,10 @@ def optimize(
              "is reported with the Pareto front of added (bed) mass against the objective, "
              "e.g. '5%' or 0.05; in [0 %, 100 %) (default 5 %)."))] = None,
     plot: Annotated[str | None, plot_param("the design landscape")] = None,
-    modes: Annotated[Path | None, typer.Option(
-        help=key_help("structure.modes",
-                      "The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
-             "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF."))] = None,
-    load_file: Annotated[Path | None, typer.Option(
-        "--load", help=key_help("load.force", "Force history for the peak and rms objectives (CSV with unit "
-                       "headers, e.g. 'time [s], force [N]'; docs/forced.md)."))] = None,
-    base_acceleration: Annotated[Path | None, typer.Option(
-        "--base-acceleration", help=key_help("load.base_acceleration",
-                                             "Base-acceleration history for peak and rms."))] = None,
-    tail: Annotated[str | None, typer.Option(
-        help=key_help("load.tail", "Free vibration after the load record, e.g. '1s' (default 0)."))] = None,
+    modes: ModesOpt = None,
+    load_file: LoadOpt = None,
+    base_acceleration: BaseAccelerationOpt = None,
+    tail: TailOpt = None,
     realisations: Annotated[str | None, typer.Option(
         "--realisations", help="Evaluate every design from N random packings (DEM; seeds "
         "dem.seed ... dem.seed + N - 1): the objective is their mean, each candidate has "

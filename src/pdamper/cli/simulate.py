@@ -9,10 +9,14 @@ import typer
 
 from pdamper.cli import _uncertainty
 from pdamper.cli._common import (
+    BaseAccelerationOpt,
     ForceOpt,
     JsonOpt,
+    LoadOpt,
     ModelOpt,
+    ModesOpt,
     ScenarioOpt,
+    TailOpt,
     check_output,
     check_plot,
     emit,
@@ -80,22 +84,13 @@ def simulate(
     plot: Annotated[str | None, plot_param(
         "the trajectories and damping ratios (and the phase drift)")] = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file for the trajectory.")] = None,
-    modes: Annotated[Path | None, typer.Option(
-        help=key_help("structure.modes",
-                      "The structure's modes (CSV with unit headers: 'frequency [Hz], damping ratio "
-             "[1], damper [kg^-0.5]'; docs/structure.md) instead of the 1-DOF."))] = None,
+    modes: ModesOpt = None,
     uncertainty: _uncertainty.UncertaintyOpt = None,
     uncertain: _uncertainty.UncertainOpt = None,
     uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
-    load_file: Annotated[Path | None, typer.Option(
-        "--load", help=key_help("load.force", "Force history on the structure (CSV with unit headers, e.g. "
-                       "'time [s], force [N]'; docs/forced.md) instead of the release."))] = None,
-    base_acceleration: Annotated[Path | None, typer.Option(
-        "--base-acceleration", help=key_help("load.base_acceleration",
-                                             "Base-acceleration history (CSV with unit headers, e.g. "
-                                    "'time [s], acceleration [m/s^2]')."))] = None,
-    tail: Annotated[str | None, typer.Option(
-        help=key_help("load.tail", "Free vibration after the load record, e.g. '1s' (default 0)."))] = None,
+    load_file: LoadOpt = None,
+    base_acceleration: BaseAccelerationOpt = None,
+    tail: TailOpt = None,
     realisations: Annotated[str | None, typer.Option(
         "--realisations", help="N realisations of each model that has them: the DEM from N "
         "random packings (seeds dem.seed ... dem.seed + N - 1, in parallel), the effective "

@@ -41,7 +41,7 @@ def co_simulate(model, structure, duration: float, initial_displacement: float,
         force=True)
     motion = StructureMotion(mass=structure.mass, damping=structure.damping,
                              stiffness=structure.stiffness, x0=initial_displacement)
-    engine = model.engine(motion)
+    engine = model.build_engine(motion)
     res = engine.run(duration, sample_rate=sample_rate)
     x_eq = -model.bed_mass * engine.gravity / structure.stiffness
     t, x = res.time, res.container_position
@@ -177,7 +177,7 @@ def co_simulate_load(model, structure, load, sample_rate: float = 2000.0,
     th, zb, vb, _ = motion.load_tables(duration)
     v_base = float(np.max(np.abs(vb)))
     speed = np.sqrt(2.0 * gravity * model.damper.length) + 2.0 * (v_ref + v_base)
-    engine = model.engine(motion, reference_velocity=float(speed))
+    engine = model.build_engine(motion, reference_velocity=float(speed))
     res = engine.run(duration, sample_rate=sample_rate)
     t = res.time
     z_b = np.interp(t, np.arange(zb.size) * th, zb)  # as the kernels interpolate it

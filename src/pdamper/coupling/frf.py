@@ -841,7 +841,7 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
                                  x0=x0, v0=v0, force_amplitude=abs(force), force_frequency=f,
                                  force_phase=phase0 + float(np.angle(force)))
         if particles is None:
-            engine = model.engine(motion)
+            engine = model.build_engine(motion)
             settle = True
         else:
             engine = model._engine(particles, motion)

@@ -59,7 +59,7 @@ from pdamper.dem.inputs import (
 )
 from pdamper.dem.kernels import state as K
 from pdamper.dem.result import DEMResult
-from pdamper.dem.settings import AUTO_COST_RATIO, EngineSettings  # noqa: F401
+from pdamper.dem.settings import AUTO_COST_RATIO, EngineSettings, gear_tolerance_for  # noqa: F401
 from pdamper.errors import InputError, SimulationError, check_range
 
 log = logging.getLogger(__name__)
@@ -176,6 +176,7 @@ class DEMEngine:
         s = settings
         check_integrator_for(contact.friction_model, s.integrator)
         self.max_overlap = math.inf if s.max_overlap is None else s.max_overlap
+        self.gear_tolerance = gear_tolerance_for(s.gear_tolerance)
         self.gear_transient_tolerance = (self.gear_tolerance if s.gear_transient_tolerance
                                          is None else s.gear_transient_tolerance)
         r = particles.radius

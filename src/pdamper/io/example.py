@@ -158,7 +158,7 @@ sample_rate = "{q(dem.sample_rate, 'Hz')}"     # of the force and container seri
 # snapshot_rate = "200 Hz"  # particle snapshots per second (default: first and last)
 error_estimate = {str(dem.error_estimate).lower()}     # estimate the integration error of eta and m_eff
                             # from a refined companion run (~2x the cost; docs/dem.md)
-accuracy = {dem.accuracy}             # its target (relative); a run missing it is redone
+accuracy = {dem.accuracy.accuracy}             # its target (relative); a run missing it is redone
 max_refinements = {dem.max_refinements}         # refined, at most this many times
 gear_free_flight = {str(dem.gear_free_flight).lower()}    # Gear steps only spheres that may touch something,
                             # the others fly their exact parabola (docs/dem.md)

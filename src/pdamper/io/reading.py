@@ -64,6 +64,9 @@ def first_error(exc: ValidationError) -> InputError:
     # own error names the sub-key, not "should be a valid string"
     err = next((e for e in errors if not (e["type"] == "string_type"
                                           and isinstance(e.get("input"), dict))), errors[0])
+    cause = (err.get("ctx") or {}).get("error")
+    if isinstance(cause, InputError):  # raised by a section's own checks: names its field
+        return cause
     loc = ".".join(str(p) for p in err["loc"]
                    if str(p) not in ("str", "MaterialSpec", *COR_MODELS)
                    and not str(p).startswith("function-"))

@@ -18,7 +18,7 @@ defaults; nothing here restates a number.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import (
     AfterValidator,
@@ -29,16 +29,21 @@ from pydantic import (
     Field,
     PrivateAttr,
     ValidationError,
-    create_model,
     field_validator,
     model_validator,
 )
 
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.damper import QUANTITIES, ParticleDamper
-from pdamper.dem.settings import EngineSettings, Settings
 from pdamper.errors import InputError
 from pdamper.io.damper_sections import ContainerSpec, MaterialSpec, ParticlesSpec
+from pdamper.io.dem_section import (  # noqa: F401  (importable from here)
+    DEM_SCENARIO_ONLY,
+    DEM_SET_ELSEWHERE,
+    DEM_TABLE_ALIASES,
+    DEM_TABLES,
+    DEMSpec,
+)
 from pdamper.io.grids import _grid, _range_text, count_grid, grid, parse_axis
 from pdamper.io.quantities import (
     Count,
@@ -52,23 +57,14 @@ from pdamper.io.quantities import (
     Modulus,
     PositiveLength,
     PositiveMass,
-    Restitution,
     Stiffness,
     _q,
     _scheduler,
     _tolerance,
 )
 from pdamper.io.restitution import RestitutionSpec
-from pdamper.models.settings import (
-    AccuracyTarget,
-    ContactLaw,
-    DEMSettings,
-    RunPlan,
-    SteadyState,
-)
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID, DEFAULT_TOLERANCE
-from pdamper.units import parse_quantity
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -300,71 +296,6 @@ class FieldsSpec(_Section):
         return self.model_dump()
 
 
-#: Settings of the DEM damper that the scenario takes from another section.
-DEM_SET_ELSEWHERE = {"gravity": "excitation.gravity"}
-#: Keys of ``[dem]`` that are not settings of the DEM damper: the constant CORs of the damper
-#: (or ``[restitution]``).
-DEM_SCENARIO_ONLY = ("restitution_pp", "restitution_pw")
-#: ``[dem.<table>]``: the settings of one concern in a table of its own (the same keys as
-#: flat ``[dem]`` keys, which stay the plain way of writing them).
-DEM_TABLES: dict[str, type[Settings]] = {
-    "plan": RunPlan, "steady_state": SteadyState, "accuracy_target": AccuracyTarget,
-    "contact": ContactLaw, "engine": EngineSettings}
-
-
-class _DEMSection(Settings):
-    """The ``[dem]`` section: the settings of :class:`~pdamper.models.settings.DEMSettings`
-    (but those of :data:`DEM_SET_ELSEWHERE`) with units at the edge, flat or in the tables
-    of :data:`DEM_TABLES`."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True,
-                              validate_default=False)
-    prefix: ClassVar[str] = "dem."
-    # validated inside the scenario: its errors name the field (_first_error)
-    __init__ = BaseModel.__init__
-
-    @classmethod
-    def _edge(cls, name: str, value: Any, decl: dict) -> Any:
-        if decl["unit"] and value is not None:
-            return parse_quantity(value, decl["unit"], name)
-        return value
-
-    @model_validator(mode="before")
-    @classmethod
-    def _tables(cls, data: Any) -> Any:
-        if not isinstance(data, dict) or not any(
-                isinstance(data.get(t), dict) for t in DEM_TABLES):
-            return data
-        flat = {k: v for k, v in data.items()
-                if not (k in DEM_TABLES and isinstance(v, dict))}
-        for table, concern in DEM_TABLES.items():
-            for key, value in (data.get(table) or {}).items():
-                if key not in concern.model_fields:
-                    raise ValueError(f"[dem.{table}] has no setting {key!r}; its settings: "
-                                     f"{', '.join(concern.model_fields)}")
-                if key in flat:
-                    raise ValueError(f"{key} given twice, flat and in [dem.{table}]")
-                flat[key] = value
-        return flat
-
-    def options(self) -> dict:
-        """Keyword arguments of :class:`pdamper.models.DEMDamper`."""
-        return self.model_dump(exclude=set(DEM_SCENARIO_ONLY))
-
-
-#: Options of the DEM damper model (:class:`pdamper.models.DEMDamper`): its settings,
-#: derived from their declarations, and the constant CORs.
-if TYPE_CHECKING:  # built from the declarations at run time: a type checker sees a class
-    class DEMSpec(_DEMSection):
-        def __getattr__(self, name: str) -> Any: ...
-else:
-    DEMSpec = create_model(
-        "DEMSpec", __base__=_DEMSection, __module__=__name__,
-        restitution_pp=(Restitution, _D.restitution_pp.e),
-        restitution_pw=(Restitution, _D.restitution_pw.e),
-        **{name: (info.annotation, info) for name, info in DEMSettings.model_fields.items()
-           if name not in DEM_SET_ELSEWHERE})
-
 
 class Scenario(_Section):
     """A complete scenario; every section is optional and defaults to the paper's case.
@@ -458,8 +389,7 @@ class Scenario(_Section):
         dem_packing`` (unless that is None)."""
         if self.map.dem_packing is None:
             return self
-        return self.model_copy(update={"dem": self.dem.model_copy(
-            update={"packing": self.map.dem_packing})})
+        return self.model_copy(update={"dem": self.dem.clone(packing=self.map.dem_packing)})
 
     def map_model(self, name: str, damper: ParticleDamper | None = None) -> DamperModel:
         """The damper model of a map: :meth:`model` of :meth:`for_map`."""
@@ -556,7 +486,12 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None) -> Sce
         node = data.setdefault(section, {})
         if not isinstance(node, dict):
             raise InputError(section, "must be a table")
-        node[name] = value
+        spec = Scenario.model_fields.get(section)
+        override = getattr(spec.annotation if spec is not None else None, "override", None)
+        if override is not None:  # the option wins over the key in whichever table form
+            override(node, name, value)
+        else:
+            node[name] = value
     return scenario_from_dict(data)
 
 

@@ -189,8 +189,9 @@ def _constraint(annotation: Any, info: FieldInfo) -> str:
     if decl := _declared(info):
         return _declared_constraint(decl)
     extra = info.json_schema_extra
-    if isinstance(extra, dict) and isinstance(extra.get("allowed"), str):
-        return extra["allowed"]  # a value parsed from text says its range in words
+    allowed = extra.get("allowed") if isinstance(extra, dict) else None
+    if isinstance(allowed, str):
+        return allowed  # a value parsed from text says its range in words
     parts = []
     meta = _all_meta(annotation, info)
     for m in list(meta):  # a Field(...) inside an Annotated member keeps its own metadata
@@ -425,6 +426,14 @@ def declarations() -> dict[str, Declaration]:
                     d, key=where + d.key[len(path):])
                 for name in d.names:
                     out.setdefault(f"{where}.{name}", row)
+    for _, model, paths in _tables():  # a table's other names for its keys (flat [dem])
+        aliases = getattr(model, "aliases", None)
+        if not callable(aliases):
+            continue
+        for where in paths:
+            for alias, canonical in aliases().items():
+                if f"{where}.{canonical}" in out:
+                    out.setdefault(f"{where}.{alias}", out[f"{where}.{canonical}"])
     return out
 
 

@@ -31,6 +31,11 @@ from pdamper.analysis.stationarity import (
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.contact.law import ContactParameters, check_integrator_for
 from pdamper.damper import ParticleDamper
+from pdamper.dem.settings import (  # noqa: F401 - the lattice's rule, importable from here too
+    LATTICE_GEAR_TOLERANCE,
+    EngineSettings,
+    gear_tolerance_for,
+)
 from pdamper.errors import InputError, check_range
 from pdamper.models.base import DamperModel, DamperResponse
 from pdamper.models.settings import (  # noqa: F401 - the defaults, importable from here too
@@ -44,7 +49,11 @@ from pdamper.models.settings import (  # noqa: F401 - the defaults, importable f
     DEFAULT_TRANSIENT_TOLERANCE,
     PACKINGS,
     PAPER_CYCLES,
+    AccuracyTarget,
+    ContactLaw,
     DEMSettings,
+    FlatSettings,
+    RunPlan,
     SteadyState,
 )
 
@@ -96,21 +105,6 @@ _BEDS: dict = {}
 #: per process and shared by every point (SettledBed, _BEDS): ~1.4 s of CPU per worker.
 LEVEL2_SETTLE_EXTRA = 1.0
 
-#: Gear tolerance of a run from the lattice (unless the model's options set
-#: ``gear_tolerance``), throughout: no transient tolerance. The lattice is one deterministic
-#: start whose ordered state the independent codes keep (LIGGGHTS 3.8 from the same jittered
-#: lattice, docs/agreement.md "How the lattice is integrated"); at 1e-3 in the first cycles pdamper left
-#: it (10 Hz / 32 mm, Tsuji law: eta 1.100, m_eff/m_bed 1.110 against LIGGGHTS' 0.949 /
-#: 1.922). 1e-6 held it at 32 mm but not with Tsuji's law at 80 mm (5 Hz: 0.534 at 1e-6,
-#: 0.448 at 1e-8, 0.344 at 1e-9 and 0.343 at 1e-10; velocity Verlet 0.338 / 0.350 at
-#: safety 0.005 / 0.02, LIGGGHTS 0.354), nor 128 spheres at 5 Hz / 32 mm (0.626 at 1e-6;
-#: 0.395 / 0.395 / 0.395 at 1e-8 / 1e-9 / 1e-10, Verlet 0.394). At 1e-9 the 32 spheres'
-#: 12-point grid (5-20 Hz x 10-80 mm, two jitters, Tsuji's law) agrees with 1e-10 within
-#: 0.3 % at 11 points (2 % at 15 Hz / 80 mm) and takes 0.6-1.6x the steps of 1e-6 (the kept
-#: order is a block in free flight; the 128 spheres 1.4-3.2x).
-#: Random beds keep gear_tolerance and the transient tolerance (their realisation spread
-#: covers what it changes).
-LATTICE_GEAR_TOLERANCE = 1e-9
 
 #: Fewest cycles in each half of an averaged window whose motion modes must agree.
 MIN_HALF_WINDOW = 3
@@ -240,7 +234,7 @@ def truncate_result(result, cycles: int):
     return dataclasses.replace(result, **series, **snaps)
 
 
-class DEMDamper(DamperModel):
+class DEMDamper(FlatSettings, DamperModel):
     """Particle damper simulated by the discrete element method.
 
     Parameters
@@ -249,14 +243,23 @@ class DEMDamper(DamperModel):
         Container, spheres and materials; its ``friction`` and COR curves
         (``restitution_pp``, ``restitution_pw``) set the contact law.
     settings
-        :class:`~pdamper.models.settings.DEMSettings` (default: its defaults): the run plan,
-        the steady-state criterion, the accuracy target, the contact law's damping and the
-        engine's settings, each declared once in :mod:`pdamper.models.settings` and
-        :mod:`pdamper.dem.settings` with its unit, range and meaning.
+        :class:`~pdamper.models.settings.DEMSettings` (default: its defaults): all five
+        concerns in one object.
+    plan, steady, accuracy, contact, engine
+        The concerns (:class:`~pdamper.models.settings.RunPlan`,
+        :class:`~pdamper.models.settings.SteadyState`,
+        :class:`~pdamper.models.settings.AccuracyTarget`,
+        :class:`~pdamper.models.settings.ContactLaw`,
+        :class:`~pdamper.dem.settings.EngineSettings`), each declared once in
+        :mod:`pdamper.models.settings` and :mod:`pdamper.dem.settings` with its unit, range
+        and meaning; the model's typed attributes of the same names (``model.engine.
+        gear_tolerance``). ``accuracy`` given as a number is the target
+        (``AccuracyTarget.accuracy``).
     **changes
-        Settings by name (``cycles=8``, ``integrator="verlet"``, ...) replacing those of
-        ``settings``: exactly the fields of ``DEMSettings`` (the signature lists them); each
-        is also an attribute of the model (``model.cycles``).
+        Settings by flat name (``cycles=8``, ``integrator="verlet"``: aliases of
+        ``plan.cycles``, ``engine.integrator``) or as ``concern__name``
+        (``engine__gear_tolerance=1e-6``), replacing those of ``settings``; read back through
+        the concern (``model.plan.cycles``) or the typed read-only ``model.cycles``.
 
     A Level II run goes on until the loss factor is steady (``cycles = "auto"``, at most
     ``max_cycles``) or runs ``cycles`` cycles (the paper: 8) and still records whether the
@@ -280,10 +283,16 @@ class DEMDamper(DamperModel):
     expensive = True
     contact_law = True
 
-    def __init__(self, damper: ParticleDamper, settings: DEMSettings | None = None,
+    def __init__(self, damper: ParticleDamper, settings: DEMSettings | None = None, *,
+                 plan: RunPlan | None = None, steady: SteadyState | None = None,
+                 accuracy: AccuracyTarget | float | None = None,
+                 contact: ContactLaw | None = None, engine: EngineSettings | None = None,
                  **changes: Any):
         super().__init__(damper)
-        unknown = sorted(set(changes) - set(DEMSettings.model_fields))
+        given = {"plan": plan, "steady": steady, "accuracy": accuracy, "contact": contact,
+                 "engine": engine}
+        changes = {**{k: v for k, v in given.items() if v is not None}, **changes}
+        unknown = sorted(k for k in changes if k not in _KEYWORDS and "__" not in k)
         if unknown:
             raise TypeError(f"DEMDamper() got an unexpected keyword argument {unknown[0]!r}")
         if settings is None:
@@ -292,18 +301,23 @@ class DEMDamper(DamperModel):
             raise InputError("settings", f"must be a DEMSettings, got {type(settings).__name__}")
         elif changes:
             settings = settings.clone(**changes)
-        #: The settings (checked on their construction); the model reads them as its
-        #: attributes (:meth:`__getattr__`).
+        #: The settings (checked on their construction), by concern below.
         self.settings = settings
         s = settings
-        self.steady = s.concern(SteadyState).criterion(s.skip_cycles)
+        self.plan = s.plan
+        self.steady = s.steady
+        self.accuracy = s.accuracy
+        self.contact = s.contact
+        self.engine = s.engine
+        #: The steady-state criterion of the runs (:meth:`SteadyState.criterion`).
+        self.criterion = s.steady.criterion(s.skip_cycles)
         if s.cycles == AUTO:
-            if s.max_cycles < self.steady.full_cycles:
+            if s.max_cycles < self.criterion.full_cycles:
                 raise InputError("dem.max_cycles", f"must be >= skip_cycles + steady_windows x "
-                                 f"window_cycles = {self.steady.full_cycles}, got "
+                                 f"window_cycles = {self.criterion.full_cycles}, got "
                                  f"{s.max_cycles}")
-        elif s.skip_cycles >= s.cycles:
-            raise InputError("dem.skip_cycles", f"must be in [0, {s.cycles - 1}] for "
+        elif s.skip_cycles >= int(s.cycles):  # a whole number here (not AUTO)
+            raise InputError("dem.skip_cycles", f"must be in [0, {int(s.cycles) - 1}] for "
                              f"{s.cycles} cycles, got {s.skip_cycles}")
         friction, cor_pp, cor_pw = damper.friction, damper.restitution_pp, damper.restitution_pw
         if friction is None or cor_pp is None or cor_pw is None:
@@ -313,7 +327,8 @@ class DEMDamper(DamperModel):
                              "and the COR curves of the damper (ParticleDamper.friction, "
                              ".restitution_pp, .restitution_pw)")
         try:
-            self.contact = ContactParameters(restitution_pp=cor_pp, restitution_pw=cor_pw,
+            #: The contact law of the engine (the damper's CORs and friction with ``contact``).
+            self.contact_parameters = ContactParameters(restitution_pp=cor_pp, restitution_pw=cor_pw,
                                              friction_pp=friction, friction_pw=friction,
                                              damping_model=s.damping_model,
                                              min_impact_velocity=s.min_impact_velocity,
@@ -322,16 +337,17 @@ class DEMDamper(DamperModel):
             raise InputError(f"dem.{exc.field}", exc.message) from None
         check_integrator_for(s.friction_model, s.integrator, "dem.integrator")
 
-    def __getattr__(self, name: str):
-        # the settings as attributes (model.cycles, model.integrator, ...)
-        settings = self.__dict__.get("settings")
-        if settings is not None and name in type(settings).model_fields:
-            return getattr(settings, name)
-        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+    def get_params(self, deep: bool = False) -> dict[str, Any]:
+        """The damper and the five concerns by name; ``deep``: also every setting as
+        ``concern__name`` (scikit-learn's ``engine__gear_tolerance``)."""
+        return {"damper": self.damper, **self.settings.get_params(deep)}
 
-    def get_params(self) -> dict[str, Any]:
-        """The damper and every setting by name (:class:`DEMSettings`)."""
-        return {"damper": self.damper, **self.settings.get_params()}
+    def set_params(self, **changes: Any) -> DEMDamper:
+        """The settings replaced by ``changes`` (concerns, flat names or ``concern__name``),
+        in place as scikit-learn's ``set_params``; returns the model."""
+        new = self.clone(**changes)
+        self.__dict__.update(new.__dict__)
+        return self
 
     def clone(self, **changes: Any) -> DEMDamper:
         """A copy with ``changes`` (``damper`` and settings by name), checked as at
@@ -418,13 +434,8 @@ class DEMDamper(DamperModel):
         """Whether Level II runs go on until the loss factor is steady."""
         return self.cycles == AUTO
 
-    @property
-    def damping_model(self) -> str:
-        """The COR-damping relation of the contact law."""
-        return self.contact.damping_model
-
     # ------------------------------------------------------------------ set-up
-    def engine(self, motion, **override):
+    def build_engine(self, motion, **override):
         """The :class:`pdamper.dem.DEMEngine` of this damper under ``motion``; ``override``:
         engine settings that replace the model's (e.g. ``reference_velocity``)."""
 
@@ -437,39 +448,52 @@ class DEMDamper(DamperModel):
 
         d = self.damper
         return DEMEngine(particles, Container(d.box, d.wall_material, d.container_mass),
-                         self.contact, motion,
-                         self.settings.engine_settings(seed=self.seed, **override))
+                         self.contact_parameters, motion,
+                         self.engine.clone(seed=self.seed, **override))
+
+    def gear_tolerance_for(self, packing: str) -> float:
+        """The Gear tolerance of a Level II run from ``packing``: ``engine.gear_tolerance``,
+        or where that is None (the default) the declaration's rule by the start
+        (:func:`~pdamper.dem.settings.gear_tolerance_for`: 1e-9 from the lattice, 1e-5 from
+        a random bed)."""
+        return gear_tolerance_for(self.engine.gear_tolerance, packing)
 
     def _transient(self, packing: str) -> dict:
         """Engine options of the start from rest of a Level II run from ``packing``: from a
         random bed ``transient_tolerance`` over the cycles every averaged window skips; from
-        the lattice none, and Gear at :data:`LATTICE_GEAR_TOLERANCE` throughout (where
-        ``gear_tolerance`` is at its default; another value is taken as given)."""
-        from pdamper.dem.inputs import DEFAULT_GEAR_TOLERANCE
-
+        the lattice no transient tolerance, and Gear's tolerance of the start where
+        ``engine.gear_tolerance`` is left to the declaration (None; the engine resolves
+        None itself for every other start: :meth:`gear_tolerance_for`)."""
         if packing == "lattice":
-            # per-start rule: the lattice is integrated converged (see the constant)
-            return ({"gear_tolerance": LATTICE_GEAR_TOLERANCE}
-                    if self.gear_tolerance == DEFAULT_GEAR_TOLERANCE else {})
+            # the lattice is integrated converged throughout (LATTICE_GEAR_TOLERANCE)
+            return ({"gear_tolerance": self.gear_tolerance_for(packing)}
+                    if self.engine.gear_tolerance is None else {})
+        tol: dict = {}
         # the same cycles however the run is judged: a run of the paper's 8 cycles, one
         # until steady and one with the rule for quiet beds off follow the same trajectory
-        skip = min(self.skip_cycles, self.steady.quiet_skip_cycles)
+        skip = min(self.skip_cycles, self.criterion.quiet_skip_cycles)
         if self.transient_tolerance is None or skip == 0:
-            return {}
-        return {"transient_cycles": skip, "gear_transient_tolerance": self.transient_tolerance}
+            return tol
+        return {**tol, "transient_cycles": skip,
+                "gear_transient_tolerance": self.transient_tolerance}
 
     def protocol(self, packing: str | None = None) -> dict:
         """What a Level II run from ``packing`` (default :meth:`initial_packing`) does: the
         start (``"lattice"`` or ``"random"``, with the seed of a random one), the integrator,
         Gear's tolerance, the transient tolerance and its cycles (None, 0: none), the safety
         factor and whether Gear's free flights are on (``pdamper dem --json``'s
-        ``protocol``)."""
+        ``protocol``). ``gear_tolerance`` is the tolerance the declaration gives this start
+        (:meth:`gear_tolerance_for`), a number for every integrator; with ``integrator``
+        ``"verlet"`` no Gear step is taken, and ``not_applicable`` says so."""
         packing = packing or self.initial_packing()
-        opts = {"gear_tolerance": self.gear_tolerance, **self._transient(packing)}
+        opts = {"gear_tolerance": self.gear_tolerance_for(packing), **self._transient(packing)}
         gear = self.integrator != "verlet"
         return {"start": packing, "seed": self.seed if packing == "random" else None,
                 "integrator": self.integrator,
-                "gear_tolerance": float(opts["gear_tolerance"]) if gear else None,
+                "gear_tolerance": float(opts["gear_tolerance"]),
+                "not_applicable": {} if gear else {
+                    "gear_tolerance": "integrator verlet takes fixed steps: no Gear step "
+                                      "control"},
                 "transient_tolerance": (float(opts["gear_transient_tolerance"])
                                         if gear and "gear_transient_tolerance" in opts else None),
                 "transient_cycles": int(opts.get("transient_cycles", 0)) if gear else 0,
@@ -539,7 +563,7 @@ class DEMDamper(DamperModel):
         # what no run can do (more memory than the machine has, months of computing); the
         # edges (scenario, command line) hold runs to the lower limits unless forced
         d = self.damper
-        cycles = self.max_cycles if self.run_until_steady else self.cycles
+        cycles = self.max_cycles if self.run_until_steady else int(self.cycles)
         drivers: tuple[tuple, ...] = (
             ("dem.max_cycles" if self.run_until_steady else "dem.cycles", cycles),
             ("frequency", 1.0 / f, True), ("dem.sample_rate", self.sample_rate / f))
@@ -551,7 +575,7 @@ class DEMDamper(DamperModel):
         engine = self._engine(particles, HarmonicMotion(amplitude=x, frequency=f),
                               **self._level2_settling(), **self._transient(packing))
         if self.run_until_steady:
-            need = self.steady.min_cycles
+            need = self.criterion.min_cycles
 
             def steady(part) -> bool:
                 return (whole_cycles(part.time, f) >= need
@@ -562,7 +586,7 @@ class DEMDamper(DamperModel):
                              snapshot_rate=self.snapshot_rate, stop=steady,
                              start=self._settled(engine))
         else:
-            res = engine.run(self.cycles / f, sample_rate=self.sample_rate,
+            res = engine.run(int(self.cycles) / f, sample_rate=self.sample_rate,
                              snapshot_rate=self.snapshot_rate, start=self._settled(engine))
         st, motion = self.assess(res)
         power = res.complex_power(st.first_cycle - 1, st.last_cycle - st.first_cycle + 1)
@@ -584,8 +608,7 @@ class DEMDamper(DamperModel):
             kernel = "verlet" if res.verlet_time > 0.5 * res.simulated_time else "gear"
         setting, factor = REFINEMENT[kernel]
         start = self._transient(run.packing)
-        value = (self.safety if setting == "safety"
-                 else float(start.get("gear_tolerance", self.gear_tolerance)))
+        value = (self.safety if setting == "safety" else self.gear_tolerance_for(run.packing))
         # the refined companions refine the start from rest too: the transient tolerance
         # would otherwise steer both runs into the same state (8 Hz / 80 mm from the
         # lattice: error 0.001 reported where converged runs differ by 0.3)
@@ -615,7 +638,7 @@ class DEMDamper(DamperModel):
         eta0, ratio0 = run.power.loss_factor, run.power.effective_mass_ratio
         s_eta = abs(eta0 - cp_alt.loss_factor)
         s_mass = abs(ratio0 - cp_alt.effective_mass_ratio)
-        dependent = bool(_relative(eta0, ratio0, s_eta, s_mass) > self.accuracy)
+        dependent = bool(_relative(eta0, ratio0, s_eta, s_mass) > self.accuracy.accuracy)
         for k in range(self.max_refinements + 1):
             st = run.stationarity
             skip, span = st.first_cycle - 1, st.last_cycle - st.first_cycle + 1
@@ -629,8 +652,8 @@ class DEMDamper(DamperModel):
             e_eta = error_bound(eta, cp.loss_factor)
             e_mass = error_bound(ratio, cp.effective_mass_ratio)
             rel = _relative(eta, ratio, e_eta, e_mass)
-            met = bool(rel <= self.accuracy) and not dependent
-            est = AccuracyEstimate(e_eta, e_mass, rel, self.accuracy, met, setting, value,
+            met = bool(rel <= self.accuracy.accuracy) and not dependent
+            est = AccuracyEstimate(e_eta, e_mass, rel, self.accuracy.accuracy, met, setting, value,
                                    reference, k, cp.loss_factor, cp.effective_mass_ratio,
                                    s_eta, s_mass, dependent)
             # a realisation-dependent point is no integration problem: a finer step would
@@ -638,7 +661,7 @@ class DEMDamper(DamperModel):
             if met or dependent or k == self.max_refinements:
                 return dataclasses.replace(run, accuracy=est)
             logger.info("DEM f=%.3g Hz X=%.3g m: estimated error %.2g > %.2g; redone with "
-                        "%s = %.3g", f, x, rel, self.accuracy, setting, reference)
+                        "%s = %.3g", f, x, rel, self.accuracy.accuracy, setting, reference)
             st2, motion2 = self.assess(comp)
             power2 = comp.complex_power(st2.first_cycle - 1, st2.last_cycle - st2.first_cycle + 1)
             run = SteadyRun(comp, st2, motion2, power2, run.packing)
@@ -663,12 +686,12 @@ class DEMDamper(DamperModel):
         if n < 1:
             raise InputError("cycles", "the run holds no whole excitation cycle")
         if self.run_until_steady:
-            crit = self.steady
+            crit = self.criterion
             length = min(crit.span, max(n - self.skip_cycles, 1))
         else:  # the paper's averaged window, split into the criterion's windows
             length = max(n - self.skip_cycles, 1)
-            m = max(1, length // self.steady.windows)
-            crit = dataclasses.replace(self.steady, window_cycles=m, windows=max(2, length // m),
+            m = max(1, length // self.criterion.windows)
+            crit = dataclasses.replace(self.criterion, window_cycles=m, windows=max(2, length // m),
                                        quiet_window_cycles=0)
         signals = BedSignals.from_dem(result)
         motion = classify_motion(signals, n - length + 1, n)
@@ -734,12 +757,17 @@ class DEMDamper(DamperModel):
                 f"packing={self.packing!r})")
 
 
-# the signature lists every setting as a keyword (help, inspection), from the declarations
+#: The keyword arguments of :class:`DEMDamper`: the concerns and every setting by flat name.
+_KEYWORDS = frozenset(DEMSettings.flat_fields()) | frozenset(
+    ("plan", "steady", "accuracy", "contact", "engine"))
+
+# the signature lists the concerns and every setting as a keyword (help, inspection), from
+# the declarations
 DEMDamper.__init__.__signature__ = inspect.Signature([  # type: ignore[attr-defined]
-    *list(inspect.signature(DEMDamper.__init__).parameters.values())[:3],
+    *list(inspect.signature(DEMDamper.__init__).parameters.values())[:8],
     *(inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=info.default,
                         annotation=info.annotation)
-      for name, info in DEMSettings.model_fields.items())])
+      for name, info in DEMSettings.flat_fields().items() if name != "accuracy")])
 
 
 #: The keys of :meth:`DEMResult.summary <pdamper.dem.DEMResult.summary>` among a point's
