@@ -407,8 +407,10 @@ def _tables() -> list[tuple[str, type[BaseModel], list[str]]]:
 @functools.cache
 def declarations() -> dict[str, Declaration]:
     """Every key of the scenario by its dotted path (each path of a table that stands at
-    several), with its aliases' paths: the one table that docs/scenario.md, the scenario's
-    errors and the command line's help read.
+    several), with its aliases' paths: what the command line's help reads. docs/scenario.md
+    renders the same rows (:func:`_declarations_of`) table by table; where a union's
+    variant tables share a path (the COR models of ``[restitution]``), the page shows each
+    and this table the first.
 
     >>> d = declarations()["excitation.frequency"]
     >>> d.unit, d.allowed
@@ -450,7 +452,6 @@ def reference() -> str:
     """The text of docs/scenario.md."""
     from pdamper.io.scenario import Scenario
 
-    example = _example_values()
     section_notes, notes = _example_comments()
     out = [_HEADER]
     top = {n: i for n, i in Scenario.model_fields.items()
@@ -463,24 +464,16 @@ def reference() -> str:
                         f"{_format_default(info.default)} | "
                         f"{_cell(_description(info, notes.get(('', name), [])))} |")
         out += [*rows, ""]
-    order: list[tuple[str, type[BaseModel]]] = []
-    for name, info in Scenario.model_fields.items():
-        if name not in top:
-            _walk(name, info.annotation, order)
-    paths: dict[type, list[str]] = {}
-    for path, model in order:
-        paths.setdefault(model, []).append(path)
-    for path, model in order:
-        if paths[model][0] != path:
-            continue  # rendered at its first path, under all its names
+    example = _example_values()
+    for path, model, paths in _tables():  # each table once, under all its names
         variants = [m for m in _members(_field_annotation(Scenario, path)) if _is_model(m)]
-        names = ", ".join(f"`[{p}]`" if "." not in p else f"`{p}`"
-                          for p in dict.fromkeys(paths[model]))
+        names = ", ".join(f"`[{p}]`" if "." not in p else f"`{p}`" for p in paths)
         title = names + (f" as {model.__name__}" if len(variants) > 1 else "")
         out += [f"{'##' if '.' not in path else '###'} {title}", ""]
         text = _doc(model) or (section_notes.get(path, "") if "." not in path else "")
         if text:
             out += [text[0].upper() + text[1:], ""]
+        # per table, not by path: the variants of a union (a COR model's tables) share one
         out += [*_table(_declarations_of(path, model, example.get(path, {})
                                          if "." not in path else {}, notes)), ""]
     return "\n".join(out).rstrip("\n") + "\n"
