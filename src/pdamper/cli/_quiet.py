@@ -34,6 +34,20 @@ def set_quiet(value: bool = True) -> bool:
     return value
 
 
+def _one_line(message, category, filename, lineno, file=None, line=None) -> None:
+    """A Python warning as a user reads it: one line, ``warning: TEXT (Category)``, without
+    the source file, line number and code line that Python's default shows (they name
+    pdamper's internals, not the user's input)."""
+    import sys
+
+    text = " ".join(str(message).split())
+    out = sys.stderr if file is None else file
+    try:
+        out.write(f"warning: {text} ({category.__name__})\n")
+    except (OSError, ValueError):  # a closed or broken stderr loses the warning, not the run
+        pass
+
+
 @contextlib.contextmanager
 def scope():
     """One command line: whatever ``--quiet`` changed is undone at its end (the state of
@@ -42,6 +56,7 @@ def scope():
     levels = {name: logging.getLogger(name).level for name in LOGGERS}
     try:
         with warnings.catch_warnings():
+            warnings.showwarning = _one_line  # restored by catch_warnings
             yield
     finally:
         _quiet = False
