@@ -705,3 +705,10 @@ HEADROOM: dict[str, float] = {
         "optimize-vary-radius-1e8", "ok-analytic-scenario-vary-particles-1e9")}
 # forced response (frf): a frequency count judged before the grid is built
 HEADROOM["frf-frequency-count-1e9"] = 2**30
+
+# -- zero gravity: the forced response answers where the analytical model does
+SCENARIOS["gravity_zero"] = '[excitation]\ngravity = "0 m/s^2"\n'
+CASES += [
+    ("ok-frf-gravity-zero", ["frf", "--scenario", "{scenario:gravity_zero}", "--frequency",
+                             "5.35Hz", "--json"], OK()),
+]
