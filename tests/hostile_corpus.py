@@ -712,3 +712,16 @@ CASES += [
     ("ok-frf-gravity-zero", ["frf", "--scenario", "{scenario:gravity_zero}", "--frequency",
                              "5.35Hz", "--json"], OK()),
 ]
+
+# -- a beam's constants partly given (the rest would silently be the paper beam's)
+SCENARIOS["beam_modulus_only"] = '[structure]\nbeam = { youngs_modulus = "70 GPa" }\n'
+SCENARIOS["beam_no_density"] = ('[structure]\nbeam = { youngs_modulus = "70 GPa", '
+                                'poisson_ratio = 0.33 }\n')
+CASES += [
+    ("beam-modulus-only-simulate", ["simulate", "--scenario", "{scenario:beam_modulus_only}"],
+     Error("structure.beam.poisson_ratio")),
+    ("beam-modulus-only-frf", ["frf", "--scenario", "{scenario:beam_modulus_only}",
+                               "--frequency", "5Hz"], Error("structure.beam.poisson_ratio")),
+    ("beam-no-density-simulate", ["simulate", "--scenario", "{scenario:beam_no_density}"],
+     Error("structure.beam.density")),
+]
