@@ -9,7 +9,6 @@ import typer
 from pdamper.cli import _uncertainty
 from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, emit, key_help, load, metadata
 
-
 #: Scenario sections this command reads nothing of, with the reason (JSON ``unused_inputs``).
 _UNUSED = {
     "load": "the analytical model answers one harmonic stroke (f, X) of the container; a load "
