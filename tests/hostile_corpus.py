@@ -711,6 +711,8 @@ SCENARIOS["gravity_zero"] = '[excitation]\ngravity = "0 m/s^2"\n'
 CASES += [
     ("ok-frf-gravity-zero", ["frf", "--scenario", "{scenario:gravity_zero}", "--frequency",
                              "5.35Hz", "--json"], OK()),
+    ("ok-report-gravity-zero", ["report", "--scenario", "{scenario:gravity_zero}", "--out",
+                                "{tmp}/r", "--json"], OK()),
 ]
 
 # -- a beam's constants partly given (the rest would silently be the paper beam's)
