@@ -705,3 +705,25 @@ HEADROOM: dict[str, float] = {
         "optimize-vary-radius-1e8", "ok-analytic-scenario-vary-particles-1e9")}
 # forced response (frf): a frequency count judged before the grid is built
 HEADROOM["frf-frequency-count-1e9"] = 2**30
+
+# -- zero gravity: the forced response answers where the analytical model does
+SCENARIOS["gravity_zero"] = '[excitation]\ngravity = "0 m/s^2"\n'
+CASES += [
+    ("ok-frf-gravity-zero", ["frf", "--scenario", "{scenario:gravity_zero}", "--frequency",
+                             "5.35Hz", "--json"], OK()),
+    ("ok-report-gravity-zero", ["report", "--scenario", "{scenario:gravity_zero}", "--out",
+                                "{tmp}/r", "--json"], OK()),
+]
+
+# -- a beam's constants partly given (the rest would silently be the paper beam's)
+SCENARIOS["beam_modulus_only"] = '[structure]\nbeam = { youngs_modulus = "70 GPa" }\n'
+SCENARIOS["beam_no_density"] = ('[structure]\nbeam = { youngs_modulus = "70 GPa", '
+                                'poisson_ratio = 0.33 }\n')
+CASES += [
+    ("beam-modulus-only-simulate", ["simulate", "--scenario", "{scenario:beam_modulus_only}"],
+     Error("structure.beam.poisson_ratio")),
+    ("beam-modulus-only-frf", ["frf", "--scenario", "{scenario:beam_modulus_only}",
+                               "--frequency", "5Hz"], Error("structure.beam.poisson_ratio")),
+    ("beam-no-density-simulate", ["simulate", "--scenario", "{scenario:beam_no_density}"],
+     Error("structure.beam.density")),
+]

@@ -320,3 +320,13 @@ def test_longest_meaningful_flight_is_prompt():
 def test_text_is_no_frequency():
     with pytest.raises(InputError, match="^frequency: must be a number"):
         bed_response("10 Hz", 0.03, H, M_BED)
+
+
+def test_zero_gravity_bed_drifting_from_the_lid_is_scattering_not_out_of_range():
+    # released from the lid at phi_tt ~ 3 pi / 2 almost at rest in the mean frame: the bed
+    # drifts between the walls' sweeps (a stroke the forced response's root finder meets)
+    from pdamper.parameters import PAPER_DAMPER as d
+
+    r = bed_response(5.35, 0.017505809936591753, d.clearance, d.bed_mass, 0.0)
+    assert MotionMode(int(r.mode)) == MotionMode.SCATTERING
+    assert np.isfinite(float(r.loss_factor))

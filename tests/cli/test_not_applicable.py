@@ -76,6 +76,13 @@ CASES = {
                      "{tmp}/load_acc.csv"],
     "analytic": ["analytic"],
     "analytic-gravity-0": ["analytic", "--gravity", "0 m/s^2"],
+    # design studies: a grid (no seed, no bounds), an interval searched by the seeded
+    # optimiser (no values), designs that cannot be built (no mass, no objective, no best)
+    "optimize-grid": ["optimize", "--vary", "particles=0:32:16"],
+    "optimize-interval": ["optimize", "--vary", "radius=3mm:6mm", "--method", "optimize",
+                          "--max-evaluations", "8"],
+    "optimize-infeasible": ["optimize", "--vary", "radius=20mm:30mm:2"],
+    "optimize-peak-frf": ["optimize", "--scenario", "{tmp}/study_peak_frf.toml"],
 }
 
 
@@ -103,3 +110,18 @@ def test_a_band_without_cycles_says_so():
     assert d["measured_zeta"] is None
     assert "no measured cycle" in d["not_applicable"]["measured_zeta"]
     assert unexplained(d) == []
+
+
+def test_analytic_names_the_sections_it_does_not_use(cli, files):
+    code, out, _ = cli("analytic", "--scenario", f"{files}/load_force.toml", "--json")
+    assert code == 0
+    assert set(json.loads(out)["unused_inputs"]) == {"load"}
+    code, out, _ = cli("analytic", "--scenario", f"{files}/load_force.toml")
+    assert code == 0
+    assert [ln for ln in out.splitlines() if ln.startswith("unused: [load]")]
+
+
+def test_analytic_without_unused_sections_has_no_unused_inputs(cli, files):
+    code, out, _ = cli("analytic", "--scenario", f"{files}/glass.toml", "--json")
+    assert code == 0
+    assert "unused_inputs" not in json.loads(out)

@@ -235,3 +235,23 @@ def test_example_scenario_beam_entry_is_valid(tmp_path):
     s = load_scenario(tmp_path / "s.toml").structure_model()
     assert s.modes == 3
     assert 5.5 < s.frequencies[0] < 6.5   # the paper's first bending mode (docs/beam.md)
+
+
+def test_a_beam_with_all_three_constants_is_built_from_them():
+    from pdamper.io.scenario import BeamSpec
+    from pdamper.io.structure import beam_structure
+
+    steel = beam_structure(BeamSpec(modes=1, elements=10))
+    soft = beam_structure(BeamSpec(modes=1, elements=10, youngs_modulus=70e9,
+                                   poisson_ratio=0.33, density=2700.0))
+    assert soft.frequencies[0] != steel.frequencies[0]
+
+
+def test_a_beam_with_some_of_its_constants_is_refused():
+    from pdamper.errors import InputError
+    from pdamper.io.scenario import BeamSpec
+    from pdamper.io.structure import beam_structure
+
+    with pytest.raises(InputError) as e:
+        beam_structure(BeamSpec(youngs_modulus=70e9, density=2700.0))
+    assert e.value.field == "structure.beam.poisson_ratio"

@@ -409,3 +409,35 @@ def test_with_damper_reselects_the_count():
     assert float(r16.bed_mass) == pytest.approx(PAPER_DAMPER.with_count(16).bed_mass)
     with pytest.raises(InputError, match="covers 16-32 particles"):
         m32.with_damper(PAPER_DAMPER.with_count(48))
+
+
+# -- the g a map was made at
+def test_a_map_records_the_gravity_it_was_made_at():
+    ds = effective_field(AnalyticalDamper(PAPER_DAMPER, gravity=3.7), [4.0, 6.0], [0.01, 0.03])
+    assert ds.attrs["gravity"] == 3.7
+    assert ds.attrs["gravity_units"] == "m/s^2"
+
+
+@pytest.mark.parametrize("strict", [True, False])
+def test_a_map_made_at_another_gravity_is_refused(analytic_map, strict):
+    with pytest.raises(InputError) as e:
+        EffectiveFieldDamper(PAPER_DAMPER, field=analytic_map, strict=strict, gravity=0.0)
+    assert e.value.field == "excitation.gravity"
+    assert "9.81 m/s^2, got 0 m/s^2" in str(e.value)
+
+
+def test_a_map_is_used_at_its_own_gravity(analytic_map):
+    m = EffectiveFieldDamper(PAPER_DAMPER, field=analytic_map, gravity=9.81)
+    assert np.isfinite(float(m.response(6.0, 0.03).loss_factor))
+
+
+def test_a_fields_scenario_at_zero_gravity_refuses_a_map_made_at_9_81(cli, tmp_path,
+                                                                       analytic_map):
+    analytic_map.to_netcdf(tmp_path / "m.nc")
+    sc = tmp_path / "s.toml"
+    sc.write_text('[excitation]\ngravity = "0 m/s^2"\n[simulation]\nmodel = "fields"\n'
+                  f'[fields]\nfile = "{tmp_path / "m.nc"}"\nstrict = true\n')
+    code, out, err = cli("frf", "--scenario", str(sc), "--frequency", "5Hz")
+    assert code == 2
+    assert err.strip().splitlines() == [err.strip()]
+    assert err.startswith("error: excitation.gravity:") and "9.81" in err

@@ -58,6 +58,10 @@ _PHASE_TOL = 1e-9
 #: far below (the physics checks of pdamper.resources bound the acceleration ratio to
 #: ~1e6, a flight to ~3e5 cycles); beyond, the answer is an error, not minutes of scanning.
 MAX_FLIGHT_CYCLES = 1_000_000
+#: Flight from the lid [cycles] beyond which the bed counts as scattering: a subharmonic of
+#: order k dissipates eta <= ETA_MAX / (1 + k) (Eq. 18, dv_st, dv_nd <= 2 V), below the
+#: scattering bed's SOLID_LOSS_FACTOR (Eq. 8) from k = ETA_MAX / SOLID_LOSS_FACTOR on.
+_DRIFT_CYCLES = 1274
 
 
 def optimal_stroke(clearance):
@@ -422,9 +426,20 @@ class _Flights:
             return (st[idx, None] + ht[idx, None] + ct[idx, None] * s
                     - s**2 / (2.0 * gam[idx, None]))
 
+        max2 = phi_tt + _flight_span(st + ht, ct, -1.0, ht + 1.0, gam) + 2 * math.pi
+        # weak or no gravity: a bed released from the lid almost at rest in the mean frame
+        # (phi_tt near 3 pi / 2) drifts above the bottom's sweep (y > 1 stroke) for more than
+        # _DRIFT_CYCLES before it can land: it touches the lid again (scattering) or lands
+        # as a subharmonic of an order whose eta is below the scattering bed's (Eq. 8);
+        # either way it has no repetitive trajectory worth the scan
+        y0 = st[i] + ht[i]
+        with np.errstate(invalid="ignore"):
+            drift = (y0 > 1.0) & ~(_flight_span(y0, ct[i], 1.0, np.inf, gam[i])
+                                   <= 2.0 * math.pi * _DRIFT_CYCLES)
+        mode[i[drift]] = int(MotionMode.SCATTERING)
+        i = i[~drift]
         act = np.zeros(self.f.size, bool)
         act[i] = True
-        max2 = phi_tt + _flight_span(st + ht, ct, -1.0, ht + 1.0, gam) + 2 * math.pi
         _check_flight(phi_tt, max2, act, self.f, self.x, gam)
         bot2 = _first_crossing(lambda p, k: y_bed2(p, k) - np.sin(p), phi_tt, act, max2,
                                rising=False)

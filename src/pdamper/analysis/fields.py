@@ -177,6 +177,9 @@ def _model_attrs(model, bed_mass: float | None) -> dict:
     out = {"model": getattr(model, "fidelity", type(model).__name__)}
     if bed_mass is not None:
         out.update(bed_mass=float(bed_mass), bed_mass_units="kg")
+    gravity = getattr(model, "gravity", None)
+    if isinstance(gravity, int | float):  # the fields hold at this g only
+        out.update(gravity=float(gravity), gravity_units="m/s^2")
     damper = getattr(model, "damper", None)
     if damper is not None:
         out.update(clearance=damper.clearance, clearance_units="m",

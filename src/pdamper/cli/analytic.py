@@ -9,6 +9,14 @@ import typer
 from pdamper.cli import _uncertainty
 from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, emit, key_help, load, metadata
 
+#: Scenario sections this command reads nothing of, with the reason (JSON ``unused_inputs``).
+_UNUSED = {
+    "load": "the analytical model answers one harmonic stroke (f, X) of the container; a load "
+            "history drives a structure (pdamper simulate)",
+    "structure": "the analytical model answers the damper alone at the stroke X; the "
+                 "structure enters pdamper simulate, frf and optimize",
+}
+
 
 def analytic(
     frequency: Annotated[str | None, typer.Option(help=key_help(
@@ -75,6 +83,10 @@ def analytic(
         f"  clearance h                  {format_quantity(damper.clearance, 'mm')}\n"
         f"  optimal stroke X_opt = h/pi  {format_quantity(damper.optimal_stroke, 'mm')}"
     )
+    unused = {k: why for k, why in _UNUSED.items() if k in sc.model_fields_set}
+    if unused:
+        payload["unused_inputs"] = unused
+        human += "".join(f"\nunused: [{k}]: {why}" for k, why in unused.items())
     if uncertainty is not None:
         from pdamper.runs.uncertainty import propagate_scenario
 

@@ -265,6 +265,8 @@ def _report(sc: Scenario, res: DesignStudyResult, history: LoadHistory | None, n
                          "container_length": "m", "container_width": "m",
                          "container_depth": "m", "threshold": "m"},
                **metadata(sc)}
+    if why := {**res.not_applicable(), **res.unset_reasons()}:
+        payload["not_applicable"] = why
     if seeds is not None:
         payload["statistic"] = "mean"
         payload["realisations"] = {"count": len(seeds), "seeds": seeds, "std_ddof": 1,

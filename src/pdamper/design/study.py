@@ -622,9 +622,13 @@ class DesignCandidate:
         return self.status != "infeasible"
 
     def as_dict(self) -> dict:
-        return {"particles": self.particles, "mass": self.mass, "objective": self.objective,
-                **self.design, "feasible": self.feasible, "status": self.status,
-                "reason": self.reason, **self.extra}
+        out = {"particles": self.particles, "mass": self.mass, "objective": self.objective,
+               **self.design, "feasible": self.feasible, "status": self.status,
+               "reason": self.reason, **self.extra}
+        why = (f"the design is {self.status}: {self.reason}" if self.status != "ok"
+               else "not computed for this design")
+        na = {k: why for k, v in out.items() if v is None}
+        return {**out, "not_applicable": na} if na else out
 
 
 @dataclass(frozen=True)
@@ -700,6 +704,19 @@ class DesignStudyResult:
             return {}
         return {"best": why, "lightest_within": f"there is no best design: {why}"}
 
+    def unset_reasons(self) -> dict[str, str]:
+        """``key -> reason`` of the settings of :meth:`as_dict` that are null for this
+        objective and method (``threshold``, ``seed``): with :meth:`not_applicable`, every
+        null of its top level (``pdamper optimize --json``)."""
+        why: dict[str, str] = {}
+        if self.objective.threshold is None:
+            why["threshold"] = (f"the objective {self.objective.name!r} has no threshold "
+                                "(only settling-time has one)")
+        if self.seed is None:
+            why["seed"] = (f"the method {self.method!r} draws no random numbers (only "
+                           "optimize, the differential evolution, is seeded)")
+        return why
+
     def as_dict(self) -> dict:
         return {
             "best": None if self.best is None else self.best.as_dict(),
@@ -723,12 +740,22 @@ class DesignStudyResult:
             "failures": [{**{v.name: c.design[v.name] for v in self.variables},
                           "reason": c.reason} for c in self.failures],
             **({"not_applicable": na} if (na := self.not_applicable()) else {}),
-            "variables": [{"name": v.name, "field": VARIABLES[v.name].field,
-                           "spec": v.spec, "kind": v.kind,
-                           "values": None if v.values is None else list(v.values),
-                           "bounds": None if v.bounds is None else list(v.bounds)}
-                          for v in self.variables],
+            "variables": [_variable_dict(v) for v in self.variables],
         }
+
+
+def _variable_dict(v: DesignVariable) -> dict:
+    """A design variable as JSON: its ``values`` (a list or grid) or its ``bounds`` (an
+    interval), the other null with its reason in ``not_applicable``."""
+    out: dict = {"name": v.name, "field": VARIABLES[v.name].field, "spec": v.spec,
+                 "kind": v.kind, "values": None if v.values is None else list(v.values),
+                 "bounds": None if v.bounds is None else list(v.bounds)}
+    na = {}
+    if v.values is None:
+        na["values"] = "an interval: the search takes values within its bounds"
+    if v.bounds is None:
+        na["bounds"] = "the values are listed (or a grid): no interval to search"
+    return {**out, "not_applicable": na} if na else out
 
 
 def describe_design(c: DesignCandidate, names: Sequence[str]) -> str:

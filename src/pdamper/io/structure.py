@@ -50,6 +50,14 @@ def beam_structure(spec: BeamSpec) -> ModalStructure:
         m = _material(spec.material, "structure.beam.material")
         e, nu, rho = m.youngs_modulus, m.poisson_ratio, m.density
     else:
+        constants = ("youngs_modulus", "poisson_ratio", "density")
+        given = [k for k in constants if getattr(spec, k) is not None]
+        if given and len(given) < len(constants):
+            # the rest would silently be the paper's beam's: a beam of two materials
+            missing = [k for k in constants if k not in given]
+            raise InputError(f"structure.beam.{missing[0]}", f"give all three constants "
+                             f"({', '.join(constants)}) or a material; got only "
+                             f"{', '.join(given)}, missing {', '.join(missing)}")
         e, nu, rho = (_BEAM.youngs_modulus if spec.youngs_modulus is None
                       else spec.youngs_modulus,
                       _BEAM.poisson_ratio if spec.poisson_ratio is None

@@ -71,7 +71,7 @@ from typing import Any
 import numpy as np
 
 from pdamper.damper import ParticleDamper
-from pdamper.errors import InputError
+from pdamper.errors import InputError, check_range
 from pdamper.models.analytical import AnalyticalDamper
 from pdamper.models.base import DamperModel, DamperResponse
 
@@ -215,6 +215,10 @@ class EffectiveFieldDamper(DamperModel):
         ``"mask"`` (default): cells flagged non-stationary are holes; ``"use"``: use them.
     strict
         Whether a map made for another geometry is an error (default) or a warning.
+    gravity
+        g [m/s^2] of the simulated damper, or None (not checked). A map records the g it
+        was made at (attribute ``gravity``); a map made at another g is refused whatever
+        ``strict`` says: the fields of a bed under gravity do not hold without it.
 
     Examples
     --------
@@ -231,6 +235,7 @@ class EffectiveFieldDamper(DamperModel):
 
     fidelity = "fields"
     coupling = "pseudo_force"
+    takes_gravity = True
     #: per particle count of the map (None: no count axis): the count, its grid, its bed mass
     _grids: list[tuple[int | None, _Grid, float]]
     #: the grids read for the damper's count with their weights (empty: model 3 throughout)
@@ -239,7 +244,7 @@ class EffectiveFieldDamper(DamperModel):
     def __init__(self, damper: ParticleDamper, file: str | Path | None = None, *,
                  field: Any = None, extrapolation: str = "error",
                  interpolate: str = "loss_factor", nonstationary: str = "mask",
-                 strict: bool = True):
+                 strict: bool = True, gravity: float | None = None):
         super().__init__(damper)
         for name, value, allowed in (("fields.extrapolation", extrapolation, EXTRAPOLATIONS),
                                      ("fields.interpolate", interpolate, INTERPOLATED),
@@ -252,6 +257,8 @@ class EffectiveFieldDamper(DamperModel):
         self.interpolate = interpolate
         self.nonstationary = nonstationary
         self.strict = strict
+        self.gravity = None if gravity is None else check_range("excitation.gravity", gravity,
+                                                                low=0.0, unit="m/s^2")
         if (file is None) == (field is None):
             raise InputError("fields.file", "the fields model needs one effective-field map: "
                              "a NetCDF file from `pdamper map` (--fields FILE or [fields] file)")
@@ -261,7 +268,9 @@ class EffectiveFieldDamper(DamperModel):
         self._label = self.file or "the given map"
         self.map_attrs = dict(ds.attrs)
         self._map = ds
-        self._analytic = AnalyticalDamper(damper) if extrapolation == "analytic" else None
+        self._analytic = (AnalyticalDamper(damper, **({} if self.gravity is None else
+                                                      {"gravity": self.gravity}))
+                          if extrapolation == "analytic" else None)
         self._setup(ds)
 
     # ------------------------------------------------------------------ set-up
@@ -366,12 +375,30 @@ class EffectiveFieldDamper(DamperModel):
                 logger.info("%s was made for %s spheres, the damper has %s: eta and the mass "
                             "ratio are per bed mass (Sect. 3.2), so the map is used as is",
                             self._label, name, d.particle_material.name)
+        self._check_gravity(attrs, inputs)
         if problems:
             msg = f"{self._label} does not match the damper: " + "; ".join(problems)
             if self.strict:
                 raise InputError("fields.file", msg + " (set [fields] strict = false to use it "
                                  "anyway)")
             logger.warning("%s", msg)
+
+    def _check_gravity(self, attrs, inputs) -> None:
+        """Refuse a map made at another g than :attr:`gravity` (the ``gravity`` attribute;
+        for maps without it, ``excitation.gravity`` of its recorded ``inputs``)."""
+        if self.gravity is None:
+            return
+        theirs = attrs.get("gravity")
+        if theirs is None and isinstance(inputs, dict):
+            theirs = (inputs.get("excitation") or {}).get("gravity")
+        try:
+            made_at = float(theirs)
+        except (TypeError, ValueError):
+            return  # a map that does not say: nothing to compare
+        if not math.isclose(made_at, self.gravity, rel_tol=_GEOMETRY_RTOL, abs_tol=1e-12):
+            raise InputError("excitation.gravity", f"must be the g {self._label} was made at, "
+                             f"{made_at:g} m/s^2, got {self.gravity:g} m/s^2 (make a map "
+                             f"with [excitation] gravity = \"{self.gravity:g} m/s^2\")")
 
     def _select_count(self) -> None:
         n = self.damper.count
