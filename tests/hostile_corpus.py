@@ -705,3 +705,47 @@ HEADROOM: dict[str, float] = {
         "optimize-vary-radius-1e8", "ok-analytic-scenario-vary-particles-1e9")}
 # forced response (frf): a frequency count judged before the grid is built
 HEADROOM["frf-frequency-count-1e9"] = 2**30
+
+# -- costs of the forced response judged before the work: frequencies x sweeps x cycles per
+# step x modes x the fidelity's per-cycle cost (refusals are instant; --allow-cost lifts
+# the usual limits as every other command's --force)
+_MODES_HEAD = "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n"
+FILES.update({
+    "modes_50.csv": _MODES_HEAD + "".join(f"{5.56 * k:.3f}, 0.01, 0.5\n" for k in range(1, 51)),
+    "modes_1000.csv": _MODES_HEAD + "".join(f"{5.56 * k:.3f}, 0.01, 0.5\n"
+                                            for k in range(1, 1001)),
+})
+SCENARIOS.update({
+    "modes_50": '[structure]\nmodes = "modes_50.csv"\n',
+    "modes_1000": '[structure]\nmodes = "modes_1000.csv"\n',
+    "frf_dem": '[simulation]\nmodel = "dem"\n',
+})
+CASES += [
+    ("frf-frequency-count-20000", ["frf", "--frequency", "4Hz:7Hz:20000"], Error("frequency")),
+    ("frf-frequency-count-100000", ["frf", "--frequency", "4Hz:7Hz:100000"],
+     Error("frequency")),
+    ("frf-max-cycles-1e8", ["frf", "--frequency", "5Hz", "--max-cycles", "100000000"],
+     Error("max_cycles")),
+    ("ok-frf-max-cycles-1e8-allow-cost", ["frf", "--frequency", "5Hz", "--max-cycles",
+                                          "100000000", "--allow-cost", "--json"], OK()),
+    ("frf-modes-50-grid", ["frf", "--modes", "{tmp}/modes_50.csv", "--frequency",
+                           "3Hz:9Hz:1000"], Error("structure.modes")),
+    ("frf-modes-50-grid-scenario", ["frf", "--scenario", "{scenario:modes_50}", "--frequency",
+                                    "3Hz:9Hz:1000"], Error("structure.modes")),
+    ("frf-modes-1000-one-frequency", ["frf", "--modes", "{tmp}/modes_1000.csv", "--frequency",
+                                      "5Hz"], Error("structure.modes")),
+    ("frf-modes-1000-one-frequency-scenario", ["frf", "--scenario", "{scenario:modes_1000}",
+                                               "--frequency", "5Hz"], Error("structure.modes")),
+    ("frf-dem-1mHz", ["frf", "--model", "dem", "--frequency", "0.001Hz"], Error("frequency")),
+    ("frf-dem-1mHz-scenario", ["frf", "--scenario", "{scenario:frf_dem}", "--frequency",
+                               "0.001Hz"], Error("frequency")),
+    ("frf-dem-1mHz-allowed-beyond-any-run", ["frf", "--model", "dem", "--frequency",
+                                             "0.0001Hz", "--allow-cost"], Error("frequency")),
+    ("ok-frf-modes-50-few-cycles", ["frf", "--modes", "{tmp}/modes_50.csv", "--frequency",
+                                    "5Hz", "--max-cycles", "5", "--json"], OK()),
+]
+HEADROOM.update({name: 2**30 for name in (
+    "frf-frequency-count-20000", "frf-frequency-count-100000", "frf-modes-50-grid",
+    "frf-modes-50-grid-scenario", "frf-modes-1000-one-frequency",
+    "frf-modes-1000-one-frequency-scenario", "frf-dem-1mHz", "frf-dem-1mHz-scenario",
+    "frf-dem-1mHz-allowed-beyond-any-run")})
