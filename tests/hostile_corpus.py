@@ -749,3 +749,26 @@ HEADROOM.update({name: 2**30 for name in (
     "frf-modes-50-grid-scenario", "frf-modes-1000-one-frequency",
     "frf-modes-1000-one-frequency-scenario", "frf-dem-1mHz", "frf-dem-1mHz-scenario",
     "frf-dem-1mHz-allowed-beyond-any-run")})
+
+# -- the forced-response objectives: the band judged before it is built, the load against
+# the physics limits at the steady stroke it drives the bare structure to
+SCENARIOS.update({
+    "study_frf_load_huge": '[optimization]\nobjective = "peak-frf"\nfrf_load = "1e6 N"\n',
+    "study_band_huge": '[optimization]\nobjective = "peak-frf"\nband = "4Hz:7Hz:1000000"\n',
+})
+CASES += [
+    ("optimize-frf-load-1e6N", ["optimize", "--objective", "peak-frf", "--frf-load", "1e6N"],
+     Error("optimization.frf_load")),
+    ("optimize-frf-load-1e6N-scenario", ["optimize", "--scenario",
+                                         "{scenario:study_frf_load_huge}"],
+     Error("optimization.frf_load")),
+    ("optimize-band-count-100000", ["optimize", "--objective", "peak-frf", "--band",
+                                    "4Hz:7Hz:100000"], Error("optimization.band")),
+    ("optimize-band-count-1e6", ["optimize", "--objective", "peak-frf", "--band",
+                                 "4Hz:7Hz:1000000"], Error("optimization.band")),
+    ("optimize-band-count-1e6-scenario", ["optimize", "--scenario",
+                                          "{scenario:study_band_huge}"],
+     Error("optimization.band")),
+]
+HEADROOM.update({name: 2**30 for name in (
+    "optimize-band-count-100000", "optimize-band-count-1e6", "optimize-band-count-1e6-scenario")})

@@ -236,6 +236,8 @@ def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperMo
         candidates = len(counts)
         drivers += (("optimization.step", (d0.per_layer / step)
                      * (damper.max_count / d0.max_count), True),)
+    if o.objective in ("peak-frf", "rms-frf"):
+        _check_frf_objective(sc, damper, cls, candidates, force, req)
     # one candidate; where the time grows with the count, the mean count stands for all
     one = cls.free_vibration_cost(damper, duration, 200.0, structure.natural_frequency,
                                   sc.settings_of(cls), x0=sc.structure.initial_displacement,
@@ -245,6 +247,50 @@ def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperMo
         one.memory + candidates * resources.BYTES_PER_CANDIDATE,
         f"{candidates:.3g} candidates, each {one.detail}", drivers,
         runs=int(min(candidates, 2**62)), longest=one.seconds), force)
+
+
+def _check_frf_objective(sc: Scenario, damper: ParticleDamper, cls: type[DamperModel],
+                         candidates: float, force: bool, req: Require) -> None:
+    """The forced-response objectives: the band's count judged before it is built, one
+    forced response per candidate (:func:`frf_cost`), and the load against the physics
+    limits at the largest steady stroke it drives the bare structure to over the band."""
+    from pdamper.coupling.frf import HarmonicLoad, _modal, check_damped, receptance
+    from pdamper.coupling.frf import load_force as harmonic_force
+    from pdamper.design.study import FRF_BAND, FRF_LOAD
+    from pdamper.io.scenario import parse_axis
+
+    o = sc.optimization
+    structure = sc.structure_model()
+    check_damped(structure)  # an undamped structure's response is unbounded: said first
+    if o.band is not None and ":" in o.band:
+        count = parse_axis(o.band, "Hz", "optimization.band")[2]  # before the grid exists
+        req(resources.count_cost(count, "the band", "frequencies",
+                                 bytes_each=resources.FRF_BYTES_PER_STROKE * 800,
+                                 field="optimization.band", usual=FRF_BAND[2]), force)
+    band = o.frf_band()
+    if band is None:
+        lo, hi, n = FRF_BAND
+        band = np.linspace(lo * structure.natural_frequency, hi * structure.natural_frequency, n)
+    band = np.atleast_1d(np.asarray(band, float))
+    load = HarmonicLoad.parse(o.frf_load or FRF_LOAD, field="optimization.frf_load")
+    one = frf_cost(sc, cls.fidelity, band, load)
+    req(resources.Cost("the optimisation's forced responses", one.seconds * candidates,
+                       one.memory, f"{candidates:.3g} candidates, each {one.detail}",
+                       (("optimization.band", band.size / FRF_BAND[2]),),
+                       runs=int(min(candidates, 2**62)), longest=one.seconds), force)
+    s_ = _modal(structure)
+    if s_.modes != 1 or not s_.coincident:
+        return
+    x = np.array([abs(complex(receptance(s_, f))) * abs(harmonic_force(s_, load, f))
+                  for f in band])
+    k = int(np.argmax(x))
+    try:
+        resources.check_motion(damper, float(band[k]), float(x[k]),
+                               fields=("optimization.band", "optimization.frf_load"),
+                               usual=(math.inf, 0.0), gravity=sc.excitation.gravity)
+    except InputError as exc:
+        raise InputError(exc.field, f"the load drives the bare structure to {x[k]:.3g} m at "
+                         f"{band[k]:.3g} Hz: {exc.message}") from None
 
 
 def check_frf(scenario: Scenario, model: str | None, frequencies: Sequence[float] | np.ndarray,
