@@ -727,3 +727,70 @@ CASES += [
     ("beam-no-density-simulate", ["simulate", "--scenario", "{scenario:beam_no_density}"],
      Error("structure.beam.density")),
 ]
+
+# -- costs of the forced response judged before the work: frequencies x sweeps x cycles per
+# step x modes x the fidelity's per-cycle cost (refusals are instant; --allow-cost lifts
+# the usual limits as every other command's --force)
+_MODES_HEAD = "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n"
+FILES.update({
+    "modes_50.csv": _MODES_HEAD + "".join(f"{5.56 * k:.3f}, 0.01, 0.5\n" for k in range(1, 51)),
+    "modes_1000.csv": _MODES_HEAD + "".join(f"{5.56 * k:.3f}, 0.01, 0.5\n"
+                                            for k in range(1, 1001)),
+})
+SCENARIOS.update({
+    "modes_50": '[structure]\nmodes = "modes_50.csv"\n',
+    "modes_1000": '[structure]\nmodes = "modes_1000.csv"\n',
+    "frf_dem": '[simulation]\nmodel = "dem"\n',
+})
+CASES += [
+    ("frf-frequency-count-20000", ["frf", "--frequency", "4Hz:7Hz:20000"], Error("frequency")),
+    ("frf-frequency-count-100000", ["frf", "--frequency", "4Hz:7Hz:100000"],
+     Error("frequency")),
+    ("frf-max-cycles-1e8", ["frf", "--frequency", "5Hz", "--max-cycles", "100000000"],
+     Error("max_cycles")),
+    ("ok-frf-max-cycles-1e8-allow-cost", ["frf", "--frequency", "5Hz", "--max-cycles",
+                                          "100000000", "--allow-cost", "--json"], OK()),
+    ("frf-modes-50-grid", ["frf", "--modes", "{tmp}/modes_50.csv", "--frequency",
+                           "3Hz:9Hz:1000"], Error("structure.modes")),
+    ("frf-modes-50-grid-scenario", ["frf", "--scenario", "{scenario:modes_50}", "--frequency",
+                                    "3Hz:9Hz:1000"], Error("structure.modes")),
+    ("frf-modes-1000-one-frequency", ["frf", "--modes", "{tmp}/modes_1000.csv", "--frequency",
+                                      "5Hz"], Error("structure.modes")),
+    ("frf-modes-1000-one-frequency-scenario", ["frf", "--scenario", "{scenario:modes_1000}",
+                                               "--frequency", "5Hz"], Error("structure.modes")),
+    ("frf-dem-1mHz", ["frf", "--model", "dem", "--frequency", "0.001Hz"], Error("frequency")),
+    ("frf-dem-1mHz-scenario", ["frf", "--scenario", "{scenario:frf_dem}", "--frequency",
+                               "0.001Hz"], Error("frequency")),
+    ("frf-dem-1mHz-allowed-beyond-any-run", ["frf", "--model", "dem", "--frequency",
+                                             "0.0001Hz", "--allow-cost"], Error("frequency")),
+    ("ok-frf-modes-50-few-cycles", ["frf", "--modes", "{tmp}/modes_50.csv", "--frequency",
+                                    "5Hz", "--max-cycles", "5", "--json"], OK()),
+]
+HEADROOM.update({name: 2**30 for name in (
+    "frf-frequency-count-20000", "frf-frequency-count-100000", "frf-modes-50-grid",
+    "frf-modes-50-grid-scenario", "frf-modes-1000-one-frequency",
+    "frf-modes-1000-one-frequency-scenario", "frf-dem-1mHz", "frf-dem-1mHz-scenario",
+    "frf-dem-1mHz-allowed-beyond-any-run")})
+
+# -- the forced-response objectives: the band judged before it is built, the load against
+# the physics limits at the steady stroke it drives the bare structure to
+SCENARIOS.update({
+    "study_frf_load_huge": '[optimization]\nobjective = "peak-frf"\nfrf_load = "1e6 N"\n',
+    "study_band_huge": '[optimization]\nobjective = "peak-frf"\nband = "4Hz:7Hz:1000000"\n',
+})
+CASES += [
+    ("optimize-frf-load-1e6N", ["optimize", "--objective", "peak-frf", "--frf-load", "1e6N"],
+     Error("optimization.frf_load")),
+    ("optimize-frf-load-1e6N-scenario", ["optimize", "--scenario",
+                                         "{scenario:study_frf_load_huge}"],
+     Error("optimization.frf_load")),
+    ("optimize-band-count-100000", ["optimize", "--objective", "peak-frf", "--band",
+                                    "4Hz:7Hz:100000"], Error("optimization.band")),
+    ("optimize-band-count-1e6", ["optimize", "--objective", "peak-frf", "--band",
+                                 "4Hz:7Hz:1000000"], Error("optimization.band")),
+    ("optimize-band-count-1e6-scenario", ["optimize", "--scenario",
+                                          "{scenario:study_band_huge}"],
+     Error("optimization.band")),
+]
+HEADROOM.update({name: 2**30 for name in (
+    "optimize-band-count-100000", "optimize-band-count-1e6", "optimize-band-count-1e6-scenario")})

@@ -26,8 +26,9 @@ implied cost or the reason, and how to get below the limit:
   below half the sphere radius; Hertz's theory assumes ``a << R`` (the paper's fastest
   corner gives a/R = 0.47; 200 Hz x 32 mm gives 0.57).
 
-**Cost** (``--force`` overrides; estimates are orders of magnitude, meant to catch inputs
-that are off by orders of magnitude, not to tune runs).
+**Cost** (``--force`` overrides, ``--allow-cost`` in ``pdamper frf``, whose ``--force`` is its
+load; estimates are orders of magnitude, meant to catch inputs that are off by orders of
+magnitude, not to tune runs).
 
 - :data:`MAX_SCENARIO_BYTES`: a scenario file of at most 1 MiB (no override: a scenario
   describes one damper in a few hundred bytes).
@@ -130,6 +131,18 @@ PSEUDO_FORCE_BYTES_PER_SAMPLE = 16 * 3
 BYTES_PER_VALUE = 64
 #: A candidate of a design study: its design, result record and JSON text.
 BYTES_PER_CANDIDATE = 2048
+#: Forced response (:mod:`pdamper.coupling.frf`) of a pseudo-force model: seconds and bytes
+#: per stroke of a frequency's describing-function table (measured with the analytical
+#: model: 12-15 ms and 35 KB for the 800 strokes of a frequency), and seconds per load cycle
+#: of a stepped-sine step: a fixed part plus the cycle's matrix exponential and solves of the
+#: 2N x 2N modal state matrix, ~(2N)^3 (measured: 0.05 ms for one mode, 4 ms for 50).
+FRF_SECONDS_PER_STROKE = 2e-5
+FRF_BYTES_PER_STROKE = 48
+FRF_SECONDS_PER_CYCLE = 1e-4
+FRF_SECONDS_PER_STATE_CUBED = 4e-9
+#: Bytes per entry of the 2N x 2N state matrices a stepped-sine cycle holds (about ten
+#: complex matrices: the state matrix, its exponential, the solves' work arrays).
+FRF_BYTES_PER_STATE_ENTRY = 160
 #: One simulated single impact of ``pdamper cor`` (an engine built and run; measured over
 #: 0.01-2 m/s: 0.7 ms with Gear, 9 ms with Verlet).
 SECONDS_PER_IMPACT = 0.01
@@ -426,8 +439,10 @@ class Cost:
     remedy: str | None = None
 
 
-def require(cost: Cost, force: bool = False) -> Cost:
+def require(cost: Cost, force: bool = False, override: str = "--force") -> Cost:
     """Refuse ``cost`` above the limits (see the module's documentation); returns it.
+    ``override`` is the option that lifts the usual limits, named in the messages
+    (``--force``; ``pdamper frf``, whose ``--force`` is its load: ``--allow-cost``).
 
     Raises
     ------
@@ -447,24 +462,24 @@ def require(cost: Cost, force: bool = False) -> Cost:
     if seconds > FORCE_TIME_LIMIT:
         raise InputError(field, f"{cost.what} would take about {_duration(seconds)} on one "
                          f"core ({cost.detail}), beyond any run ({_duration(FORCE_TIME_LIMIT)} "
-                         f"even with --force); {lower}")
+                         f"even with {override}); {lower}")
     if force:
         return cost
     if memory > MEMORY_LIMIT:
         raise InputError(field, f"{cost.what} would need {_gib(memory)} of memory "
                          f"({cost.detail}), above the limit of {_gib(MEMORY_LIMIT)}; "
-                         f"{lower}, or pass --force")
+                         f"{lower}, or pass {override}")
     longest = seconds if cost.longest is None else cost.longest
     if longest > TIME_LIMIT:
         each = "" if cost.runs == 1 else " per run"
         raise InputError(field, f"{cost.what} would take about {_duration(longest)}{each} on "
                          f"one core ({cost.detail}), above the limit of "
-                         f"{_duration(TIME_LIMIT)}; {lower}, or pass --force")
+                         f"{_duration(TIME_LIMIT)}; {lower}, or pass {override}")
     if cost.runs > 1 and seconds > SWEEP_TIME_LIMIT:
         raise InputError(field, f"{cost.what} would take about {_duration(seconds)} on one "
                          f"core in all ({cost.detail}), above the limit of "
                          f"{_duration(SWEEP_TIME_LIMIT)} for a sweep; {lower}, or pass "
-                         f"--force")
+                         f"{override}")
     return cost
 
 
@@ -547,3 +562,26 @@ def pseudo_force_cost(duration: float, sample_rate: float, natural_frequency: fl
     return Cost(what, cycles * PSEUDO_FORCE_SECONDS_PER_CYCLE,
                 samples * PSEUDO_FORCE_BYTES_PER_SAMPLE,
                 f"{samples:.3g} samples, {cycles:.3g} damper updates", tuple(drivers))
+
+
+def stepped_sine_cost(frequencies: float, cycles: float, sweeps: int, modes: int,
+                      strokes: int, drivers: Iterable[tuple] = (),
+                      what: str = "the forced response") -> Cost:
+    """Cost of a pseudo-force forced response (:func:`pdamper.coupling.frf.frequency_response`)
+    at ``frequencies`` frequencies: a describing-function table of ``strokes`` strokes per
+    frequency (shared by harmonic balance and the sweeps, all held at once) and ``sweeps``
+    stepped sines of at most ``cycles`` load cycles per step on ``modes`` modes, each cycle
+    ~(2N)^3 (the modal state's matrix exponential).
+
+    >>> c = stepped_sine_cost(121, 2000, 2, 1, 800)
+    >>> round(c.seconds)
+    50
+    """
+    nf, n = float(frequencies), float(max(int(modes), 1))
+    per_cycle = FRF_SECONDS_PER_CYCLE + FRF_SECONDS_PER_STATE_CUBED * (2.0 * n) ** 3
+    steps = nf * max(int(sweeps), 0)
+    seconds = nf * strokes * FRF_SECONDS_PER_STROKE + steps * float(cycles) * per_cycle
+    memory = nf * strokes * FRF_BYTES_PER_STROKE + FRF_BYTES_PER_STATE_ENTRY * (2.0 * n) ** 2
+    return Cost(what, seconds, memory,
+                f"{nf:.3g} frequencies x {int(sweeps)} sweeps x up to {float(cycles):.3g} "
+                f"cycles per step on {int(n)} modes", tuple(drivers))

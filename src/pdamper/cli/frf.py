@@ -70,6 +70,10 @@ def frf(
     plot: Annotated[str | None, plot_param("the amplitude and phase against frequency")] = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file of the response.")] = None,
     modes: ModesOpt = None,
+    allow_cost: Annotated[bool, typer.Option(
+        "--allow-cost", help="Allow a response whose estimated memory or run time is above the "
+                             "usual limits (2 GiB, 1 h), up to what this machine can hold; "
+                             "every other command's --force (here --force is the load).")] = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -77,6 +81,7 @@ def frf(
     harmonic balance (every branch) and stepped sines up and down."""
     from pdamper.coupling.frf import frequency_response
     from pdamper.errors import InputError, check_whole
+    from pdamper.runs.resources import check_frf
 
     load_ = parse_load(force, base)
     freqs = _frequencies(DEFAULT_FREQUENCY if frequency is None else frequency)
@@ -87,6 +92,8 @@ def frf(
     sc = load(scenario, simulation__model=model, particles__count=particles,
               fields__file=None if fields is None else str(fields),
               structure__modes=None if modes is None else str(modes))
+    # the cost of every frequency, sweep, cycle and mode, judged before any is solved
+    check_frf(sc, model, freqs, load_, max_cycles=max_cycles, sweep=sweep, force=allow_cost)
     out_path = check_output(out)
     plot_path = check_plot(plot)
     damper = sc.damper()

@@ -15,9 +15,12 @@ What has no physical meaning in any model is refused when the scenario is read
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from typing import TYPE_CHECKING, Any
+
+import numpy as np
 
 from pdamper import resources
 from pdamper.errors import InputError
@@ -25,11 +28,19 @@ from pdamper.io.scenario import Scenario
 from pdamper.parameters import vertical_dampers_paper as paper
 
 if TYPE_CHECKING:  # pragma: no cover
+    from pdamper.coupling.frf import HarmonicLoad
     from pdamper.damper import ParticleDamper
     from pdamper.models.base import DamperModel
 
 #: Runs whose cost :func:`check_resources` judges.
-RUNS = ("excitation", "map", "simulation", "optimization", "case_study", "case_study_dem")
+RUNS = ("excitation", "map", "simulation", "optimization", "case_study", "case_study_dem",
+        "frf")
+#: The option that lifts the cost limits of ``pdamper frf`` (its ``--force`` is the load).
+FRF_OVERRIDE = "--allow-cost"
+#: Usual frequency count, load cycles per step of a pseudo-force and of a DEM stepped sine,
+#: and the DEM's samples per load cycle (``pdamper frf``'s defaults).
+USUAL_FRF = {"frequencies": 121, "pseudo_force_cycles": 2000, "co_simulation_cycles": 60,
+             "samples_per_cycle": 64}
 #: Usual (f [Hz], X [m]) of a Level II run: the paper's benchmark point; of the two, the
 #: one further above its usual value is named when a motion is too fast.
 USUAL_EXCITATION = paper.BENCHMARK_EXCITATION
@@ -62,7 +73,9 @@ def check_resources(scenario: Scenario, run: str, model: str | None = None,
         ``"excitation"`` (Level II at ``[excitation]``), ``"map"`` (Level II over
         ``[map]``), ``"simulation"`` (Level III, ``[simulation]``), ``"optimization"``
         (``[optimization]``), ``"case_study"`` or ``"case_study_dem"`` (the paper's,
-        without or with the DEM model 1 run).
+        without or with the DEM model 1 run), ``"frf"`` (the forced response of
+        ``pdamper frf`` at its default load and frequencies; :func:`check_frf` judges
+        others).
     model
         Damper fidelity of ``excitation``, ``map`` and ``simulation`` (default
         ``"analytic"``; for ``simulation`` and ``optimization`` the ``[simulation]``
@@ -112,6 +125,11 @@ def check_resources(scenario: Scenario, run: str, model: str | None = None,
     elif run == "optimization":
         cls = get_damper_model(model or sim.model, field)
         _check_optimization(scenario, damper, cls, default, force, req)
+    elif run == "frf":
+        from pdamper.coupling.frf import HarmonicLoad
+
+        check_frf(scenario, model, np.linspace(3.0, 9.0, USUAL_FRF["frequencies"]),
+                  HarmonicLoad("force", 2.0), force=force, require=req)
     else:  # the paper's case study (pdamper.runs.paper_case_study)
         analytic = get_damper_model("analytic")
         _check_map(scenario, damper, analytic, default, force, req)
@@ -218,6 +236,8 @@ def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperMo
         candidates = len(counts)
         drivers += (("optimization.step", (d0.per_layer / step)
                      * (damper.max_count / d0.max_count), True),)
+    if o.objective in ("peak-frf", "rms-frf"):
+        _check_frf_objective(sc, damper, cls, candidates, force, req)
     # one candidate; where the time grows with the count, the mean count stands for all
     one = cls.free_vibration_cost(damper, duration, 200.0, structure.natural_frequency,
                                   sc.settings_of(cls), x0=sc.structure.initial_displacement,
@@ -229,4 +249,128 @@ def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperMo
         runs=int(min(candidates, 2**62)), longest=one.seconds), force)
 
 
-__all__ = ["RUNS", "USUAL_EXCITATION", "check_resources", "check_runs", "excitation_cost"]
+def _check_frf_objective(sc: Scenario, damper: ParticleDamper, cls: type[DamperModel],
+                         candidates: float, force: bool, req: Require) -> None:
+    """The forced-response objectives: the band's count judged before it is built, one
+    forced response per candidate (:func:`frf_cost`), and the load against the physics
+    limits at the largest steady stroke it drives the bare structure to over the band."""
+    from pdamper.coupling.frf import HarmonicLoad, _modal, check_damped, receptance
+    from pdamper.coupling.frf import load_force as harmonic_force
+    from pdamper.design.study import FRF_BAND, FRF_LOAD
+    from pdamper.io.scenario import parse_axis
+
+    o = sc.optimization
+    structure = sc.structure_model()
+    check_damped(structure)  # an undamped structure's response is unbounded: said first
+    if o.band is not None and ":" in o.band:
+        count = parse_axis(o.band, "Hz", "optimization.band")[2]  # before the grid exists
+        req(resources.count_cost(count, "the band", "frequencies",
+                                 bytes_each=resources.FRF_BYTES_PER_STROKE * 800,
+                                 field="optimization.band", usual=FRF_BAND[2]), force)
+    band = o.frf_band()
+    if band is None:
+        lo, hi, n = FRF_BAND
+        band = np.linspace(lo * structure.natural_frequency, hi * structure.natural_frequency, n)
+    band = np.atleast_1d(np.asarray(band, float))
+    load = HarmonicLoad.parse(o.frf_load or FRF_LOAD, field="optimization.frf_load")
+    one = frf_cost(sc, cls.fidelity, band, load)
+    req(resources.Cost("the optimisation's forced responses", one.seconds * candidates,
+                       one.memory, f"{candidates:.3g} candidates, each {one.detail}",
+                       (("optimization.band", band.size / FRF_BAND[2]),),
+                       runs=int(min(candidates, 2**62)), longest=one.seconds), force)
+    s_ = _modal(structure)
+    if s_.modes != 1 or not s_.coincident:
+        return
+    x = np.array([abs(complex(receptance(s_, f))) * abs(harmonic_force(s_, load, f))
+                  for f in band])
+    k = int(np.argmax(x))
+    try:
+        resources.check_motion(damper, float(band[k]), float(x[k]),
+                               fields=("optimization.band", "optimization.frf_load"),
+                               usual=(math.inf, 0.0), gravity=sc.excitation.gravity)
+    except InputError as exc:
+        raise InputError(exc.field, f"the load drives the bare structure to {x[k]:.3g} m at "
+                         f"{band[k]:.3g} Hz: {exc.message}") from None
+
+
+def check_frf(scenario: Scenario, model: str | None, frequencies: Sequence[float] | np.ndarray,
+              load: HarmonicLoad, *, max_cycles: int | None = None, sweep: str = "both",
+              force: bool = False, require: Require | None = None) -> resources.Cost:
+    """Refuse a forced response (``pdamper frf``) whose implied memory or time is above the
+    limits (``force``: up to the hard limits; the message names :data:`FRF_OVERRIDE`),
+    before any frequency is solved; returns its :func:`frf_cost`."""
+    cost = frf_cost(scenario, model, frequencies, load, max_cycles=max_cycles, sweep=sweep)
+    if require is not None:
+        return require(cost, force)
+    return resources.require(cost, force, override=FRF_OVERRIDE)
+
+
+def frf_cost(scenario: Scenario, model: str | None, frequencies: Sequence[float] | np.ndarray,
+             load: HarmonicLoad, *, max_cycles: int | None = None,
+             sweep: str = "both") -> resources.Cost:
+    """What the forced response of :func:`pdamper.coupling.frf.frequency_response` costs with
+    fidelity ``model`` (default ``[simulation] model``) on the scenario's structure, under
+    ``load`` at ``frequencies`` [Hz], judged from the counts before any work: the
+    fidelity's coupling decides the per-cycle cost.
+
+    - pseudo-force models (analytic, fields): frequencies x sweeps x ``max_cycles`` load
+      cycles per step x the cost of a cycle on N modes, ~(2N)^3, plus a describing-function
+      table per frequency (:func:`pdamper.resources.stepped_sine_cost`);
+    - the DEM (co-simulation): a DEM run of ``max_cycles`` load periods per frequency and
+      sweep (:func:`pdamper.resources.dem_cost`), its impacts at the fastest speed the
+      load's steady amplitude on the bare structure implies (``max_cycles / f`` simulated
+      seconds: a low frequency costs most).
+    """
+    from pdamper.coupling.frf import DEFAULT_MAX_CYCLES, DEFAULT_STROKES, _modal, receptance
+    from pdamper.coupling.frf import load_force as harmonic_force
+    from pdamper.models import get_damper_model
+
+    cls = get_damper_model(model or scenario.simulation.model,
+                           "model" if model else "simulation.model")
+    f = np.unique(np.asarray(frequencies, float).ravel())
+    nf = int(f.size)
+    sweeps = {"both": 2, "none": 0}.get(sweep, 1)
+    s = _modal(scenario.structure_model())
+    n = int(s.modes)
+    drivers: list[tuple] = [("frequency", nf / USUAL_FRF["frequencies"]),
+                            ("structure.modes", float(n))]
+    if cls.coupling == "co_simulation":
+        cycles = 60 if max_cycles is None else int(max_cycles)
+        damper = scenario.damper()
+        settings = scenario.settings_of(cls)
+        safety = getattr(settings, "safety", 0.1)
+        gravity = scenario.excitation.gravity
+        drivers += [("max_cycles", cycles / USUAL_FRF["co_simulation_cycles"]),
+                    ("frequency", 1.0 / float(f[0]), True),
+                    *_damper_drivers(damper, Scenario())]
+        # the lowest frequencies cost most (max_cycles / f simulated seconds): judge a sample
+        sample = f if nf <= 16 else f[np.unique(np.linspace(0, nf - 1, 16).astype(int))]
+        costs = []
+        for fk in sample:
+            fk = float(fk)
+            if s.modes == 1 and s.coincident:
+                x = abs(complex(receptance(s, fk))) * abs(harmonic_force(s, load, fk))
+            else:
+                x = 0.0  # refused by the coupling before any run (one DOF only)
+            speed = resources.impact_speed(x, fk, damper.length, gravity)
+            costs.append(resources.dem_cost(
+                damper, cycles / fk, speed, sample_rate=USUAL_FRF["samples_per_cycle"] * fk,
+                safety=safety, frequency=fk, gravity=gravity, drivers=drivers,
+                what="the DEM forced response"))
+        worst = max(costs, key=lambda c: c.seconds)
+        total = float(np.mean([c.seconds for c in costs])) * nf * sweeps
+        return resources.Cost(
+            "the DEM forced response", total, max(c.memory for c in costs),
+            f"{nf} frequencies x {sweeps} sweeps, the longest step {worst.detail}",
+            tuple(drivers), runs=max(1, nf * sweeps), longest=worst.seconds,
+            remedy="raise the lowest frequency, give frequency fewer values or lower "
+                   "max_cycles")
+    cycles = DEFAULT_MAX_CYCLES if max_cycles is None else int(max_cycles)
+    drivers.append(("max_cycles", cycles / USUAL_FRF["pseudo_force_cycles"]))
+    cost = resources.stepped_sine_cost(nf, cycles, sweeps, n, DEFAULT_STROKES, drivers)
+    return dataclasses.replace(cost, remedy="give frequency fewer values, lower max_cycles "
+                               "or give structure.modes fewer modes")
+
+
+__all__ = ["FRF_OVERRIDE", "RUNS", "USUAL_EXCITATION", "check_frf", "check_resources",
+           "check_runs", "excitation_cost", "frf_cost"]
