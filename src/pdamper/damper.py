@@ -99,6 +99,16 @@ def max_particles(box: Sequence[float], radius: float, gap: float = 0.0) -> int:
     return spheres_per_layer(box, radius, gap) * max_layers(box, radius, gap)
 
 
+def _cor_curve(pair: str, key: str) -> dict:
+    """The declaration of the COR curve of one pair type (``pair``: "sphere-sphere" or
+    "sphere-wall"), scenario key ``key``."""
+    return declared(
+        f"COR curve e(v) of {pair} impacts, Level I (needed by the DEM only; in a scenario "
+        "a constant COR or [restitution]).", low=0.0, high=1.0, low_inclusive=False,
+        kind="curve", key=key,
+        none="not given (the analytical and field models do not use it)")
+
+
 @dataclass(frozen=True)
 class ParticleDamper:
     """A rectangular container with ``count`` equal spheres.
@@ -152,18 +162,10 @@ class ParticleDamper:
         "Sliding friction coefficient mu of every contact (needed by the DEM only).",
         low=0.0, kind="number", key="particles.friction",
         none="not given (the analytical and field models do not use it)"))
-    restitution_pp: RestitutionCurve | None = field(default=None, metadata=declared(
-        "COR curve e(v) of sphere-sphere impacts, Level I (needed by the DEM only; in a "
-        "scenario a constant COR or [restitution]).",
-        low=0.0, high=1.0, low_inclusive=False, kind="curve",
-        key="dem.restitution_pp",
-        none="not given (the analytical and field models do not use it)"))
-    restitution_pw: RestitutionCurve | None = field(default=None, metadata=declared(
-        "COR curve e(v) of sphere-wall impacts, Level I (needed by the DEM only; in a "
-        "scenario a constant COR or [restitution]).",
-        low=0.0, high=1.0, low_inclusive=False, kind="curve",
-        key="dem.restitution_pw",
-        none="not given (the analytical and field models do not use it)"))
+    restitution_pp: RestitutionCurve | None = field(default=None, metadata=_cor_curve(
+        "sphere-sphere", "dem.restitution_pp"))
+    restitution_pw: RestitutionCurve | None = field(default=None, metadata=_cor_curve(
+        "sphere-wall", "dem.restitution_pw"))
 
     def __post_init__(self) -> None:
         # every quantity against its declaration; the whole count, the types of the
