@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, overload
@@ -21,8 +22,9 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from pdamper.io.scenario import Scenario
 
-#: Start of a help text that names the scenario key its option sets (:func:`key_help`).
-KEY_HELP = "\x00scenario key "
+#: A help text that names the scenario key its option sets (:func:`key_help`): readable as
+#: it stands (shell completion shows it so), completed from the declaration in help.
+_KEY_HELP = re.compile(r"(?s)(?P<note>.*) \(scenario key (?P<key>[\w.]+)\)")
 
 
 def key_help(key: str, note: str = "") -> str:
@@ -32,14 +34,13 @@ def key_help(key: str, note: str = "") -> str:
     (:func:`declared_help`), so that the command line says what docs/scenario.md says and
     no command restates a unit or a list of choices. ``note``: what the option itself adds
     (an example of its text)."""
-    return f"{KEY_HELP}{key}\x00{note}"
+    return f"{note} (scenario key {key})"
 
 
 def help_key(text: str | None) -> str | None:
     """The scenario key a help text of :func:`key_help` names (None for any other)."""
-    if not text or not text.startswith(KEY_HELP):
-        return None
-    return text[len(KEY_HELP):].split("\x00", 1)[0]
+    match = _KEY_HELP.fullmatch(text or "")
+    return None if match is None else match["key"]
 
 
 def declared_help(text: str) -> str:
@@ -47,12 +48,12 @@ def declared_help(text: str) -> str:
     description, the unit in brackets, the allowed values or the choices, and the key
     (``"Excitation frequency, e.g. '10Hz' [Hz], > 0 (scenario: excitation.frequency)."``);
     any other text as it is."""
-    key = help_key(text)
-    if key is None:
+    match = _KEY_HELP.fullmatch(text or "")
+    if match is None:
         return text
     from pdamper.io.scenario_reference import declaration_of
 
-    note = text[len(KEY_HELP) + len(key) + 1:]
+    key, note = match["key"], match["note"]
     d = declaration_of(key)
     what = (note or d.doc.split(". ")[0]).rstrip(". ")
     unit = f" [{d.unit}]" if d.unit not in ("", "1") else ""
