@@ -31,9 +31,9 @@ def key_help(key: str, note: str = "") -> str:
     """The help text of an option that sets the scenario key ``key``: the key's declaration
     (:func:`pdamper.io.scenario_reference.declaration_of`: its unit, allowed values and
     choices, and its description where ``note`` is empty) completes it when help is shown
-    (:func:`declared_help`), so that the command line says what docs/scenario.md says and
-    no command restates a unit or a list of choices. ``note``: what the option itself adds
-    (an example of its text)."""
+    (:func:`declared_help`), so that the unit, range and choices the command line shows are
+    the declaration's, as docs/scenario.md shows them. ``note``: what the option itself
+    adds (an example of its text, what each choice means)."""
     return f"{note} (scenario key {key})"
 
 
