@@ -57,6 +57,7 @@ def inputs():
         "plot_material_table": ({"sphere": S235, "wall": PVC},),
         "plot_restitution_curves": ({"steel-steel": paper.PAPER_COR_PP},),
         "plot_design_landscape": (design,),
+        "plot_design_front": (design,),
         "plot_mode_study": (ModeCountStudy((0.34, 0.68), (1, 2), ((0.03, 0.031), (0.02, 0.02)),
                                            0.75),),
         "plot_model_trajectories": ({"analytic": run}, None, comparisons),

@@ -84,6 +84,14 @@ def optimize(
                       "Relative tolerance on the objective: the lightest design within it of the best "
              "is reported with the Pareto front of added (bed) mass against the objective, "
              "e.g. '5%' or 0.05; in [0 %, 100 %) (default 5 %)."))] = None,
+    max_mass: Annotated[str | None, typer.Option(
+        "--max-mass", help=key_help("optimization.max_mass",
+                                    "Largest mass of bed plus container, e.g. '0.5kg'"))] = None,
+    require: Annotated[list[str] | None, typer.Option(
+        "--require", help=key_help(
+            "optimization.require", "Response limit at the observation point, repeatable: "
+            "'peak-acceleration<=10g', 'peak<=3mm', 'rms<=1mm', 'mean-damping>=2%' (the "
+            "quantities the objective's runs compute)"))] = None,
     plot: Annotated[str | None, plot_param("the design landscape")] = None,
     modes: ModesOpt = None,
     load_file: LoadOpt = None,
@@ -106,6 +114,7 @@ def optimize(
               optimization__scheduler=scheduler, optimization__max_evaluations=max_evaluations,
               optimization__seed=seed, optimization__tolerance=tolerance,
               optimization__band=band, optimization__frf_load=frf_load,
+              optimization__max_mass=max_mass, optimization__require=require or None,
               structure__modes=None if modes is None else str(modes),
               load__force=None if load_file is None else str(load_file),
               load__base_acceleration=None if base_acceleration is None
@@ -221,7 +230,8 @@ def _study(sc: Scenario, damper: Any, variables: list[DesignVariable],
         res = run_design_study(evaluate, damper, variables, obj, method=o.method,
                                max_grid=o.max_grid, max_evaluations=o.max_evaluations,
                                seed=o.seed, workers=n_workers, scheduler=o.scheduler,
-                               tolerance=o.tolerance)
+                               tolerance=o.tolerance, limits=o.require,
+                               max_mass=o.max_mass)
         return res, evaluate.seeds
     res = optimize_design(sc.structure_model(), damper, sc.structure.initial_displacement,
                           variables, o.objective, o.at,
@@ -230,7 +240,8 @@ def _study(sc: Scenario, damper: Any, variables: list[DesignVariable],
                           max_evaluations=o.max_evaluations, seed=o.seed,
                           workers=n_workers, scheduler=o.scheduler,
                           tolerance=o.tolerance, load=history, tail=sc.load.tail,
-                          band=o.frf_band(), frf_load=o.frf_load)
+                          band=o.frf_band(), frf_load=o.frf_load, limits=o.require,
+                          max_mass=o.max_mass)
     return res, None
 
 
@@ -241,8 +252,16 @@ def _figure(res: DesignStudyResult, path: Path) -> None:
 
         from pdamper.plots import plot_design_landscape
 
-        fig = Figure(figsize=(7, 5), layout="constrained")
-        plot_design_landscape(res, ax=fig.subplots())
+        if not res.limits:
+            fig = Figure(figsize=(7, 5), layout="constrained")
+            plot_design_landscape(res, ax=fig.subplots())
+            return fig
+        from pdamper.plots import plot_design_front
+
+        fig = Figure(figsize=(13, 5), layout="constrained")  # with limits: the front too
+        left, right = fig.subplots(1, 2)
+        plot_design_landscape(res, ax=left)
+        plot_design_front(res, ax=right)
         return fig
 
     figure_last(draw, path, dpi=120)
@@ -261,7 +280,9 @@ def _report(sc: Scenario, res: DesignStudyResult, history: LoadHistory | None, n
     design within the tolerance (``seeds``: of the realisations, None: one run)."""
     unit = {"m": "m", "s": "s", "1": "1"}[res.objective.unit]
     payload = {**res.as_dict(), "workers": n_workers,
-               "units": {"mass": "kg", "objective": unit, "at": "s", "radius": "m",
+               "units": {"mass": "kg", "container_mass": "kg", "total_mass": "kg",
+                         "bed_mass": "kg", "fill": "1", "objective": unit, "at": "s",
+                         "radius": "m",
                          "container_length": "m", "container_width": "m",
                          "container_depth": "m", "threshold": "m"},
                **metadata(sc)}
@@ -299,33 +320,44 @@ def _head(res: DesignStudyResult, history: LoadHistory | None) -> str:
 def _candidate_lines(res: DesignStudyResult) -> list[str]:
     """The landscape table (best and lightest marked), the Pareto front and the lightest
     design within the tolerance."""
+    from pdamper.design.study import DESIGN_VARIABLES, describe_design, show_value
+
     names = [v.name for v in res.variables]
     shown = _SHOWN[res.objective.name]
-    lines = ["  " + "  ".join(f"{n:>17s}" for n in names) + f"  mass [g]  {shown[1]}"]
+    boxed = any(c.container_mass for c in res.candidates)  # the total differs from the bed
+    lines = ["  " + "  ".join(f"{n:>17s}" for n in names) + "  mass [g]"
+             + ("  total [g]" if boxed else "") + f"  {shown[1]}"]
     light = res.lightest_within
     for c in res.candidates:
         cells = []
         for n in names:
             v = c.design[n]
-            cells.append(f"{v * 1e3:15.3f}mm" if isinstance(v, float) else f"{v!s:>17s}")
+            if isinstance(v, float) and DESIGN_VARIABLES[n].unit == "m":
+                cells.append(f"{v * 1e3:15.3f}mm")  # the column as it always was
+            else:
+                cells.append(f"{show_value(n, v):>17s}")
         value = (f"{c.objective * shown[0]:12.4g}" if c.objective is not None
                  else f"{c.status:>12s}")
         if c.objective is not None and "objective_std" in c.extra:
             value += f" +- {c.extra['objective_std'] * shown[0]:.2g}"
         mass = f"{c.mass * 1e3:8.1f}" if c.mass is not None else "       -"
+        if boxed:
+            mass += (f"  {c.total_mass * 1e3:9.1f}" if c.total_mass is not None
+                     else "          -")
         mark = ("" if c is not res.best else "  <- best" if not res.failures
                 else f"  <- best of the {sum(d.status == 'ok' for d in res.candidates)} "
                      "evaluated")
         if c is light and c is not res.best:
             mark = f"  <- lightest within {res.tolerance * 100:g} %"
+        if c.violations:
+            mark = "  outside the limits: " + "; ".join(c.violations)
         lines.append("  " + "  ".join(cells) + f"  {mass}  {value}{mark}")
 
     def brief(c: Any) -> str:
-        design = ", ".join(f"{n} {c.design[n] * 1e3:g} mm" if isinstance(c.design[n], float)
-                           else f"{n} {c.design[n]}" for n in names)
-        return f"{design} ({c.mass * 1e3:.1f} g, {c.objective * shown[0]:.4g})"
-
-    from pdamper.design.study import describe_design
+        design = ", ".join(f"{n} {show_value(n, c.design[n])}" for n in names)
+        total = (f", {c.total_mass * 1e3:.1f} g with the container"
+                 if c.container_mass else "")
+        return f"{design} ({c.mass * 1e3:.1f} g{total}, {c.objective * shown[0]:.4g})"
 
     for c in res.failures:  # every failure with its reason
         lines.append(f"failed: {describe_design(c, names)}: {c.reason}")
@@ -337,4 +369,30 @@ def _candidate_lines(res: DesignStudyResult) -> list[str]:
     else:
         lines.append(f"lightest within {res.tolerance * 100:g} % of the best: "
                      + (brief(light) if light is not None else "none"))
+    if res.limits:
+        lines.append(f"limits: {'; '.join(lim.describe() for lim in res.limits)} "
+                     f"({len(res.feasible)} of "
+                     f"{sum(c.status == 'ok' for c in res.candidates)} evaluated designs "
+                     "within them)")
+        chosen = [("best", res.best), (f"lightest within {res.tolerance * 100:g} %", light),
+                  ("lightest within the limits", res.lightest_feasible),
+                  ("closest to the limits", res.closest)]
+        shown_: list[Any] = []
+        for label, c in chosen:
+            if c is not None and c.limits and c not in shown_:
+                shown_.append(c)
+                lines.append(f"  {label}: {describe_design(c, names)}: " + margins(c))
     return lines
+
+
+def margins(c: Any) -> str:
+    """Each limit of design ``c`` with its value and margin, in display units:
+    ``"mass 412 g (margin 88 g, 17.6 %)"``."""
+    from pdamper.design.study import show_quantity
+
+    return "; ".join(
+        f"{r['quantity']} {show_quantity(r['value'], r['unit'])} "
+        f"{r['op'] if r['met'] else {'<=': '>', '>=': '<'}[r['op']]} "
+        f"{show_quantity(r['limit'], r['unit'])} ({'margin' if r['met'] else 'misses by'} "
+        f"{show_quantity(abs(r['margin']), r['unit'])}, "
+        f"{abs(r['relative_margin']) * 100:.3g} %)" for r in c.limits)

@@ -70,8 +70,10 @@ Variable specifications (CLI ``--vary``, scenario ``[optimization] vary``)
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
+import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Protocol, TypeVar, cast
@@ -123,6 +125,18 @@ class _VariableKind:
     description: str
     #: the quantity's one name, its scenario key (``"particles.count"``)
     field: str = ""
+    #: the declaration the values are checked against (:mod:`pdamper.settings`)
+    declaration: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
+    #: a variable that sets the particle count for each radius and material
+    #: (:data:`DERIVED_VARIABLES`), applied after the others
+    derived: bool = False
+
+    @property
+    def display(self) -> tuple[str, float]:
+        """The unit values are shown in and its factor from SI (mm, g, %)."""
+        if self.derived and not self.unit:  # a fraction
+            return _DISPLAY["%"]
+        return _DISPLAY.get(self.unit, (self.unit, 1.0))
 
 
 #: A variable's kind from the kind of its quantity's declaration.
@@ -133,7 +147,36 @@ def _variable(key: str) -> _VariableKind:
     """The design variable of the damper's quantity ``key``: kind, unit, field and doc from
     its declaration (:func:`pdamper.damper.quantity`)."""
     q = quantity(key)
-    return _VariableKind(_KINDS[q["kind"]], q["unit"], q["attribute"], q["doc"], key)
+    return _VariableKind(_KINDS[q["kind"]], q["unit"], q["attribute"], q["doc"], key, q)
+
+
+#: Display unit and factor from SI of a variable's unit.
+_DISPLAY = {"m": ("mm", 1e3), "kg": ("g", 1e3), "%": ("%", 100.0)}
+
+
+def _derived(name: str, doc: str, **declaration: Any) -> _VariableKind:
+    """A variable that derives the particle count (:data:`DERIVED_VARIABLES`), declared as
+    every setting (:func:`pdamper.settings.declared`)."""
+    from pdamper.settings import declared
+
+    decl = declared(doc, kind="number", **declaration)
+    return _VariableKind("continuous", decl["declaration"]["unit"], "count", doc,
+                         f"optimization.vary.{name}", decl["declaration"], derived=True)
+
+
+#: Design variables that set the particle count n_p for each radius and material: the bed's
+#: mass (``bed-mass``: n_p = round(m_bed / m_sphere), m_sphere = rho 4/3 pi r^3) or the
+#: fraction of the lattice's count n_max (``fill``: n_p = round(fill n_max)), so that one
+#: range means the same bed across radii and materials (8-80 spheres are 7 g of 3 mm steel
+#: but 809 g of 5 mm tungsten). At most one of them with ``particles``.
+DERIVED_VARIABLES: dict[str, _VariableKind] = {
+    "bed_mass": _derived("bed_mass", "Mass of the bed m_bed; the count is the nearest whole "
+                         "number of spheres of each radius and material.", unit="kg",
+                         low=0.0),
+    "fill": _derived("fill", "Fraction of the lattice's count n_max (full layers up to the "
+                     "lid) of each radius and container; the count is the nearest whole "
+                     "number.", low=0.0, high=1.0),
+}
 
 
 #: Design variables: name -> kind, unit, the :class:`ParticleDamper` field it sets and the
@@ -148,13 +191,16 @@ VARIABLES: dict[str, _VariableKind] = {
     "container_depth": _variable("container.depth"),
     "particle_material": _variable("particles.material"),
 }
+#: Every design variable: the damper's quantities (:data:`VARIABLES`) and those that derive
+#: the particle count (:data:`DERIVED_VARIABLES`).
+DESIGN_VARIABLES: dict[str, _VariableKind] = {**VARIABLES, **DERIVED_VARIABLES}
 #: Every name ``--vary`` takes for a variable: its name, its quantity's scenario key and
 #: :class:`ParticleDamper` field, and the short names in use before these.
 VARIABLE_NAMES: dict[str, str] = {
-    **{alias: name for name, v in VARIABLES.items()
+    **{alias: name for name, v in DESIGN_VARIABLES.items() if not v.derived
        for alias in (v.field.replace(".", "_"), v.attribute)},
     "particle_count": "particles", "length": "container_length", "material": "particle_material",
-    **{name: name for name in VARIABLES},
+    **{name: name for name in DESIGN_VARIABLES},
 }
 
 
@@ -165,7 +211,7 @@ class DesignVariable:
     Attributes
     ----------
     name
-        Key of :data:`VARIABLES` (``"particles"``, ``"radius"``, ...).
+        Key of :data:`DESIGN_VARIABLES` (``"particles"``, ``"radius"``, ...).
     values
         The values of a grid (SI floats, whole counts, or material names); None for a
         continuous interval.
@@ -189,7 +235,7 @@ class DesignVariable:
 
     @property
     def kind(self) -> str:
-        return VARIABLES[self.name].kind
+        return DESIGN_VARIABLES[self.name].kind
 
     @property
     def size(self) -> float:
@@ -201,8 +247,9 @@ def _name(raw: str) -> str:
     name = raw.strip().lower().replace("-", "_").replace(".", "_")
     if name not in VARIABLE_NAMES:
         raise InputError("optimization.vary", f"unknown design variable {raw.strip()!r}; "
-                         f"known: {', '.join(n.replace('_', '-') for n in VARIABLES)} (or "
-                         f"their scenario keys: {', '.join(v.field for v in VARIABLES.values())})")
+                         f"known: {', '.join(n.replace('_', '-') for n in DESIGN_VARIABLES)} "
+                         f"(or their scenario keys: "
+                         f"{', '.join(v.field for v in VARIABLES.values())})")
     return VARIABLE_NAMES[name]
 
 
@@ -249,7 +296,7 @@ def _parse(spec: str) -> _Spec:
                          f"got {spec!r}")
     raw_name, _, text = spec.partition("=")
     name = _name(raw_name)
-    kind = VARIABLES[name]
+    kind = DESIGN_VARIABLES[name]
     text = text.strip()
     if not text:
         raise InputError(field_, f"{spec!r}: no values after '='")
@@ -278,14 +325,14 @@ def _parse(spec: str) -> _Spec:
                 raise InputError(where, f"{text!r}: stop - start = {b - a} is not a multiple of "
                                  f"the step {step} (particle counts use start:stop:STEP, e.g. "
                                  "16:176:16)")
-            check_setting(where, a, quantity(kind.field))  # the stop is above the start
+            check_setting(where, a, kind.declaration)  # the stop is above the start
             return _Spec(name, "range", start=a, stop=b, step=step)
         try:
             values = tuple(int(p) for p in text.split(","))
         except ValueError:
             raise InputError(where, f"expected whole numbers, got {text!r}") from None
         for v in values:
-            check_setting(where, v, quantity(kind.field))
+            check_setting(where, v, kind.declaration)
         return _Spec(name, "list", values)
     # continuous
     parts = text.split(":")
@@ -313,7 +360,7 @@ def _parse(spec: str) -> _Spec:
                          f"got {text!r}")
     # the ends decide for a range: the values between them are between them
     for v in out.items or (out.start, out.stop):
-        check_setting(where, v, quantity(kind.field))
+        check_setting(where, v, kind.declaration)
     return out
 
 
@@ -376,21 +423,39 @@ def apply_design(damper: ParticleDamper, design: dict[str, Any]) -> ParticleDamp
     (e.g. more spheres than fit)."""
     from pdamper.materials import get_material
 
+    counts = [n for n in design if n == "particles" or DESIGN_VARIABLES[n].derived]
+    if len(counts) > 1:
+        raise InputError("optimization.vary", f"{' and '.join(counts)} both set the particle "
+                         "count: vary at most one of particles, bed-mass and fill")
     changes = {}
     for name, value in design.items():
-        kind = VARIABLES[name]
+        kind = DESIGN_VARIABLES[name]
+        if kind.derived:
+            continue
         if kind.kind == "categorical":
             value = get_material(value, variable_field(name))
         changes[kind.attribute] = value
-    return replace(damper, **changes)
+    out = replace(damper, **changes) if changes else damper
+    for name in counts:  # the count of the radius and material just set
+        if name == "bed_mass":
+            out = out.with_count(int(round(design[name] / out.particle_mass)))
+        elif name == "fill":
+            out = out.with_count(int(round(design[name] * out.max_count)))
+    return out
 
 
 def design_values(damper: ParticleDamper) -> dict[str, Any]:
-    """Every design variable's value in ``damper`` (SI units, material names)."""
-    out = {}
-    for name, kind in VARIABLES.items():
-        v = getattr(damper, kind.attribute)
-        out[name] = v.name if kind.kind == "categorical" else v
+    """Every design variable's value in ``damper`` (SI units, material names; the bed's
+    mass and its fraction of the lattice's count for the derived variables)."""
+    out: dict[str, Any] = {}
+    for name, kind in DESIGN_VARIABLES.items():
+        if name == "bed_mass":
+            out[name] = damper.bed_mass
+        elif name == "fill":
+            out[name] = damper.count / damper.max_count if damper.max_count else 0.0
+        else:
+            v = getattr(damper, kind.attribute)
+            out[name] = v.name if kind.kind == "categorical" else v
     return out
 
 
@@ -455,7 +520,7 @@ class Objective:
             frf = cast("FRFResult", res)
             value = frf.peak() if self.name == "peak-frf" else frf.rms()
             steady = all(bool(np.all(c.steady)) for c in frf.sweeps.values())
-            return value, {"steady": steady}
+            return value, {"steady": steady, **frf_accelerations(frf)}
         if self.name in LOAD_OBJECTIVES:
             forced = cast("LoadResponse", res)
             extras = {"peak_acceleration": forced.peak_acceleration,
@@ -477,6 +542,24 @@ class Objective:
         if t is None:
             return float(res.time[-1]), {"settled": False}
         return t, {"settled": True}
+
+
+def frf_accelerations(frf: FRFResult) -> dict[str, float]:
+    """The largest steady acceleration amplitude (2 pi f)^2 X of the output point [m/s^2]
+    over the frequencies of each sweep (``peak_acceleration_up``, ``..._down``) and of both
+    (``peak_acceleration``); a sweep's unsteady steps are read as they are where none of
+    its steps is steady. The output amplitude is absolute (a base-driven structure's too),
+    so this is the acceleration an accelerometer there reads."""
+    w2 = (2.0 * np.pi * np.asarray(frf.frequency, float)) ** 2
+    out: dict[str, float] = {}
+    for name, c in frf.sweeps.items():
+        a = np.asarray(c.amplitude, float)
+        steady = np.where(np.asarray(c.steady, bool), a, np.nan)
+        use = a if np.all(np.isnan(steady)) else steady
+        out[f"peak_acceleration_{name}"] = float(np.nanmax(w2 * use))
+    if out:
+        out["peak_acceleration"] = max(out.values())
+    return out
 
 
 def settling_time(peak_times: ArrayLike, peak_amplitudes: ArrayLike,
@@ -588,6 +671,171 @@ def make_objective(name: str, at: float, initial_displacement: float,
     return Objective(name, sense, unit, at, None, at + 2.0 / structure.natural_frequency)
 
 
+# ----------------------------------------------------------------------------- limits
+#: Quantities a limit may bound: name -> (SI unit, what it is, where it is read: the
+#: objectives whose runs compute it and, for each, the candidate's objective
+#: (``"objective"``) or the extra of that name). ``mass`` is every design's: the bed plus
+#: the container.
+LIMIT_QUANTITIES: dict[str, tuple[str, str, dict[str, str]]] = {
+    "mass": ("kg", "mass of bed and container", {}),
+    "peak": ("m", "peak |displacement| at the observation point",
+             {"peak": "objective", "peak-frf": "objective"}),
+    "rms": ("m", "RMS displacement at the observation point",
+            {"rms": "objective", "rms-frf": "objective"}),
+    "peak-acceleration": ("m/s^2", "peak |acceleration| at the observation point",
+                          {"peak": "peak_acceleration", "rms": "peak_acceleration",
+                           "peak-frf": "peak_acceleration", "rms-frf": "peak_acceleration"}),
+    "rms-acceleration": ("m/s^2", "RMS acceleration at the observation point",
+                         {"peak": "rms_acceleration", "rms": "rms_acceleration"}),
+    "amplitude-at": ("m", "amplitude of the free decay at T", {"amplitude-at": "objective"}),
+    "settling-time": ("s", "settling time of the free decay",
+                      {"settling-time": "objective"}),
+    "mean-damping": ("1", "mean damping ratio of the free decay",
+                     {"mean-damping": "objective"}),
+    "peak-frf": ("m", "largest steady amplitude over the band",
+                 {"peak-frf": "objective"}),
+    "rms-frf": ("m", "RMS of the steady amplitude over the band",
+                {"rms-frf": "objective"}),
+}
+#: g of a limit's or a shown acceleration [m/s^2]: the standard gravity (pint's g0), as in
+#: a harmonic load's "0.5g" (:meth:`pdamper.coupling.frf.HarmonicLoad.parse`).
+G0 = 9.80665
+_LIMIT = re.compile(r"^\s*([A-Za-z][\w-]*)\s*(<=|>=|<|>)\s*(.+?)\s*$")
+
+
+@dataclass(frozen=True)
+class Limit:
+    """A limit on a design: ``quantity`` (:data:`LIMIT_QUANTITIES`) ``op`` (``"<="`` or
+    ``">="``) ``value`` (SI).
+
+    The margin of a design is ``value - q`` for ``<=`` and ``q - value`` for ``>=``
+    (positive: met, in the quantity's unit), and relative to ``|value|``.
+    """
+
+    quantity: str
+    op: str
+    value: float
+    text: str = ""
+
+    @property
+    def unit(self) -> str:
+        return LIMIT_QUANTITIES[self.quantity][0]
+
+    def margin(self, q: float) -> float:
+        """The margin of a design whose quantity is ``q`` (SI; >= 0: met)."""
+        return self.value - q if self.op == "<=" else q - self.value
+
+    def describe(self) -> str:
+        """``"peak-acceleration <= 10 g"`` in display units."""
+        return f"{self.quantity} {self.op} {show_quantity(self.value, self.unit)}"
+
+    def as_dict(self) -> dict:
+        return {"quantity": self.quantity, "op": self.op, "value": self.value,
+                "unit": self.unit, "text": self.text or self.describe()}
+
+
+def show_quantity(value: float, unit: str) -> str:
+    """A value in the display unit of its SI ``unit``: mm, g (mass), g (acceleration, the
+    standard gravity), s, % (a ratio)."""
+    if unit == "m":
+        return f"{value * 1e3:.4g} mm"
+    if unit == "kg":
+        return f"{value * 1e3:.4g} g"
+    if unit == "m/s^2":
+        return f"{value / G0:.4g} g"
+    if unit == "1":
+        return f"{value * 100:.4g} %"
+    return f"{value:.4g} {unit}"
+
+
+def parse_limit(text: str, field_: str = "optimization.require") -> Limit:
+    """A response limit ``"QUANTITY<=VALUE"`` (or ``>=``), the value with its unit:
+    ``"peak-acceleration<=10g"`` (g: the standard gravity), ``"peak<=3mm"``,
+    ``"mean-damping>=2%"``.
+
+    >>> parse_limit("peak<=3mm").value
+    0.003
+    >>> round(parse_limit("peak-acceleration <= 10 g").value, 4)
+    98.0665
+    """
+    from pdamper.units import parse_quantity
+
+    m = _LIMIT.match(text) if isinstance(text, str) else None
+    if m is None:
+        raise InputError(field_, f"expected 'QUANTITY<=VALUE' or 'QUANTITY>=VALUE' such as "
+                         f"'peak-acceleration<=10g', got {text!r}")
+    name, op, raw = m[1].lower().replace("_", "-"), m[2], m[3]
+    if name not in LIMIT_QUANTITIES:
+        raise InputError(field_, f"{text!r}: unknown quantity {m[1]!r}; known: "
+                         f"{', '.join(LIMIT_QUANTITIES)}")
+    op = {"<": "<=", ">": ">="}.get(op, op)
+    unit = LIMIT_QUANTITIES[name][0]
+    if unit == "m/s^2":  # "10g": g is the standard gravity (pint reads a bare g as gram)
+        raw = re.sub(r"(?<=[\d.\s])g$", " g0", raw)
+    if unit == "1":  # a ratio: a number or a percentage
+        try:
+            value = (float(raw[:-1]) / 100.0 if raw.endswith("%") else float(raw))
+        except ValueError:
+            raise InputError(field_, f"{text!r}: the value must be a number or a "
+                             "percentage such as '2%'") from None
+    else:
+        try:
+            value = parse_quantity(raw, unit, field_)
+        except InputError as exc:
+            raise InputError(field_, f"{text!r}: {exc.message}") from None
+    if not math.isfinite(value) or value < 0 or (value == 0 and op == "<="):
+        raise InputError(field_, f"{text!r}: the limit must be finite and > 0")
+    return Limit(name, op, value, text.strip())
+
+
+def check_limits(limits: Sequence[Limit], objective: Objective) -> None:
+    """Refuse a limit on a quantity the objective's runs do not compute, naming those that
+    do (before any design runs)."""
+    for lim in limits:
+        where = LIMIT_QUANTITIES[lim.quantity][2]
+        if lim.quantity != "mass" and objective.name not in where:
+            raise InputError("optimization.require", f"{lim.text or lim.describe()!r}: "
+                             f"{lim.quantity} is computed by the objective(s) "
+                             f"{', '.join(where)}, not by {objective.name!r} (the limits "
+                             "bound what the objective's runs compute)")
+
+
+def limit_quantity(lim: Limit, c: DesignCandidate, objective: Objective) -> float | None:
+    """The value of ``lim``'s quantity for candidate ``c`` (SI; None: not computed)."""
+    if lim.quantity == "mass":
+        return c.total_mass
+    source = LIMIT_QUANTITIES[lim.quantity][2].get(objective.name)
+    value = c.objective if source == "objective" else c.extra.get(source or "")
+    return None if value is None else float(value)
+
+
+def judge(c: DesignCandidate, limits: Sequence[Limit], objective: Objective
+          ) -> DesignCandidate:
+    """``c`` with the margin of every limit and its violations (a design that violates
+    one is infeasible with the reason; one not evaluated is judged by its mass only)."""
+    if not limits or c.mass is None:
+        return c
+    rows, violations = [], []
+    for lim in limits:
+        q = limit_quantity(lim, c, objective)
+        if q is None:
+            if c.status == "ok":  # evaluated, yet the quantity is missing: not met
+                violations.append(f"{lim.quantity} was not computed for this design")
+            continue
+        margin = lim.margin(q)
+        rows.append({"quantity": lim.quantity, "op": lim.op, "limit": lim.value,
+                     "value": q, "margin": margin,
+                     "relative_margin": margin / abs(lim.value), "met": margin >= 0,
+                     "unit": lim.unit})
+        if margin < 0:
+            violations.append(f"{lim.quantity} {show_quantity(q, lim.unit)} "
+                              f"{'above' if lim.op == '<=' else 'below'} the limit "
+                              f"{show_quantity(lim.value, lim.unit)} (by "
+                              f"{show_quantity(-margin, lim.unit)}, "
+                              f"{-margin / abs(lim.value) * 100:.3g} %)")
+    return replace(c, limits=tuple(rows), violations=tuple(violations))
+
+
 # ----------------------------------------------------------------------------- results
 @dataclass(frozen=True)
 class DesignCandidate:
@@ -606,7 +854,17 @@ class DesignCandidate:
     reason
         Why infeasible or failed.
     extra
-        Objective extras (``settled``, ``cycles``).
+        Objective extras (``settled``, ``cycles``; the response quantities the limits
+        read, ``peak_acceleration``, ...).
+    container_mass
+        The container's mass [kg] (``container.mass``): with the bed's, the design's
+        :attr:`total_mass`, the mass its limit bounds.
+    limits
+        Each limit's row (:func:`judge`): ``quantity``, ``op``, ``limit``, ``value``,
+        ``margin`` (SI, >= 0: met), ``relative_margin``, ``met``.
+    violations
+        The limits it violates, in words: a design with any is infeasible (evaluated, not
+        chosen).
     """
 
     design: dict
@@ -616,15 +874,33 @@ class DesignCandidate:
     status: str = "ok"
     reason: str = ""
     extra: dict = field(default_factory=dict)
+    container_mass: float = 0.0
+    limits: tuple[dict, ...] = ()
+    violations: tuple[str, ...] = ()
 
     @property
     def feasible(self) -> bool:
-        return self.status != "infeasible"
+        """Buildable and within every limit."""
+        return self.status != "infeasible" and not self.violations
+
+    @property
+    def total_mass(self) -> float | None:
+        """Bed plus container [kg] (None: not built)."""
+        return None if self.mass is None else self.mass + self.container_mass
+
+    @property
+    def chosen_from(self) -> bool:
+        """Evaluated and within every limit: a candidate for best and lightest."""
+        return self.status == "ok" and not self.violations
 
     def as_dict(self) -> dict:
+        reason = self.reason or "; ".join(self.violations)
         out = {"particles": self.particles, "mass": self.mass, "objective": self.objective,
-               **self.design, "feasible": self.feasible, "status": self.status,
-               "reason": self.reason, **self.extra}
+               **self.design, "container_mass": self.container_mass,
+               "total_mass": self.total_mass, "feasible": self.feasible,
+               "status": self.status, "reason": reason, **self.extra}
+        if self.limits:
+            out["limits"] = list(self.limits)
         why = (f"the design is {self.status}: {self.reason}" if self.status != "ok"
                else "not computed for this design")
         na = {k: why for k, v in out.items() if v is None}
@@ -649,6 +925,39 @@ class DesignStudyResult:
     method: str
     seed: int | None = None
     tolerance: float = DEFAULT_TOLERANCE
+    #: the limits every chosen design meets (:class:`Limit`; the mass limit first)
+    limits: tuple[Limit, ...] = ()
+
+    @property
+    def feasible(self) -> tuple[DesignCandidate, ...]:
+        """The evaluated designs within every limit (those best and lightest are chosen
+        from)."""
+        return tuple(c for c in self.candidates if c.chosen_from)
+
+    @property
+    def lightest_feasible(self) -> DesignCandidate | None:
+        """The lightest design within every limit (of equal mass, the better objective):
+        the first of the front; None when no evaluated design meets the limits."""
+        front = self.front
+        return front[0] if front else None
+
+    @property
+    def closest(self) -> DesignCandidate | None:
+        """Where limits leave no evaluated design: the one that misses them least (the
+        smallest largest relative shortfall; then the better objective); None otherwise."""
+        if not self.limits or self.feasible:
+            return None
+        ok = [c for c in self.candidates if c.status == "ok" and c.objective is not None]
+        if not ok:
+            return None
+        sign = 1.0 if self.objective.sense == "min" else -1.0
+
+        def miss(c: DesignCandidate) -> tuple[float, float]:
+            worst = max((-r["relative_margin"] for r in c.limits), default=math.inf)
+            assert c.objective is not None
+            return worst, sign * c.objective
+
+        return min(ok, key=miss)
 
     @property
     def at(self) -> float:
@@ -688,6 +997,13 @@ class DesignStudyResult:
             return (f"{len(failed)} of {n} designs failed ({which}{more}: each with its "
                     f"reason in the failures) and {left} could be evaluated: no design is "
                     "named best because the others failed; remove the cause of the failures")
+        closest = self.closest
+        if closest is not None:
+            limits = "; ".join(lim.describe() for lim in self.limits)
+            return (f"no evaluated design meets the limits ({limits}): of "
+                    f"{sum(c.status == 'ok' for c in self.candidates)} evaluated, the closest "
+                    f"({describe_design(closest, names)}) misses by "
+                    f"{'; '.join(closest.violations)}")
         if infeasible and len(infeasible) == n:
             reasons = list(dict.fromkeys(c.reason for c in infeasible))
             more = (f" and {len(reasons) - 1} more reason(s)" if len(reasons) > 1 else "")
@@ -698,11 +1014,17 @@ class DesignStudyResult:
 
     def not_applicable(self) -> dict[str, str]:
         """``key -> reason`` of the result keys that are null (``best``,
-        ``lightest_within``)."""
+        ``lightest_within``, ``closest``)."""
         why = self.no_best
+        out = {}
+        if self.limits and self.closest is None:
+            out["closest"] = ("some evaluated design meets every limit, or none was "
+                              "evaluated: no design is named as missing them least")
+        if self.limits and self.lightest_feasible is None:
+            out["lightest_feasible"] = "no evaluated design meets every limit"
         if why is None:
-            return {}
-        return {"best": why, "lightest_within": f"there is no best design: {why}"}
+            return out
+        return {**out, "best": why, "lightest_within": f"there is no best design: {why}"}
 
     def unset_reasons(self) -> dict[str, str]:
         """``key -> reason`` of the settings of :meth:`as_dict` that are null for this
@@ -741,13 +1063,19 @@ class DesignStudyResult:
                           "reason": c.reason} for c in self.failures],
             **({"not_applicable": na} if (na := self.not_applicable()) else {}),
             "variables": [_variable_dict(v) for v in self.variables],
+            "limits": [lim.as_dict() for lim in self.limits],
+            **({"within_limits": len(self.feasible),
+                "lightest_feasible": None if (first := self.lightest_feasible) is None
+                else first.as_dict(),
+                "closest": None if (near := self.closest) is None else near.as_dict()}
+               if self.limits else {}),
         }
 
 
 def _variable_dict(v: DesignVariable) -> dict:
     """A design variable as JSON: its ``values`` (a list or grid) or its ``bounds`` (an
     interval), the other null with its reason in ``not_applicable``."""
-    out: dict = {"name": v.name, "field": VARIABLES[v.name].field, "spec": v.spec,
+    out: dict = {"name": v.name, "field": DESIGN_VARIABLES[v.name].field, "spec": v.spec,
                  "kind": v.kind, "values": None if v.values is None else list(v.values),
                  "bounds": None if v.bounds is None else list(v.bounds)}
     na = {}
@@ -760,13 +1088,18 @@ def _variable_dict(v: DesignVariable) -> dict:
 
 def describe_design(c: DesignCandidate, names: Sequence[str]) -> str:
     """Design ``c`` by the variables ``names``, in words: ``"particles 32, radius 3 mm"``."""
-    parts = []
-    for name in names:
-        v = c.design[name]
-        label = name.replace("_", " ")
-        parts.append(f"{label} {v * 1e3:g} mm" if VARIABLES[name].unit == "m"
-                     and isinstance(v, float) else f"{label} {v}")
-    return ", ".join(parts)
+    return ", ".join(f"{name.replace('_', ' ')} {show_value(name, c.design[name])}"
+                     for name in names)
+
+
+def show_value(name: str, value: Any) -> str:
+    """The value of variable ``name`` in its display unit: ``"3 mm"``, ``"120 g"``,
+    ``"40 %"``, a count or a material as it is."""
+    kind = DESIGN_VARIABLES[name]
+    if kind.kind != "continuous" or not isinstance(value, int | float):
+        return str(value)
+    unit, scale = kind.display
+    return f"{value * scale:.4g} {unit}".rstrip()
 
 
 # ----------------------------------------------------------------------------- added mass
@@ -808,12 +1141,13 @@ _C = TypeVar("_C", bound=_Scored)
 
 
 def _ranked(candidates: Sequence[_C], sense: str) -> list[tuple[float, float, _C]]:
-    """``(mass, signed objective, candidate)`` of the evaluated designs: both minimised
-    (a candidate without ``status``, the paper study's, counts as evaluated)."""
+    """``(mass, signed objective, candidate)`` of the evaluated designs within their limits:
+    both minimised (the mass is bed plus container where a candidate has both; a candidate
+    without ``status``, the paper study's, counts as evaluated)."""
     sign = 1.0 if sense == "min" else -1.0
-    return [(c.mass, sign * c.objective, c) for c in candidates
+    return [(getattr(c, "total_mass", c.mass), sign * c.objective, c) for c in candidates
             if getattr(c, "status", "ok") == "ok" and c.mass is not None
-            and c.objective is not None]
+            and c.objective is not None and not getattr(c, "violations", ())]
 
 
 def pareto_front(candidates: Sequence[DesignCandidate],
@@ -922,7 +1256,7 @@ def _feasibility(damper: ParticleDamper, design: dict,
 
 
 def _show(v: DesignVariable, value) -> str:
-    return f"{value * 1e3:g} mm" if VARIABLES[v.name].unit == "m" else str(value)
+    return show_value(v.name, value)
 
 
 def check_ranges(damper: ParticleDamper, variables: Sequence[DesignVariable],
@@ -964,8 +1298,10 @@ def _canonical(design: dict) -> tuple:
 class _Landscape:
     """Evaluates batches of designs (feasibility first), caching repeated designs."""
 
-    def __init__(self, damper, evaluate, workers, scheduler, progress):
+    def __init__(self, damper, evaluate, workers, scheduler, progress, limits=(),
+                 objective=None):
         self.damper, self.evaluate = damper, evaluate
+        self.limits, self.objective = tuple(limits), objective
         self.check = getattr(evaluate, "check", None)
         self.workers, self.scheduler, self.progress = workers, scheduler, progress
         self.candidates: list[DesignCandidate] = []
@@ -983,22 +1319,25 @@ class _Landscape:
                 continue
             fresh.append((k, key))
             full, reason = _feasibility(self.damper, design, self.check)
-            values = _reported_values(self.damper, design)
+            values = _reported_values(self.damper if full is None else full, design)
             if full is None:
                 out[k] = DesignCandidate(values, values["particles"], None, None, "infeasible",
-                                         reason)
+                                         reason, container_mass=self.damper.container_mass)
             else:
-                todo.append((k, design, values, full.bed_mass))
+                todo.append((k, design, values, full))
         outcomes: list[Outcome] = evaluate_parallel(
             self.evaluate, [t[1] for t in todo], workers=self.workers,
             scheduler=self.scheduler, progress=self.progress) if todo else []
-        for (k, _design, values, mass), oc in zip(todo, outcomes, strict=True):
+        for (k, _design, values, full), oc in zip(todo, outcomes, strict=True):
+            mass, box = full.bed_mass, full.container_mass
             if oc.ok and oc.value is not None and math.isfinite(oc.value[0]):
-                out[k] = DesignCandidate(values, values["particles"], mass, float(oc.value[0]),
-                                         extra=oc.value[1])
+                cand = DesignCandidate(values, values["particles"], mass, float(oc.value[0]),
+                                       extra=oc.value[1], container_mass=box)
             else:
-                out[k] = DesignCandidate(values, values["particles"], mass, None, "failed",
-                                         oc.error or "objective is not a finite number")
+                cand = DesignCandidate(values, values["particles"], mass, None, "failed",
+                                       oc.error or "objective is not a finite number",
+                                       container_mass=box)
+            out[k] = judge(cand, self.limits, self.objective)
         for k, key in fresh:
             cand = out[k]
             assert cand is not None  # every design first seen here got its candidate above
@@ -1008,13 +1347,13 @@ class _Landscape:
 
 
 def _reported_values(damper: ParticleDamper, design: dict) -> dict[str, Any]:
-    """Every design variable's value: the base damper's, overridden by ``design`` (also
-    for an infeasible design, which cannot be built)."""
+    """Every design variable's value: ``damper``'s (the design built, or the base damper
+    for an infeasible design, which cannot be built), overridden by ``design``."""
     from pdamper.materials import get_material
 
     out = design_values(damper)
     for name, value in design.items():
-        out[name] = get_material(value).name if VARIABLES[name].kind == "categorical" else value
+        out[name] = get_material(value).name if DESIGN_VARIABLES[name].kind == "categorical" else value
     return out
 
 
@@ -1032,6 +1371,8 @@ def run_design_study(
     scheduler: str | None = None,
     progress: Callable[[int, int], None] | None = None,
     tolerance: float | str = DEFAULT_TOLERANCE,
+    limits: Sequence[Limit | str] = (),
+    max_mass: float | None = None,
 ) -> DesignStudyResult:
     """Evaluate designs of ``damper`` over ``variables`` and rank them by ``objective``.
 
@@ -1055,8 +1396,14 @@ def run_design_study(
     tolerance
         Relative tolerance of the lightest design nearly as good as the best
         (:func:`lightest_within`; ``"5%"`` or 0.05).
+    limits, max_mass
+        Response limits (:class:`Limit` or their text, ``"peak-acceleration<=10g"``,
+        :func:`parse_limit`) and the largest mass of bed plus container [kg]: a design
+        that violates one is infeasible with the reason (evaluated, listed with every
+        limit's margin); best, lightest and the front are chosen among the others.
     """
     tolerance = parse_tolerance(tolerance)
+    limits = make_limits(limits, max_mass, objective)
     variables = tuple(variables)
     if not variables:
         raise InputError("optimization.vary", "needs at least one design variable")
@@ -1072,7 +1419,7 @@ def run_design_study(
         check_ranges(damper, variables, check)
     if method == "auto":
         method = "grid" if grid_size <= max_grid else "optimize"
-    land = _Landscape(damper, evaluate, workers, scheduler, progress)
+    land = _Landscape(damper, evaluate, workers, scheduler, progress, limits, objective)
     if method == "grid":
         open_ = [v.spec for v in variables if v.values is None]
         if open_:
@@ -1091,10 +1438,27 @@ def run_design_study(
     else:
         _differential_evolution(land, variables, objective, max_evaluations, seed)
     sign = 1.0 if objective.sense == "min" else -1.0
-    ok = [c for c in land.candidates if c.status == "ok"]
-    best = min(ok, key=lambda c: _score(c, sign)) if _comparable(land.candidates) else None
+    ok = [c for c in land.candidates if c.chosen_from]
+    best = (min(ok, key=lambda c: _score(c, sign))
+            if ok and _comparable(land.candidates) else None)
     return DesignStudyResult(best, tuple(land.candidates), variables, objective, method,
-                             seed if method == "optimize" else None, tolerance)
+                             seed if method == "optimize" else None, tolerance, limits)
+
+
+def make_limits(limits: Sequence[Limit | str] = (), max_mass: float | None = None,
+                objective: Objective | None = None) -> tuple[Limit, ...]:
+    """The study's limits: ``max_mass`` [kg] as ``mass <= max_mass`` first, then
+    ``limits`` (parsed, :func:`parse_limit`), each checked against what ``objective``'s
+    runs compute (:func:`check_limits`)."""
+    out: list[Limit] = []
+    if max_mass is not None:
+        check_range("optimization.max_mass", max_mass, low=0.0, low_inclusive=False,
+                    unit="kg")
+        out.append(Limit("mass", "<=", float(max_mass), f"mass<={max_mass * 1e3:g}g"))
+    out += [lim if isinstance(lim, Limit) else parse_limit(lim) for lim in limits]
+    if objective is not None:
+        check_limits(out, objective)
+    return tuple(out)
 
 
 def _comparable(candidates: Sequence[DesignCandidate]) -> bool:
@@ -1110,8 +1474,13 @@ def _comparable(candidates: Sequence[DesignCandidate]) -> bool:
 
 def _score(c: DesignCandidate, sign: float) -> float:
     """The value minimised: ``sign`` times an evaluated candidate's objective, the penalty
-    for an infeasible or failed one."""
-    return sign * c.objective if c.status == "ok" and c.objective is not None else _PENALTY
+    for an infeasible or failed one (for one outside its limits, growing with its largest
+    relative shortfall, so that the optimiser moves towards the limits)."""
+    if c.status != "ok" or c.objective is None:
+        return _PENALTY
+    if c.violations:
+        return _PENALTY * (1.0 + max(-r["relative_margin"] for r in c.limits))
+    return sign * c.objective
 
 
 def _differential_evolution(land: _Landscape, variables, objective, max_evaluations, seed):
@@ -1191,7 +1560,7 @@ def optimize_design(
         Damper model factory taking a :class:`ParticleDamper` (default: the analytical model).
     options
         ``method``, ``max_grid``, ``max_evaluations``, ``seed``, ``workers``, ``scheduler``,
-        ``progress``, ``tolerance`` of :func:`run_design_study`.
+        ``progress``, ``tolerance``, ``limits``, ``max_mass`` of :func:`run_design_study`.
 
     Examples
     --------

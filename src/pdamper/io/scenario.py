@@ -65,6 +65,7 @@ from pdamper.io.quantities import (
 from pdamper.io.restitution import RestitutionSpec
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID, DEFAULT_TOLERANCE
+from pdamper.settings import setting
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -228,6 +229,45 @@ class OptimizationSpec(_Section):
     seed: Annotated[int, Field(ge=0, strict=True)] = 0
     tolerance: Annotated[float, BeforeValidator(_tolerance), Field(json_schema_extra={
         "allowed": '>= 0, < 1 (a fraction, or a percentage: "5%")'})] = DEFAULT_TOLERANCE
+    max_mass: float | None = setting(
+        None, "Largest mass of a design, its bed and its container (container.mass) "
+        "together, e.g. \"0.5 kg\"; a heavier design is infeasible, and the best and the "
+        "lightest designs are chosen among the others.", unit="kg", low=0.0,
+        low_inclusive=False, kind="number", none="no mass limit")
+    #: response limits at the observation point, "QUANTITY<=VALUE" (or >=): the quantities
+    #: the objective's runs compute, e.g. "peak-acceleration<=10g", "peak<=3mm"
+    #: (pdamper.design.study.LIMIT_QUANTITIES); a design that violates one is infeasible
+    require: Annotated[list[str], Field(json_schema_extra={
+        "allowed": 'texts "QUANTITY<=VALUE" or "QUANTITY>=VALUE"'})] = []
+
+    @field_validator("max_mass", mode="before")
+    @classmethod
+    def _declared_quantity(cls, value: Any, info) -> Any:
+        """A quantity declared with :func:`pdamper.settings.setting`, read with its unit
+        and checked against its declaration."""
+        from pdamper.settings import check_setting, declaration
+        from pdamper.units import parse_quantity
+
+        decl = declaration(cls, info.field_name)
+        try:
+            if value is not None:
+                value = parse_quantity(value, decl["unit"], info.field_name)
+            return check_setting(info.field_name, value, decl)
+        except InputError as exc:  # pydantic adds the location
+            raise ValueError(exc.message) from None
+
+    @field_validator("require", mode="after")
+    @classmethod
+    def _limits(cls, value: list[str]) -> list[str]:
+        if value:  # no import of Level III for a scenario without limits
+            from pdamper.design.study import parse_limit
+
+            for text in value:
+                try:
+                    parse_limit(text)
+                except InputError as exc:
+                    raise ValueError(exc.message) from None
+        return value
 
     def variables(self) -> list[DesignVariable]:
         """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary`` (judge

@@ -18,6 +18,7 @@ from pdamper.plots.figures import (
 )
 from pdamper.plots.level3 import (
     plot_damping_ratio_band,
+    plot_design_front,
     plot_design_landscape,
     plot_mode_study,
     plot_model_damping_ratios,
@@ -42,6 +43,7 @@ __all__ = [
     "plot_effective_mass_map",
     "plot_step_profile",
     "plot_field_difference",
+    "plot_design_front",
     "plot_design_landscape",
     "plot_free_vibration",
     "plot_loss_factor_map",

@@ -136,11 +136,15 @@ def plot_design_landscape(study: DesignStudyResult, ax: Axes | None = None) -> A
 
 
 def _coord(v: DesignVariable, c: DesignCandidate) -> float:
-    """The axis coordinate of design ``c`` along ``v`` (mm, a count, a material's index)."""
+    """The axis coordinate of design ``c`` along ``v`` (mm, g, %, a count, a material's
+    index)."""
+    from pdamper.design.study import DESIGN_VARIABLES
+
     value = c.design[v.name]
     if v.kind == "categorical":
         return float(list(v.values).index(value)) if v.values else 0.0
-    return value * 1e3 if v.kind == "continuous" else float(value)
+    return (value * DESIGN_VARIABLES[v.name].display[1] if v.kind == "continuous"
+            else float(value))
 
 
 def _axis_label(v: DesignVariable) -> str:
@@ -148,7 +152,55 @@ def _axis_label(v: DesignVariable) -> str:
             "container_length": "container length [mm]",
             "container_width": "container width [mm]",
             "container_depth": "container depth [mm]",
-            "particle_material": "particle material"}[v.name]
+            "particle_material": "particle material", "bed_mass": "bed mass [g]",
+            "fill": "fill [% of the lattice's count]"}[v.name]
+
+
+def _outside(ax: Axes, xs: list[float], ys: list[float]) -> None:
+    """Designs evaluated but outside the study's limits: open grey squares."""
+    if xs:
+        ax.plot(xs, ys, "s", ms=9, mfc="none", mec="0.45", mew=1.2,
+                label="outside the limits (infeasible)")
+
+
+def plot_design_front(study: DesignStudyResult, ax: Axes | None = None) -> Axes:
+    """The designs of a study by mass (bed plus container [g]) and objective: the Pareto
+    front of the designs within the limits as a line, the designs outside them marked
+    (open grey squares), the mass limit and a limit on the objective itself as dashed
+    lines, the best as a star and the lightest within the tolerance as a green diamond."""
+    from pdamper.design.study import LIMIT_QUANTITIES
+
+    ax = _axes(ax)
+    unit = study.objective.display_scale
+    ok = [c for c in study.candidates if c.status == "ok" and c.objective is not None]
+    inside = [c for c in ok if not c.violations]
+
+    def xy(cs):
+        return [c.total_mass * 1e3 for c in cs], [_objective(c) * unit for c in cs]
+
+    if inside:
+        ax.plot(*xy(inside), "o", color="C0", ms=5, label="designs within the limits")
+    _outside(ax, *xy([c for c in ok if c.violations]))
+    front = study.front
+    if front:
+        ax.plot(*xy(front), "-", color="k", lw=1, label="Pareto front")
+    for lim in study.limits:
+        if lim.quantity == "mass":
+            ax.axvline(lim.value * 1e3, ls="--", color="r", lw=1,
+                       label=f"limit: {lim.describe()}")
+        elif LIMIT_QUANTITIES[lim.quantity][2].get(study.objective.name) == "objective":
+            ax.axhline(lim.value * unit, ls="--", color="r", lw=1,
+                       label=f"limit: {lim.describe()}")
+    if study.best is not None:
+        ax.plot(*xy([study.best]), "r*", ms=14, label="best")
+    light = study.lightest_within
+    if light is not None:
+        ax.plot(*xy([light]), "gD", ms=8,
+                label=f"lightest within {study.tolerance * 100:g} %")
+    ax.set_xlabel("mass of bed and container [g]")
+    ax.set_ylabel(study.objective.label)
+    ax.legend(fontsize="x-small")
+    return ax
 
 
 def _objective(c: DesignCandidate) -> float:
@@ -172,6 +224,8 @@ def _landscape_of_one(ax: Axes, study: DesignStudyResult, names: list[str], unit
                         [c.extra["objective_max"] * unit for c in pts],
                         color=line.get_color(), alpha=0.25, lw=0,
                         label="min-max of the realisations (line: their mean)")
+    out = [c for c in pts if c.violations]
+    _outside(ax, [_coord(v0, c) for c in out], [_objective(c) * unit for c in out])
     if bad:
         y0 = min((_objective(c) * unit for c in ok), default=0.0)
         for status, color in (("infeasible", "0.5"), ("failed", "r")):
@@ -206,6 +260,8 @@ def _landscape_of_two(ax: Axes, study: DesignStudyResult, names: list[str], unit
                        if study.objective.sense == "min" else "viridis", s=60,
                        edgecolors="k", linewidths=0.3)
         ax.figure.colorbar(m, ax=ax, label=ylabel)
+    out = [c for c in ok if c.violations]
+    _outside(ax, [_coord(v0, c) for c in out], [_coord(v1, c) for c in out])
     for status, color in (("infeasible", "0.5"), ("failed", "r")):
         sel = [c for c in bad if c.status == status]
         if sel:
@@ -233,11 +289,9 @@ def _landscape_of_two(ax: Axes, study: DesignStudyResult, names: list[str], unit
 
 
 def _describe(c: DesignCandidate, names: list[str]) -> str:
-    parts = []
-    for n in names:
-        v = c.design[n]
-        parts.append(f"{v * 1e3:.3g} mm" if isinstance(v, float) else str(v))
-    return ", ".join(parts)
+    from pdamper.design.study import show_value
+
+    return ", ".join(show_value(n, c.design[n]) for n in names)
 
 
 def plot_mode_study(study: ModeCountStudy, ax: Axes | None = None) -> Axes:

@@ -126,9 +126,15 @@ def _landscape_figure(rep: DamperReport) -> Figure:
 
     from pdamper import plots
 
-    fig = Figure(figsize=(8, 5.2), layout="constrained")
     assert rep.study is not None  # the report always runs its design study
-    plots.plot_design_landscape(rep.study, ax=fig.subplots())
+    if not rep.study.limits:
+        fig = Figure(figsize=(8, 5.2), layout="constrained")
+        plots.plot_design_landscape(rep.study, ax=fig.subplots())
+        return fig
+    fig = Figure(figsize=(13, 5.2), layout="constrained")  # with limits: the front too
+    left, right = fig.subplots(1, 2)
+    plots.plot_design_landscape(rep.study, ax=left)
+    plots.plot_design_front(rep.study, ax=right)
     return fig
 
 

@@ -318,7 +318,8 @@ def design_study(sc: Scenario, damper: ParticleDamper, structure: Any) -> Design
                            max_evaluations=o.max_evaluations, seed=o.seed, workers=0,
                            tolerance=o.tolerance,
                            load=sc.load.history() if o.objective in LOAD_OBJECTIVES else None,
-                           tail=sc.load.tail, band=o.frf_band(), frf_load=o.frf_load)
+                           tail=sc.load.tail, band=o.frf_band(), frf_load=o.frf_load,
+                           limits=o.require, max_mass=o.max_mass)
 
 
 __all__ = ["DEFAULT_UNCERTAINTY_POINTS", "FORCED_POINTS", "FORCED_SPAN", "DamperReport",
