@@ -99,7 +99,12 @@ def frf(
     damper = sc.damper()
     m = sc.model(None, damper)
     structure = sc.structure_model()
-    res = frequency_response(m, structure, load_, freqs, sweep=sweep, max_cycles=max_cycles)
+    from pdamper.cli._progress import frf_steps  # the DEM's steps: minutes (stderr only)
+
+    with frf_steps(len(freqs) * (2 if sweep == "both" else 1)) as steps:
+        res = frequency_response(m, structure, load_, freqs, sweep=sweep,
+                                 max_cycles=max_cycles,
+                                 progress=None if steps is None else steps.step)
     meta = metadata(sc)
     if out_path is not None:
         _write_response(out_path, res, meta)

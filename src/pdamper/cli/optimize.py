@@ -125,8 +125,11 @@ def optimize(
     variables = _variables(sc.optimization, damper)
     proto = _prototype(sc, damper, history)
     n_workers = _worker_count(sc.optimization.workers, proto)
-    res, seeds = _study(sc, damper, variables, history, n_workers,
-                        _realisation_count(sc, realisations, force))
+    n_real = _realisation_count(sc, realisations, force)
+    from pdamper.cli._progress import Bar
+
+    with Bar("designs evaluated") as progress:  # stderr, a terminal only; none with --quiet
+        res, seeds = _study(sc, damper, variables, history, n_workers, n_real, progress)
     payload, lines = _report(sc, res, history, n_workers, seeds)
     emit(payload, as_json, "\n".join(lines))  # the study first: a figure cannot lose it
     if plot_path is not None:
@@ -209,10 +212,10 @@ def _realisation_count(sc: Scenario, realisations: str | None, force: bool) -> i
 
 
 def _study(sc: Scenario, damper: Any, variables: list[DesignVariable],
-           history: LoadHistory | None, n_workers: int,
-           n_real: int) -> tuple[DesignStudyResult, list[int] | None]:
+           history: LoadHistory | None, n_workers: int, n_real: int,
+           progress: Any = None) -> tuple[DesignStudyResult, list[int] | None]:
     """The design study, each design from ``n_real`` packings when above 1; with the
-    seeds of the packings (None: one)."""
+    seeds of the packings (None: one); ``progress(done, total)`` after each design."""
     import functools
 
     from pdamper.design.study import optimize_design
@@ -231,7 +234,7 @@ def _study(sc: Scenario, damper: Any, variables: list[DesignVariable],
                                max_grid=o.max_grid, max_evaluations=o.max_evaluations,
                                seed=o.seed, workers=n_workers, scheduler=o.scheduler,
                                tolerance=o.tolerance, limits=o.require,
-                               max_mass=o.max_mass)
+                               max_mass=o.max_mass, progress=progress)
         return res, evaluate.seeds
     res = optimize_design(sc.structure_model(), damper, sc.structure.initial_displacement,
                           variables, o.objective, o.at,
@@ -241,7 +244,7 @@ def _study(sc: Scenario, damper: Any, variables: list[DesignVariable],
                           workers=n_workers, scheduler=o.scheduler,
                           tolerance=o.tolerance, load=history, tail=sc.load.tail,
                           band=o.frf_band(), frf_load=o.frf_load, limits=o.require,
-                          max_mass=o.max_mass)
+                          max_mass=o.max_mass, progress=progress)
     return res, None
 
 

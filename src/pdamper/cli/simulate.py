@@ -297,8 +297,12 @@ def _run_models(sc: Scenario, structure: Any, models: dict[str, Any], banded: li
                                                force=force)
             runs[n] = bands[n].runs[0]  # the first realisation (seed dem.seed; map's 0)
         else:
-            runs[n] = Simulation(structure, m, x0).run(sc.simulation.duration,
-                                                       sc.simulation.sample_rate)
+            from pdamper.cli._progress import Spinner  # a coupled DEM run: minutes
+
+            with Spinner(f"{n}: {sc.simulation.duration:g} s of the coupled run",
+                         None if getattr(m, "expensive", False) else False):
+                runs[n] = Simulation(structure, m, x0).run(sc.simulation.duration,
+                                                           sc.simulation.sample_rate)
         seconds[n] = time.perf_counter() - t0
     return runs, seconds, bands
 
