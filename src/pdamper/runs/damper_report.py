@@ -72,6 +72,11 @@ class DamperReport:
     band: Any = None  # Level3Band of the DEM's realisations (with dem and realisations)
     figure_errors: dict = field(default_factory=dict)  # figure name -> why it is missing
     not_applicable: dict = field(default_factory=dict)  # result key -> why it is null
+    used: dict = field(default_factory=dict)  # the inputs the report used
+    not_used: dict = field(default_factory=dict)  # key -> why the report did not use it
+    modal: dict = field(default_factory=dict)  # the structure's data (runs.report_inputs)
+    mode_damping: list = field(default_factory=list)  # what each mode gains
+    embedded: dict = field(default_factory=dict)  # "modes", "load" -> {name, text}
 
     def models(self) -> list[dict]:
         """One row per Level III run: label, model, source, amplitude at ``at``, final
@@ -123,7 +128,13 @@ class DamperReport:
                 **({"not_applicable": dict(self.not_applicable)} if self.not_applicable
                    else {}),
                 "figures": [f.name for f in self.figures],
-                "figure_errors": dict(self.figure_errors), "inputs": self.inputs}
+                "figure_errors": dict(self.figure_errors),
+                "inputs": self.used or self.inputs, "inputs_not_used": self.not_used,
+                "structure": self.modal, "mode_damping": self.mode_damping,
+                "embedded_files": self.embedded,
+                "units": {"mode_damping": {"frequency": "Hz", "damping_ratio": "1",
+                                           "added": "1", "total": "1", "stroke": "m",
+                                           "loss_factor": "1"}}}
 
 
 def _timed(rep: DamperReport, key: str, fn: Callable[..., Any]) -> Any:
@@ -212,6 +223,7 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
 
     say("design landscape")
     rep.study = _timed(rep, "design study", lambda: design_study(sc, damper, structure))
+    _record_inputs(rep, sc, damper, structure, dem)
 
     if sc.uncertain_inputs():
         from pdamper.runs.uncertainty import propagate_scenario
@@ -224,6 +236,25 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
                 rep, f"uncertainty ({level})", lambda lv=level: propagate_scenario(
                     sc, lv, n, uncertainty_seed, model="analytic"))
     return rep
+
+
+def _record_inputs(rep: DamperReport, sc: Scenario, damper: ParticleDamper, structure: Any,
+                   dem: bool) -> None:
+    """What the report rests on (:mod:`pdamper.runs.report_inputs`): the inputs it used and
+    why the others were not, the structure's data and the files it read embedded, the
+    damping each mode gains."""
+    from pdamper.design.study import LOAD_OBJECTIVES
+    from pdamper.runs.report_inputs import embedded_file, modal_data, mode_damping, used_inputs
+
+    load_used = sc.optimization.objective in LOAD_OBJECTIVES and sc.load.given
+    rep.used, rep.not_used = used_inputs(rep.inputs, dem=dem, load_used=load_used)
+    rep.modal = modal_data(structure)
+    rep.mode_damping = mode_damping(structure, damper, sc.excitation.gravity)
+    for key, path in (("modes", sc.structure.modes),
+                      ("load", (sc.load.force or sc.load.base_acceleration)
+                       if load_used else None)):
+        if (text := embedded_file(path)) is not None:
+            rep.embedded[key] = text
 
 
 #: Frequencies of the report's forced response, over (1 -+ FORCED_SPAN) x the structure's
