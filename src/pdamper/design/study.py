@@ -51,10 +51,22 @@ Added mass is a cost of every real damper, and landscapes are often flat near th
 carries the Pareto front of added mass against the objective (:func:`pareto_front`: both
 minimised, a maximised objective taken with its sign turned) and the lightest design whose
 objective is within a relative ``tolerance`` of the best (:func:`lightest_within`;
-default :data:`DEFAULT_TOLERANCE`, 5 %). The added mass is the bed's, m_bed: the
-container's mass is a fixed input of the scenario (``container.mass``), not a function of
-its dimensions, so it is the same for every design and moves no design on or off the front.
-Infeasible and failed designs have no objective and are never on the front.
+default :data:`DEFAULT_TOLERANCE`, 5 %). A design's mass is its bed's, m_bed (the key
+``mass``), plus its container's (``container_mass``, the scenario's ``container.mass``):
+``total_mass``, the mass the front and the lightest design are ranked by and the mass
+limit bounds. Infeasible and failed designs have no objective and are never on the front.
+
+Limits
+------
+``max_mass`` (bed plus container [kg]) and response limits (:class:`Limit`,
+``"peak-acceleration<=10g"``, ``"peak<=3mm"``: :data:`LIMIT_QUANTITIES`, the quantities
+the objective's runs compute at the observation point) mark the designs that violate one
+as infeasible, with the reason (evaluated and listed; each candidate carries every limit's
+value and margin, :func:`judge`). The best, the lightest within the tolerance, the front
+and the lightest design within the limits (:attr:`DesignStudyResult.lightest_feasible`)
+are chosen among the designs within them; when none is, the study names none best and
+says by how much the closest misses (:attr:`DesignStudyResult.closest`). The optimiser
+sees a violation as a penalty growing with the shortfall.
 
 Variable specifications (CLI ``--vary``, scenario ``[optimization] vary``)
 -------------------------------------------------------------------------
@@ -66,6 +78,10 @@ Variable specifications (CLI ``--vary``, scenario ``[optimization] vary``)
     ``3mm,4mm``, one value, or an interval ``3mm:6mm`` (optimiser only).
 ``particle-material=S235,PVC``
     Names of materials (:func:`pdamper.materials.get_material`).
+``bed-mass=0.1kg:0.4kg:4``, ``fill=0.2:0.9:4``
+    The bed's mass, or the fraction of the lattice's count n_max: the particle count is
+    derived for each radius and material (:data:`DERIVED_VARIABLES`); at most one of
+    ``particles``, ``bed-mass`` and ``fill``.
 """
 
 from __future__ import annotations
