@@ -381,10 +381,10 @@ def _candidate_lines(res: DesignStudyResult) -> list[str]:
                   ("lightest within the limits", res.lightest_feasible),
                   ("closest to the limits", res.closest)]
         shown_: list[Any] = []
-        for label, c in chosen:
-            if c is not None and c.limits and c not in shown_:
-                shown_.append(c)
-                lines.append(f"  {label}: {describe_design(c, names)}: " + margins(c))
+        for label, pick in chosen:
+            if pick is not None and pick.limits and not any(pick is d for d in shown_):
+                shown_.append(pick)
+                lines.append(f"  {label}: {describe_design(pick, names)}: " + margins(pick))
     return lines
 
 

@@ -1347,13 +1347,13 @@ class _Landscape:
         for (k, _design, values, full), oc in zip(todo, outcomes, strict=True):
             mass, box = full.bed_mass, full.container_mass
             if oc.ok and oc.value is not None and math.isfinite(oc.value[0]):
-                cand = DesignCandidate(values, values["particles"], mass, float(oc.value[0]),
+                made = DesignCandidate(values, values["particles"], mass, float(oc.value[0]),
                                        extra=oc.value[1], container_mass=box)
             else:
-                cand = DesignCandidate(values, values["particles"], mass, None, "failed",
+                made = DesignCandidate(values, values["particles"], mass, None, "failed",
                                        oc.error or "objective is not a finite number",
                                        container_mass=box)
-            out[k] = judge(cand, self.limits, self.objective)
+            out[k] = judge(made, self.limits, self.objective)
         for k, key in fresh:
             cand = out[k]
             assert cand is not None  # every design first seen here got its candidate above

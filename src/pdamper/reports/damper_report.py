@@ -14,7 +14,7 @@ import io
 import json
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -454,7 +454,8 @@ def _limits_html(st, names) -> list[str]:
                                   st.lightest_within),
               ("lightest within the limits", st.lightest_feasible),
               ("closest to the limits (none meets them)", st.closest)]
-    rows, seen = [], []
+    rows: list[list[str]] = []
+    seen: list[Any] = []
     for label, c in chosen:
         if c is None or any(c is d for d in seen):
             continue
