@@ -313,3 +313,41 @@ def test_limits_choose_among_feasible_designs_only():
     # b is best by objective but outside its limits: never on the front, never lightest
     assert lightest_within([a, b, c], c, 0.05) is a
     assert lightest_within([b], b, 0.05) is b  # (the best itself when none within)
+
+
+def test_the_optimiser_finds_the_heaviest_bed_within_the_mass_limit():
+    """A synthetic objective that rewards mass (minus the bed's mass): unlimited, the best
+    is the heaviest bed; under max_mass the differential evolution must stay below the limit
+    and get close to it."""
+    from pdamper.design.study import make_objective, run_design_study
+    from pdamper.parameters import PAPER_STRUCTURE
+
+    damper = PAPER_DAMPER  # no container mass: the limit bounds the bed alone here
+
+    def evaluate(design):
+        return -apply_design(damper, design).bed_mass, {}
+
+    obj = make_objective("amplitude-at", 0.8, -0.058, PAPER_STRUCTURE)
+    var = [parse_variable("bed-mass=0.05kg:0.4kg")]
+    free = run_design_study(evaluate, damper, var, obj, method="optimize",
+                            max_evaluations=120, seed=1)
+    limited = run_design_study(evaluate, damper, var, obj, method="optimize",
+                               max_evaluations=120, seed=1, max_mass=0.2)
+    assert free.best.mass > 0.35
+    assert limited.best.total_mass <= 0.2
+    assert limited.best.total_mass > 0.18  # the search moved up to the limit
+    assert all(c.total_mass <= 0.2 for c in limited.front)
+    assert any(not c.feasible for c in limited.candidates)  # it tried beyond and marked it
+
+
+def test_a_scenario_refuses_a_limit_its_objective_does_not_compute():
+    from pdamper.io.scenario import load_scenario
+
+    with pytest.raises(InputError) as info:
+        load_scenario(None, {"optimization.require": ["rms-acceleration<=1g"],
+                             "optimization.objective": "peak-frf"})
+    assert info.value.field == "optimization.require"
+    assert "peak, rms" in info.value.message
+    sc = load_scenario(None, {"optimization.require": ["peak<=3mm"],
+                              "optimization.objective": "peak-frf"})
+    assert sc.optimization.require == ["peak<=3mm"]

@@ -269,6 +269,23 @@ class OptimizationSpec(_Section):
                     raise ValueError(exc.message) from None
         return value
 
+    @model_validator(mode="after")
+    def _limits_of_the_objective(self):
+        """A limit bounds what the objective's runs compute: judged on load, before any
+        run of any command."""
+        if self.require:
+            from pdamper.design.study import LIMIT_QUANTITIES, parse_limit
+
+            for text in self.require:
+                lim = parse_limit(text)
+                where = LIMIT_QUANTITIES[lim.quantity][2]
+                if lim.quantity != "mass" and self.objective not in where:
+                    raise InputError("optimization.require", f"{text!r}: {lim.quantity} is "
+                                     f"computed by the objective(s) {', '.join(where)}, not "
+                                     f"by {self.objective!r} (the limits bound what the "
+                                     "objective's runs compute)")
+        return self
+
     def variables(self) -> list[DesignVariable]:
         """The parsed :class:`~pdamper.design.DesignVariable` objects of ``vary`` (judge
         their sizes first: :func:`pdamper.runs.resources.check_resources` with
