@@ -45,6 +45,14 @@ ObjectiveOpt = Annotated[str | None, typer.Option(help=key_help(
     "of the free decay; peak or rms (min) of the response to --load / --base-acceleration; "
     "peak-frf or rms-frf (min) of the forced response to --frf-load"))]
 
+#: The limits, as the scenario's ``[optimization]`` keys.
+MaxMassOpt = Annotated[str | None, typer.Option("--max-mass", help=key_help(
+    "optimization.max_mass", "Largest mass of bed plus container, e.g. '0.5kg'"))]
+RequireOpt = Annotated[list[str] | None, typer.Option("--require", help=key_help(
+    "optimization.require", "Response limit at the observation point, repeatable: "
+    "'peak-acceleration<=10g', 'peak<=3mm', 'rms<=1mm', 'mean-damping>=2%' (the "
+    "quantities the objective's runs compute)"))]
+
 
 def optimize(
     model: ModelOpt = None,
@@ -84,14 +92,8 @@ def optimize(
                       "Relative tolerance on the objective: the lightest design within it of the best "
              "is reported with the Pareto front of added (bed) mass against the objective, "
              "e.g. '5%' or 0.05; in [0 %, 100 %) (default 5 %)."))] = None,
-    max_mass: Annotated[str | None, typer.Option(
-        "--max-mass", help=key_help("optimization.max_mass",
-                                    "Largest mass of bed plus container, e.g. '0.5kg'"))] = None,
-    require: Annotated[list[str] | None, typer.Option(
-        "--require", help=key_help(
-            "optimization.require", "Response limit at the observation point, repeatable: "
-            "'peak-acceleration<=10g', 'peak<=3mm', 'rms<=1mm', 'mean-damping>=2%' (the "
-            "quantities the objective's runs compute)"))] = None,
+    max_mass: MaxMassOpt = None,
+    require: RequireOpt = None,
     plot: Annotated[str | None, plot_param("the design landscape")] = None,
     modes: ModesOpt = None,
     load_file: LoadOpt = None,
@@ -125,11 +127,8 @@ def optimize(
     variables = _variables(sc.optimization, damper)
     proto = _prototype(sc, damper, history)
     n_workers = _worker_count(sc.optimization.workers, proto)
-    n_real = _realisation_count(sc, realisations, force)
-    from pdamper.cli._progress import Bar
-
-    with Bar("designs evaluated") as progress:  # stderr, a terminal only; none with --quiet
-        res, seeds = _study(sc, damper, variables, history, n_workers, n_real, progress)
+    res, seeds = _study(sc, damper, variables, history, n_workers,
+                        _realisation_count(sc, realisations, force))
     payload, lines = _report(sc, res, history, n_workers, seeds)
     emit(payload, as_json, "\n".join(lines))  # the study first: a figure cannot lose it
     if plot_path is not None:
@@ -212,10 +211,21 @@ def _realisation_count(sc: Scenario, realisations: str | None, force: bool) -> i
 
 
 def _study(sc: Scenario, damper: Any, variables: list[DesignVariable],
-           history: LoadHistory | None, n_workers: int, n_real: int,
-           progress: Any = None) -> tuple[DesignStudyResult, list[int] | None]:
+           history: LoadHistory | None, n_workers: int,
+           n_real: int) -> tuple[DesignStudyResult, list[int] | None]:
     """The design study, each design from ``n_real`` packings when above 1; with the
-    seeds of the packings (None: one); ``progress(done, total)`` after each design."""
+    seeds of the packings (None: one), and a progress display of the designs evaluated
+    (stderr, a terminal only; none with --quiet)."""
+    from pdamper.cli._progress import Bar
+
+    with Bar("designs evaluated") as progress:
+        return _run_study(sc, damper, variables, history, n_workers, n_real, progress)
+
+
+def _run_study(sc: Scenario, damper: Any, variables: list[DesignVariable],
+               history: LoadHistory | None, n_workers: int, n_real: int,
+               progress: Any) -> tuple[DesignStudyResult, list[int] | None]:
+    """:func:`_study`, reporting each design evaluated to ``progress(done, total)``."""
     import functools
 
     from pdamper.design.study import optimize_design
