@@ -23,7 +23,11 @@ from pdamper.errors import InputError
 from pdamper.materials import get_material
 from pdamper.parameters import PAPER_DAMPER
 
-CASES = Path("/work/shared/user-cases")
+#: The machine frame's modes (the user case machine-frame/modes.csv) with the shapes at
+#: the damper and the sensor, both the tip: the motor's column is a load point this study
+#: does not use (the load here is the harmonic force of peak-frf at the damper's point).
+FRAME_MODES = ("frequency [Hz], damping ratio [%], damper [kg^-0.5], observation [kg^-0.5]\n"
+               "12.0, 1.0, 0.2582, 0.2582\n31.0, 0.8, -0.3162, -0.3162\n")
 #: Aluminium box of the machine frame: 60 mm cube inside, 1.5 mm walls (problem.md).
 FRAME_BOX, FRAME_WALL = 0.060, 0.0015
 #: The bracket's box: 30 mm cube inside, 1 mm walls.
@@ -39,15 +43,8 @@ def box_mass(inner: float, wall: float) -> float:
 
 
 def _frame(tmp_path: Path) -> Path:
-    """The machine frame's scenario. Its modes file is copied with the shapes at the damper
-    and the sensor (both the tip): the motor's column is a load point this study does not
-    use (the load here is the harmonic force of peak-frf at the damper's point)."""
-    rows = (CASES / "machine-frame" / "modes.csv").read_text().splitlines()
-    lines = ["frequency [Hz], damping ratio [%], damper [kg^-0.5], observation [kg^-0.5]"]
-    for row in rows[1:]:
-        f, z, d, _load, o = (c.strip() for c in row.split(","))
-        lines.append(f"{f}, {z}, {d}, {o}")
-    (tmp_path / "modes.csv").write_text("\n".join(lines) + "\n")
+    """The machine frame's scenario (:data:`FRAME_MODES`)."""
+    (tmp_path / "modes.csv").write_text(FRAME_MODES)
     text = f"""
 title = "machine frame"
 [container]
