@@ -91,6 +91,17 @@ def simulate(
     load_file: LoadOpt = None,
     base_acceleration: BaseAccelerationOpt = None,
     tail: TailOpt = None,
+    unbalance: Annotated[str | None, typer.Option(
+        "--unbalance", help=key_help("load.unbalance", "Rotating unbalance m e at the load "
+                                     "point, e.g. '1.76kg*mm', driven by --run-up"))] = None,
+    run_up: Annotated[str | None, typer.Option(
+        "--run-up", help=key_help("load.run_up", "Speed ramp of --unbalance "
+                                  "'start:stop:duration', e.g. '400rpm:2400rpm:20s' (a "
+                                  "run-down: start above stop; a constant speed: equal)"))
+    ] = None,
+    load_at: Annotated[str | None, typer.Option(
+        "--load-at", help=key_help("load.at", "Where a force acts: load (the structure's "
+                                   "load point) or damper"))] = None,
     realisations: Annotated[str | None, typer.Option(
         "--realisations", help="N realisations of each model that has them: the DEM from N "
         "random packings (seeds dem.seed ... dem.seed + N - 1, in parallel), the effective "
@@ -118,7 +129,8 @@ def simulate(
         structure__modes=None if modes is None else str(modes),
         load__force=None if load_file is None else str(load_file),
         load__base_acceleration=None if base_acceleration is None
-        else str(base_acceleration), load__tail=tail, optimization__at=at), uncertain))
+        else str(base_acceleration), load__tail=tail, load__unbalance=unbalance,
+        load__run_up=run_up, load__at=load_at, optimization__at=at), uncertain))
     _check_uncertainty(sc, uncertainty, force)
     out_path = check_output(out)
     plot_path = check_plot(plot)
@@ -382,9 +394,9 @@ def _figure(runs: dict, aligned, comparisons: dict, bands: dict) -> Figure:
         plots.plot_trajectory_band(b, ax=axes[0], label=n)
         plots.plot_damping_ratio_band(b, ax=axes[1], label=n)
     plots.plot_model_trajectories(single, aligned, comparisons, ax=axes[0])
-    axes[0].set_title("end-effector trajectory (Fig. 7)")
+    axes[0].set_title("trajectory of the observation point")
     plots.plot_model_damping_ratios(single, aligned, comparisons, ax=axes[1])
-    axes[1].set_title("damping ratio (Fig. 8)")
+    axes[1].set_title("damping ratio over the amplitude")
     if aligned is not None:
         plots.plot_phase_drift(comparisons, ax=axes[2])
         axes[2].set_title("phase drift against the measurement")

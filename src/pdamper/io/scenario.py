@@ -45,6 +45,7 @@ from pdamper.io.dem_section import (  # noqa: F401  (importable from here)
     DEMSpec,
 )
 from pdamper.io.grids import _grid, _range_text, count_grid, grid, parse_axis
+from pdamper.io.loads import FRFSpec
 from pdamper.io.quantities import (
     Count,
     Damping,
@@ -117,6 +118,9 @@ class BeamSpec(_Section):
     modes: Annotated[int, Field(ge=1, strict=True)] = 1
     damper_position: PositiveLength | None = None
     observation_position: PositiveLength | None = None
+    #: where a force on the beam acts (a harmonic force, an unbalance, a force history),
+    #: from the clamp; default the damper's point
+    load_position: PositiveLength | None = None
     damping_ratio: (Annotated[float, Field(ge=0)]
                     | list[Annotated[float, Field(ge=0)]]) = paper.PAPER_STRUCTURE.damping_ratio
 
@@ -163,23 +167,51 @@ class StructureSpec(_Section):
 
 class LoadSpec(_Section):
     """A load history on the structure (:mod:`pdamper.io.loads`, docs/forced.md): a force
-    (``force``, a CSV file) or a base acceleration (``base_acceleration``), not both; a
-    relative path is taken relative to the scenario file. The run lasts the record plus
-    ``tail`` of free vibration."""
+    (``force``, a CSV file), a base acceleration (``base_acceleration``) or a rotating
+    unbalance on a speed ramp (``unbalance`` with ``run_up``,
+    :class:`~pdamper.coupling.loads.RunUp`), one of them; a relative path is taken
+    relative to the scenario file. The run lasts the record plus ``tail`` of free
+    vibration. A force acts at the structure's load point (``at = "load"``: the modes
+    file's load column, the beam's ``load_position``; the damper's point where the
+    structure names none) or at the damper's point (``at = "damper"``: a shock on the
+    damper's housing)."""
 
     force: str | None = None
     base_acceleration: str | None = None
+    #: rotating unbalance m e of the run-up, e.g. "1.76 kg*mm"
+    unbalance: Annotated[float, _q("kg*m"), Field(gt=0)] | None = None
+    #: speed ramp of the unbalance "start:stop:duration", e.g. "400rpm:2400rpm:20s"
+    run_up: str | None = None
     tail: Annotated[float, _q("s"), Field(ge=0, allow_inf_nan=False)] = 0.0
+    #: where a force acts: "load" (the structure's load point) or "damper"
+    at: Literal["load", "damper"] = "load"
 
     @model_validator(mode="after")
     def _one_load(self):
-        if self.force is not None and self.base_acceleration is not None:
-            raise ValueError("give the load as force or as base_acceleration, not both")
+        given = [k for k in ("force", "base_acceleration", "run_up")
+                 if getattr(self, k) is not None]
+        if len(given) > 1:
+            raise ValueError(f"give the load as one of force, base_acceleration or run_up, "
+                             f"not {' and '.join(given)}")
+        if (self.run_up is None) != (self.unbalance is None):
+            raise ValueError("a run-up needs both unbalance (m e, e.g. '1.76 kg*mm') and "
+                             "run_up (the speed ramp, e.g. '400rpm:2400rpm:20s')")
+        if self.run_up is not None:
+            from pdamper.coupling.loads import RunUp
+
+            RunUp.parse(self.unbalance, self.run_up)  # its ramp checked here
         return self
 
     @property
     def given(self) -> bool:
-        return self.force is not None or self.base_acceleration is not None
+        return (self.force is not None or self.base_acceleration is not None
+                or self.run_up is not None)
+
+    def run_up_load(self):
+        """The :class:`~pdamper.coupling.loads.RunUp` (None: none given)."""
+        from pdamper.coupling.loads import RunUp
+
+        return None if self.run_up is None else RunUp.parse(self.unbalance, self.run_up)
 
     def history(self) -> LoadHistory | None:
         """The :class:`~pdamper.coupling.loads.LoadHistory` (None: no load given)."""
@@ -189,7 +221,8 @@ class LoadSpec(_Section):
             return read_load(self.force, "force")
         if self.base_acceleration is not None:
             return read_load(self.base_acceleration, "base_acceleration")
-        return None
+        run_up = self.run_up_load()
+        return None if run_up is None else run_up.history()
 
 
 class SimulationSpec(_Section):
@@ -316,6 +349,7 @@ class Scenario(_Section):
     dem: DEMSpec = DEMSpec()
     restitution: RestitutionSpec = RestitutionSpec()
     load: LoadSpec = LoadSpec()
+    frf: FRFSpec = FRFSpec()
     #: inputs given as "value +- sd" (field -> UncertainInput; pdamper.io.uncertain)
     _uncertain: dict = PrivateAttr(default_factory=dict)
 
