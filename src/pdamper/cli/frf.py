@@ -73,6 +73,9 @@ def frf(
         help="Harmonic base motion instead: displacement ('1mm') or acceleration ('0.3g') "
              "amplitude (one-mode structures; scenario keys frf.base_displacement, "
              "frf.base_acceleration).")] = None,
+    load_at: Annotated[str | None, typer.Option(
+        "--load-at", help=key_help("frf.at", "Where the force or unbalance acts: load (the "
+                                   "structure's load point) or damper"))] = None,
     frequency: Annotated[str | None, typer.Option(
         help=key_help("frf.frequency", "Frequencies 'start:stop:count' (e.g. '3Hz:9Hz:121', "
                       "'360rpm:2400rpm:100') or one; default every mode of the structure, "
@@ -112,7 +115,7 @@ def frf(
         check_whole("max_cycles", max_cycles, 1)
     sc = load(scenario, simulation__model=model, particles__count=particles,
               fields__file=None if fields is None else str(fields),
-              structure__modes=None if modes is None else str(modes))
+              structure__modes=None if modes is None else str(modes), frf__at=load_at)
     # the command line's load and frequencies, else the scenario's [frf], else the defaults
     load_ = given or sc.frf.load() or parse_load(None, None)
     sweep = sweep or sc.frf.sweep
@@ -121,13 +124,14 @@ def frf(
         "default: every mode of the structure, each resonance resolved for its damping")
     if freqs is None:
         freqs = sc.frf.frequencies(sc.structure_model(), sc.damper().bed_mass)
+    from pdamper.coupling.loads import acting_at
     # the cost of every frequency, sweep, cycle and mode, judged before any is solved
     check_frf(sc, model, freqs, load_, max_cycles=max_cycles, sweep=sweep, force=allow_cost)
     out_path = check_output(out)
     plot_path = check_plot(plot)
     damper = sc.damper()
     m = sc.model(None, damper)
-    structure = sc.structure_model()
+    structure = acting_at(sc.structure_model(), sc.frf.at, "frf.at")
     res = frequency_response(m, structure, load_, freqs, sweep=sweep, max_cycles=max_cycles)
     meta = metadata(sc)
     if out_path is not None:
@@ -182,8 +186,8 @@ def _figure(res: FRFResult, path: Path) -> None:
 
         from pdamper.plots.frf import plot_frf
 
-        fig = Figure(figsize=(8, 6.5), layout="constrained")
-        plot_frf(res, axes=fig.subplots(2, 1, sharex=True))
+        fig = Figure(figsize=(8, 8.5), layout="constrained")
+        plot_frf(res, axes=fig.subplots(3, 1, sharex=True))
         return fig
 
     figure_last(draw, path, dpi=110)

@@ -57,7 +57,7 @@ def optimize(
     band: Annotated[str | None, typer.Option(
         help=key_help("optimization.band",
                       "Frequencies of peak-frf and rms-frf, 'start:stop:count', e.g. '3Hz:9Hz:41' "
-             "(default 0.5-1.5 times the first natural frequency)."))] = None,
+             "(default every mode of the structure, each resonance resolved for its damping)."))] = None,
     frf_load: Annotated[str | None, typer.Option(
         "--frf-load", help=key_help("optimization.frf_load",
                                     "Harmonic load of peak-frf and rms-frf: a force ('2N', default) "

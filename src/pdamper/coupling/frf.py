@@ -345,7 +345,7 @@ def load_force(structure, load: HarmonicLoad, frequency: float) -> complex:
     if load.at_load_point:
         return complex(ref)
     s = _modal(structure)
-    if s.modes != 1 or not s.coincident:
+    if s.modes != 1 or not np.array_equal(s.damper_shape, s.output_shape):
         raise InputError("base", "a base motion needs a one-mode structure with the damper at "
                          "the output point (a 1-DOF); N-mode base excitation needs the modes' "
                          "participation factors, which the modal input does not carry")

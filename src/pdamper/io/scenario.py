@@ -241,8 +241,8 @@ class OptimizationSpec(_Section):
     step: Annotated[int, Field(ge=1, strict=True)] | None = None
     objective: Literal["amplitude-at", "settling-time", "mean-damping",
                        "peak", "rms", "peak-frf", "rms-frf"] = "amplitude-at"
-    #: frequencies of peak-frf and rms-frf, "start:stop:count" (default 0.5-1.5 times the
-    #: first natural frequency in 41)
+    #: frequencies of peak-frf and rms-frf, "start:stop:count" (default every mode of the
+    #: structure, each resonance resolved for its damping: [frf] frequency's default)
     band: str | None = None
     #: harmonic load of peak-frf and rms-frf: a force ("2 N", the default) or a base motion
     #: ("1 mm", "0.3 g")
