@@ -207,6 +207,21 @@ class LoadSpec(_Section):
         return (self.force is not None or self.base_acceleration is not None
                 or self.run_up is not None)
 
+    @classmethod
+    def override(cls, section: dict[str, Any], name: str, value: Any) -> None:
+        """Set ``name`` to ``value`` in the ``[load]`` table ``section`` as read from a file:
+        a load given on the command line (a force, a base acceleration, a run-up or its
+        unbalance) replaces the file's load of another kind, and where it acts (``at``)
+        unless the command line says that too (it is set after)."""
+        drop = {"force": ("base_acceleration", "run_up", "unbalance"),
+                "base_acceleration": ("force", "run_up", "unbalance"),
+                "run_up": ("force", "base_acceleration"),
+                "unbalance": ("force", "base_acceleration")}.get(name)
+        if drop is not None:
+            for other in (*drop, "at"):
+                section.pop(other, None)
+        section[name] = value
+
     def run_up_load(self):
         """The :class:`~pdamper.coupling.loads.RunUp` (None: none given)."""
         from pdamper.coupling.loads import RunUp
