@@ -116,22 +116,14 @@ def frf(
     sc = load(scenario, simulation__model=model, particles__count=particles,
               fields__file=None if fields is None else str(fields),
               structure__modes=None if modes is None else str(modes), frf__at=load_at)
-    # the command line's load and frequencies, else the scenario's [frf], else the defaults
-    load_ = given or sc.frf.load() or parse_load(None, None)
-    sweep = sweep or sc.frf.sweep
-    source = "--frequency" if freqs is not None else (
-        "frf.frequency" if sc.frf.frequency is not None else
-        "default: every mode of the structure, each resonance resolved for its damping")
-    if freqs is None:
-        freqs = sc.frf.frequencies(sc.structure_model(), sc.damper().bed_mass)
-    from pdamper.coupling.loads import acting_at
+    load_, freqs, sweep, source = _resolved(sc, given, freqs, sweep)
     # the cost of every frequency, sweep, cycle and mode, judged before any is solved
     check_frf(sc, model, freqs, load_, max_cycles=max_cycles, sweep=sweep, force=allow_cost)
     out_path = check_output(out)
     plot_path = check_plot(plot)
     damper = sc.damper()
     m = sc.model(None, damper)
-    structure = acting_at(sc.structure_model(), sc.frf.at, "frf.at")
+    structure = _acting(sc)
     res = frequency_response(m, structure, load_, freqs, sweep=sweep, max_cycles=max_cycles)
     meta = metadata(sc)
     if out_path is not None:
@@ -146,6 +138,26 @@ def frf(
     emit(payload, as_json, "\n".join(_table(res)))  # the results first: a figure cannot lose them
     if plot_path is not None:
         _figure(res, plot_path)
+
+
+def _resolved(sc, given, freqs, sweep) -> tuple:
+    """The load, frequencies [Hz], sweep direction and the frequencies' source: the command
+    line's, else the scenario's ``[frf]``, else the defaults (a force of 2 N; every mode of
+    the structure, each resonance resolved for its damping)."""
+    load_ = given or sc.frf.load() or parse_load(None, None)
+    source = "--frequency" if freqs is not None else (
+        "frf.frequency" if sc.frf.frequency is not None else
+        "default: every mode of the structure, each resonance resolved for its damping")
+    if freqs is None:
+        freqs = sc.frf.frequencies(sc.structure_model(), sc.damper().bed_mass)
+    return load_, freqs, sweep or sc.frf.sweep, source
+
+
+def _acting(sc):
+    """The scenario's structure with its forces where ``[frf] at`` says."""
+    from pdamper.coupling.loads import acting_at
+
+    return acting_at(sc.structure_model(), sc.frf.at, "frf.at")
 
 
 def _frequencies(text: str) -> np.ndarray | list[float]:

@@ -12,11 +12,14 @@ from pdamper.cli._common import (
     BaseAccelerationOpt,
     ForceOpt,
     JsonOpt,
+    LoadAtOpt,
     LoadOpt,
     ModelOpt,
     ModesOpt,
+    RunUpOpt,
     ScenarioOpt,
     TailOpt,
+    UnbalanceOpt,
     check_output,
     check_plot,
     emit,
@@ -91,17 +94,9 @@ def simulate(
     load_file: LoadOpt = None,
     base_acceleration: BaseAccelerationOpt = None,
     tail: TailOpt = None,
-    unbalance: Annotated[str | None, typer.Option(
-        "--unbalance", help=key_help("load.unbalance", "Rotating unbalance m e at the load "
-                                     "point, e.g. '1.76kg*mm', driven by --run-up"))] = None,
-    run_up: Annotated[str | None, typer.Option(
-        "--run-up", help=key_help("load.run_up", "Speed ramp of --unbalance "
-                                  "'start:stop:duration', e.g. '400rpm:2400rpm:20s' (a "
-                                  "run-down: start above stop; a constant speed: equal)"))
-    ] = None,
-    load_at: Annotated[str | None, typer.Option(
-        "--load-at", help=key_help("load.at", "Where a force acts: load (the structure's "
-                                   "load point) or damper"))] = None,
+    unbalance: UnbalanceOpt = None,
+    run_up: RunUpOpt = None,
+    load_at: LoadAtOpt = None,
     realisations: Annotated[str | None, typer.Option(
         "--realisations", help="N realisations of each model that has them: the DEM from N "
         "random packings (seeds dem.seed ... dem.seed + N - 1, in parallel), the effective "

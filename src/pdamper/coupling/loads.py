@@ -24,9 +24,10 @@ steady drift of the whole set-up carries no damper force). For N modes (mass-nor
 ``diag(w^2)``, m_eff and d acting through the damper's mode shape ``phi_d``; the force acts
 at the structure's load point (the modes file's ``load`` column, the beam's
 ``load_position``; default the release point, which defaults to the damper point). Base
-motion (a translation of the base or clamp) loads mode i with ``-Gamma_i a_b``, its participation factor ``Gamma_i = phi_i^T M r``: the beam's come
-from its FE model; a modes file does not carry them, so it takes base motion with one mode
-only (``Gamma = 1 / phi_d``, all the mass at the damper point, as the 1-DOF).
+motion (a translation of the base or clamp) loads mode i with ``-Gamma_i a_b``, its
+participation factor ``Gamma_i = phi_i^T M r``: the beam's come from its FE model; a modes
+file does not carry them, so it takes base motion with one mode only (``Gamma = 1 /
+phi_d``, all the mass at the damper point, as the 1-DOF).
 
 Each stretch between two updates is integrated exactly for an input linear between steps
 (first-order hold: the state-transition matrices from one matrix exponential, Van Loan

@@ -84,15 +84,15 @@ def _loss_factor(res, ax, tag: str, color: str) -> None:
     from pdamper.coupling.pseudo_force import motion_mode
 
     f = res.frequency
-    curves = [(name, c.loss_factor, c.mode) for name, c in res.sweeps.items()]
+    curves = [(c.loss_factor, c.mode) for c in res.sweeps.values()]
     if not curves and res.harmonic_balance is not None:
         hb = res.harmonic_balance
         eta = np.where(hb.steady, hb.loss_factor, np.nan)
         j = np.argmax(np.where(hb.steady, hb.amplitude, -np.inf), axis=1)
         rows = np.arange(f.size)
-        curves = [("harmonic balance", eta[rows, j], hb.mode[rows, j])]
+        curves = [(eta[rows, j], hb.mode[rows, j])]
     seen: set[int] = set()
-    for name, eta, mode in curves:
+    for eta, mode in curves:
         ax.plot(f, eta, color=color, lw=0.8, alpha=0.6)
         for code in np.unique(mode):
             sel = mode == code
