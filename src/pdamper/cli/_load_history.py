@@ -13,6 +13,16 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
+def check_one_load(**given: object) -> None:
+    """Refuse more than one load of the command line (``--load``, ``--base-acceleration``,
+    ``--run-up``): each replaces the scenario's load, not one another."""
+    from pdamper.errors import InputError
+
+    names = ["--" + k.replace("_", "-") for k, v in given.items() if v is not None]
+    if len(names) > 1:
+        raise InputError("load", f"give one load, not {' and '.join(names)}")
+
+
 def response_payload(res, seconds: float) -> dict:
     """JSON of one :class:`~pdamper.coupling.loads.LoadResponse` (SI units)."""
     return {

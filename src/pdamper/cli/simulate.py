@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from pdamper.cli import _uncertainty
+from pdamper.cli import _load_history, _uncertainty
 from pdamper.cli._common import (
     BaseAccelerationOpt,
     ForceOpt,
@@ -117,6 +117,8 @@ def simulate(
     as_json: JsonOpt = False,
 ) -> None:
     """Release the structure from x0 and track the decay (paper Sect. 4.2.1, Figs. 7-8)."""
+    _load_history.check_one_load(load=load_file, base_acceleration=base_acceleration,
+                                 run_up=run_up)
     sc = load(scenario, runs=("simulation",), force=force, **_uncertainty.merged(dict(
         simulation__model=model, particles__count=particles, simulation__duration=duration,
         structure__initial_displacement=initial_displacement,

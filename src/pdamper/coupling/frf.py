@@ -186,7 +186,14 @@ class HarmonicLoad:
         try:
             value = parse_quantity(accel, "m/s^2", name)
         except InputError:
-            what = "a force (e.g. '2N'), or a base " if kind is None else "a base "
+            if kind is None:  # an unbalance m e ("1.76kg*mm")?
+                try:
+                    return cls("unbalance", parse_quantity(text, "kg*m", name))
+                except InputError as exc:
+                    if "convertible" not in exc.message:
+                        raise
+            what = ("a force (e.g. '2N'), an unbalance (e.g. '1.76kg*mm'), or a base "
+                    if kind is None else "a base ")
             raise InputError(name, f"must be {what}displacement (e.g. '1mm') or acceleration "
                              f"(e.g. '0.3g', '3m/s^2') amplitude, got {text!r}") from None
         return cls("base", value, acceleration=True)  # its range checked as every load's
@@ -945,8 +952,9 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
     s = _modal(structure)
     if s.modes != 1 or not s.coincident:
         raise InputError("structure", f"the co_simulation of {type(model).__name__} needs a "
-                         "single-DOF structure (or one mode with the damper at the output "
-                         "point); use a pseudo-force model (analytic, fields) for N modes")
+                         "single-DOF structure (or one mode with the damper, the load and the "
+                         "output at one point: --load-at damper); use a pseudo-force model "
+                         "(analytic, fields) for N modes or a load elsewhere")
     e = s.equivalent_single_dof()
     criterion = criterion or SteadyStateCriterion(rtol=0.02, atol=0.02, quiet_window_cycles=0,
                                                   window_cycles=3, skip_cycles=2)

@@ -71,7 +71,7 @@ if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
 
     from pdamper.contact.restitution import RestitutionCurve
-    from pdamper.coupling.loads import LoadHistory
+    from pdamper.coupling.loads import LoadHistory, RunUp
     from pdamper.design.study import DesignVariable
     from pdamper.materials import Material
     from pdamper.models.base import DamperModel
@@ -196,10 +196,7 @@ class LoadSpec(_Section):
         if (self.run_up is None) != (self.unbalance is None):
             raise ValueError("a run-up needs both unbalance (m e, e.g. '1.76 kg*mm') and "
                              "run_up (the speed ramp, e.g. '400rpm:2400rpm:20s')")
-        if self.run_up is not None:
-            from pdamper.coupling.loads import RunUp
-
-            RunUp.parse(self.unbalance, self.run_up)  # its ramp checked here
+        self.run_up_load()  # its ramp checked here
         return self
 
     @property
@@ -222,11 +219,13 @@ class LoadSpec(_Section):
                 section.pop(other, None)
         section[name] = value
 
-    def run_up_load(self):
+    def run_up_load(self) -> RunUp | None:
         """The :class:`~pdamper.coupling.loads.RunUp` (None: none given)."""
         from pdamper.coupling.loads import RunUp
 
-        return None if self.run_up is None else RunUp.parse(self.unbalance, self.run_up)
+        if self.run_up is None or self.unbalance is None:
+            return None
+        return RunUp.parse(self.unbalance, self.run_up)
 
     def history(self) -> LoadHistory | None:
         """The :class:`~pdamper.coupling.loads.LoadHistory` (None: no load given)."""
@@ -259,8 +258,8 @@ class OptimizationSpec(_Section):
     #: frequencies of peak-frf and rms-frf, "start:stop:count" (default every mode of the
     #: structure, each resonance resolved for its damping: [frf] frequency's default)
     band: str | None = None
-    #: harmonic load of peak-frf and rms-frf: a force ("2 N", the default) or a base motion
-    #: ("1 mm", "0.3 g")
+    #: harmonic load of peak-frf and rms-frf: a force ("2 N", the default), an unbalance
+    #: ("1.76 kg*mm") or a base motion ("1 mm", "0.3 g")
     frf_load: str | None = None
 
     def frf_band(self):
