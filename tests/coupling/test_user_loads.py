@@ -345,3 +345,49 @@ def test_machine_frame_example_runs_simulate_frf_and_report(tmp_path, cli):
         assert all(k["peak_amplitude"] < k["no_particles_peak_amplitude"] for k in m["modes"])
     page = (tmp_path / "r" / "report.html").read_text()
     assert "Unbalance 1.76 kg mm" in page and "Fig." not in page.split("Forced response")[1]
+
+
+# ----------------------------------------------------------------------------- inputs
+@pytest.mark.parametrize(("values", "field"), [
+    ({"frf.force": "2 N", "frf.unbalance": "1 kg*mm"}, "frf"),
+    ({"frf.unbalance": "2 N"}, "frf.unbalance"),
+    ({"frf.sweep": "sideways"}, "frf.sweep"),
+    ({"frf.at": "motor"}, "frf.at"),
+    ({"frf.frequency": "40Hz:6Hz:10"}, "frf.frequency"),
+    ({"load.unbalance": "1.76 kg*mm"}, "load"),
+    ({"load.run_up": "400rpm:2400rpm:20s"}, "load"),
+])
+def test_bad_frf_and_load_keys_name_the_key(values, field):
+    from pdamper.io.scenario import load_scenario
+
+    with pytest.raises(InputError) as e:
+        load_scenario(None, values)
+    assert e.value.field == field and "\n" not in str(e.value)
+
+
+def test_the_command_line_load_replaces_the_scenario_load(tmp_path, cli):
+    """The scenario's shock at the damper, the command line's run-up: the run-up runs, at
+    the load point (the scenario's ``at`` belonged to its shock); two loads on the command
+    line are refused."""
+    from pdamper.io.scenario import load_scenario
+
+    p = tmp_path / "s.toml"
+    p.write_text(f'[structure]\nmodes = "{_modes_path()}"\n'
+                 '[load]\nforce = "shock.csv"\nat = "damper"\n')
+    sc = load_scenario(p, {"load.unbalance": "1.76 kg*mm",
+                           "load.run_up": "600rpm:600rpm:1s"})
+    assert sc.load.force is None and sc.load.at == "load"
+    assert sc.load.run_up_load().start == pytest.approx(10.0)
+    code, _, err = cli("simulate", "--scenario", p, "--load", p,
+                       "--run-up", "600rpm:600rpm:1s", "--unbalance", "1g*mm")
+    assert code == 2 and "load: give one load" in err
+
+
+def test_frf_takes_a_grid_in_rpm(cli):
+    code, out, err = cli("frf", "--modes", _modes_path(), "--unbalance", "1.76kg*mm",
+                         "--particles", "0", "--frequency", "600rpm:1200rpm:3", "--sweep",
+                         "up", "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    assert [p["frequency"] for p in d["points"]] == pytest.approx([10.0, 15.0, 20.0])
+    assert d["frf_inputs"]["frequency_source"] == "--frequency"
