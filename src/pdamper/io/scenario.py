@@ -18,7 +18,7 @@ defaults; nothing here restates a number.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
 
 from pydantic import (
     AfterValidator,
@@ -36,7 +36,7 @@ from pydantic import (
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.damper import QUANTITIES, ParticleDamper
 from pdamper.errors import InputError
-from pdamper.io.damper_sections import ContainerSpec, MaterialSpec, ParticlesSpec
+from pdamper.io.damper_sections import ContainerSpec, MaterialSpec, ParticlesSpec, _DeclaredSection
 from pdamper.io.dem_section import (  # noqa: F401  (importable from here)
     DEM_SCENARIO_ONLY,
     DEM_SET_ELSEWHERE,
@@ -66,6 +66,7 @@ from pdamper.io.quantities import (
 from pdamper.io.restitution import RestitutionSpec
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID, DEFAULT_TOLERANCE
+from pdamper.settings import redeclare
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -165,7 +166,7 @@ class StructureSpec(_Section):
         return self
 
 
-class LoadSpec(_Section):
+class LoadSpec(_DeclaredSection):
     """A load history on the structure (:mod:`pdamper.io.loads`, docs/forced.md): a force
     (``force``, a CSV file), a base acceleration (``base_acceleration``) or a rotating
     unbalance on a speed ramp (``unbalance`` with ``run_up``,
@@ -176,15 +177,19 @@ class LoadSpec(_Section):
     structure names none) or at the damper's point (``at = "damper"``: a shock on the
     damper's housing)."""
 
+    prefix: ClassVar[str] = "load."
+
     force: str | None = None
     base_acceleration: str | None = None
-    #: rotating unbalance m e of the run-up, e.g. "1.76 kg*mm"
-    unbalance: Annotated[float, _q("kg*m"), Field(gt=0)] | None = None
+    unbalance: float | None = redeclare(
+        FRFSpec, "unbalance", None, "Rotating unbalance m e of the run-up at the load point, "
+        "e.g. '1.76 kg*mm'.")
     #: speed ramp of the unbalance "start:stop:duration", e.g. "400rpm:2400rpm:20s"
     run_up: str | None = None
     tail: Annotated[float, _q("s"), Field(ge=0, allow_inf_nan=False)] = 0.0
-    #: where a force acts: "load" (the structure's load point) or "damper"
-    at: Literal["load", "damper"] = "load"
+    at: str = redeclare(FRFSpec, "at", "load", "Where a force acts: load (the structure's "
+                        "load point: the modes file's load column, the beam's load_position; "
+                        "the damper's point where the structure names none) or damper.")
 
     @model_validator(mode="after")
     def _one_load(self):
