@@ -383,6 +383,13 @@ def test_the_command_line_load_replaces_the_scenario_load(tmp_path, cli):
     assert code == 2 and "load: give one load" in err
 
 
+def test_a_huge_frf_frequency_count_is_refused_before_the_grid(tmp_path, cli):
+    p = tmp_path / "s.toml"
+    p.write_text('[frf]\nfrequency = "4Hz:7Hz:1000000000"\n')
+    code, _, err = cli("frf", "--scenario", p)
+    assert code == 2 and err.startswith("error: frf.frequency: at most")
+
+
 def test_frf_takes_a_grid_in_rpm(cli):
     code, out, err = cli("frf", "--modes", _modes_path(), "--unbalance", "1.76kg*mm",
                          "--particles", "0", "--frequency", "600rpm:1200rpm:3", "--sweep",

@@ -164,6 +164,12 @@ class FRFSpec(_DeclaredSection):
             from pdamper.coupling.frf import default_frequencies
 
             return default_frequencies(structure, added_mass)
-        from pdamper.io.grids import grid
+        from pdamper.coupling.frf import MAX_FREQUENCIES
+        from pdamper.errors import InputError
+        from pdamper.io.grids import grid, parse_axis
 
+        count = parse_axis(self.frequency, "Hz", "frf.frequency")[2]  # before the grid exists
+        if count > MAX_FREQUENCIES:
+            raise InputError("frf.frequency", f"at most {MAX_FREQUENCIES} frequencies, got "
+                             f"{count}")
         return grid(self.frequency, "Hz", "frf.frequency")
