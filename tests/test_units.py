@@ -49,10 +49,10 @@ def test_format_echoes_units():
 @pytest.mark.parametrize("bad", [
     "Hz", " Hz ", "mm", "10Hz🙂", "10 Hz!", "10 Hz Hz", "10 Hz * 2", "2*5 Hz", "10 Hz + 1 Hz",
     "(10) Hz", "10**2 Hz", "10 Hz)", "inf Hz", "nan Hz", "1e400 Hz", "10", "10 per Hz",
-    "600 rpm", "62.8 rad/s", "10 turn/s", "10 %", "0x10 Hz", "1.7e306 kHz",
+    "62.8 rad/s", "10 turn/s", "600 rpm/s", "600 rad/min", "10 %", "0x10 Hz", "1.7e306 kHz",
 ])
 def test_a_quantity_is_a_number_and_a_unit_and_nothing_else(bad):
-    """``"Hz"`` was once read as 1 Hz, ``"10Hz🙂"`` as 10 Hz and ``"600 rpm"`` as
+    """``"Hz"`` was once read as 1 Hz, ``"10Hz🙂"`` as 10 Hz and ``"62.8 rad/s"`` as
     62.8 Hz (pint's radian is dimensionless)."""
     with pytest.raises(InputError) as info:
         parse_quantity(bad, "Hz", "excitation.frequency")
@@ -61,7 +61,7 @@ def test_a_quantity_is_a_number_and_a_unit_and_nothing_else(bad):
 
 @pytest.mark.parametrize(("text", "si"), [
     ("1e3 mHz", 1.0), (".5 kHz", 500.0), ("5. Hz", 5.0), ("+5Hz", 5.0), ("600 1/min", 10.0),
-    ("10 s^-1", 10.0), (" 10 Hz ", 10.0),
+    ("10 s^-1", 10.0), (" 10 Hz ", 10.0), ("600 rpm", 10.0), ("1440rpm", 24.0),
 ])
 def test_number_forms_that_are_accepted(text, si):
     assert parse_quantity(text, "Hz", "f") == pytest.approx(si)
@@ -90,3 +90,13 @@ def test_ranges_must_be_well_formed(bad):
 def test_a_range_count_is_not_allocated():
     """The count is returned as is (the resource model judges it), not turned into a grid."""
     assert parse_range("2Hz:20Hz:99999999999999999999", "Hz", "f")[2] == 10**20 - 1
+
+
+def test_rpm_is_a_frequency_of_one_cycle_per_revolution():
+    """``rpm`` counts revolutions, one cycle each: 600 rpm is 10 Hz (not pint's 2 pi rad/min,
+    62.8 Hz), in quantities and grids; an angle rate stays refused."""
+    assert parse_quantity("600 rpm", "Hz", "speed") == pytest.approx(10.0, rel=1e-15)
+    assert parse_range("400rpm:2400rpm:21", "Hz", "speed") == pytest.approx(
+        (400 / 60, 40.0, 21), rel=1e-15)
+    with pytest.raises(InputError, match="dimensionless"):
+        parse_quantity("600 rpm", "m", "amplitude")   # not a frequency there

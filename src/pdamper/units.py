@@ -123,8 +123,9 @@ def parse_quantity(value: str | float | int, unit: str, field: str) -> float:
     A string must be a decimal number followed by a unit expression of the dimension of
     ``unit`` (``"32 mm"``, ``"7.9 g/cm^3"``, ``"600 1/min"``) and nothing else: a unit
     without a number (``"Hz"``), arithmetic (``"10 Hz * 2"``), anything after the unit
-    (``"10 Hz!"``) and angle units in a frequency (``"600 rpm"``, ``"62.8 rad/s"``: pint
-    would read them as 2 pi times too large) are errors. A bare number (``float``/``int``)
+    (``"10 Hz!"``) and angle units in a frequency (``"62.8 rad/s"``, ``"10 turn/s"``: pint
+    would read them as 2 pi times too large) are errors. ``rpm`` (revolutions per minute)
+    is a frequency: ``"600 rpm"`` is 10 Hz, one revolution being one cycle. A bare number (``float``/``int``)
     is taken as already in ``unit``; a bare number as text only for a dimensionless
     ``unit``.
 
@@ -150,6 +151,8 @@ def parse_quantity(value: str | float | int, unit: str, field: str) -> float:
     10.0
     >>> parse_quantity(0.5, "s", "duration")
     0.5
+    >>> parse_quantity("1440 rpm", "Hz", "speed")
+    24.0
     """
     if isinstance(value, bool):
         raise InputError(field, f"must be a quantity such as {_example(unit)}, got {value!r}")
@@ -185,10 +188,19 @@ def parse_quantity(value: str | float | int, unit: str, field: str) -> float:
     return magnitude
 
 
+#: ``rpm`` as a word of a unit expression: revolutions per minute.
+_RPM = re.compile(r"(?<![A-Za-z_])rpm(?![A-Za-z_0-9])")
+
+
 def _unit_factor(unit_text: str, unit: str, field: str, value: str) -> float:
     """Magnitude of one ``unit_text`` in ``unit``."""
     ureg = _registry()
     import pint
+
+    if unit == "Hz":
+        # a revolution per minute is a cycle per minute: 1/60 Hz (pint's rpm is 2 pi rad/min,
+        # an angle rate that reads 2 pi times too large as a frequency)
+        unit_text = _RPM.sub("(1/min)", unit_text)
 
     try:
         parsed = ureg.parse_units(unit_text)

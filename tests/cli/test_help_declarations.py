@@ -37,8 +37,7 @@ OWN = {
     "cor-sensitivity": {"variants", "points", "level3", "plot", "scenario", "as_json"},
     "report": {"out", "dem", "realisations", "uncertainty", "uncertain", "uncertainty_seed",
                "workers", "force", "scenario", "as_json"},
-    "frf": {"force", "base", "frequency", "sweep", "max_cycles", "allow_cost", "plot", "out",
-            "scenario", "as_json"},
+    "frf": {"base", "max_cycles", "allow_cost", "plot", "out", "scenario", "as_json"},
 }
 
 

@@ -76,6 +76,14 @@ BaseAccelerationOpt = Annotated[Path | None, typer.Option("--base-acceleration",
     "'time [s], acceleration [m/s^2]')"))]
 TailOpt = Annotated[str | None, typer.Option("--tail", help=key_help(
     "load.tail", "Free vibration after the load record, e.g. '1s' (default 0)"))]
+UnbalanceOpt = Annotated[str | None, typer.Option("--unbalance", help=key_help(
+    "load.unbalance", "Rotating unbalance m e at the load point, e.g. '1.76kg*mm', driven by "
+    "--run-up"))]
+RunUpOpt = Annotated[str | None, typer.Option("--run-up", help=key_help(
+    "load.run_up", "Speed ramp of --unbalance 'start:stop:duration', e.g. "
+    "'400rpm:2400rpm:20s' (a run-down: start above stop; a constant speed: equal)"))]
+LoadAtOpt = Annotated[str | None, typer.Option("--load-at", help=key_help(
+    "load.at", "Where a force acts: load (the structure's load point) or damper"))]
 ScenarioOpt = Annotated[Path | None, typer.Option("--scenario", "-s", help="Scenario TOML file.")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON for scripts.")]
 

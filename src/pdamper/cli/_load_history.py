@@ -13,6 +13,16 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
+def check_one_load(**given: object) -> None:
+    """Refuse more than one load of the command line (``--load``, ``--base-acceleration``,
+    ``--run-up``): each replaces the scenario's load, not one another."""
+    from pdamper.errors import InputError
+
+    names = ["--" + k.replace("_", "-") for k, v in given.items() if v is not None]
+    if len(names) > 1:
+        raise InputError("load", f"give one load, not {' and '.join(names)}")
+
+
 def response_payload(res, seconds: float) -> dict:
     """JSON of one :class:`~pdamper.coupling.loads.LoadResponse` (SI units)."""
     return {
@@ -30,9 +40,10 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
         as_json: bool, force: bool = False) -> None:
     """Run every model of ``models`` on ``history``; print, write and plot as the free
     decay does."""
-    from pdamper.coupling.loads import check_cost, check_model, run_load
+    from pdamper.coupling.frf import load_point_text
+    from pdamper.coupling.loads import acting_at, check_cost, check_model, run_load
 
-    structure = sc.structure_model()
+    structure = acting_at(sc.structure_model(), sc.load.at)
     for m in models.values():  # every compared model, its structure and cost, before any run
         check_model(m, structure)
     for m in models.values():
@@ -56,18 +67,25 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
     payload["load"] = {"file": history.source, "kind": history.kind,
                        "unit": history.unit, "samples": int(history.time.size),
                        "record_duration": history.duration, "tail": tail,
-                       "interpolation": "linear"}
+                       "interpolation": "linear",
+                       "point": (load_point_text(structure) if history.kind == "force"
+                                 else "the base")}
+    run_up = sc.load.run_up_load()
+    if run_up is not None:
+        payload["load"]["run_up"] = run_up.as_dict()
     payload["units"] = {"time": "s", "peak": "m", "rms": "m", "peak_acceleration": "m/s^2",
                         "rms_acceleration": "m/s^2", "dissipated_energy": "J",
                         "input_work": "J", "structural_dissipation": "J",
                         "energy_change": "J", "energy_balance_error": "1", "amplitude": "m",
                         "frequency": "Hz", "effective_mass": "kg", "damping": "kg/s",
-                        "record_duration": "s", "tail": "s", "wall_seconds": "s"}
+                        "record_duration": "s", "tail": "s", "wall_seconds": "s",
+                        "unbalance": "kg*m", "start_speed": "Hz", "stop_speed": "Hz"}
     if len(runs) > 1:
         payload["models"] = {n: response_payload(r, seconds[n]) for n, r in runs.items()}
     payload.update(meta)
     what = "force" if history.kind == "force" else "base acceleration"
-    lines = [f"{what} {history.source}: {history.time.size} samples over "
+    where = f" at {payload['load']['point']}" if history.kind == "force" else ""
+    lines = [f"{what} {history.source}{where}: {history.time.size} samples over "
              f"{history.duration:g} s (+ {tail:g} s free tail), linear between samples"]
     for n, r in runs.items():
         rel = " (relative to the base)" if history.kind != "force" else ""

@@ -29,36 +29,60 @@ if TYPE_CHECKING:
 
     from pdamper.coupling.frf import FRFResult
 
-#: Default load and frequency grid (the paper's structure, resonance near 5.5 Hz).
+#: Default load (without --force, --unbalance, --base and a [frf] load). Without
+#: --frequency and [frf] frequency the frequencies span every mode of the structure
+#: (:func:`pdamper.coupling.frf.default_frequencies`); DEFAULT_FREQUENCY is the paper's
+#: grid (its structure's resonance near 5.5 Hz), for the record.
 DEFAULT_FORCE = "2N"
 DEFAULT_FREQUENCY = "3Hz:9Hz:121"
 
 
-def parse_load(force: str | None, base: str | None):
-    """The :class:`~pdamper.coupling.frf.HarmonicLoad` of ``--force`` or ``--base``
-    (a length, or an acceleration: ``0.3g`` is 0.3 standard gravities)."""
+def parse_load(force: str | None, base: str | None, unbalance: str | None = None,
+               default: str | None = DEFAULT_FORCE):
+    """The :class:`~pdamper.coupling.frf.HarmonicLoad` of ``--force``, ``--unbalance``
+    (``m e``, e.g. ``1.76kg*mm``) or ``--base`` (a length, or an acceleration: ``0.3g`` is
+    0.3 standard gravities); none given: a force ``default`` (None: no load)."""
     from pdamper.coupling.frf import HarmonicLoad
     from pdamper.errors import InputError
 
-    if force is not None and base is not None:
-        raise InputError("base", "give either --force or --base, not both")
-    if base is None:
-        return HarmonicLoad.parse(DEFAULT_FORCE if force is None else force, "force")
-    return HarmonicLoad.parse(base, "base")
+    given = [n for n, v in (("force", force), ("unbalance", unbalance), ("base", base))
+             if v is not None]
+    if len(given) > 1:
+        raise InputError(given[-1], f"give one of --force, --unbalance and --base, not "
+                         f"{' and '.join('--' + g for g in given)}")
+    if unbalance is not None:
+        return HarmonicLoad.parse(unbalance, "unbalance")
+    if base is not None:
+        return HarmonicLoad.parse(base, "base")
+    if force is None and default is None:
+        return None
+    return HarmonicLoad.parse(DEFAULT_FORCE if force is None else force, "force")
 
 
 def frf(
     model: ModelOpt = None,
     force: Annotated[str | None, typer.Option(
-        "--force", help="Harmonic force amplitude on the structure at the damper's point, "
-                        "e.g. '2N' (default 2 N).")] = None,
+        "--force", help=key_help("frf.force", "Harmonic force amplitude at the structure's "
+                                 "load point (the damper's point unless the modes name a "
+                                 "load point), e.g. '2N' (default 2 N)"))] = None,
+    unbalance: Annotated[str | None, typer.Option(
+        "--unbalance", help=key_help("frf.unbalance", "Rotating unbalance m e at the load "
+                                     "point instead, e.g. '1.76kg*mm': the force m e Omega^2 "
+                                     "at each speed"))] = None,
     base: Annotated[str | None, typer.Option(
         help="Harmonic base motion instead: displacement ('1mm') or acceleration ('0.3g') "
-             "amplitude (one-mode structures).")] = None,
+             "amplitude (one-mode structures; scenario keys frf.base_displacement, "
+             "frf.base_acceleration).")] = None,
+    load_at: Annotated[str | None, typer.Option(
+        "--load-at", help=key_help("frf.at", "Where the force or unbalance acts: load (the "
+                                   "structure's load point) or damper"))] = None,
     frequency: Annotated[str | None, typer.Option(
-        help="Frequencies 'start:stop:count', e.g. '3Hz:9Hz:121' (default), or one.")] = None,
-    sweep: Annotated[str, typer.Option(
-        help="Stepped-sine direction: up, down or both.")] = "both",
+        help=key_help("frf.frequency", "Frequencies 'start:stop:count' (e.g. '3Hz:9Hz:121', "
+                      "'360rpm:2400rpm:100') or one; default every mode of the structure, "
+                      "each resonance resolved for its damping"))] = None,
+    sweep: Annotated[str | None, typer.Option(
+        help=key_help("frf.sweep", "Stepped-sine direction: up, down or both (default "
+                      "both)"))] = None,
     particles: Annotated[int | None, typer.Option(help=key_help("particles.count",
                                                                 "Number of spheres."))] = None,
     fields: Annotated[Path | None, typer.Option(
@@ -77,28 +101,29 @@ def frf(
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
-    """Steady amplitude and phase under a harmonic force or base motion against frequency:
-    harmonic balance (every branch) and stepped sines up and down."""
+    """Steady amplitude and phase under a harmonic force, unbalance or base motion against
+    frequency: harmonic balance (every branch) and stepped sines up and down."""
     from pdamper.coupling.frf import frequency_response
     from pdamper.errors import InputError, check_whole
     from pdamper.runs.resources import check_frf
 
-    load_ = parse_load(force, base)
-    freqs = _frequencies(DEFAULT_FREQUENCY if frequency is None else frequency)
-    if sweep not in ("up", "down", "both"):
+    given = parse_load(force, base, unbalance, default=None)
+    freqs = None if frequency is None else _frequencies(frequency)
+    if sweep is not None and sweep not in ("up", "down", "both"):
         raise InputError("sweep", f"must be up, down or both, got {sweep!r}")
     if max_cycles is not None:
         check_whole("max_cycles", max_cycles, 1)
     sc = load(scenario, simulation__model=model, particles__count=particles,
               fields__file=None if fields is None else str(fields),
-              structure__modes=None if modes is None else str(modes))
+              structure__modes=None if modes is None else str(modes), frf__at=load_at)
+    load_, freqs, sweep, source = _resolved(sc, given, freqs, sweep)
     # the cost of every frequency, sweep, cycle and mode, judged before any is solved
     check_frf(sc, model, freqs, load_, max_cycles=max_cycles, sweep=sweep, force=allow_cost)
     out_path = check_output(out)
     plot_path = check_plot(plot)
     damper = sc.damper()
     m = sc.model(None, damper)
-    structure = sc.structure_model()
+    structure = _acting(sc)
     from pdamper.cli._progress import frf_steps  # the DEM's steps: minutes (stderr only)
 
     with frf_steps(len(freqs) * (2 if sweep == "both" else 1)) as steps:
@@ -110,6 +135,7 @@ def frf(
         _write_response(out_path, res, meta)
     payload = res.as_dict()
     payload["frf_inputs"] = payload.pop("inputs")  # "inputs" is the scenario's, as everywhere
+    payload["frf_inputs"]["frequency_source"] = source
     payload["units"] = {"frequency": "Hz", "amplitude": "m", "stroke": "m", "phase": "rad",
                         "loss_factor": "1", "effective_mass": "kg", "wall_seconds": "s",
                         "load": load_.unit}
@@ -117,6 +143,26 @@ def frf(
     emit(payload, as_json, "\n".join(_table(res)))  # the results first: a figure cannot lose them
     if plot_path is not None:
         _figure(res, plot_path)
+
+
+def _resolved(sc, given, freqs, sweep) -> tuple:
+    """The load, frequencies [Hz], sweep direction and the frequencies' source: the command
+    line's, else the scenario's ``[frf]``, else the defaults (a force of 2 N; every mode of
+    the structure, each resonance resolved for its damping)."""
+    load_ = given or sc.frf.load() or parse_load(None, None)
+    source = "--frequency" if freqs is not None else (
+        "frf.frequency" if sc.frf.frequency is not None else
+        "default: every mode of the structure, each resonance resolved for its damping")
+    if freqs is None:
+        freqs = sc.frf.frequencies(sc.structure_model(), sc.damper().bed_mass)
+    return load_, freqs, sweep or sc.frf.sweep, source
+
+
+def _acting(sc):
+    """The scenario's structure with its forces where ``[frf] at`` says."""
+    from pdamper.coupling.loads import acting_at
+
+    return acting_at(sc.structure_model(), sc.frf.at, "frf.at")
 
 
 def _frequencies(text: str) -> np.ndarray | list[float]:
@@ -157,8 +203,8 @@ def _figure(res: FRFResult, path: Path) -> None:
 
         from pdamper.plots.frf import plot_frf
 
-        fig = Figure(figsize=(8, 6.5), layout="constrained")
-        plot_frf(res, axes=fig.subplots(2, 1, sharex=True))
+        fig = Figure(figsize=(8, 8.5), layout="constrained")
+        plot_frf(res, axes=fig.subplots(3, 1, sharex=True))
         return fig
 
     figure_last(draw, path, dpi=110)
@@ -168,10 +214,11 @@ def _table(res: FRFResult) -> list[str]:
     from pdamper.coupling.pseudo_force import motion_mode
 
     ld = res.load
-    unit = {"N": ("N", 1.0), "m": ("mm", 1e3), "m/s^2": ("m/s^2", 1.0)}[ld.unit]
     walls = ", ".join(f"{k} {v:.2f} s" for k, v in res.wall_seconds.items())
-    lines = [f"forced response, {res.model} model, {ld.kind} {ld.amplitude * unit[1]:g} "
-             f"{unit[0]}; amplitudes [mm] of the output point ({walls})"]
+    where = res.inputs.get("load_point", "")
+    lines = [f"forced response, {res.model} model, {ld.describe()}"
+             + (f" at {where}" if where and ld.at_load_point else "")
+             + f"; amplitudes [mm] of the output point ({walls})"]
     head = "    f [Hz]  linear"
     if res.harmonic_balance is not None:
         head += "   harmonic balance (s stable, u unstable, e edge)"

@@ -65,11 +65,11 @@ def optimize(
     band: Annotated[str | None, typer.Option(
         help=key_help("optimization.band",
                       "Frequencies of peak-frf and rms-frf, 'start:stop:count', e.g. '3Hz:9Hz:41' "
-             "(default 0.5-1.5 times the first natural frequency)."))] = None,
+             "(default every mode of the structure, each resonance resolved for its damping)."))] = None,
     frf_load: Annotated[str | None, typer.Option(
         "--frf-load", help=key_help("optimization.frf_load",
-                                    "Harmonic load of peak-frf and rms-frf: a force ('2N', default) "
-                           "or a base motion ('1mm', '0.3g')."))] = None,
+                                    "Harmonic load of peak-frf and rms-frf: a force ('2N', default), "
+                           "an unbalance ('1.76kg*mm') or a base motion ('1mm', '0.3g')."))] = None,
     threshold: Annotated[str | None, typer.Option(
         help=key_help("optimization.threshold",
                       "Settling threshold, e.g. '15mm' (default |x0| / 4)."))] = None,

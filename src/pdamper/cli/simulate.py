@@ -7,16 +7,19 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from pdamper.cli import _uncertainty
+from pdamper.cli import _load_history, _uncertainty
 from pdamper.cli._common import (
     BaseAccelerationOpt,
     ForceOpt,
     JsonOpt,
+    LoadAtOpt,
     LoadOpt,
     ModelOpt,
     ModesOpt,
+    RunUpOpt,
     ScenarioOpt,
     TailOpt,
+    UnbalanceOpt,
     check_output,
     check_plot,
     emit,
@@ -91,6 +94,9 @@ def simulate(
     load_file: LoadOpt = None,
     base_acceleration: BaseAccelerationOpt = None,
     tail: TailOpt = None,
+    unbalance: UnbalanceOpt = None,
+    run_up: RunUpOpt = None,
+    load_at: LoadAtOpt = None,
     realisations: Annotated[str | None, typer.Option(
         "--realisations", help="N realisations of each model that has them: the DEM from N "
         "random packings (seeds dem.seed ... dem.seed + N - 1, in parallel), the effective "
@@ -111,6 +117,8 @@ def simulate(
     as_json: JsonOpt = False,
 ) -> None:
     """Release the structure from x0 and track the decay (paper Sect. 4.2.1, Figs. 7-8)."""
+    _load_history.check_one_load(load=load_file, base_acceleration=base_acceleration,
+                                 run_up=run_up)
     sc = load(scenario, runs=("simulation",), force=force, **_uncertainty.merged(dict(
         simulation__model=model, particles__count=particles, simulation__duration=duration,
         structure__initial_displacement=initial_displacement,
@@ -118,7 +126,8 @@ def simulate(
         structure__modes=None if modes is None else str(modes),
         load__force=None if load_file is None else str(load_file),
         load__base_acceleration=None if base_acceleration is None
-        else str(base_acceleration), load__tail=tail, optimization__at=at), uncertain))
+        else str(base_acceleration), load__tail=tail, load__unbalance=unbalance,
+        load__run_up=run_up, load__at=load_at, optimization__at=at), uncertain))
     _check_uncertainty(sc, uncertainty, force)
     out_path = check_output(out)
     plot_path = check_plot(plot)
@@ -386,9 +395,9 @@ def _figure(runs: dict, aligned, comparisons: dict, bands: dict) -> Figure:
         plots.plot_trajectory_band(b, ax=axes[0], label=n)
         plots.plot_damping_ratio_band(b, ax=axes[1], label=n)
     plots.plot_model_trajectories(single, aligned, comparisons, ax=axes[0])
-    axes[0].set_title("end-effector trajectory (Fig. 7)")
+    axes[0].set_title("trajectory of the observation point")
     plots.plot_model_damping_ratios(single, aligned, comparisons, ax=axes[1])
-    axes[1].set_title("damping ratio (Fig. 8)")
+    axes[1].set_title("damping ratio over the amplitude")
     if aligned is not None:
         plots.plot_phase_drift(comparisons, ax=axes[2])
         axes[2].set_title("phase drift against the measurement")

@@ -2,10 +2,13 @@
 
 The structure (a :class:`~pdamper.structure.SingleDOFStructure` or an N-mode
 :class:`~pdamper.structure.modal.ModalStructure`, mass-normalised modes) is loaded
-harmonically at angular frequency W, either by a force ``F cos(W t)`` at the damper's point
-(:class:`HarmonicLoad` ``"force"``) or, for a one-mode structure, by a base motion
-``y = Y cos(W t)`` (``"base"``, given as displacement or acceleration amplitude; its spring
-and dashpot pass the force ``(K + i W D) Y`` to the mass, Eq. 23 in absolute coordinates).
+harmonically at angular frequency W, by a force ``F cos(W t)`` at its load point
+(:class:`HarmonicLoad` ``"force"``; the modes' ``load_shape``, by default the damper's
+point), by a rotating unbalance ``m e`` there (``"unbalance"``: the force
+``m e W^2 cos(W t)``, growing with the speed squared) or, for a one-mode structure, by a
+base motion ``y = Y cos(W t)`` (``"base"``, given as displacement or acceleration
+amplitude; its spring and dashpot pass the force ``(K + i W D) Y`` to the mass, Eq. 23 in
+absolute coordinates).
 The damper acts at its point as the pseudo force of Sect. 4.1, ``F_d = -(m_eff x'' + d x')``
 with ``d = E~ / (pi W X^2)`` (Eq. 2), i.e. as the amplitude- and frequency-dependent complex
 stiffness (the describing function of the complex power method, Eqs. 1-4)
@@ -14,14 +17,16 @@ stiffness (the describing function of the complex power method, Eqs. 1-4)
 
 Three solutions are computed:
 
-**Linear FRF** (no particles): ``x_o = H_od F`` with the receptances
-``H_ab(W) = sum_i phi_a,i phi_b,i / (w_i^2 - W^2 + 2 i zeta_i w_i W)``; closed form.
+**Linear FRF** (no particles): ``x_o = H_oL F`` with the receptances
+``H_ab(W) = sum_i phi_a,i phi_b,i / (w_i^2 - W^2 + 2 i zeta_i w_i W)`` (``L`` the load
+point); closed form.
 
-**Harmonic balance** (models with the pseudo-force coupling): with the damper at stroke X
-the damper point moves as ``x_d = F / (1 / H_dd + k_d)``, so the steady amplitudes are the
-roots of
+**Harmonic balance** (models with the pseudo-force coupling): the load moves the damper
+point as a force ``F_d = F H_dL / H_dd`` at the damper point would, so with the damper at
+stroke X the damper point moves as ``x_d = F_d / (1 / H_dd + k_d)``, and the steady
+amplitudes are the roots of
 
-    G(X) = X |1 / H_dd(W) + k_d(f, X)| - |F| = 0,
+    G(X) = X |1 / H_dd(W) + k_d(f, X)| - |F_d| = 0,
 
 found at each frequency by scanning X on a logarithmic grid (the describing function
 tabulated there in one call of the model) and refining every sign change with Brent's
@@ -31,7 +36,7 @@ the two saddle-nodes where up and down sweeps jump). Where the model's describin
 is discontinuous in X (a motion-mode boundary of the analytical model) G can change sign
 across the discontinuity without a root: such a crossing is reported as an *edge* point
 (neither a steady solution nor a branch), where a real structure sits on the mode boundary.
-The observation point follows as ``x_o = H_od (F - k_d x_d)``.
+The observation point follows as ``x_o = H_oL F - H_od k_d x_d``.
 
 **Stepped sine** (every model): the load is stepped through the frequencies, each step
 starting from the state the previous step ended in (the phase of the load continuous) and
@@ -79,7 +84,7 @@ DEFAULT_STEADY = SteadyStateCriterion(rtol=1e-3, atol=1e-3, quiet_window_cycles=
 MAX_FREQUENCIES = 100_000
 #: Windows over which a stepped-sine step's amplitude scatter is reported (FRFCurve).
 SCATTER_WINDOWS = 5
-LOAD_KINDS = ("force", "base")
+LOAD_KINDS = ("force", "base", "unbalance")
 SWEEPS = ("up", "down", "both")
 #: Smallest harmonic load amplitude, by unit, and why: below it the load is below what
 #: any measurement resolves, and the solution's stroke grids underflow long before the
@@ -87,16 +92,23 @@ SWEEPS = ("up", "down", "both")
 MIN_LOAD = {"N": (1e-6, "below 1 uN, the weight of 0.1 mg, no measured load is resolved"),
             "m": (1e-9, "a base motion below 1 nm is below any meaningful displacement"),
             "m/s^2": (1e-6, "below 1e-6 m/s^2 (0.1 ug) no accelerometer resolves a base "
-                            "motion")}
+                            "motion"),
+            "kg*m": (1e-9, "below 1e-9 kg m (1 mg at 1 mm) no balancing machine resolves an "
+                           "unbalance")}
 
 
 # ----------------------------------------------------------------------------- inputs
 @dataclass(frozen=True)
 class HarmonicLoad:
-    """A harmonic load: ``kind`` ``"force"`` (``amplitude`` [N] at the damper's point) or
-    ``"base"`` (base motion of a one-mode structure: ``amplitude`` [m] of displacement, or
-    with ``acceleration=True`` [m/s^2] of acceleration, the displacement being
-    ``A / W^2`` at each frequency)."""
+    """A harmonic load: ``kind`` ``"force"`` (``amplitude`` [N] at the structure's load
+    point), ``"unbalance"`` (a rotating unbalance ``m e``, ``amplitude`` [kg m], at the load
+    point: the force ``m e W^2``, W the speed [rad/s]) or ``"base"`` (base motion of a
+    one-mode structure: ``amplitude`` [m] of displacement, or with ``acceleration=True``
+    [m/s^2] of acceleration, the displacement being ``A / W^2`` at each frequency).
+
+    >>> round(HarmonicLoad("unbalance", 1.76e-3).reference(2 * math.pi * 12.0), 3)
+    10.005
+    """
 
     kind: str
     amplitude: float
@@ -105,7 +117,7 @@ class HarmonicLoad:
     def __post_init__(self) -> None:
         if self.kind not in LOAD_KINDS:
             raise InputError("load", f"must be one of {', '.join(LOAD_KINDS)}, got {self.kind!r}")
-        unit = "N" if self.kind == "force" else ("m/s^2" if self.acceleration else "m")
+        unit = self.unit
         low, why = MIN_LOAD[unit]
         try:
             check_range(self.kind, self.amplitude, low=low, unit=unit)
@@ -115,13 +127,22 @@ class HarmonicLoad:
 
     @property
     def unit(self) -> str:
-        return "N" if self.kind == "force" else ("m/s^2" if self.acceleration else "m")
+        if self.kind in ("force", "unbalance"):
+            return {"force": "N", "unbalance": "kg*m"}[self.kind]
+        return "m/s^2" if self.acceleration else "m"
+
+    @property
+    def at_load_point(self) -> bool:
+        """Whether the load is a force at the structure's load point (a force or an
+        unbalance; base motion moves the structure's base)."""
+        return self.kind != "base"
 
     @classmethod
     def parse(cls, text: str, kind: str | None = None, field: str | None = None) -> HarmonicLoad:
         """The load of a quantity with units: a force (``"2N"``) or a base motion, as
         displacement (``"1mm"``) or acceleration (``"0.3g"``: g is the standard gravity
-        here, ``"3 m/s^2"``). ``kind`` (``"force"``, ``"base"``) restricts it; ``field``
+        here, ``"3 m/s^2"``); ``kind`` ``"unbalance"`` reads an unbalance ``m e``
+        (``"1.76 kg*mm"``), and restricts it as ``"force"`` and ``"base"`` do; ``field``
         names the input in errors (default the kind, or ``load``).
 
         >>> HarmonicLoad.parse("0.3g").amplitude
@@ -140,6 +161,15 @@ class HarmonicLoad:
     def _parse(cls, text: str, kind: str | None, name: str) -> HarmonicLoad:
         from pdamper.units import parse_quantity
 
+        if kind == "unbalance":
+            try:
+                return cls("unbalance", parse_quantity(text, "kg*m", name))
+            except InputError as exc:
+                if "convertible" not in exc.message:
+                    raise
+                raise InputError(name, f"must be an unbalance m e, a mass times its "
+                                 f"eccentricity (e.g. '1.76 kg*mm', '50 g*cm'), got "
+                                 f"{text!r}") from None
         if kind in (None, "force"):
             try:
                 return cls("force", parse_quantity(text, "N", name))
@@ -156,21 +186,88 @@ class HarmonicLoad:
         try:
             value = parse_quantity(accel, "m/s^2", name)
         except InputError:
-            what = "a force (e.g. '2N'), or a base " if kind is None else "a base "
+            if kind is None:  # an unbalance m e ("1.76kg*mm")?
+                try:
+                    return cls("unbalance", parse_quantity(text, "kg*m", name))
+                except InputError as exc:
+                    if "convertible" not in exc.message:
+                        raise
+            what = ("a force (e.g. '2N'), an unbalance (e.g. '1.76kg*mm'), or a base "
+                    if kind is None else "a base ")
             raise InputError(name, f"must be {what}displacement (e.g. '1mm') or acceleration "
                              f"(e.g. '0.3g', '3m/s^2') amplitude, got {text!r}") from None
         return cls("base", value, acceleration=True)  # its range checked as every load's
 
     def reference(self, omega: float) -> float:
-        """Amplitude of the reference signal the phase is measured against: the force [N]
-        or the base displacement [m]."""
+        """Amplitude of the reference signal the phase is measured against at the angular
+        frequency ``omega`` [rad/s]: the force [N] (of an unbalance ``m e omega^2``) or the
+        base displacement [m]."""
         if self.kind == "base" and self.acceleration:
             return self.amplitude / (omega * omega)
+        if self.kind == "unbalance":
+            return self.amplitude * omega * omega
         return self.amplitude
 
     def as_dict(self) -> dict:
         return {"kind": self.kind, "amplitude": self.amplitude, "unit": self.unit,
                 "acceleration": self.acceleration}
+
+    def describe(self) -> str:
+        """The load in words with a readable unit (``"unbalance 1.76 kg mm"``)."""
+        scale = {"N": ("N", 1.0), "m": ("mm", 1e3), "m/s^2": ("m/s^2", 1.0),
+                 "kg*m": ("kg mm", 1e3)}[self.unit]
+        return f"{self.kind} {self.amplitude * scale[1]:.4g} {scale[0]}"
+
+
+#: The default frequencies of a forced response (:func:`default_frequencies`): the span
+#: from this fraction of the first natural frequency to this multiple of the last; points
+#: of the base grid over it; points per half-power bandwidth ``2 zeta_i f_i`` and
+#: half-power bandwidths either side of each resonance in the refined grid.
+DEFAULT_SPAN = (0.5, 1.5)
+DEFAULT_BASE_POINTS = 61
+POINTS_PER_BANDWIDTH = 4
+REFINED_BANDWIDTHS = 5
+
+
+def default_frequencies(structure, added_mass: float = 0.0) -> np.ndarray:
+    """The frequencies [Hz] of a forced response of ``structure`` when none are given:
+    every mode, each resonance resolved for its damping.
+
+    A base grid of :data:`DEFAULT_BASE_POINTS` from ``0.5 f_1`` to ``1.5 f_N``
+    (:data:`DEFAULT_SPAN`), and around each natural frequency f_i points
+    ``2 zeta_i f_i / POINTS_PER_BANDWIDTH`` apart (``zeta_i f_i / 2``: four per half-power
+    bandwidth ``2 zeta_i f_i``) over :data:`REFINED_BANDWIDTHS` bandwidths either side,
+    reaching down to where ``added_mass`` [kg] at the damper's point (a bed that moves with
+    the container) tunes the mode, ``f_i / sqrt(1 + m phi_d,i^2)``. A mode whose damping
+    ratio is 0 is refined as if it were 1e-4 (a forced response refuses it anyway:
+    :func:`check_damped`).
+
+    >>> from pdamper.parameters import PAPER_STRUCTURE as s
+    >>> f = default_frequencies(s)
+    >>> bool(f[0] < 0.5 * 5.56 < 1.5 * 5.56 < f[-1] + 1e-9), bool(np.min(np.diff(f)) > 0)
+    (True, True)
+    >>> bool(np.max(np.diff(f[abs(f - 5.56) < 0.05])) <= 0.0052 * 5.56 / 2 + 1e-12)
+    True
+    """
+    s = _modal(structure)
+    fn = s.frequencies
+    zeta = np.maximum(s.damping_ratios, 1e-4)
+    lo, hi = DEFAULT_SPAN[0] * float(fn[0]), DEFAULT_SPAN[1] * float(fn[-1])
+    parts = [np.linspace(lo, hi, DEFAULT_BASE_POINTS)]
+    check_range("added_mass", added_mass, low=0.0, unit="kg")
+    for f_i, z_i, phi in zip(fn, zeta, s.damper_shape, strict=True):
+        step = 2.0 * z_i * f_i / POINTS_PER_BANDWIDTH
+        half = REFINED_BANDWIDTHS * 2.0 * z_i * f_i
+        tuned = f_i / math.sqrt(1.0 + added_mass * phi * phi)
+        a, b = max(lo, min(f_i, tuned) - half), min(hi, f_i + half)
+        parts.append(f_i + step * np.arange(math.floor((a - f_i) / step),
+                                            math.ceil((b - f_i) / step) + 1))
+    f = np.unique(np.concatenate(parts))
+    f = f[(f >= lo * (1 - 1e-12)) & (f <= hi * (1 + 1e-12)) & (f > 0)]
+    # points closer than a tenth of the finest step are one
+    tol = 0.1 * float(np.min(2.0 * zeta * fn / POINTS_PER_BANDWIDTH))
+    keep = np.concatenate([[True], np.diff(f) > tol])
+    return f[keep]
 
 
 def check_damped(structure) -> None:
@@ -212,7 +309,8 @@ def _modal(structure):
 
 def receptance(structure, frequency, a: str = "damper", b: str = "damper") -> np.ndarray:
     """``H_ab(W)`` [m/N]: displacement of point ``a`` per unit force at point ``b``
-    (``"damper"`` or ``"output"``) at frequencies f [Hz], closed form over the modes.
+    (``"damper"``, ``"output"`` or ``"load"``) at frequencies f [Hz], closed form over the
+    modes.
 
     >>> from pdamper.parameters import PAPER_STRUCTURE as s
     >>> h = receptance(s, 0.0)
@@ -228,15 +326,33 @@ def receptance(structure, frequency, a: str = "damper", b: str = "damper") -> np
     return np.sum(pa * pb / den, axis=-1)
 
 
+def load_point(structure, load: HarmonicLoad) -> str:
+    """The point of ``structure`` where ``load`` acts, as :func:`receptance` names it:
+    ``"load"`` for a force or an unbalance (the structure's load point, by default its
+    damper's point), ``"damper"`` for the equivalent force of a base motion."""
+    return "load" if load.at_load_point else "damper"
+
+
+def load_point_text(structure) -> str:
+    """Where a force on ``structure`` acts, in words (for the record of a run)."""
+    from pdamper.structure import SingleDOFStructure
+
+    if isinstance(structure, SingleDOFStructure):
+        return "the damper's point (the 1-DOF's end-effector)"
+    if np.array_equal(structure.load_shape, structure.damper_shape):
+        return "the damper's point (the structure names no other load point)"
+    return "the structure's load point"
+
+
 def load_force(structure, load: HarmonicLoad, frequency: float) -> complex:
-    """Complex amplitude [N] of the force at the damper's point, relative to the reference
-    signal (:meth:`HarmonicLoad.reference`, phase 0)."""
+    """Complex amplitude [N] of the force at the load point (:func:`load_point`),
+    relative to the reference signal (:meth:`HarmonicLoad.reference`, phase 0)."""
     om = 2.0 * math.pi * frequency
     ref = load.reference(om)
-    if load.kind == "force":
+    if load.at_load_point:
         return complex(ref)
     s = _modal(structure)
-    if s.modes != 1 or not s.coincident:
+    if s.modes != 1 or not np.array_equal(s.damper_shape, s.output_shape):
         raise InputError("base", "a base motion needs a one-mode structure with the damper at "
                          "the output point (a 1-DOF); N-mode base excitation needs the modes' "
                          "participation factors, which the modal input does not carry")
@@ -249,7 +365,19 @@ def linear_frf(structure, load: HarmonicLoad, frequency) -> np.ndarray:
     to the load's reference signal (amplitude ``abs``, phase ``angle``)."""
     f = np.atleast_1d(np.asarray(frequency, float))
     force = np.array([load_force(structure, load, v) for v in f])
-    return receptance(structure, f, "output", "damper") * force
+    return receptance(structure, f, "output", load_point(structure, load)) * force
+
+
+def damper_force(structure, load: HarmonicLoad, frequency: float) -> complex:
+    """The force at the damper's point that moves it as ``load`` does,
+    ``F_d = F H_dL / H_dd`` [N] (``F`` itself where the load acts there)."""
+    s = _modal(structure)
+    force = load_force(s, load, frequency)
+    pt = load_point(s, load)
+    if pt == "damper" or np.array_equal(s.load_shape, s.damper_shape):
+        return force
+    h_dd = complex(receptance(s, frequency))
+    return force * complex(receptance(s, frequency, "damper", pt)) / h_dd
 
 
 # ----------------------------------------------------------------------------- damper
@@ -328,7 +456,8 @@ def stroke_bounds(structure, load: HarmonicLoad, model, frequency: float) -> tup
     stroke is at least ``|F| / (|1/H_dd| + 3 m_bed W^2)``; both widened by two."""
     s = _modal(structure)
     om = 2.0 * math.pi * frequency
-    force = abs(load_force(s, load, frequency))
+    force = abs(damper_force(s, load, frequency))
+    applied = abs(load_force(s, load, frequency))
     h = complex(receptance(s, frequency))
     mb = model.bed_mass
     if s.modes == 1:  # the 1-DOF's resonance can be tuned by any mass in [0, m_bed]
@@ -345,10 +474,13 @@ def stroke_bounds(structure, load: HarmonicLoad, model, frequency: float) -> tup
         upper = force / float(np.min(den))
         # a mass may also tune another mode onto W: bound by the damped modal peaks
         phi = s.damper_shape
+        psi = s.load_shape if load.at_load_point else phi
         w = s.angular_frequencies
-        peaks = np.abs(phi * phi / (2.0 * np.maximum(s.damping_ratios, 1e-6) * w * om))
-        upper = max(upper, force * float(np.sum(peaks)))
+        peaks = np.abs(phi * psi / (2.0 * np.maximum(s.damping_ratios, 1e-6) * w * om))
+        upper = max(upper, applied * float(np.sum(peaks)))
     lower = force / (abs(1.0 / h) + 3.0 * mb * om * om)
+    # a load point that hardly moves the damper's: the strokes start far below, never at 0
+    lower = max(lower, 1e-12 * upper)
     return 0.5 * lower, 2.0 * upper
 
 
@@ -604,10 +736,12 @@ def harmonic_balance(model, structure, load: HarmonicLoad, frequency,
     sols: list[list[tuple]] = []
     for f in freqs:
         om = 2.0 * math.pi * f
-        force = load_force(s, load, f)
+        applied = load_force(s, load, f)
+        force = damper_force(s, load, f)
         fa = abs(force)
         h_dd = complex(receptance(s, f))
         h_od = complex(receptance(s, f, "output", "damper"))
+        h_ol = complex(receptance(s, f, "output", load_point(s, load)))
         lo, hi = stroke_bounds(s, load, model, f)
         table = describing_function(model, f, lo, hi, strokes, load.kind)
         if tables is not None:
@@ -634,7 +768,7 @@ def harmonic_balance(model, structure, load: HarmonicLoad, frequency,
             kd = -m * om * om + 1j * om * d
             xd = force / (1.0 / h_dd + kd)
             xd = xd * (root / abs(xd))  # on the root exactly
-            xo = h_od * (force - kd * xd) if not s.coincident else xd
+            xo = h_ol * applied - h_od * kd * xd if not s.coincident else xd
             here.append((abs(xo), float(np.angle(xo / load.reference(om))), root, eta, m,
                          int(mode), kind == STABLE, kind))
         sols.append(here)
@@ -712,6 +846,7 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
     freqs = np.atleast_1d(np.asarray(frequency, float))
     w = s.angular_frequencies
     phi, psi = s.damper_shape, s.output_shape
+    at = s.load_shape if load.at_load_point else phi  # where the force acts
     c0 = np.diag(2.0 * s.damping_ratios * w)
     k0 = np.diag(w * w)
     eye = np.eye(2 * n)
@@ -747,7 +882,7 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
             a[:n, n:] = np.eye(n)
             a[n:, :n] = -minv @ k0
             a[n:, n:] = -minv @ (c0 + dm * np.outer(phi, phi))
-            b = np.concatenate([np.zeros(n), minv @ phi * force])
+            b = np.concatenate([np.zeros(n), minv @ at * force])
             zp = np.linalg.solve(1j * om * eye - a, b)
             h0 = z - zp.real
             # what is left of the transient: its energy norm against the steady motion's
@@ -817,8 +952,9 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
     s = _modal(structure)
     if s.modes != 1 or not s.coincident:
         raise InputError("structure", f"the co_simulation of {type(model).__name__} needs a "
-                         "single-DOF structure (or one mode with the damper at the output "
-                         "point); use a pseudo-force model (analytic, fields) for N modes")
+                         "single-DOF structure (or one mode with the damper, the load and the "
+                         "output at one point: --load-at damper); use a pseudo-force model "
+                         "(analytic, fields) for N modes or a load elsewhere")
     e = s.equivalent_single_dof()
     criterion = criterion or SteadyStateCriterion(rtol=0.02, atol=0.02, quiet_window_cycles=0,
                                                   window_cycles=3, skip_cycles=2)
@@ -1110,5 +1246,7 @@ def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
     return FRFResult(frequency=f, load=load, linear=lin, harmonic_balance=hb, sweeps=sweeps,
                      model=model.fidelity, wall_seconds=walls,
                      inputs={"frequency": f.tolist(), "sweep": sweep, "load": load.as_dict(),
+                             "load_point": (load_point_text(structure) if load.at_load_point
+                                            else "the base"),
                              "modes": s.modes, "strokes": strokes,
                              "particles": model.damper.count})

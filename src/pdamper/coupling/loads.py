@@ -22,11 +22,12 @@ with ``z = x - y_b`` the motion relative to the base and ``v_b`` the base veloci
 steady drift of the whole set-up carries no damper force). For N modes (mass-normalised,
 :class:`~pdamper.structure.modal.ModalStructure`) the same with ``I``, ``diag(2 zeta w)``,
 ``diag(w^2)``, m_eff and d acting through the damper's mode shape ``phi_d``; the force acts
-at the release point (the point that the static load of the free decay pulls;
-default the damper point). Base motion (a translation of the base or clamp) loads mode i
-with ``-Gamma_i a_b``, its participation factor ``Gamma_i = phi_i^T M r``: the beam's come
-from its FE model; a modes file does not carry them, so it takes base motion with one mode
-only (``Gamma = 1 / phi_d``, all the mass at the damper point, as the 1-DOF).
+at the structure's load point (the modes file's ``load`` column, the beam's
+``load_position``; default the release point, which defaults to the damper point). Base
+motion (a translation of the base or clamp) loads mode i with ``-Gamma_i a_b``, its
+participation factor ``Gamma_i = phi_i^T M r``: the beam's come from its FE model; a modes
+file does not carry them, so it takes base motion with one mode only (``Gamma = 1 /
+phi_d``, all the mass at the damper point, as the 1-DOF).
 
 Each stretch between two updates is integrated exactly for an input linear between steps
 (first-order hold: the state-transition matrices from one matrix exponential, Van Loan
@@ -136,6 +137,168 @@ class LoadHistory:
         t = np.linspace(0.0, duration, n)
         return cls(t, amplitude * np.sin(2.0 * math.pi * frequency * t), kind,
                    f"{amplitude:g} {LOAD_KINDS[kind]} sin(2 pi {frequency:g} Hz t)")
+
+
+#: Where a force on the structure acts: its load point, or the damper's point.
+LOAD_POINTS = ("load", "damper")
+
+
+def acting_at(structure: Any, at: str = "load", field: str = "load.at") -> Any:
+    """``structure`` with its forces acting at ``at``: ``"load"``, the structure's load
+    point (itself), or ``"damper"``, the damper's point (a
+    :class:`~pdamper.structure.modal.ModalStructure` whose load shape is its damper's; a
+    1-DOF's force acts there anyway)."""
+    if at not in LOAD_POINTS:
+        raise InputError(field, f"must be one of {', '.join(LOAD_POINTS)}, got {at!r}")
+    from pdamper.structure.modal import ModalStructure
+
+    if at == "damper" and isinstance(structure, ModalStructure):
+        import dataclasses
+
+        return dataclasses.replace(structure, load_shape=structure.damper_shape)
+    return structure
+
+
+#: Samples per load period of a run-up's record at its highest speed: a sine linear
+#: between 200 samples a period is within 1.2e-4 of its peak (``1 - cos(pi / 200)``).
+RUN_UP_SAMPLES_PER_PERIOD = 200
+
+
+@dataclass(frozen=True)
+class RunUp:
+    """A rotating unbalance ``m e`` on a machine whose speed runs linearly from ``start`` to
+    ``stop`` over ``duration`` (a run-up, or a run-down where ``stop < start``; a constant
+    speed where they are equal).
+
+    The speed in revolutions per second is ``n(t) = start + (stop - start) t / T``, the
+    angle of the unbalance ``phi(t) = 2 pi int_0^t n dt'`` (integrated from the ramp, so that
+    a ramp is not a sequence of steady tones) and ``Omega = 2 pi n`` its angular speed. The
+    vertical force of the unbalanced mass on the structure is the reaction to its
+    acceleration, ``F(t) = m e (Omega^2 sin phi - Omega' cos phi)``: amplitude
+    ``m e Omega^2`` at the instants where ``phi = pi/2 (mod 2 pi)``, the tangential term
+    ``Omega' = 2 pi (stop - start) / T`` being small against it on any usual ramp. It
+    acts at the structure's load point.
+
+    Parameters
+    ----------
+    unbalance
+        ``m e`` [kg m].
+    start, stop
+        Speeds at the ramp's start and end [Hz, revolutions per second; ``rpm`` at the
+        edges], >= 0, not both 0.
+    duration
+        Length of the ramp T [s] (the record; after it the load is zero).
+
+    Examples
+    --------
+    >>> r = RunUp(1.76e-3, 400 / 60, 2400 / 60, 20.0)
+    >>> round(float(r.speed(10.0)) * 60)          # rpm half-way
+    1400
+    >>> t = r.instants_of_peak()[5]
+    >>> bool(np.isclose(r.force(t), 1.76e-3 * (2 * np.pi * r.speed(t)) ** 2, rtol=1e-12))
+    True
+    """
+
+    unbalance: float
+    start: float
+    stop: float
+    duration: float
+
+    def __post_init__(self) -> None:
+        check_range("load.unbalance", self.unbalance, low=0.0, low_inclusive=False,
+                    unit="kg*m")
+        for name in ("start", "stop"):
+            check_range("load.run_up", getattr(self, name), low=0.0, unit="Hz")
+        if not max(self.start, self.stop) > 0:
+            raise InputError("load.run_up", "the speed must be above 0 at one end of the ramp")
+        check_range("load.run_up", self.duration, low=0.0, low_inclusive=False, unit="s")
+        for name in ("unbalance", "start", "stop", "duration"):
+            object.__setattr__(self, name, float(getattr(self, name)))
+
+    @classmethod
+    def parse(cls, unbalance: str | float, ramp: str, field: str = "load.run_up") -> RunUp:
+        """From the text of an unbalance (``"1.76 kg*mm"``) and of a ramp
+        ``"start:stop:duration"`` (``"400rpm:2400rpm:20s"``; speeds in any frequency unit,
+        ``rpm`` included).
+
+        >>> RunUp.parse("1.76kg*mm", "400rpm:2400rpm:20s").stop
+        40.0
+        """
+        from pdamper.units import parse_quantity
+
+        me = parse_quantity(unbalance, "kg*m", "load.unbalance")
+        parts = str(ramp).split(":")
+        if len(parts) != 3 or not all(p.strip() for p in parts):
+            raise InputError(field, f"must be 'start:stop:duration', e.g. "
+                             f"'400rpm:2400rpm:20s', got {ramp!r}")
+        a, b = (parse_quantity(p, "Hz", field) for p in parts[:2])
+        t = parse_quantity(parts[2], "s", field)
+        try:
+            return cls(me, a, b, t)
+        except InputError as exc:
+            raise InputError(exc.field if exc.field == "load.unbalance" else field,
+                             exc.message) from None
+
+    @property
+    def acceleration(self) -> float:
+        """``Omega'`` [rad/s^2]."""
+        return 2.0 * math.pi * (self.stop - self.start) / self.duration
+
+    def speed(self, t: float | np.ndarray) -> np.ndarray:
+        """``n(t)`` [Hz, revolutions per second] over the ramp (held at ``stop`` after it)."""
+        tt = np.clip(np.asarray(t, float), 0.0, self.duration)
+        return self.start + (self.stop - self.start) * tt / self.duration
+
+    def angle(self, t: float | np.ndarray) -> np.ndarray:
+        """``phi(t) = 2 pi (start t + (stop - start) t^2 / (2 T))`` [rad] over the ramp."""
+        tt = np.asarray(t, float)
+        return 2.0 * math.pi * (self.start * tt + 0.5 * (self.stop - self.start) * tt * tt
+                                / self.duration)
+
+    def force(self, t: float | np.ndarray) -> np.ndarray:
+        """``F(t) = m e (Omega^2 sin phi - Omega' cos phi)`` [N] over the ramp, 0 after."""
+        tt = np.asarray(t, float)
+        om = 2.0 * math.pi * self.speed(tt)
+        ph = self.angle(tt)
+        f = self.unbalance * (om * om * np.sin(ph) - self.acceleration * np.cos(ph))
+        return np.where((tt >= 0.0) & (tt <= self.duration), f, 0.0)
+
+    def instants_of_peak(self) -> np.ndarray:
+        """The instants [s] where ``phi = pi/2 (mod 2 pi)``, where ``F = m e Omega^2``."""
+        turns = self.angle(self.duration) / (2.0 * math.pi)
+        k = np.arange(0, math.floor(turns - 0.25) + 1)
+        target = 2.0 * math.pi * (k + 0.25)  # phi(t) = target: a quadratic in t
+        a = math.pi * (self.stop - self.start) / self.duration
+        b = 2.0 * math.pi * self.start
+        if a == 0.0:
+            return target / b
+        return (-b + np.sqrt(b * b + 4.0 * a * target)) / (2.0 * a)
+
+    def history(self, samples_per_period: int = RUN_UP_SAMPLES_PER_PERIOD) -> LoadHistory:
+        """The force as a :class:`LoadHistory` sampled ``samples_per_period`` times per
+        period at the highest speed (linear between samples: :data:`RUN_UP_SAMPLES_PER_PERIOD`
+        keeps the peaks within 1.2e-4)."""
+        top = max(self.start, self.stop)
+        n = int(math.ceil(self.duration * top * samples_per_period)) + 1
+        if n > 5e7:
+            raise InputError("load.run_up", f"the ramp needs {n:.3g} samples "
+                             f"({samples_per_period} per period at {top:g} Hz over "
+                             f"{self.duration:g} s), more than 5e7: shorten it")
+        t = np.linspace(0.0, self.duration, max(n, 2))
+        return LoadHistory(t, self.force(t), "force", self.describe())
+
+    def describe(self) -> str:
+        """The load in words (``"unbalance 1.76 kg mm, run-up 400-2400 rpm in 20 s"``)."""
+        way = "run-up" if self.stop > self.start else ("run-down" if self.stop < self.start
+                                                        else "constant speed")
+        return (f"unbalance {self.unbalance * 1e3:.4g} kg mm, {way} {self.start * 60:.5g}-"
+                f"{self.stop * 60:.5g} rpm in {self.duration:g} s")
+
+    def as_dict(self) -> dict:
+        return {"kind": "unbalance", "unbalance": self.unbalance, "start_speed": self.start,
+                "stop_speed": self.stop, "duration": self.duration,
+                "units": {"unbalance": "kg*m", "start_speed": "Hz", "stop_speed": "Hz",
+                          "duration": "s"}}
 
 
 @dataclass(frozen=True)
@@ -306,10 +469,10 @@ class _System:
             base = structure.participation
             if base is None and structure.modes == 1:  # all the mass at the damper point
                 base = 1.0 / structure.damper_shape
-            out, release = structure.output_shape, structure.release_shape
-            assert out is not None and release is not None  # (filled in by __post_init__)
+            out, at = structure.output_shape, structure.load_shape
+            assert out is not None and at is not None  # (filled in by __post_init__)
             return cls(np.eye(structure.modes), np.diag(2.0 * structure.damping_ratios * w),
-                       np.diag(w * w), structure.damper_shape, out, release, base, structure)
+                       np.diag(w * w), structure.damper_shape, out, at, base, structure)
         raise InputError("structure", "must be a SingleDOFStructure or a ModalStructure, got "
                          f"{type(structure).__name__}")
 
@@ -372,7 +535,7 @@ def simulate_load(model: DamperModel, structure: Any, load: LoadHistory, sample_
     if kind == "base_acceleration" and sys_.base_shape is None:
         raise InputError("base_acceleration", "base motion needs each mode's participation "
                          "factor, which a modes file does not give: use one mode, the 1-DOF "
-                         "or [structure] beam, or a force (--load) at the release point")
+                         "or [structure] beam, or a force (--load) at the load point")
     t, h, sub, steps = _time_grid(load, tail, sample_rate, sys_.phi.size)
     u, lv, v_b, y_b = _inputs(load, t)
     n = sys_.phi.size

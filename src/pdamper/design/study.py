@@ -611,8 +611,10 @@ OBJECTIVES.update(LOAD_OBJECTIVES)
 #: Objectives on the forced response (pdamper.coupling.frf) over a frequency band.
 FRF_OBJECTIVES = {"peak-frf": ("min", "m"), "rms-frf": ("min", "m")}
 OBJECTIVES.update(FRF_OBJECTIVES)
-#: Default band of the forced-response objectives: this fraction of the structure's first
-#: natural frequency below and above it, in this many frequencies; default load 2 N.
+#: The usual band of the forced-response objectives (a count the cost checks compare
+#: with); without ``band`` the band spans every mode of the structure, each resonance
+#: resolved for its damping (:func:`pdamper.coupling.frf.default_frequencies`); default
+#: load 2 N.
 FRF_BAND = (0.5, 1.5, 41)
 FRF_LOAD = "2 N"
 #: What each objective is, in words, for axes and tables (the value in the unit of
@@ -636,8 +638,8 @@ def make_objective(name: str, at: float, initial_displacement: float,
                    frf_load: HarmonicLoad | str | None = None) -> Objective:
     """The :class:`Objective` ``name`` with its defaults (module docstring).
 
-    ``peak-frf`` and ``rms-frf`` take ``band`` (frequencies [Hz]; default :data:`FRF_BAND`
-    around the first natural frequency) and ``frf_load`` (a
+    ``peak-frf`` and ``rms-frf`` take ``band`` (frequencies [Hz]; default every mode of
+    the structure, :func:`pdamper.coupling.frf.default_frequencies`) and ``frf_load`` (a
     :class:`~pdamper.coupling.frf.HarmonicLoad` or its text, e.g. ``"2N"``, ``"0.3g"``;
     default :data:`FRF_LOAD`).
 
@@ -658,10 +660,10 @@ def make_objective(name: str, at: float, initial_displacement: float,
 
         check_damped(structure)  # before any design: its forced response must be bounded
 
-        if band is None:
-            lo, hi, n = FRF_BAND
-            band = np.linspace(lo * structure.natural_frequency,
-                               hi * structure.natural_frequency, n)
+        if band is None:  # every mode, each resonance resolved for its damping
+            from pdamper.coupling.frf import default_frequencies
+
+            band = default_frequencies(structure)
         f = np.atleast_1d(np.asarray(band, float))
         if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
             raise InputError("optimization.band", "must be one or more finite frequencies "

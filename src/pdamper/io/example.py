@@ -68,6 +68,7 @@ initial_displacement = "{q(st.initial_displacement, 'mm')}"   # at the damper's 
 # Instead of mass, stiffness and damping (leave those out), N modes (docs/structure.md):
 # modes = "modes.csv"       # one row per mode, unit headers (relative to this file):
 #                           # frequency [Hz], damping ratio [1], damper [kg^-0.5](, observation [kg^-0.5])
+#                           # (, load [kg^-0.5]: where forces act; default the damper's point)
 # or the Timoshenko cantilever of Sect. 4.1 (every key optional; defaults: the paper's beam):
 # beam = {{ length = "{q(_BEAM.length, 'mm')}", width = "{q(_BEAM.width, 'mm')}", \
 height = "{q(_BEAM.height, 'mm')}", youngs_modulus = "{q(_BEAM.youngs_modulus, 'GPa')}", \

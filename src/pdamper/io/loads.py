@@ -21,15 +21,23 @@ the time nor the expected load, a missing or extra column, a value that is not a
 number, a time that does not increase, fewer than two samples) are one-line
 :class:`~pdamper.errors.InputError` naming the file, the row (line number in the file) and
 the column; the field is ``load`` or ``base_acceleration``.
+
+The scenario's ``[frf]`` section (:class:`FRFSpec`), the harmonic load of a forced
+response, is declared here too.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Annotated, ClassVar
 
 import numpy as np
+from pydantic import model_validator
 
+from pdamper.io.damper_sections import _DeclaredSection
+from pdamper.io.grids import _grid
 from pdamper.io.measured import _err, read_unit_table
+from pdamper.settings import setting
 
 #: Per load kind: the error field, the column quantity and its SI unit, an example header.
 _KINDS = {
@@ -81,3 +89,87 @@ def read_load(path: str | Path, kind: str = "force"):
         raise t.error(t.rows[k][0], tc, f"time must increase from row to row "
                       f"({data[k, 0] / f:g} after {data[k - 1, 0] / f:g})")
     return LoadHistory(data[:, 0], data[:, 1], kind, str(t.path))
+
+
+# ----------------------------------------------------------------------------- [frf]
+#: The load keys of ``[frf]``, one of which may be given, and the
+#: :class:`~pdamper.coupling.frf.HarmonicLoad` each makes.
+FRF_LOAD_KEYS = ("force", "unbalance", "base_displacement", "base_acceleration")
+
+
+class FRFSpec(_DeclaredSection):
+    """The forced response's load and frequencies (``pdamper frf``, and the forced response
+    of ``pdamper report``): one harmonic load (``force``, ``unbalance``,
+    ``base_displacement`` or ``base_acceleration``; none: a force of 2 N at the load point),
+    the frequencies (none: every mode of the structure, resolved for its damping,
+    :func:`pdamper.coupling.frf.default_frequencies`) and the stepped sine's direction."""
+
+    prefix: ClassVar[str] = "frf."
+
+    force: float | None = setting(
+        None, "Harmonic force amplitude at the structure's load point (the damper's point "
+        "unless the modes name a load point).", unit="N", low=0.0, low_inclusive=False,
+        kind="number", none="not given")
+    unbalance: float | None = setting(
+        None, "Rotating unbalance m e at the load point, e.g. '1.76 kg*mm': the force "
+        "m e Omega^2 at each speed Omega.", unit="kg*m", low=0.0, low_inclusive=False,
+        kind="number", none="not given")
+    base_displacement: float | None = setting(
+        None, "Harmonic base displacement amplitude (one-mode structures).", unit="m",
+        low=0.0, low_inclusive=False, kind="number", none="not given")
+    base_acceleration: float | None = setting(
+        None, "Harmonic base acceleration amplitude, e.g. '0.5 g0' (one-mode structures).",
+        unit="m/s^2", low=0.0, low_inclusive=False, kind="number", none="not given")
+    #: frequencies "start:stop:count" or one; none: every mode of the structure, resolved
+    #: for its damping
+    frequency: Annotated[str, _grid("Hz")] | None = None
+    sweep: str = setting("both", "Stepped-sine direction: up, down or both.",
+                         choices=("up", "down", "both"))
+    at: str = setting("load", "Where a force or an unbalance acts: load (the structure's "
+                      "load point: the modes file's load column, the beam's load_position; "
+                      "the damper's point where the structure names none) or damper.",
+                      choices=("load", "damper"))
+
+    @model_validator(mode="after")
+    def _one_load(self):
+        given = [k for k in FRF_LOAD_KEYS if getattr(self, k) is not None]
+        if len(given) > 1:
+            raise ValueError(f"give one harmonic load, not {' and '.join(given)}")
+        return self
+
+    def load(self):
+        """The :class:`~pdamper.coupling.frf.HarmonicLoad` of the section (None: none
+        given)."""
+        from pdamper.coupling.frf import HarmonicLoad
+
+        for key, kind, accel in (("force", "force", False), ("unbalance", "unbalance", False),
+                                 ("base_displacement", "base", False),
+                                 ("base_acceleration", "base", True)):
+            v = getattr(self, key)
+            if v is not None:
+                try:
+                    return HarmonicLoad(kind, v, acceleration=accel)
+                except Exception as exc:  # its range, named by this key
+                    from pdamper.errors import InputError
+
+                    if isinstance(exc, InputError):
+                        raise InputError(f"frf.{key}", exc.message) from None
+                    raise
+        return None
+
+    def frequencies(self, structure, added_mass: float = 0.0):
+        """The frequencies [Hz] of ``frequency``, or the structure's default
+        (:func:`pdamper.coupling.frf.default_frequencies`)."""
+        if self.frequency is None:
+            from pdamper.coupling.frf import default_frequencies
+
+            return default_frequencies(structure, added_mass)
+        from pdamper.coupling.frf import MAX_FREQUENCIES
+        from pdamper.errors import InputError
+        from pdamper.io.grids import grid, parse_axis
+
+        count = parse_axis(self.frequency, "Hz", "frf.frequency")[2]  # before the grid exists
+        if count > MAX_FREQUENCIES:
+            raise InputError("frf.frequency", f"at most {MAX_FREQUENCIES} frequencies, got "
+                             f"{count}")
+        return grid(self.frequency, "Hz", "frf.frequency")

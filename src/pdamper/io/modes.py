@@ -5,16 +5,18 @@ column with its unit in brackets, then one row per mode; ``#`` starts a comment 
 separator is ``,``, ``;`` or a tab. ::
 
     # first two bending modes of the FE model, mass-normalised
-    frequency [Hz], damping ratio [1], damper [kg^-0.5], observation [kg^-0.5]
-    5.56, 0.0052, 0.8127, 0.8127
-    46.3, 0.01, -0.911, -0.911
+    frequency [Hz], damping ratio [1], damper [kg^-0.5], load [kg^-0.5], observation [kg^-0.5]
+    5.56, 0.0052, 0.8127, 0.4, 0.8127
+    46.3, 0.01, -0.911, 0.7, -0.911
 
 Columns are found by their units: the natural frequency f_i (a frequency: ``Hz``,
-``1/min`` ...), the modal damping ratio zeta_i (dimensionless: ``1`` or ``%``), and one or
-two mass-normalised mode-shape values (unit ``kg^-0.5``): the first at the damper's point,
-the second (optional) at the observation point whose displacement the results report
-(default: the damper's point). The structure is released from a static deflection at the
-damper's point. Rows are sorted by frequency.
+``1/min``, ``rpm`` ...), the modal damping ratio zeta_i (dimensionless: ``1`` or ``%``),
+and one to three mass-normalised mode-shape values (unit ``kg^-0.5``). A shape column
+whose name starts with ``load`` is the **load point**, where a force on the structure acts
+(a harmonic force, an unbalance, a force history; default: the damper's point); of the
+others the first is at the damper's point, the second (optional) at the observation point
+whose displacement the results report (default: the damper's point). The structure is
+released from a static deflection at the damper's point. Rows are sorted by frequency.
 
 Problems (no header, a column without a unit, an unknown unit, a missing or repeated
 column, a value that is not a finite number, a frequency <= 0, a damping ratio outside
@@ -39,6 +41,11 @@ _KINDS = "frequency, damping ratio (1 or %) or mass-normalised mode shape (kg^-0
 _EXAMPLE = "'frequency [Hz], damping ratio [1], damper [kg^-0.5]'"
 
 
+def _is_load(name: str) -> bool:
+    """Whether the column headed ``name`` (``"load [kg^-0.5]"``) holds the load point."""
+    return name.split("[")[0].strip().lower().startswith("load")
+
+
 def read_modes(path: str | Path):
     """The :class:`~pdamper.structure.modal.ModalStructure` in ``path`` (module docstring).
 
@@ -51,6 +58,10 @@ def read_modes(path: str | Path):
     >>> s = read_modes(p)
     >>> s.modes, float(s.damping_ratios[0]), s.coincident
     (1, 0.005, True)
+    >>> _ = p.write_text("frequency [Hz], damping ratio [%], damper [kg^-0.5], "
+    ...                  "load [kg^-0.5]\\n5.5, 0.5, 0.8, 0.4\\n")
+    >>> float(read_modes(p).load_shape[0]), float(read_modes(p).output_shape[0])
+    (0.4, 0.8)
     """
     from pdamper.errors import InputError
     from pdamper.structure.modal import ModalStructure
@@ -65,17 +76,21 @@ def read_modes(path: str | Path):
         if len(found) > 1:
             raise t.error(t.header_row, found[1], f"a second {kind} column")
         cols[kind] = found[0]
-    shapes = [k for k, q in enumerate(kinds) if q == "mode shape"]
+    all_shapes = [k for k, q in enumerate(kinds) if q == "mode shape"]
+    loads = [k for k in all_shapes if _is_load(t.names[k])]
+    if len(loads) > 1:
+        raise t.error(t.header_row, loads[1], "a second load column (one load point)")
+    shapes = [k for k in all_shapes if k not in loads]
     if not shapes:
         raise _err(t.path, t.header_row, None, "no mode-shape column (mass-normalised, unit "
-                   f"kg^-0.5), e.g. {_EXAMPLE}", FIELD)
+                   f"kg^-0.5) at the damper's point, e.g. {_EXAMPLE}", FIELD)
     if len(shapes) > 2:
-        raise t.error(t.header_row, shapes[2], "at most two mode-shape columns: the damper's "
-                      "point, then the observation point")
+        raise t.error(t.header_row, shapes[2], "at most two mode-shape columns besides the "
+                      "load: the damper's point, then the observation point")
     if not t.rows:
         raise _err(t.path, t.header_row, None, "no modes: one row per mode after the header",
                    FIELD)
-    order = [cols["frequency"], cols["damping ratio"], *shapes]
+    order = [cols["frequency"], cols["damping ratio"], *shapes, *loads]
     data = t.values(order)
     for c, ok, msg in ((0, data[:, 0] > 0, "the frequency must be > 0"),
                        (1, data[:, 1] >= 0, "the damping ratio must be >= 0"),
@@ -90,6 +105,7 @@ def read_modes(path: str | Path):
     data = data[np.argsort(data[:, 0], kind="stable")]
     try:
         return ModalStructure(data[:, 0], data[:, 1], data[:, 2],
-                              data[:, 3] if len(shapes) == 2 else None)
+                              data[:, 3] if len(shapes) == 2 else None,
+                              load_shape=data[:, -1] if loads else None)
     except InputError as exc:  # not reached for a file that passed the checks above
         raise InputError(FIELD, f"{t.path}: {exc.message}") from None

@@ -68,7 +68,7 @@ def beam_structure(spec: BeamSpec) -> ModalStructure:
         raise InputError("structure.beam.damping_ratio", f"must be one ratio or one per "
                          f"mode ({spec.modes}), got {len(zeta)}")
     pos = {}
-    for key in ("damper_position", "observation_position"):
+    for key in ("damper_position", "observation_position", "load_position"):
         v = getattr(spec, key)
         if v is not None and v > spec.length * (1.0 + 1e-12):
             raise InputError(f"structure.beam.{key}", f"must be in (0, {spec.length:g}] m "
@@ -84,7 +84,8 @@ def beam_structure(spec: BeamSpec) -> ModalStructure:
             beam, TipMass(spec.tip_mass), spec.modes,
             damper_position=pos["damper_position"],
             output_position=pos["observation_position"],
-            release_position=pos["damper_position"], damping_ratio=zeta)
+            release_position=pos["damper_position"], damping_ratio=zeta,
+            load_position=pos["load_position"])
     except InputError as exc:
         field = exc.field.removeprefix("beam.").removeprefix("structure.")
         raise InputError(f"structure.beam.{field}", exc.message) from None

@@ -147,8 +147,7 @@ def _forced_figure(rep: DamperReport) -> Figure:
     axes = fig.subplots(2, 1, sharex=True)
     for i, (label, r) in enumerate(rep.forced.items()):
         plot_frf(r, axes=axes, label=label, linear=i == 0, color=("C0", "C4", "C5")[i % 3])
-    axes[0].set_title(f"forced response, {rep.forced_load.amplitude:.3g} N at the "
-                      "damper's point")
+    axes[0].set_title(f"forced response, {rep.forced_load.describe()}")
     return fig
 
 
@@ -240,9 +239,12 @@ def _forced_html(rep: DamperReport) -> list[str]:
                  f"{summary['no_particles']['peak_frequency']:.3f}", "no"])
     first = next(iter(rep.forced.values()))
     return ["<h2>Forced response</h2>",
-            f"<p>Harmonic force of {load.amplitude:.4g} N at the damper's point (the amplitude "
-            "that drives the structure without particles to the release amplitude at its "
-            f"natural frequency), {first.frequency.size} frequencies over "
+            (f"<p>{_e(rep.forced_text[0].upper() + rep.forced_text[1:])}, "
+             if rep.forced_text else
+             f"<p>Harmonic force of {load.amplitude:.4g} N at the damper's point (the amplitude "
+             "that drives the structure without particles to the release amplitude at its "
+             "natural frequency), ")
+            + f"{first.frequency.size} frequencies over "
             f"{first.frequency[0]:.3g}-{first.frequency[-1]:.3g} Hz; harmonic balance with "
             "the damper's describing function (Eqs. 1-4), every stable solution "
             "(docs/forced.md). Where a model has several solutions at a frequency, up and "

@@ -268,9 +268,10 @@ def _check_frf_objective(sc: Scenario, damper: ParticleDamper, cls: type[DamperM
                                  bytes_each=resources.FRF_BYTES_PER_STROKE * 800,
                                  field="optimization.band", usual=FRF_BAND[2]), force)
     band = o.frf_band()
-    if band is None:
-        lo, hi, n = FRF_BAND
-        band = np.linspace(lo * structure.natural_frequency, hi * structure.natural_frequency, n)
+    if band is None:  # every mode of the structure (as make_objective)
+        from pdamper.coupling.frf import default_frequencies
+
+        band = default_frequencies(structure)
     band = np.atleast_1d(np.asarray(band, float))
     load = HarmonicLoad.parse(o.frf_load or FRF_LOAD, field="optimization.frf_load")
     one = frf_cost(sc, cls.fidelity, band, load)

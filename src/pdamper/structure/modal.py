@@ -84,6 +84,10 @@ class ModalStructure:
         Modal participation factors of a translation of the base, ``Gamma_i = phi_i^T M r``
         [sqrt(kg)] (``r``: the rigid translation), for base motion; None where unknown
         (:meth:`from_beam` computes them).
+    load_shape
+        Mode shapes at the load point, where a force on the structure acts (a harmonic
+        force, an unbalance, a force history) [1/sqrt(kg)]; default the release point
+        (which defaults to the damper point).
 
     Examples
     --------
@@ -104,6 +108,8 @@ class ModalStructure:
     release_shape: np.ndarray | None = None
     positions: tuple[float, float, float] | None = field(default=None)
     participation: np.ndarray | None = field(default=None)
+    # None stands for the release point (filled in by __post_init__)
+    load_shape: np.ndarray | None = field(default=None)
 
     def __post_init__(self) -> None:
         f = np.atleast_1d(np.asarray(self.frequencies, float))
@@ -117,9 +123,12 @@ class ModalStructure:
                              f"mode: at a ratio of 1 and above it does not oscillate), got "
                              f"{', '.join(f'{v:g}' for v in z)}")
         shapes: dict[str, np.ndarray] = {}
-        for name in ("damper_shape", "output_shape", "release_shape"):
+        for name in ("damper_shape", "output_shape", "release_shape", "load_shape"):
             v = getattr(self, name)
-            v = shapes["damper_shape"] if v is None else np.asarray(v, float).ravel()
+            if v is None:
+                v = shapes["release_shape" if name == "load_shape" else "damper_shape"]
+            else:
+                v = np.asarray(v, float).ravel()
             if v.size != n or not np.all(np.isfinite(v)):
                 raise InputError(f"structure.{name}", f"must hold {n} finite values, one per mode")
             shapes[name] = v
@@ -157,6 +166,7 @@ class ModalStructure:
         damping_ratio: float | Sequence[float] = 0.0,
         point_masses: Sequence[tuple[float, float]] = (),
         clamp_rotational_stiffness: float = math.inf,
+        load_position: float | None = None,
     ) -> ModalStructure:
         """The first ``modes`` bending modes of the FE cantilever.
 
@@ -172,6 +182,8 @@ class ModalStructure:
             Modal damping ratio, one for all modes or one per mode [-].
         point_masses
             Extra rigid point masses ``(position [m], mass [kg])`` on the beam axis.
+        load_position
+            Where a force on the beam acts, from the clamp [m]; default the release point.
 
         Examples
         --------
@@ -233,9 +245,14 @@ class ModalStructure:
         rigid[0::2] = 1.0
         rigid = rigid[1:] if compliant else rigid[2:]
         gamma = vecs.T @ (m_mat @ rigid)
+        load = None
+        if load_position is not None:
+            at = check_range("structure.load_position", load_position, low=0.0,
+                             high=beam.length, unit="m")
+            load = interpolation_vector(beam, at, compliant) @ vecs * sign
         return cls(np.sqrt(np.maximum(w2, 0.0)) / (2.0 * math.pi), zeta,
                    shapes[0] * sign, shapes[1] * sign, shapes[2] * sign, (pts[0], pts[1], pts[2]),
-                   gamma * sign)
+                   gamma * sign, load)
 
     # ------------------------------------------------------------------ properties
     @property
@@ -295,9 +312,10 @@ class ModalStructure:
 
     @property
     def coincident(self) -> bool:
-        """Whether damper, output and release points coincide."""
+        """Whether damper, output, release and load points coincide."""
         return bool(np.array_equal(self.damper_shape, self._filled(self.output_shape))
-                    and np.array_equal(self.damper_shape, self._filled(self.release_shape)))
+                    and np.array_equal(self.damper_shape, self._filled(self.release_shape))
+                    and np.array_equal(self.damper_shape, self._filled(self.load_shape)))
 
     @staticmethod
     def _filled(shape: np.ndarray | None) -> np.ndarray:
