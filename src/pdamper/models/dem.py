@@ -556,8 +556,6 @@ class DEMDamper(FlatSettings, DamperModel):
     def steady_run(self, frequency: float, amplitude: float) -> SteadyRun:
         """One Level II run at f [Hz], X [m] with its stationarity, motion mode and complex
         power over the averaged window (:class:`SteadyRun`)."""
-        from pdamper.dem import HarmonicMotion
-
         f = check_range("frequency", frequency, low=0.0, low_inclusive=False, unit="Hz")
         x = check_range("amplitude", amplitude, low=0.0, low_inclusive=False, unit="m")
         # what no run can do (more memory than the machine has, months of computing); the
@@ -571,9 +569,7 @@ class DEMDamper(FlatSettings, DamperModel):
             d, cycles / f, resources.impact_speed(x, f, d.length), frequency=f,
             sample_rate=self.sample_rate, safety=self.safety, snapshot_rate=self.snapshot_rate,
             drivers=drivers), force=True)
-        packing, particles = self._particles()
-        engine = self._engine(particles, HarmonicMotion(amplitude=x, frequency=f),
-                              **self._level2_settling(), **self._transient(packing))
+        packing, particles, engine = self._point_engine(f, x)
         if self.run_until_steady:
             need = self.criterion.min_cycles
 
@@ -592,6 +588,22 @@ class DEMDamper(FlatSettings, DamperModel):
         power = res.complex_power(st.first_cycle - 1, st.last_cycle - st.first_cycle + 1)
         run = SteadyRun(res, st, motion, power, packing)
         return self._estimate(run, particles, f, x) if self.error_estimate else run
+
+    def _point_engine(self, f: float, x: float):
+        """``(packing, particles, engine)`` of the Level II run at f [Hz], X [m]."""
+        from pdamper.dem import HarmonicMotion
+
+        packing, particles = self._particles()
+        engine = self._engine(particles, HarmonicMotion(amplitude=x, frequency=f),
+                              **self._level2_settling(), **self._transient(packing))
+        return packing, particles, engine
+
+    def settled_bed(self, frequency: float, amplitude: float):
+        """The :class:`~pdamper.dem.SettledBed` the run at f [Hz], X [m] started from, as
+        this process keeps it (None when it is not kept): its ``steps`` and ``seconds``
+        [s] are what settling it cost, which a run that started from the kept bed
+        (``settle_reused``) did not count in its own."""
+        return _BEDS.get(self._point_engine(float(frequency), float(amplitude))[2].settle_key)
 
     def _estimate(self, run: SteadyRun, particles, f: float, x: float) -> SteadyRun:
         """:class:`AccuracyEstimate` of ``run``: a realisation companion (the spheres of the
