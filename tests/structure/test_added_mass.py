@@ -1,0 +1,60 @@
+"""The container's mass at the damper point: 1-DOF and the mass-modified modal eigenproblem."""
+
+import math
+
+import numpy as np
+import pytest
+
+from pdamper.errors import InputError
+from pdamper.structure import SingleDOFStructure
+from pdamper.structure.modal import ModalStructure
+
+
+def test_single_dof_added_mass_frequency():
+    s = SingleDOFStructure(mass=1.514, damping=0.55, stiffness=1848.0)
+    f0 = math.sqrt(1848.0 / 1.514) / (2 * math.pi)
+    for mc in (0.08, 0.5, 5.0):
+        assert s.with_added_mass(mc).natural_frequency == pytest.approx(
+            f0 * math.sqrt(1.514 / (1.514 + mc)), rel=1e-6)
+        m = ModalStructure.from_single_dof(s).with_added_mass(mc)
+        assert m.natural_frequency == pytest.approx(f0 * math.sqrt(1.514 / (1.514 + mc)),
+                                                    rel=1e-6)
+
+
+def _machine_frame():
+    # shared/user-cases/machine-frame/modes.csv
+    return ModalStructure(np.array([12.0, 31.0]), np.array([0.01, 0.008]),
+                          np.array([0.2582, -0.3162]), np.array([0.2582, -0.3162]),
+                          np.array([0.2582, -0.3162]), participation=np.array([1.0, 0.5]))
+
+
+@pytest.mark.parametrize("mc", [0.08, 0.5, 5.0])
+def test_modal_added_mass_matches_numpy_eigen(mc):
+    s = _machine_frame()
+    w = 2 * np.pi * s.frequencies
+    phi = s.damper_shape
+    k = np.diag(w**2)
+    m = np.eye(2) + mc * np.outer(phi, phi)
+    lam, vec = np.linalg.eig(np.linalg.solve(m, k))
+    order = np.argsort(lam.real)
+    lam, vec = lam.real[order], vec.real[:, order]
+    vec = vec / np.sqrt(np.einsum("ij,ik,kj->j", vec, m, vec))
+    f_ref = np.sqrt(lam) / (2 * np.pi)
+    phi_ref = vec.T @ phi
+    new = s.with_added_mass(mc)
+    np.testing.assert_allclose(new.frequencies, f_ref, rtol=1e-6)
+    np.testing.assert_allclose(np.abs(new.damper_shape), np.abs(phi_ref), rtol=1e-6)
+    np.testing.assert_allclose(np.abs(new.output_shape), np.abs(phi_ref), rtol=1e-6)
+    # the added mass lowers both frequencies
+    assert np.all(new.frequencies < s.frequencies)
+    # each mode keeps the sign it had at the damper point
+    assert np.array_equal(np.sign(new.damper_shape), np.sign(s.damper_shape))
+
+
+def test_added_mass_zero_and_negative():
+    s = _machine_frame()
+    assert s.with_added_mass(0.0) is s
+    with pytest.raises(InputError, match="damper.container_mass"):
+        s.with_added_mass(-1.0)
+    with pytest.raises(InputError, match="damper.container_mass"):
+        SingleDOFStructure(1.0, 0.1, 100.0).with_added_mass(-0.1)
