@@ -58,3 +58,35 @@ def test_added_mass_zero_and_negative():
         s.with_added_mass(-1.0)
     with pytest.raises(InputError, match="damper.container_mass"):
         SingleDOFStructure(1.0, 0.1, 100.0).with_added_mass(-0.1)
+
+
+_MODES = ("frequency [Hz], damping ratio [%], damper [kg^-0.5], observation [kg^-0.5]\n"
+          "12.0, 1.0, 0.2582, 0.2582\n31.0, 0.8, -0.3162, -0.3162\n")
+
+
+def _scenario(tmp_path, structure: str, mass: float = 0.2):
+    from pdamper.io.scenario import load_scenario
+
+    (tmp_path / "modes.csv").write_text(_MODES)
+    (tmp_path / "s.toml").write_text(f"[structure]\n{structure}\n[container]\nmass = {mass}\n")
+    return load_scenario(tmp_path / "s.toml").structure_model()
+
+
+def test_scenario_modes_file_adds_the_container_by_default(tmp_path):
+    bare = _scenario(tmp_path, 'modes = "modes.csv"', 0.0)
+    with_c = _scenario(tmp_path, 'modes = "modes.csv"', 0.2)
+    ref = bare.with_added_mass(0.2)
+    np.testing.assert_allclose(with_c.frequencies, ref.frequencies, rtol=1e-12)
+    # mode 1 (15 kg at the tip) by about sqrt(15 / 15.2) to first order
+    assert with_c.frequencies[0] < bare.frequencies[0] * math.sqrt(15.0 / 15.15)
+    kept = _scenario(tmp_path, 'modes = "modes.csv"\nincludes_container_mass = true', 0.2)
+    np.testing.assert_array_equal(kept.frequencies, bare.frequencies)
+
+
+def test_scenario_single_dof_includes_the_container_by_default(tmp_path):
+    from pdamper.parameters import PAPER_STRUCTURE
+
+    s = _scenario(tmp_path, "", 0.2)
+    assert s.mass == PAPER_STRUCTURE.mass
+    added = _scenario(tmp_path, "includes_container_mass = false", 0.2)
+    assert added.mass == pytest.approx(PAPER_STRUCTURE.mass + 0.2, rel=1e-12)
