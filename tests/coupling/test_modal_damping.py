@@ -45,3 +45,41 @@ def test_growing_mode_is_not_applicable_not_negative():
     assert res[0].damping_ratio is None and "does not decay" in res[0].reason
     assert res[1].damping_ratio is None and "negative peaks" in res[1].reason
     assert res[0].as_dict()["not_applicable"] == res[0].reason
+
+
+def test_simulate_reports_damping_per_mode_of_two_modes(tmp_path, cli):
+    import json
+
+    # the machine frame's modes (shared/user-cases/machine-frame/modes.csv)
+    (tmp_path / "modes.csv").write_text(
+        "frequency [Hz], damping ratio [%], damper [kg^-0.5], observation [kg^-0.5]\n"
+        "12.0, 1.0, 0.2582, 0.2582\n31.0, 0.8, -0.3162, -0.3162\n")
+    args = ("simulate", "--modes", tmp_path / "modes.csv", "--duration", "1s",
+            "--initial-displacement", "-5mm")
+    code, out, err = cli(*args, "--json")
+    assert code == 0, err
+    per_mode = json.loads(out)["damping_per_mode"]
+    assert [m["mode"] for m in per_mode] == [1, 2]
+    for m in per_mode:  # a ratio with its cycles, or not applicable with the reason
+        assert (m["damping_ratio"] is not None and m["damping_ratio"] > 0) \
+            or m["not_applicable"]
+    code, out, err = cli(*args)
+    assert code == 0, err
+    assert "damping per mode" in out and "mode 1:" in out and "mode 2:" in out
+
+
+def test_one_mode_run_has_no_per_mode_damping(paper_run32):
+    assert paper_run32.damping_per_mode is None
+
+
+def test_simulate_text_prints_no_negative_damping_ratio_on_two_modes(tmp_path, cli):
+    import re
+
+    (tmp_path / "modes.csv").write_text(
+        "frequency [Hz], damping ratio [%], damper [kg^-0.5], observation [kg^-0.5]\n"
+        "12.0, 1.0, 0.2582, 0.2582\n31.0, 0.8, -0.3162, -0.3162\n")
+    code, out, err = cli("simulate", "--modes", tmp_path / "modes.csv", "--duration", "1s",
+                         "--initial-displacement", "-5mm")
+    assert code == 0, err
+    assert "n/a*" in out  # this beating decay has growing peaks of the sum
+    assert not re.search(r"\s-0\.\d{4}\s", out)
