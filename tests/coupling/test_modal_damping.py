@@ -83,3 +83,50 @@ def test_simulate_text_prints_no_negative_damping_ratio_on_two_modes(tmp_path, c
     assert code == 0, err
     assert "n/a*" in out  # this beating decay has growing peaks of the sum
     assert not re.search(r"\s-0\.\d{4}\s", out)
+
+
+def test_half_power_damping_of_a_1dof_response():
+    from pdamper.coupling.decrement import resonance_damping
+
+    f = np.linspace(3.0, 9.0, 60001)
+    for zeta in (0.005, 0.02, 0.1):
+        r = f / 5.56
+        x = 1.0 / np.abs(1.0 - r**2 + 2j * zeta * r)  # closed form, not pdamper's
+        (res,) = resonance_damping(f, x)
+        assert res["damping_ratio"] == pytest.approx(zeta, rel=1e-3)
+        assert res["f_low"] < res["frequency"] < res["f_high"]
+
+
+def test_half_power_damping_of_two_separated_modes_and_a_cut_sweep():
+    from pdamper.coupling.decrement import resonance_damping
+
+    f = np.linspace(6.0, 40.0, 40001)
+    w = 2 * np.pi * f
+    h = sum(p * p / ((2 * np.pi * fn) ** 2 - w**2 + 2j * z * (2 * np.pi * fn) * w)
+            for fn, z, p in ((12.0, 0.01, 0.2582), (31.0, 0.008, -0.3162)))
+    res = resonance_damping(f, np.abs(h))
+    assert [round(r["frequency"]) for r in res] == [12, 31]
+    assert res[0]["damping_ratio"] == pytest.approx(0.01, rel=0.02)
+    assert res[1]["damping_ratio"] == pytest.approx(0.008, rel=0.02)
+    cut = f < 12.08  # past the peak, short of its upper half-power point (~12.12 Hz)
+    (r,) = resonance_damping(f[cut], np.abs(h[cut]))
+    assert r["damping_ratio"] is None and "1/sqrt(2)" in r["not_applicable"]
+
+
+def test_frf_reports_each_resonance_with_and_without_the_damper(tmp_path, cli):
+    import json
+
+    (tmp_path / "modes.csv").write_text(
+        "frequency [Hz], damping ratio [%], damper [kg^-0.5], observation [kg^-0.5]\n"
+        "12.0, 1.0, 0.2582, 0.2582\n31.0, 0.8, -0.3162, -0.3162\n")
+    code, out, err = cli("frf", "--modes", tmp_path / "modes.csv", "--frequency",
+                         "10Hz:14Hz:41", "--json")
+    assert code == 0, err
+    res = json.loads(out)["resonances"]
+    assert res["method"].startswith("half-power bandwidth")
+    (bare,) = res["without_damper"]
+    assert bare["frequency"] == pytest.approx(12.0, abs=0.1)
+    assert bare["damping_ratio"] == pytest.approx(0.01, rel=0.05)
+    for name in ("up", "down"):
+        (with_damper,) = res[name]
+        assert with_damper["damping_ratio"] > bare["damping_ratio"]
