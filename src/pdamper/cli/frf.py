@@ -136,6 +136,9 @@ def frf(
     payload = res.as_dict()
     payload["frf_inputs"] = payload.pop("inputs")  # "inputs" is the scenario's, as everywhere
     payload["frf_inputs"]["frequency_source"] = source
+    from pdamper.coupling.decrement import frf_resonances
+
+    payload["resonances"] = frf_resonances(res)  # each resonance's zeta, with and without
     payload["units"] = {"frequency": "Hz", "amplitude": "m", "stroke": "m", "phase": "rad",
                         "loss_factor": "1", "effective_mass": "kg", "wall_seconds": "s",
                         "load": load_.unit}

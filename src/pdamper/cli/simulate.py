@@ -52,18 +52,37 @@ def _run_payload(res, seconds: float) -> dict:
                     "effective_mass": c.effective_mass, "damping": c.damping,
                     "loss_factor": c.loss_factor} for c in res.cycles],
         "wall_seconds": seconds,
+        # N modes: each mode's ratio from its own modal coordinate (the sum above beats)
+        "damping_per_mode": None if res.damping_per_mode is None
+        else [m.as_dict() for m in res.damping_per_mode],
     }
 
 
 def _table(label: str, res) -> list[str]:
     _, zeta = res.damping_ratio
+    per_mode = res.damping_per_mode
     lines = [f"{label}", "   t [s]   X [mm]   zeta     mode"]
     modes = [c.mode.title if c.mode is not None else "unclassified" for c in res.cycles] \
         or ["(not classified)"] * len(res.peak_times)
+    beats = False
     for t, a, z, m in zip(res.peak_times, res.peak_amplitudes, list(zeta) + [float("nan")],
                           modes, strict=False):
-        lines.append(f"  {t:6.3f}  {a * 1e3:7.2f}  {z:7.4f}  {m}")
+        # a growing peak of a beating sum of modes is no damping ratio: not printed as one
+        if per_mode is not None and z < 0:
+            beats = True
+            lines.append(f"  {t:6.3f}  {a * 1e3:7.2f}     n/a*  {m}")
+        else:
+            lines.append(f"  {t:6.3f}  {a * 1e3:7.2f}  {z:7.4f}  {m}")
     lines.append(f"final amplitude {res.final_amplitude * 1e3:.2f} mm")
+    if beats:
+        lines.append("* not applicable: the next peak of the sum of modes is higher (the modes "
+                     "beat); see the damping per mode")
+    if per_mode is not None:
+        lines.append("damping per mode (decrement of each modal coordinate; the zeta above is "
+                     "the beating sum's):")
+        for m in per_mode:
+            lines.append(f"  mode {m.mode}: zeta {m.damping_ratio:.4f}" if m.reason is None
+                         else f"  mode {m.mode}: not applicable ({m.reason})")
     return lines
 
 

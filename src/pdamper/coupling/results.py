@@ -79,6 +79,18 @@ class FreeVibrationResult:
         return damping_ratio_from_peaks(self.peak_amplitudes)
 
     @property
+    def damping_per_mode(self):
+        """Each mode's damping ratio from its own modal coordinate
+        (:func:`~pdamper.coupling.decrement.modal_damping_ratios`), for a run on more than
+        one mode (its ``details`` hold the modal coordinates); None otherwise."""
+        from pdamper.coupling.decrement import modal_damping_ratios
+
+        q = getattr(self.details, "modal", None)
+        if q is None or np.ndim(q) != 2 or np.shape(q)[0] < 2:
+            return None
+        return modal_damping_ratios(self.time, q)
+
+    @property
     def final_amplitude(self) -> float:
         """Amplitude of the last negative peak [m]."""
         return float(self.peak_amplitudes[-1])

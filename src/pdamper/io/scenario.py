@@ -153,6 +153,14 @@ class StructureSpec(_Section):
     initial_displacement: Annotated[float, _q("m"), Field(lt=0)] = paper.PAPER_INITIAL_DISPLACEMENT
     modes: str | None = None
     beam: BeamSpec | None = None
+    includes_container_mass: bool | None = setting(
+        None, "Whether the structure's data already include the container's mass "
+        "([container] mass); where they do not, it is added at the damper point (1-DOF: "
+        "M + m_c; modes and beam: the mass-modified eigenproblem, docs/structure.md). "
+        "Unset: true for the 1-DOF and the beam, false for a modes file.",
+        kind="flag", none="true for the 1-DOF of Eq. 23 and the beam (the paper's M and tip "
+        "mass include the container), false for a modes file (a user's modes of the bare "
+        "structure)")
 
     @model_validator(mode="after")
     def _one_structure(self):

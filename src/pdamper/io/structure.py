@@ -27,14 +27,27 @@ def structure_model(sc: Scenario) -> SingleDOFStructure | ModalStructure:
     from pdamper.structure import SingleDOFStructure
 
     s = sc.structure
+    structure: SingleDOFStructure | ModalStructure
     if s.modes is not None:
         from pdamper.io.modes import read_modes
 
-        return read_modes(s.modes)
-    if s.beam is not None:
-        return beam_structure(s.beam)
-    return SingleDOFStructure(mass=paper.PAPER_MASS if s.mass is None else s.mass,
-                              damping=s.damping, stiffness=s.stiffness)
+        structure = read_modes(s.modes)
+    elif s.beam is not None:
+        structure = beam_structure(s.beam)
+    else:
+        structure = SingleDOFStructure(mass=paper.PAPER_MASS if s.mass is None else s.mass,
+                                       damping=s.damping, stiffness=s.stiffness)
+    if not includes_container_mass(sc):
+        structure = structure.with_added_mass(sc.container.mass)
+    return structure
+
+
+def includes_container_mass(sc: Scenario) -> bool:
+    """Whether the scenario's structure already includes the container's mass
+    (``[structure] includes_container_mass``; unset: true for the 1-DOF and the beam,
+    false for a modes file)."""
+    given = sc.structure.includes_container_mass
+    return sc.structure.modes is None if given is None else bool(given)
 
 
 def beam_structure(spec: BeamSpec) -> ModalStructure:

@@ -73,6 +73,18 @@ class SingleDOFStructure:
         """
         return math.sqrt(self.stiffness / (self.mass + added_mass)) / (2.0 * math.pi)
 
+    def with_added_mass(self, mass: float) -> SingleDOFStructure:
+        """This structure with a rigid ``mass`` [kg] at its point (e.g. the container, where
+        M was measured without it): ``M + m``, same D and K, so
+        ``f0' = f0 sqrt(M / (M + m))``.
+
+        >>> s = SingleDOFStructure(1.0, 0.5, 1000.0).with_added_mass(0.25)
+        >>> s.mass, s.damping, s.stiffness
+        (1.25, 0.5, 1000.0)
+        """
+        m = check_range("damper.container_mass", mass, low=0.0, unit="kg")
+        return SingleDOFStructure(self.mass + m, self.damping, self.stiffness)
+
     def min_amplitude(self, static_mass: float = 0.0, gravity: float = STANDARD_GRAVITY) -> float:
         """X_min = g / omega^2 [m] with ``static_mass`` added (paper Sect. 4.2.1)."""
         return gravity * (self.mass + static_mass) / self.stiffness

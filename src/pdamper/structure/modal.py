@@ -289,6 +289,44 @@ class ModalStructure:
         lam = scipy.linalg.eigh(k, m, eigvals_only=True, subset_by_index=[0, 0])
         return float(math.sqrt(max(lam[0], 0.0)) / (2.0 * math.pi))
 
+    def with_added_mass(self, mass: float) -> ModalStructure:
+        """This structure with a rigid point ``mass`` [kg] at the damper point (e.g. the
+        container, where the modes were measured or computed without it).
+
+        Solves the mass-modified eigenproblem in the retained modal coordinates,
+        ``diag(w_i^2) v = w'^2 (I + m phi_d phi_d^T) v`` (v mass-normalised against the
+        modified mass matrix), and re-expresses the damper, output and release shapes
+        (``phi' = V^T phi``; the load point's too) and the base participation (``Gamma' = V^T (Gamma + m phi_d)``)
+        in the new modes. The modal damping matrix ``diag(2 zeta_i w_i)`` is projected on
+        the new modes and its diagonal kept: ``zeta'_i = (V^T C V)_ii / (2 w'_i)`` [-].
+        Each new mode keeps the sign of the old mode it stems from. One mode with
+        ``phi = 1 / sqrt(M)`` gives ``f0 sqrt(M / (M + m))``.
+
+        >>> s = ModalStructure.from_single_dof(SingleDOFStructure(1.0, 0.0, 1000.0))
+        >>> round(s.with_added_mass(0.25).natural_frequency / s.natural_frequency, 6)
+        0.894427
+        """
+        m = check_range("damper.container_mass", mass, low=0.0, unit="kg")
+        if m == 0.0:
+            return self
+        import scipy.linalg
+
+        w = self.angular_frequencies
+        phi = self.damper_shape
+        lam, v = scipy.linalg.eigh(np.diag(w**2), np.eye(self.modes) + m * np.outer(phi, phi))
+        # keep each mode's sign (the largest component of its eigenvector positive)
+        k = np.argmax(np.abs(v), axis=0)
+        v = v * np.where(v[k, np.arange(self.modes)] < 0, -1.0, 1.0)
+        w_new = np.sqrt(np.maximum(lam, 0.0))
+        c_new = v.T @ np.diag(2.0 * self.damping_ratios * w) @ v
+        with np.errstate(divide="ignore", invalid="ignore"):
+            zeta = np.where(w_new > 0, np.diag(c_new) / (2.0 * w_new), 0.0)
+        gamma = None if self.participation is None else v.T @ (self.participation + m * phi)
+        return ModalStructure(w_new / (2.0 * math.pi), zeta, v.T @ phi,
+                              v.T @ self._filled(self.output_shape),
+                              v.T @ self._filled(self.release_shape), self.positions, gamma,
+                              load_shape=v.T @ self._filled(self.load_shape))
+
     def release_state(self, displacement: float) -> np.ndarray:
         """Modal coordinates q at rest under a static point load at the release point that
         deflects it by ``displacement`` [m] in this N-mode model."""
