@@ -295,8 +295,8 @@ class ModalStructure:
 
         Solves the mass-modified eigenproblem in the retained modal coordinates,
         ``diag(w_i^2) v = w'^2 (I + m phi_d phi_d^T) v`` (v mass-normalised against the
-        modified mass matrix), and re-expresses the damper, output and release shapes
-        (``phi' = V^T phi``; the load point's too) and the base participation (``Gamma' = V^T (Gamma + m phi_d)``)
+        modified mass matrix), and re-expresses the damper, output, release and load shapes
+        (``phi' = V^T phi``) and the base participation (``Gamma' = V^T (Gamma + m phi_d)``)
         in the new modes. The modal damping matrix ``diag(2 zeta_i w_i)`` is projected on
         the new modes and its diagonal kept: ``zeta'_i = (V^T C V)_ii / (2 w'_i)`` [-].
         Each new mode keeps the sign of the old mode it stems from. One mode with
