@@ -75,8 +75,8 @@ def test_no_clearance_is_a_rigid_mass():
     assert float(r.effective_mass_ratio) == pytest.approx(1.0, abs=1e-6)
 
 
-#: Random beds of the paper's damper in LIGGGHTS and Yade (docs/agreement.md, "random beds
-#: in three codes": the two codes' pooled m_eff/m_bed, Eq. 4).
+#: Random beds of the paper's damper in LIGGGHTS and Yade, their pooled m_eff/m_bed (Eq. 4)
+#: from docs/agreement.md, "Random beds".
 DEM_EFFECTIVE_MASS = {(5.0, 0.080): 1.24, (10.0, 0.032): 1.13, (15.0, 0.032): 1.19,
                       (20.0, 0.032): 1.16, (10.0, 0.010): 0.45, (15.0, 0.010): 0.20,
                       (10.0, 0.080): 1.24, (15.0, 0.080): 1.24}
