@@ -124,3 +124,24 @@ def test_bed_on_a_structure_closes_its_energy_balance_and_decays_as_the_pseudo_f
     ref = Simulation(s, AnalyticalDamper(PAPER_DAMPER), -0.058).run(1.0)
     theirs = ref.peak_amplitudes[ref.peak_times < 0.8][-1]
     assert ours == pytest.approx(theirs, rel=0.05)
+
+
+def test_analytical_answers_carry_whether_their_assumptions_hold():
+    import dataclasses
+
+    from pdamper.models import AnalyticalDamper
+    from pdamper.parameters import PAPER_DAMPER
+
+    ok = AnalyticalDamper(PAPER_DAMPER).response([10.0, 25.0], [0.032, 0.010]).diagnostics
+    assert ok["assumptions_hold"].tolist() == [True, False]  # 25 Hz / 10 mm: scattering
+    assert "scattering" in ok["assumptions"][1] and "use dem" in ok["assumptions"][1]
+    # one 40 mm ball in a 41 mm box: n_max = 1 gives h = 0, the geometry 1 mm
+    ball = dataclasses.replace(PAPER_DAMPER, length=0.041, width=0.041, depth=0.041,
+                               particle_radius=0.02, count=1)
+    one = AnalyticalDamper(ball).response(10.0, 0.01).diagnostics
+    assert not bool(one["assumptions_hold"])
+    assert "not a collected bed" in str(one["assumptions"]) and "clearance" in str(
+        one["assumptions"])
+    # zero gravity below h / pi: no collect-and-collide
+    zg = AnalyticalDamper(PAPER_DAMPER, gravity=0.0).response(10.0, 0.5 * H / math.pi)
+    assert not bool(zg.diagnostics["assumptions_hold"])
