@@ -532,3 +532,50 @@ def bed_trajectory(frequency: float, amplitude: float, clearance: float,
     return BedTrajectory(time=phi / w, container_bottom=amplitude * yc,
                          container_top=amplitude * yc + clearance, bed=amplitude * y,
                          mode=mode, response=r)
+
+
+#: The fidelity that answers where the closed forms' assumptions fail.
+FIDELITY_BEYOND_LIMITS = "dem"
+
+
+def assumption_checks(response: BedResponse, *, count: int, per_layer: int, diameter: float,
+                      length: float) -> tuple[np.ndarray, np.ndarray]:
+    """Whether the closed forms' assumptions hold at each point of ``response``, and why
+    not (docs/analytical.md, "Limits of the closed forms").
+
+    Parameters
+    ----------
+    response
+        The :class:`BedResponse` of the points.
+    count, per_layer
+        Spheres in the bed and per full lattice layer [-].
+    diameter, length
+        Sphere diameter and inner container height [m].
+
+    Returns
+    -------
+    (holds, reasons)
+        A bool array and an object array of ``"; "``-joined reasons ("" where they hold),
+        of the response's shape; each reason names the fidelity to use there.
+    """
+    shape = np.shape(response.mode)
+    mode = np.asarray(response.mode).ravel()
+    h = np.broadcast_to(response.clearance, shape).ravel()
+    use = f"use {FIDELITY_BEYOND_LIMITS}"
+    common = []
+    if count < max(per_layer, 2):
+        common.append(f"not a collected bed ({count} sphere(s), less than one layer of "
+                      f"{per_layer}: they rebound with their COR); {use}")
+    h_geo = length - diameter * count / max(per_layer, 1)
+    if count and abs(float(np.max(h)) - h_geo) > 0.05 * h_geo + 1e-6:
+        common.append(f"clearance L (1 - n/n_max) = {float(np.max(h)):.3g} m differs from "
+                      f"the geometry's L - bed height = {h_geo:.3g} m; {use}")
+    reasons = np.empty(mode.size, object)
+    for i, c in enumerate(mode):
+        r = list(common)
+        if c == int(MotionMode.SCATTERING):
+            r.append(f"scattering: eta = {SOLID_LOSS_FACTOR:g} is Eq. (8)'s convention, the "
+                     f"bed dissipates far more (0.1-0.3); {use} or the plastic bed")
+        reasons[i] = "; ".join(r)
+    holds = np.array([not s for s in reasons], bool)
+    return holds.reshape(shape), reasons.reshape(shape)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pdamper.analysis.analytical import bed_response
+from pdamper.analysis.analytical import assumption_checks, bed_response
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.damper import ParticleDamper
 from pdamper.errors import check_range
@@ -49,4 +49,13 @@ class AnalyticalDamper(DamperModel):
                               dissipated_energy_per_cycle=r.dissipated_energy_per_cycle,
                               effective_mass_ratio=r.effective_mass_ratio, bed_mass=d.bed_mass,
                               details=r, stationary=np.ones(np.shape(r.mode), bool),
-                              subharmonic_order=r.subharmonic_order)
+                              subharmonic_order=r.subharmonic_order,
+                              diagnostics=self._assumptions(r))
+
+    def _assumptions(self, r) -> dict:
+        """``assumptions_hold`` (bool) and ``assumptions`` (the reasons, "" where they
+        hold) per point (:func:`~pdamper.analysis.analytical.assumption_checks`)."""
+        d = self.damper
+        holds, why = assumption_checks(r, count=d.count, per_layer=d.per_layer,
+                                       diameter=2.0 * d.particle_radius, length=d.length)
+        return {"assumptions_hold": holds, "assumptions": why}
