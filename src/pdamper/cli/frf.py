@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Annotated
 import numpy as np
 import typer
 
+from pdamper.cli import _uncertainty
 from pdamper.cli._common import (
     JsonOpt,
     ModelOpt,
@@ -74,6 +75,9 @@ def frf(
         "--allow-cost", help="Allow a response whose estimated memory or run time is above the "
                              "usual limits (2 GiB, 1 h), up to what this machine can hold; "
                              "every other command's --force (here --force is the load).")] = False,
+    uncertainty: _uncertainty.UncertaintyOpt = None,
+    uncertain: _uncertainty.UncertainOpt = None,
+    uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -89,11 +93,13 @@ def frf(
         raise InputError("sweep", f"must be up, down or both, got {sweep!r}")
     if max_cycles is not None:
         check_whole("max_cycles", max_cycles, 1)
-    sc = load(scenario, simulation__model=model, particles__count=particles,
-              fields__file=None if fields is None else str(fields),
-              structure__modes=None if modes is None else str(modes))
+    sc = load(scenario, **_uncertainty.merged(dict(
+        simulation__model=model, particles__count=particles,
+        fields__file=None if fields is None else str(fields),
+        structure__modes=None if modes is None else str(modes)), uncertain))
     # the cost of every frequency, sweep, cycle and mode, judged before any is solved
     check_frf(sc, model, freqs, load_, max_cycles=max_cycles, sweep=sweep, force=allow_cost)
+    _check_uncertainty(sc, model, uncertainty, allow_cost, len(freqs))
     out_path = check_output(out)
     plot_path = check_plot(plot)
     damper = sc.damper()
@@ -108,10 +114,32 @@ def frf(
     payload["units"] = {"frequency": "Hz", "amplitude": "m", "stroke": "m", "phase": "rad",
                         "loss_factor": "1", "effective_mass": "kg", "wall_seconds": "s",
                         "load": load_.unit}
+    spread, text = None, _table(res)
+    if uncertainty is not None:
+        from pdamper.runs.uncertainty import propagate_scenario
+
+        spread = propagate_scenario(sc, "frf", uncertainty, uncertainty_seed, model=model,
+                                    load=load_, frequency=freqs)
+        payload["uncertainty"] = spread.as_dict()
+        text += _uncertainty.lines(spread, {"peak": (1e3, "mm"), "rms": (1e3, "mm"),
+                                            "peak_frequency": (1.0, "Hz")})
+        text.append("uncertainty band: the largest stable harmonic-balance amplitude at each "
+                    "frequency (JSON uncertainty.bands.amplitude)")
     payload.update(meta)
-    emit(payload, as_json, "\n".join(_table(res)))  # the results first: a figure cannot lose them
+    emit(payload, as_json, "\n".join(text))  # the results first: a figure cannot lose them
     if plot_path is not None:
-        _figure(res, plot_path)
+        _figure(res, plot_path, spread)
+
+
+def _check_uncertainty(sc, model: str | None, n: int | None, force: bool,
+                       frequencies: int) -> None:
+    """``--uncertainty N`` judged before any run: the inputs, the sampled fidelity (a
+    cheap one with harmonic balance) and the cost of N (d + 2) + 1 forced responses."""
+    _uncertainty.check(sc, "frf", n, force, frequencies=frequencies)
+    if n is not None:
+        from pdamper.runs.uncertainty import frf_answers
+
+        frf_answers(sc, None, [1.0], model)  # refuses an expensive fidelity before any run
 
 
 def _frequencies(text: str) -> np.ndarray | list[float]:
@@ -145,15 +173,24 @@ def _write_response(out: Path, res: FRFResult, meta: dict) -> None:
     atomic_write_netcdf(out, ds)
 
 
-def _figure(res: FRFResult, path: Path) -> None:
-    """Amplitude and phase against frequency to ``--plot``."""
+def _figure(res: FRFResult, path: Path, spread=None) -> None:
+    """Amplitude and phase against frequency to ``--plot``; with ``spread`` (an
+    uncertainty propagation) the 5-95 % band and the median of the amplitude."""
     def draw() -> Figure:
         from matplotlib.figure import Figure
 
         from pdamper.plots.frf import plot_frf
 
         fig = Figure(figsize=(8, 6.5), layout="constrained")
-        plot_frf(res, axes=fig.subplots(2, 1, sharex=True))
+        axes = fig.subplots(2, 1, sharex=True)
+        plot_frf(res, axes=axes)
+        if spread is not None:
+            b = spread.bands["amplitude"]
+            axes[0].fill_between(b["frequency"], b["p5"] * 1e3, b["p95"] * 1e3, color="C4",
+                                 alpha=0.25, lw=0, label="5-95 % under the uncertain inputs")
+            axes[0].plot(b["frequency"], b["p50"] * 1e3, color="C4", lw=1, ls=":",
+                         label="median")
+            axes[0].legend(fontsize=7)
         return fig
 
     figure_last(draw, path, dpi=110)
