@@ -19,6 +19,9 @@ only of the model asked.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import Any
+
 from pdamper.errors import InputError
 from pdamper.io.uncertain import sampled_damper, with_values
 
@@ -34,8 +37,20 @@ ENVELOPE_POINTS = 101
 FRF_UNITS = {"peak": "m", "peak_frequency": "Hz", "rms": "m", "amplitude": "m"}
 LOAD_UNITS = {"peak": "m", "rms": "m", "peak_acceleration": "m/s^2",
               "rms_acceleration": "m/s^2", "dissipated_energy": "J", "envelope": "m"}
-#: Windows of the load response's envelope band (the largest |x| in each).
-LOAD_WINDOWS = 200
+#: Most and fewest windows of the load response's envelope band (the largest |x| in each;
+#: each a period of the structure's first mode where that fits).
+LOAD_WINDOWS = (20, 400)
+
+
+def _load_windows(scenario, history, tail: float):
+    """The edges [s] of the envelope's windows of a load response: about one period of
+    the first natural frequency each (:data:`LOAD_WINDOWS`)."""
+    import numpy as np
+
+    end = history.duration + tail
+    f1 = scenario.structure_model().natural_frequency
+    n = int(np.clip(round(end * f1), *LOAD_WINDOWS))
+    return np.linspace(0.0, end, n + 1)
 
 
 def _model_class(scenario, name: str | None):
@@ -211,7 +226,8 @@ def load_answers(scenario, history, tail: float, model: str | None = None):
     """``evaluate(values) -> answers`` of the response to the load ``history``
     (:class:`~pdamper.coupling.loads.LoadHistory`) plus ``tail`` [s]: peak and RMS of the
     output point's displacement and acceleration, the energy the damper dissipated, and the
-    envelope (the largest |x| in each of :data:`LOAD_WINDOWS` windows: its band;
+    envelope (the largest |x| in each window, about a period of the first mode,
+    :data:`LOAD_WINDOWS`: its band;
     :data:`LOAD_UNITS`)."""
     import numpy as np
 
@@ -219,13 +235,13 @@ def load_answers(scenario, history, tail: float, model: str | None = None):
 
     _model_class(scenario, model or scenario.simulation.model)
     rate = scenario.simulation.sample_rate
+    edges = _load_windows(scenario, history, tail)
 
     def evaluate(values: dict[str, float]) -> dict:
         m, structure = _sampled(scenario, values, model)
         check_model(m, structure)
         r = run_load(m, structure, history, rate, tail)
-        edges = np.linspace(r.time[0], r.time[-1], LOAD_WINDOWS + 1)
-        idx = np.clip(np.searchsorted(r.time, edges), 0, r.time.size - 1)
+        idx = np.clip(np.searchsorted(r.time - r.time[0], edges), 0, r.time.size - 1)
         x = np.abs(r.displacement)
         env = np.array([x[i:max(j, i + 1)].max() for i, j in zip(idx[:-1], idx[1:],
                                                                    strict=True)])
@@ -234,6 +250,113 @@ def load_answers(scenario, history, tail: float, model: str | None = None):
                 "dissipated_energy": float(r.dissipated_energy), "envelope": env}
 
     return evaluate
+
+
+# --------------------------------------------------------------------------- design studies
+def parse_quantile(value, field: str = "robust_quantile") -> float:
+    """``--robust-quantile`` as a number in (0, 1) (``0.9``, ``"90%"``)."""
+    from pdamper.units import parse_quantity
+
+    q = value if isinstance(value, float) else parse_quantity(str(value), "", field)
+    if not 0.0 < q < 1.0:
+        raise InputError(field, f"must be in (0, 1) (0.9: the design whose objective 90 % "
+                         f"of the uncertain inputs' samples meet), got {value!r}")
+    return float(q)
+
+
+@dataclass
+class UncertainDesignEvaluator:
+    """A design study's objective under the uncertain inputs: each design evaluated at
+    the ``2 n`` quasi-Monte Carlo samples of the inputs (the matrices A and B of
+    :func:`pdamper.design.uncertainty.design_matrices`); its value is their mean, or with
+    ``quantile`` q the robust value: the q-quantile of a minimised objective (the value
+    that a fraction q of the samples meet), the (1 - q)-quantile of a maximised one. The
+    candidate's extras hold ``objective_mean``, ``objective_std`` (divisor 2 n - 1),
+    ``objective_nominal`` (the nominal inputs), ``objective_p5`` ... ``objective_p95`` and
+    ``objective_quantile``. Picklable for dask."""
+
+    nominal: Any
+    samples: list
+    sense: str
+    quantile: float | None = None
+
+    def __call__(self, design: dict) -> tuple[float, dict]:
+        import numpy as np
+
+        from pdamper.design.uncertainty import PERCENTILES
+
+        value0, extras = self.nominal(design)
+        v = np.array([e(design)[0] for e in self.samples], float)
+        if not np.all(np.isfinite(v)):
+            raise InputError("uncertainty", "the objective is not finite at some samples of "
+                             "the uncertain inputs; narrow their standard deviations")
+        q = None
+        if self.quantile is not None:
+            q = float(np.quantile(v, self.quantile if self.sense == "min"
+                                  else 1.0 - self.quantile))
+        out = {**extras, "objective_nominal": float(value0), "objective_mean": float(v.mean()),
+               "objective_std": float(v.std(ddof=1)),
+               **{f"objective_p{p:g}": float(x)
+                  for p, x in zip(PERCENTILES, np.percentile(v, PERCENTILES), strict=True)}}
+        if q is not None:
+            out["objective_quantile"] = q
+        return (float(v.mean()) if q is None else q), out
+
+    def check(self, design: dict) -> None:
+        """The physical limits of the design at the nominal inputs."""
+        self.nominal.check(design)
+
+
+def design_evaluator(scenario, n: int, seed: int, objective, quantile: float | None = None):
+    """The :class:`UncertainDesignEvaluator` of the scenario's design study for
+    ``objective`` (:func:`pdamper.design.study.make_objective`) at ``2 n`` samples of its
+    uncertain inputs (``n`` base points, seeded)."""
+    import functools
+
+    from pdamper.design.study import DesignEvaluator
+    from pdamper.design.uncertainty import check_points, design_matrices
+
+    check_points(n)
+    inputs = scenario.uncertain_inputs()
+    a, b = design_matrices(inputs, n, seed)
+    x0 = scenario.structure.initial_displacement
+
+    def at(values: dict[str, float]):
+        sc = with_values(scenario, values)
+        try:
+            return DesignEvaluator(sc.structure_model(), sampled_damper(scenario, values), x0,
+                                   objective, functools.partial(sc.model, None))
+        except InputError as exc:
+            shown = ", ".join(f"{k} = {v:.6g}" for k, v in values.items())
+            raise InputError(exc.field, f"at the uncertainty sample {shown}: "
+                             f"{exc.message}") from None
+
+    samples = [at({u.field: float(m[i, j]) for i, u in enumerate(inputs)})
+               for m in (a, b) for j in range(n)]
+    return UncertainDesignEvaluator(at({u.field: u.value for u in inputs}), samples,
+                                    objective.sense, quantile)
+
+
+def check_design_cost(scenario, n: int, force: bool = False) -> None:
+    """Refuse a design study whose every design runs ``2 n + 1`` times (the samples and
+    the nominal) beyond the limits: the study's cost check
+    (:func:`pdamper.runs.resources.check_resources`) with its time ``2 n + 1`` times over."""
+    from pdamper import resources
+    from pdamper.runs.resources import check_resources
+
+    runs = 2 * n + 1
+
+    def require(cost, force_=False):
+        if cost.seconds > 0:
+            cost = resources.Cost(
+                f"{cost.what} under the uncertain inputs", cost.seconds * runs, cost.memory,
+                f"{runs} runs of every design ({n} Sobol' base points), each {cost.detail}",
+                (*cost.drivers, ("uncertainty", n / 16)), runs=runs * max(cost.runs or 1, 1),
+                longest=cost.longest if cost.longest is not None else cost.seconds,
+                remedy="give --uncertainty fewer base points or vary fewer designs")
+        return resources.require(cost, force_)
+
+    check_resources(scenario, "optimization", None, force, require=require)
 
 
 #: The map's answers whose bands become variables of its NetCDF file.
@@ -328,7 +451,7 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
         import numpy as np
 
         if level == "load":  # the windows' centres [s]
-            edges = np.linspace(0.0, history.duration + tail, LOAD_WINDOWS + 1)
+            edges = _load_windows(scenario, history, tail)
             result.bands["envelope"]["time"] = 0.5 * (edges[:-1] + edges[1:])
         else:
             result.bands["envelope"]["time"] = np.linspace(
@@ -342,6 +465,7 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
 
 
 __all__ = ["ENVELOPE_POINTS", "FRF_UNITS", "LEVEL2_UNITS", "LEVEL3_UNITS", "LOAD_UNITS",
-           "LOAD_WINDOWS", "MAP_BANDS", "MAP_UNITS", "check_cost", "dem_answers", "dem_batch",
+           "LOAD_WINDOWS", "MAP_BANDS", "MAP_UNITS", "UncertainDesignEvaluator", "check_cost",
+           "check_design_cost", "dem_answers", "dem_batch", "design_evaluator",
            "dem_point", "frf_answers", "level2_answers", "level3_answers", "load_answers",
-           "map_answers", "propagate_scenario"]
+           "map_answers", "parse_quantile", "propagate_scenario"]
