@@ -180,3 +180,43 @@ def test_fidelities_declare_what_they_do_not_use():
     assert input_users("restitution.particle_wall[pc2]") == ["dem"]
     assert input_users("container.length") == list(DAMPER_MODELS)
     assert not_used(DAMPER_MODELS["dem"], ["particles.friction"]) == {}
+
+
+def test_frf_realisations_of_a_fields_map(tmp_path, cli):
+    # a map with two realisations (the second's loss factor 0.7 times the first's): the
+    # band's peaks are those of the forced response on each realisation's map alone
+    import xarray as xr
+
+    from pdamper.files import atomic_write_netcdf
+    from pdamper.runs.realisations import combine_realisations, realisation_map
+
+    m = tmp_path / "m.nc"
+    code, _, err = cli("map", "--model", "analytic", "--particles", "32", "--frequency",
+                       "2Hz:12Hz:11", "--amplitude", "log:0.5mm:200mm:30", "--out", m)
+    assert code == 0, err
+    first = xr.load_dataset(m)
+    second = first.copy(deep=True)
+    second["loss_factor"] = second["loss_factor"] * 0.7
+    both = combine_realisations([first, second], [0, 1])
+    mr = tmp_path / "mr.nc"
+    atomic_write_netcdf(mr, both)
+    args = ("frf", "--model", "fields", "--particles", "32", "--frequency", "4Hz:7Hz:7",
+            "--sweep", "up", "--max-cycles", "300", "--json")
+    code, out, err = cli(*args, "--fields", mr, "--realisations", "2",
+                         "--plot", tmp_path / "band.png")
+    assert code == 0, err
+    band = json.loads(out)["realisations"]
+    assert band["count"] == 2 and band["map_realisations"] == [0, 1]
+    peaks = []
+    for k in range(2):
+        one = tmp_path / f"r{k}.nc"
+        atomic_write_netcdf(one, realisation_map(both, k))
+        code, out, err = cli(*args, "--fields", one)
+        assert code == 0, err
+        peaks.append(max(p["up"]["amplitude"] for p in json.loads(out)["points"]))
+    assert band["peak"]["up"]["values"] == pytest.approx(peaks, rel=1e-9)
+    assert peaks[1] > peaks[0]  # less damping, a higher peak: the band is not one run
+    up = band["sweeps"]["up"]
+    assert max(up["amplitude_max"]) == pytest.approx(peaks[1], rel=1e-9)
+    code, _, err = cli("frf", "--realisations", "2")
+    assert code == 2 and err.startswith("error: realisations: must be 1 for the analytic")

@@ -38,7 +38,8 @@ OWN = {
     "report": {"out", "dem", "realisations", "uncertainty", "uncertain", "uncertainty_seed",
                "workers", "force", "scenario", "as_json"},
     "frf": {"force", "base", "frequency", "sweep", "max_cycles", "allow_cost", "plot", "out",
-            "uncertainty", "uncertain", "uncertainty_seed", "scenario", "as_json"},
+            "uncertainty", "uncertain", "uncertainty_seed", "realisations", "scenario",
+            "as_json"},
 }
 
 

@@ -78,6 +78,11 @@ def frf(
     uncertainty: _uncertainty.UncertaintyOpt = None,
     uncertain: _uncertainty.UncertainOpt = None,
     uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
+    realisations: Annotated[str | None, typer.Option(
+        "--realisations", help="The response from N realisations of the damper: the DEM from "
+        "N random packings (seeds dem.seed ... dem.seed + N - 1), the fields from the first "
+        "N realisations of their map; the JSON key 'realisations' holds the band of each "
+        "sweep and of the peak (default 1).")] = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -97,15 +102,27 @@ def frf(
         simulation__model=model, particles__count=particles,
         fields__file=None if fields is None else str(fields),
         structure__modes=None if modes is None else str(modes)), uncertain))
+    n_real = _realisation_count(sc, model, realisations, uncertainty)
     # the cost of every frequency, sweep, cycle and mode, judged before any is solved
-    check_frf(sc, model, freqs, load_, max_cycles=max_cycles, sweep=sweep, force=allow_cost)
+    check_frf(sc, model, freqs, load_, max_cycles=max_cycles, sweep=sweep, force=allow_cost,
+              require=None if n_real == 1 else _scaled(n_real))
     _check_uncertainty(sc, model, uncertainty, allow_cost, len(freqs))
     out_path = check_output(out)
     plot_path = check_plot(plot)
     damper = sc.damper()
     m = sc.model(None, damper)
     structure = sc.structure_model()
-    res = frequency_response(m, structure, load_, freqs, sweep=sweep, max_cycles=max_cycles)
+    band = None
+    if n_real > 1:  # realisation 0 is the run reported; the band is over all of them
+        from pdamper.runs.realisations import realisation_models
+
+        models, which = realisation_models(sc, n_real, model)
+        runs = [frequency_response(mk, structure, load_, freqs, sweep=sweep,
+                                   max_cycles=max_cycles) for mk in models]
+        res, band = runs[0], _band(runs, which)
+    else:
+        res = frequency_response(m, structure, load_, freqs, sweep=sweep,
+                                 max_cycles=max_cycles)
     meta = metadata(sc)
     if out_path is not None:
         _write_response(out_path, res, meta)
@@ -115,6 +132,13 @@ def frf(
                         "loss_factor": "1", "effective_mass": "kg", "wall_seconds": "s",
                         "load": load_.unit}
     spread, text = None, _table(res)
+    if band is not None:
+        payload["realisations"] = band
+        text += [f"{band['count']} realisations ({'seeds ' if 'seeds' in band else 'map '}"
+                 f"{band.get('seeds', band.get('map_realisations'))}; the table is the first): "
+                 + "; ".join(f"{name} peak {p['mean'] * 1e3:.3g} +- {p['std'] * 1e3:.2g} mm "
+                             f"[{p['min'] * 1e3:.3g}, {p['max'] * 1e3:.3g}]"
+                             for name, p in band["peak"].items())]
     if uncertainty is not None:
         from pdamper.runs.uncertainty import propagate_scenario
 
@@ -128,7 +152,50 @@ def frf(
     payload.update(meta)
     emit(payload, as_json, "\n".join(text))  # the results first: a figure cannot lose them
     if plot_path is not None:
-        _figure(res, plot_path, spread)
+        _figure(res, plot_path, spread, band)
+
+
+def _realisation_count(sc, model: str | None, realisations: str | None,
+                       uncertainty: int | None) -> int:
+    """``--realisations`` as a count (1: one run), judged with the model before any run."""
+    if realisations is None:
+        return 1
+    from pdamper.errors import InputError
+    from pdamper.runs.realisations import check_realisation_models, parse_count
+
+    n = check_realisation_models(parse_count(realisations), sc, model)
+    if n > 1 and uncertainty is not None:
+        raise InputError("realisations", "must be 1 with --uncertainty (a spread over the "
+                         f"packings or over the inputs, one at a time), got {n}")
+    return n
+
+
+def _scaled(n: int):
+    """The forced response's cost check for ``n`` realisations of it."""
+    import functools
+
+    from pdamper import resources
+    from pdamper.runs.realisations import scaled_require
+    from pdamper.runs.resources import FRF_OVERRIDE
+
+    return scaled_require(n, functools.partial(resources.require, override=FRF_OVERRIDE))
+
+
+def _band(runs: list, which: dict) -> dict:
+    """The band of the forced responses of the realisations: each sweep's amplitude
+    (mean, std with divisor N - 1, min, max per frequency) and its peak, every
+    realisation's peak (SI)."""
+    from pdamper.runs.realisations import spread
+
+    out: dict = {"count": len(runs), **which, "std_ddof": 1, "sweeps": {}, "peak": {}}
+    for name in runs[0].sweeps:
+        a = np.array([r.sweeps[name].amplitude for r in runs], float)
+        out["sweeps"][name] = {"amplitude_mean": a.mean(0).tolist(),
+                               "amplitude_std": a.std(0, ddof=1).tolist(),
+                               "amplitude_min": a.min(0).tolist(),
+                               "amplitude_max": a.max(0).tolist()}
+        out["peak"][name] = spread(a.max(axis=1))
+    return out
 
 
 def _check_uncertainty(sc, model: str | None, n: int | None, force: bool,
@@ -173,9 +240,10 @@ def _write_response(out: Path, res: FRFResult, meta: dict) -> None:
     atomic_write_netcdf(out, ds)
 
 
-def _figure(res: FRFResult, path: Path, spread=None) -> None:
+def _figure(res: FRFResult, path: Path, spread=None, band: dict | None = None) -> None:
     """Amplitude and phase against frequency to ``--plot``; with ``spread`` (an
-    uncertainty propagation) the 5-95 % band and the median of the amplitude."""
+    uncertainty propagation) the 5-95 % band and the median of the amplitude, with
+    ``band`` (realisations) each sweep's range over the realisations."""
     def draw() -> Figure:
         from matplotlib.figure import Figure
 
@@ -190,6 +258,13 @@ def _figure(res: FRFResult, path: Path, spread=None) -> None:
                                  alpha=0.25, lw=0, label="5-95 % under the uncertain inputs")
             axes[0].plot(b["frequency"], b["p50"] * 1e3, color="C4", lw=1, ls=":",
                          label="median")
+            axes[0].legend(fontsize=7)
+        if band is not None:
+            for k, (name, b) in enumerate(band["sweeps"].items()):
+                axes[0].fill_between(res.frequency, np.asarray(b["amplitude_min"]) * 1e3,
+                                     np.asarray(b["amplitude_max"]) * 1e3, color=f"C{k}",
+                                     alpha=0.2, lw=0, label=f"{name}: range over "
+                                     f"{band['count']} realisations")
             axes[0].legend(fontsize=7)
         return fig
 
