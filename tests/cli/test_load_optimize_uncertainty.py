@@ -69,3 +69,40 @@ def test_optimize_mean_and_robust_quantile(cli):
                                         "samples")
     code, _, err = cli(*args, "--robust-quantile", "1.5")
     assert code == 2 and err.startswith("error: robust_quantile: must be in (0, 1)")
+
+
+def test_optimize_realisations_of_a_fields_map(tmp_path, cli):
+    # each design over the realisations of the fields' map: its values are the single
+    # studies' on each realisation's map alone
+    import xarray as xr
+
+    from pdamper.files import atomic_write_netcdf
+    from pdamper.runs.realisations import combine_realisations, realisation_map
+
+    m = tmp_path / "m.nc"
+    code, _, err = cli("map", "--model", "analytic", "--particles", "32", "--frequency",
+                       "2Hz:12Hz:11", "--amplitude", "log:0.5mm:200mm:30", "--out", m)
+    assert code == 0, err
+    first = xr.load_dataset(m)
+    second = first.copy(deep=True)
+    second["loss_factor"] = second["loss_factor"] * 0.7
+    both = combine_realisations([first, second], [0, 1])
+
+    def study(ds, name, *extra):
+        f = tmp_path / f"{name}.nc"
+        atomic_write_netcdf(f, ds)
+        s = tmp_path / f"{name}.toml"
+        s.write_text(f'[fields]\nfile = "{f}"\n[particles]\ncount = 32\n')
+        code, out, err = cli("optimize", "--scenario", s, "--model", "fields", "--vary",
+                             "particles=32:32:1", "--at", "0.8s", "--json", *extra)
+        assert code == 0, err
+        return json.loads(out)
+
+    d = study(both, "both", "--realisations", "2")
+    assert d["realisations"]["map_realisations"] == [0, 1]
+    alone = [study(realisation_map(both, k), f"r{k}")["candidates"][0]["objective"]
+             for k in range(2)]
+    (c,) = d["candidates"]
+    assert c["objective_values"] == pytest.approx(alone, rel=1e-9)
+    assert c["objective"] == pytest.approx(np.mean(alone), rel=1e-9)
+    assert alone[1] > alone[0]

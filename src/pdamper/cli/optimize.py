@@ -92,7 +92,8 @@ def optimize(
     tail: TailOpt = None,
     realisations: Annotated[str | None, typer.Option(
         "--realisations", help="Evaluate every design from N random packings (DEM; seeds "
-        "dem.seed ... dem.seed + N - 1): the objective is their mean, each candidate has "
+        "dem.seed ... dem.seed + N - 1) or the first N realisations of the fields' map: the "
+        "objective is their mean, each candidate has "
         "objective_std, objective_min, objective_max and objective_values (default 1).")
     ] = None,
     uncertainty: _uncertainty.UncertaintyOpt = None,
@@ -130,6 +131,8 @@ def optimize(
     res, seeds = _study(sc, damper, variables, history, n_workers,
                         _realisation_count(sc, realisations, force), spread)
     payload, lines = _report(sc, res, history, n_workers, seeds)
+    if seeds is not None and sc.model(None, damper).fidelity == "fields":  # not packings
+        payload["realisations"]["map_realisations"] = payload["realisations"].pop("seeds")
     if spread is not None:
         _spread_report(sc, res, spread, payload, lines)
     emit(payload, as_json, "\n".join(lines))  # the study first: a figure cannot lose it

@@ -859,13 +859,21 @@ class RealisationsEvaluator:
 
 def check_design_realisations(count: Any, scenario: Scenario, *, force: bool = False) -> int:
     """``count`` realisations of every design of the scenario's study: a whole number >= 1;
-    N > 1 only with a ``[simulation]`` model of a random packing, N times the study's cost
-    within the limits."""
-    n = check_count(count)
+    N > 1 only with a ``[simulation]`` model of a random packing (the DEM) or the effective
+    fields of a map with at least N realisations, N times the study's cost within the
+    limits."""
+    n = check_realisation_models(count, scenario)
     if n > 1:
-        _need_random(scenario.model(None, scenario.damper()), n)
         _scaled_check(scenario, "optimization", None, n, force)
     return n
+
+
+def map_realisation_model(scenario: Scenario, k: int, damper: ParticleDamper) -> DamperModel:
+    """The effective-field model of ``damper`` from realisation ``k`` of the scenario's map
+    (a picklable model factory of a design study, with ``functools.partial``)."""
+    proto = cast("EffectiveFieldDamper", scenario.model(None, damper))
+    return type(proto)(damper, **{**scenario.fields.options(), "file": None},
+                       field=realisation_map(proto._map, k))
 
 
 def design_evaluator(scenario: Scenario, count: int,
@@ -875,9 +883,14 @@ def design_evaluator(scenario: Scenario, count: int,
     (:func:`pdamper.design.study.make_objective`)."""
     from pdamper.design.study import DesignEvaluator
 
-    seeds = seeds_of(scenario, count)
     structure, damper = scenario.structure_model(), scenario.damper()
     x0 = scenario.structure.initial_displacement
+    if level3_kind(scenario.model(None, damper)) == "map":  # the map's realisations 0 .. N-1
+        return RealisationsEvaluator(
+            [DesignEvaluator(structure, damper, x0, objective,
+                             functools.partial(map_realisation_model, scenario, k))
+             for k in range(count)], list(range(count)))
+    seeds = seeds_of(scenario, count)
     return RealisationsEvaluator(
         [DesignEvaluator(structure, damper, x0, objective,
                          functools.partial(seeded_model, scenario, s)) for s in seeds], seeds)
