@@ -321,17 +321,17 @@ def with_modes(structure, values: dict[str, float]):
                 zeta = v
         return dataclasses.replace(structure, stiffness=k,
                                    damping=2.0 * zeta * math.sqrt(k * m))
-    f = np.array(structure.frequencies, float)
-    z = np.array(structure.damping_ratios, float)
+    freqs = np.array(structure.frequencies, float)
+    ratios = np.array(structure.damping_ratios, float)
     for mode, v in parsed.values():
         assert mode is not None
-        (f if mode[1] == "frequency" else z)[mode[0]] = v
-    if np.any(np.diff(f) < 0):
+        (freqs if mode[1] == "frequency" else ratios)[mode[0]] = v
+    if np.any(np.diff(freqs) < 0):
         raise InputError(next(x for x in values if x.endswith("frequency")),
                          f"the modes' frequencies must stay in ascending order, got "
-                         f"{', '.join(f'{v:.4g}' for v in f)} Hz (narrow the standard "
+                         f"{', '.join(f'{v:.4g}' for v in freqs)} Hz (narrow the standard "
                          "deviation)")
-    return dataclasses.replace(structure, frequencies=f, damping_ratios=z)
+    return dataclasses.replace(structure, frequencies=freqs, damping_ratios=ratios)
 
 
 __all__ = ["FIT_VALUE", "MODAL_PARAMETERS", "UNCERTAIN_FIELDS", "UNCERTAIN_TABLE",

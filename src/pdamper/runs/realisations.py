@@ -785,7 +785,7 @@ def realisation_models(scenario: Scenario, count: int, model_name: str | None = 
     if level3_kind(proto) == "map":
         m = cast("EffectiveFieldDamper", proto)
         opts = {**scenario.fields.options(), "file": None}
-        return ([type(proto)(damper, **opts, field=realisation_map(m._map, k))
+        return ([type(proto)(damper, **{**opts, "field": realisation_map(m._map, k)})
                  for k in range(count)], {"map_realisations": list(range(count))})
     seeds = seeds_of(scenario, count)
     return ([with_seed(scenario, s).model(model_name, damper) for s in seeds],
