@@ -139,6 +139,10 @@ def test_modal_input_in_the_scenario_table_and_bounds(tmp_path, cli):
     code, _, err = cli("frf", "--uncertain", "mode1.stiffness=1+-0.1", "--uncertainty", "4")
     assert code == 2 and err.startswith("error: mode1.stiffness: a mode's uncertain "
                                         "parameters are damping_ratio, frequency")
+    # the 1-DOF's damping beside a modes file: refused, naming the modal field to use
+    code, _, err = cli("frf", "--modes", modes, "--uncertain", "structure.damping=1kg/s+-0.1kg/s",
+                       "--uncertainty", "4")
+    assert code == 2 and "mode1.damping_ratio" in err and err.count("\n") == 1
     code, _, err = cli("frf", "--uncertain", "mode1.damping_ratio=120%+-1%")
     assert code == 2 and "mode1.damping_ratio: the nominal value must be in (0, 1)" in err
 

@@ -252,7 +252,8 @@ def _spread_report(sc: Scenario, res: DesignStudyResult, spread: tuple, payload:
     stat = "mean" if q is None else f"quantile {q:g}"
     payload["statistic"] = stat
     payload["uncertainty"] = {
-        "points": n, "samples": 2 * n, "seed": seed, "robust_quantile": q,
+        "points": n, "samples": 2 * n, "seed": seed,
+        **({} if q is None else {"robust_quantile": q}),
         "method": "every design at the 2 N quasi-Monte Carlo samples (scrambled Sobol') of "
                   "the uncertain inputs",
         "objective": ("the mean over the samples" if q is None else

@@ -157,7 +157,9 @@ class StructureSpec(_Section):
         single = sorted({"mass", "stiffness", "damping"} & self.model_fields_set)
         if given and single:
             raise ValueError(f"{given[0]} describes the whole structure: leave out "
-                             f"{', '.join(single)} (the 1-DOF of Eq. 23)")
+                             f"{', '.join(single)} (the 1-DOF of Eq. 23); a mode's "
+                             "uncertain damping or frequency is mode<k>.damping_ratio or "
+                             "mode<k>.frequency, e.g. mode1.damping_ratio")
         return self
 
 
