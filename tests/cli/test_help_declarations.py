@@ -26,8 +26,8 @@ OWN = {
     "simulate": {"compare", "measured", "plot", "out", "uncertainty", "uncertain",
                  "uncertainty_seed", "realisations", "workers", "serial", "force", "scenario",
                  "as_json"},
-    "optimize": {"plot", "realisations", "force", "scenario",
-                 "as_json"},
+    "optimize": {"plot", "realisations", "uncertainty", "uncertain", "uncertainty_seed",
+                 "robust_quantile", "force", "scenario", "as_json"},
     "dem": {"out", "vtk", "realisations", "workers", "serial", "uncertainty", "uncertain",
             "uncertainty_seed", "force", "scenario", "as_json"},
     "paper": {"out", "dem", "workers", "scheduler", "realisations", "force", "scenario",
@@ -37,7 +37,8 @@ OWN = {
     "cor-sensitivity": {"variants", "points", "level3", "plot", "scenario", "as_json"},
     "report": {"out", "dem", "realisations", "uncertainty", "uncertain", "uncertainty_seed",
                "workers", "force", "scenario", "as_json"},
-    "frf": {"base", "max_cycles", "allow_cost", "plot", "out", "scenario", "as_json"},
+    "frf": {"base", "max_cycles", "allow_cost", "plot", "out", "uncertainty", "uncertain",
+            "uncertainty_seed", "realisations", "scenario", "as_json"},
 }
 
 

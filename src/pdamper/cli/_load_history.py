@@ -37,9 +37,11 @@ def response_payload(res, seconds: float) -> dict:
 
 
 def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | None,
-        as_json: bool, force: bool = False) -> None:
+        as_json: bool, force: bool = False,
+        uncertainty: tuple[int | None, int] = (None, 0)) -> None:
     """Run every model of ``models`` on ``history``; print, write and plot as the free
-    decay does."""
+    decay does. ``uncertainty``: ``(N, seed)`` of ``--uncertainty`` (N None: none), the
+    spread of the first model's answers under the scenario's uncertain inputs."""
     from pdamper.coupling.frf import load_point_text
     from pdamper.coupling.loads import acting_at, check_cost, check_model, run_load
 
@@ -82,6 +84,13 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
                         "unbalance": "kg*m", "start_speed": "Hz", "stop_speed": "Hz"}
     if len(runs) > 1:
         payload["models"] = {n: response_payload(r, seconds[n]) for n, r in runs.items()}
+    spread = None
+    if uncertainty[0] is not None:
+        from pdamper.runs.uncertainty import propagate_scenario
+
+        spread = propagate_scenario(sc, "load", uncertainty[0], uncertainty[1],
+                                    model=names[0], history=history, tail=tail)
+        payload["uncertainty"] = spread.as_dict()
     payload.update(meta)
     what = "force" if history.kind == "force" else "base acceleration"
     where = f" at {payload['load']['point']}" if history.kind == "force" else ""
@@ -94,13 +103,22 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
                      f"{r.peak_acceleration:.4g} m/s^2, RMS {r.rms_acceleration:.4g} m/s^2; "
                      f"damper dissipated {r.dissipated_energy:.4g} J"
                      + (f" in {len(r.cycles)} updates" if r.cycles else ""))
+    if spread is not None:
+        from pdamper.cli._uncertainty import lines as spread_lines
+
+        lines += spread_lines(spread, {"peak": (1e3, "mm"), "rms": (1e3, "mm"),
+                                       "dissipated_energy": (1.0, "J")})
+        lines.append("uncertainty band: the envelope, the largest |x| in each of "
+                     f"{len(spread.bands['envelope']['time'])} windows (JSON "
+                     "uncertainty.bands.envelope)")
     emit(payload, as_json, "\n".join(lines))  # the results first: a figure cannot lose them
     if plot is not None:
-        figure_last(lambda: _figure(runs, history), plot)
+        figure_last(lambda: _figure(runs, history, spread), plot)
 
 
-def _figure(runs: dict, history) -> Figure:
-    """The figure of ``--plot`` (written after the results)."""
+def _figure(runs: dict, history, spread=None) -> Figure:
+    """The figure of ``--plot`` (written after the results); with ``spread`` the 5-95 %
+    band of the envelope under the uncertain inputs."""
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(11, 10), layout="constrained")
@@ -116,6 +134,10 @@ def _figure(runs: dict, history) -> Figure:
             axes[2].plot([c.time for c in r.cycles], [c.loss_factor for c in r.cycles], ".-",
                          lw=0.8, label=f"{label}: {r.dissipated_energy:.3g} J dissipated")
     rel = " relative to the base" if history.kind != "force" else ""
+    if spread is not None:
+        b = spread.bands["envelope"]
+        axes[1].fill_between(b["time"], b["p5"] * 1e3, b["p95"] * 1e3, color="C4", alpha=0.3,
+                             lw=0, label="envelope |x|, 5-95 % under the uncertain inputs")
     axes[1].set_ylabel(f"displacement{rel} [mm]")
     axes[1].set_title("response of the structure")
     axes[1].legend(fontsize="x-small", loc="upper right")

@@ -1,12 +1,13 @@
-"""Options and output of ``--uncertainty N`` (``pdamper analytic``, ``map``,
-``simulate``, ``report``, ``dem``): the spread of the answers under the inputs given as
-``"value +- sd"``, and for the DEM a fitted COR curve given as ``FIELD=fit``
-(:mod:`pdamper.io.uncertain`, propagated by :mod:`pdamper.runs.uncertainty`)."""
+"""Options and output of ``--uncertainty N`` (``pdamper analytic``, ``map``, ``simulate``
+(the free decay and a load history), ``frf``, ``optimize``, ``report``, ``dem``): the
+spread of the answers under the inputs given as ``"value +- sd"``, and for the DEM a fitted
+COR curve given as ``FIELD=fit`` (:mod:`pdamper.io.uncertain`, propagated by
+:mod:`pdamper.runs.uncertainty`)."""
 
 from __future__ import annotations
 
 import re
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -44,7 +45,8 @@ UncertaintyOpt = Annotated[int | None, typer.Option(
 UncertainOpt = Annotated[list[str] | None, typer.Option(
     "--uncertain", help="An uncertain input FIELD=VALUE+-SD (sd: a standard deviation; "
     "normal, truncated to the field's range), e.g. 'particles.friction=0.1+-0.03' or "
-    "'container.length=120mm+-0.1mm'; repeatable. 'pdamper dem' also takes "
+    "'container.length=120mm+-0.1mm', or a mode's 'mode1.damping_ratio=1%+-0.3%', "
+    "'mode2.frequency=31Hz+-0.5Hz'; repeatable. 'pdamper dem' also takes "
     "'restitution.particle_wall=fit': the fitted COR curve's parameter covariance.")]
 UncertaintySeedOpt = Annotated[int, typer.Option(
     "--uncertainty-seed", parser=seed, help="Seed of the scrambled Sobol' sequence (recorded).")]
@@ -110,8 +112,9 @@ def merged(options: dict, items: list[str] | None, allow_fits: bool = False) -> 
     return out
 
 
-def check(sc, level: str, n: int | None, force: bool) -> None:
-    """What ``--uncertainty N`` implies, judged before any run."""
+def check(sc, level: str, n: int | None, force: bool, **cost: Any) -> None:
+    """What ``--uncertainty N`` implies, judged before any run (``cost``: the options of
+    :func:`pdamper.runs.uncertainty.check_cost` for ``"frf"`` and ``"load"``)."""
     if n is None:
         return
     from pdamper.design.uncertainty import check_points
@@ -125,7 +128,7 @@ def check(sc, level: str, n: int | None, force: bool) -> None:
                          "with --uncertain FIELD=VALUE+-SD"
                          + (" (or a fitted COR curve: --uncertain restitution.particle_wall="
                             "fit)" if level == "dem" else ""))
-    check_cost(sc, level, n, force)
+    check_cost(sc, level, n, force, **cost)
 
 
 def lines(result, scale: dict[str, tuple[float, str]]) -> list[str]:
@@ -137,11 +140,18 @@ def lines(result, scale: dict[str, tuple[float, str]]) -> list[str]:
            + ", ".join(f"{u.field} (fit's principal axis, z in [{u.low:.2g}, {u.high:.2g}])"
                        if isinstance(u, FitAxis) else f"{u.field} = {u.value:.4g} +- {u.sd:.3g}"
                        for u in result.inputs)]
+    for field, why in result.not_used.items():  # a zero index that is the model's blindness
+        users = ", ".join(why["used_by"]) or "none"
+        out.append(f"  {field}: not used by the {why['fidelity']} fidelity (used by: "
+                   f"{users}): {why['reason']}")
+    blind = bool(result.not_used) and all(u.field in result.not_used for u in result.inputs)
     for name, a in result.answers.items():
         k, unit = scale.get(name, (1.0, "" if a.unit == "1" else a.unit))
         out.append(f"  {name:28s} mean {a.mean * k:.4g}{' ' + unit if unit else ''}, std {a.std * k:.3g}, "
                    f"5-95 % [{a.percentiles[5.0] * k:.4g}, {a.percentiles[95.0] * k:.4g}]; "
-                   f"driver {a.driver or 'none (no spread)'}"
+                   + (f"driver {a.driver}" if a.driver is not None else
+                      "no spread: its inputs are not used by this fidelity" if blind
+                      else "driver none (no spread)")
                    + ("" if a.driver is None else
                       f" (total index {a.total_order[a.driver]:.2f})"))
         for group, g in a.groups.items():

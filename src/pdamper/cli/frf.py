@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Annotated
 import numpy as np
 import typer
 
+from pdamper.cli import _uncertainty
 from pdamper.cli._common import (
     JsonOpt,
     ModelOpt,
@@ -98,6 +99,14 @@ def frf(
         "--allow-cost", help="Allow a response whose estimated memory or run time is above the "
                              "usual limits (2 GiB, 1 h), up to what this machine can hold; "
                              "every other command's --force (here --force is the load).")] = False,
+    uncertainty: _uncertainty.UncertaintyOpt = None,
+    uncertain: _uncertainty.UncertainOpt = None,
+    uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
+    realisations: Annotated[str | None, typer.Option(
+        "--realisations", help="The response from N realisations of the damper: the DEM from "
+        "N random packings (seeds dem.seed ... dem.seed + N - 1), the fields from the first "
+        "N realisations of their map; the JSON key 'realisations' holds the band of each "
+        "sweep and of the peak (default 1).")] = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -113,23 +122,36 @@ def frf(
         raise InputError("sweep", f"must be up, down or both, got {sweep!r}")
     if max_cycles is not None:
         check_whole("max_cycles", max_cycles, 1)
-    sc = load(scenario, simulation__model=model, particles__count=particles,
-              fields__file=None if fields is None else str(fields),
-              structure__modes=None if modes is None else str(modes), frf__at=load_at)
+    sc = load(scenario, **_uncertainty.merged(dict(
+        simulation__model=model, particles__count=particles,
+        fields__file=None if fields is None else str(fields),
+        structure__modes=None if modes is None else str(modes), frf__at=load_at), uncertain))
     load_, freqs, sweep, source = _resolved(sc, given, freqs, sweep)
+    n_real = _realisation_count(sc, model, realisations, uncertainty)
     # the cost of every frequency, sweep, cycle and mode, judged before any is solved
-    check_frf(sc, model, freqs, load_, max_cycles=max_cycles, sweep=sweep, force=allow_cost)
+    check_frf(sc, model, freqs, load_, max_cycles=max_cycles, sweep=sweep, force=allow_cost,
+              require=None if n_real == 1 else _scaled(n_real))
+    _check_uncertainty(sc, model, uncertainty, allow_cost, len(freqs))
     out_path = check_output(out)
     plot_path = check_plot(plot)
     damper = sc.damper()
     m = sc.model(None, damper)
     structure = _acting(sc)
-    from pdamper.cli._progress import frf_steps  # the DEM's steps: minutes (stderr only)
+    band = None
+    if n_real > 1:  # realisation 0 is the run reported; the band is over all of them
+        from pdamper.runs.realisations import realisation_models
 
-    with frf_steps(len(freqs) * (2 if sweep == "both" else 1)) as steps:
-        res = frequency_response(m, structure, load_, freqs, sweep=sweep,
-                                 max_cycles=max_cycles,
-                                 progress=None if steps is None else steps.step)
+        models, which = realisation_models(sc, n_real, model)
+        runs = [frequency_response(mk, structure, load_, freqs, sweep=sweep,
+                                   max_cycles=max_cycles) for mk in models]
+        res, band = runs[0], _band(runs, which)
+    else:
+        from pdamper.cli._progress import frf_steps  # the DEM's steps: minutes (stderr only)
+
+        with frf_steps(len(freqs) * (2 if sweep == "both" else 1)) as steps:
+            res = frequency_response(m, structure, load_, freqs, sweep=sweep,
+                                     max_cycles=max_cycles,
+                                     progress=None if steps is None else steps.step)
     meta = metadata(sc)
     if out_path is not None:
         _write_response(out_path, res, meta)
@@ -142,10 +164,82 @@ def frf(
     payload["units"] = {"frequency": "Hz", "amplitude": "m", "stroke": "m", "phase": "rad",
                         "loss_factor": "1", "effective_mass": "kg", "wall_seconds": "s",
                         "load": load_.unit}
+    spread, text = None, _table(res)
+    if band is not None:
+        payload["realisations"] = band
+        text += [f"{band['count']} realisations ({'seeds ' if 'seeds' in band else 'map '}"
+                 f"{band.get('seeds', band.get('map_realisations'))}; the table is the first): "
+                 + "; ".join(f"{name} peak {p['mean'] * 1e3:.3g} +- {p['std'] * 1e3:.2g} mm "
+                             f"[{p['min'] * 1e3:.3g}, {p['max'] * 1e3:.3g}]"
+                             for name, p in band["peak"].items())]
+    if uncertainty is not None:
+        from pdamper.runs.uncertainty import propagate_scenario
+
+        spread = propagate_scenario(sc, "frf", uncertainty, uncertainty_seed, model=model,
+                                    load=load_, frequency=freqs)
+        payload["uncertainty"] = spread.as_dict()
+        text += _uncertainty.lines(spread, {"peak": (1e3, "mm"), "rms": (1e3, "mm"),
+                                            "peak_frequency": (1.0, "Hz")})
+        text.append("uncertainty band: the largest stable harmonic-balance amplitude at each "
+                    "frequency (JSON uncertainty.bands.amplitude)")
     payload.update(meta)
-    emit(payload, as_json, "\n".join(_table(res)))  # the results first: a figure cannot lose them
+    emit(payload, as_json, "\n".join(text))  # the results first: a figure cannot lose them
     if plot_path is not None:
-        _figure(res, plot_path)
+        _figure(res, plot_path, spread, band)
+
+
+def _realisation_count(sc, model: str | None, realisations: str | None,
+                       uncertainty: int | None) -> int:
+    """``--realisations`` as a count (1: one run), judged with the model before any run."""
+    if realisations is None:
+        return 1
+    from pdamper.errors import InputError
+    from pdamper.runs.realisations import check_realisation_models, parse_count
+
+    n = check_realisation_models(parse_count(realisations), sc, model)
+    if n > 1 and uncertainty is not None:
+        raise InputError("realisations", "must be 1 with --uncertainty (a spread over the "
+                         f"packings or over the inputs, one at a time), got {n}")
+    return n
+
+
+def _scaled(n: int):
+    """The forced response's cost check for ``n`` realisations of it."""
+    import functools
+
+    from pdamper import resources
+    from pdamper.runs.realisations import scaled_require
+    from pdamper.runs.resources import FRF_OVERRIDE
+
+    return scaled_require(n, functools.partial(resources.require, override=FRF_OVERRIDE))
+
+
+def _band(runs: list, which: dict) -> dict:
+    """The band of the forced responses of the realisations: each sweep's amplitude
+    (mean, std with divisor N - 1, min, max per frequency) and its peak, every
+    realisation's peak (SI)."""
+    from pdamper.runs.realisations import spread
+
+    out: dict = {"count": len(runs), **which, "std_ddof": 1, "sweeps": {}, "peak": {}}
+    for name in runs[0].sweeps:
+        a = np.array([r.sweeps[name].amplitude for r in runs], float)
+        out["sweeps"][name] = {"amplitude_mean": a.mean(0).tolist(),
+                               "amplitude_std": a.std(0, ddof=1).tolist(),
+                               "amplitude_min": a.min(0).tolist(),
+                               "amplitude_max": a.max(0).tolist()}
+        out["peak"][name] = spread(a.max(axis=1))
+    return out
+
+
+def _check_uncertainty(sc, model: str | None, n: int | None, force: bool,
+                       frequencies: int) -> None:
+    """``--uncertainty N`` judged before any run: the inputs, the sampled fidelity (a
+    cheap one with harmonic balance) and the cost of N (d + 2) + 1 forced responses."""
+    _uncertainty.check(sc, "frf", n, force, frequencies=frequencies)
+    if n is not None:
+        from pdamper.runs.uncertainty import frf_answers
+
+        frf_answers(sc, None, [1.0], model)  # refuses an expensive fidelity before any run
 
 
 def _resolved(sc, given, freqs, sweep) -> tuple:
@@ -199,15 +293,32 @@ def _write_response(out: Path, res: FRFResult, meta: dict) -> None:
     atomic_write_netcdf(out, ds)
 
 
-def _figure(res: FRFResult, path: Path) -> None:
-    """Amplitude and phase against frequency to ``--plot``."""
+def _figure(res: FRFResult, path: Path, spread=None, band: dict | None = None) -> None:
+    """Amplitude and phase against frequency to ``--plot``; with ``spread`` (an
+    uncertainty propagation) the 5-95 % band and the median of the amplitude, with
+    ``band`` (realisations) each sweep's range over the realisations."""
     def draw() -> Figure:
         from matplotlib.figure import Figure
 
         from pdamper.plots.frf import plot_frf
 
         fig = Figure(figsize=(8, 8.5), layout="constrained")
-        plot_frf(res, axes=fig.subplots(3, 1, sharex=True))
+        axes = fig.subplots(3, 1, sharex=True)
+        plot_frf(res, axes=axes)
+        if spread is not None:
+            b = spread.bands["amplitude"]
+            axes[0].fill_between(b["frequency"], b["p5"] * 1e3, b["p95"] * 1e3, color="C4",
+                                 alpha=0.25, lw=0, label="5-95 % under the uncertain inputs")
+            axes[0].plot(b["frequency"], b["p50"] * 1e3, color="C4", lw=1, ls=":",
+                         label="median")
+            axes[0].legend(fontsize=7)
+        if band is not None:
+            for k, (name, b) in enumerate(band["sweeps"].items()):
+                axes[0].fill_between(res.frequency, np.asarray(b["amplitude_min"]) * 1e3,
+                                     np.asarray(b["amplitude_max"]) * 1e3, color=f"C{k}",
+                                     alpha=0.2, lw=0, label=f"{name}: range over "
+                                     f"{band['count']} realisations")
+            axes[0].legend(fontsize=7)
         return fig
 
     figure_last(draw, path, dpi=110)

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
+from pdamper.cli import _uncertainty
 from pdamper.cli._common import (
     BaseAccelerationOpt,
     ForceOpt,
@@ -101,15 +102,24 @@ def optimize(
     tail: TailOpt = None,
     realisations: Annotated[str | None, typer.Option(
         "--realisations", help="Evaluate every design from N random packings (DEM; seeds "
-        "dem.seed ... dem.seed + N - 1): the objective is their mean, each candidate has "
+        "dem.seed ... dem.seed + N - 1) or the first N realisations of the fields' map: the "
+        "objective is their mean, each candidate has "
         "objective_std, objective_min, objective_max and objective_values (default 1).")
     ] = None,
+    uncertainty: _uncertainty.UncertaintyOpt = None,
+    uncertain: _uncertainty.UncertainOpt = None,
+    uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
+    robust_quantile: Annotated[str | None, typer.Option(
+        "--robust-quantile", help="With --uncertainty: rank the designs by this quantile of "
+        "their objective over the samples (0.9 or 90%: the value 90 % of the samples meet; "
+        "for a maximised objective the 10 % quantile) instead of the mean.")] = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
     """Design with the best objective; every candidate (the landscape) is listed."""
-    sc = load(scenario, runs=("optimization",), force=force, simulation__model=model,
+    sc = load(scenario, runs=("optimization",), force=force, **_uncertainty.merged(dict(
+              simulation__model=model,
               optimization__at=at, optimization__step=step, optimization__vary=vary or None,
               optimization__objective=objective, optimization__threshold=threshold,
               optimization__method=method, optimization__workers=_workers(workers),
@@ -120,7 +130,9 @@ def optimize(
               structure__modes=None if modes is None else str(modes),
               load__force=None if load_file is None else str(load_file),
               load__base_acceleration=None if base_acceleration is None
-              else str(base_acceleration), load__tail=tail)
+              else str(base_acceleration), load__tail=tail), uncertain))
+    spread = _spread_options(sc, uncertainty, uncertainty_seed, robust_quantile,
+                             realisations, force)
     plot_path = check_plot(plot)
     history = _history(sc, tail, load_file is not None or base_acceleration is not None)
     damper = sc.damper()
@@ -128,8 +140,12 @@ def optimize(
     proto = _prototype(sc, damper, history)
     n_workers = _worker_count(sc.optimization.workers, proto)
     res, seeds = _study(sc, damper, variables, history, n_workers,
-                        _realisation_count(sc, realisations, force))
+                        _realisation_count(sc, realisations, force), spread)
     payload, lines = _report(sc, res, history, n_workers, seeds)
+    if seeds is not None and sc.model(None, damper).fidelity == "fields":  # not packings
+        payload["realisations"]["map_realisations"] = payload["realisations"].pop("seeds")
+    if spread is not None:
+        _spread_report(sc, res, spread, payload, lines)
     emit(payload, as_json, "\n".join(lines))  # the study first: a figure cannot lose it
     if plot_path is not None:
         _figure(res, plot_path)
@@ -210,27 +226,109 @@ def _realisation_count(sc: Scenario, realisations: str | None, force: bool) -> i
     return check_design_realisations(parse_count(realisations), sc, force=force)
 
 
+def _spread_options(sc: Scenario, n: int | None, seed: int, quantile: str | None,
+                    realisations: str | None, force: bool) -> tuple[int, int, float | None] | None:
+    """``(N, seed, quantile)`` of ``--uncertainty`` and ``--robust-quantile`` checked, with
+    the cost of every design's ``2 N + 1`` runs, before any run (None: no uncertainty)."""
+    if n is None:
+        if quantile is not None:
+            raise InputError("robust_quantile", "is a quantile over the samples of the "
+                             "uncertain inputs: give --uncertainty N")
+        return None
+    from pdamper.design.uncertainty import check_points
+    from pdamper.runs.uncertainty import check_design_cost, parse_quantile
+
+    check_points(n)
+    q = None if quantile is None else parse_quantile(quantile)
+    if realisations is not None and realisations.strip() != "1":
+        raise InputError("realisations", "must be 1 with --uncertainty (a spread over the "
+                         "inputs or over the packings, one at a time)")
+    if not sc.uncertain_inputs():
+        raise InputError("uncertainty", "no input carries an uncertainty: give one as "
+                         "'value +- sd' in the scenario or with --uncertain FIELD=VALUE+-SD")
+    check_design_cost(sc, n, force)
+    return n, seed, q
+
+
+def _spread_report(sc: Scenario, res: DesignStudyResult, spread: tuple, payload: dict,
+                   lines: list[str]) -> None:
+    """The uncertainty of the study: JSON key ``uncertainty`` and its text lines."""
+    from pdamper.models import get_damper_model
+    from pdamper.models.registry import not_used
+
+    n, seed, q = spread
+    inputs = sc.uncertain_inputs()
+    unused = not_used(get_damper_model(sc.simulation.model, "simulation.model"),
+                      [u.field for u in inputs])
+    stat = "mean" if q is None else f"quantile {q:g}"
+    payload["statistic"] = stat
+    payload["uncertainty"] = {
+        "points": n, "samples": 2 * n, "seed": seed,
+        **({} if q is None else {"robust_quantile": q}),
+        "method": "every design at the 2 N quasi-Monte Carlo samples (scrambled Sobol') of "
+                  "the uncertain inputs",
+        "objective": ("the mean over the samples" if q is None else
+                      f"the {q:g} quantile over the samples (minimised objective; for a "
+                      f"maximised one the {1 - q:g} quantile)"),
+        "inputs": [u.as_dict() for u in inputs], "not_used": unused,
+        "keys": ["objective_nominal", "objective_mean", "objective_std", "objective_p5",
+                 "objective_p25", "objective_p50", "objective_p75", "objective_p95",
+                 *(["objective_quantile"] if q is not None else [])]}
+    lines.append(f"uncertainty: every design at {2 * n} samples of "
+                 + ", ".join(f"{u.field} = {u.value:.4g} +- {u.sd:.3g}" for u in inputs)
+                 + f" (seed {seed}); objective: the {stat} over them (+- its std)")
+    for field, why in unused.items():
+        lines.append(f"  {field}: not used by the {why['fidelity']} fidelity (used by: "
+                     f"{', '.join(why['used_by']) or 'none'}): {why['reason']}")
+    best = res.best
+    if best is not None and "objective_mean" in best.extra:
+        k = _SHOWN[res.objective.name][0]
+        e = best.extra
+        lines.append(f"{'robust choice' if q is not None else 'best'}: "
+                     f"{', '.join(f'{v.name} {best.design[v.name]}' for v in res.variables)}"
+                     f": nominal "
+                     f"{e['objective_nominal'] * k:.4g}, mean {e['objective_mean'] * k:.4g} +- "
+                     f"{e['objective_std'] * k:.2g}, 5-95 % [{e['objective_p5'] * k:.4g}, "
+                     f"{e['objective_p95'] * k:.4g}]")
+
+
 def _study(sc: Scenario, damper: Any, variables: list[DesignVariable],
            history: LoadHistory | None, n_workers: int,
-           n_real: int) -> tuple[DesignStudyResult, list[int] | None]:
-    """The design study, each design from ``n_real`` packings when above 1; with the
-    seeds of the packings (None: one), and a progress display of the designs evaluated
+           n_real: int, spread: tuple | None = None
+           ) -> tuple[DesignStudyResult, list[int] | None]:
+    """The design study, each design from ``n_real`` packings when above 1, or at the
+    samples of the uncertain inputs (``spread``: ``(N, seed, quantile)``); with the seeds
+    of the packings (None: one), and a progress display of the designs evaluated
     (stderr, a terminal only; none with --quiet)."""
     from pdamper.cli._progress import Bar
 
     with Bar("designs evaluated") as progress:
-        return _run_study(sc, damper, variables, history, n_workers, n_real, progress)
+        return _run_study(sc, damper, variables, history, n_workers, n_real, progress, spread)
 
 
 def _run_study(sc: Scenario, damper: Any, variables: list[DesignVariable],
                history: LoadHistory | None, n_workers: int, n_real: int,
-               progress: Any) -> tuple[DesignStudyResult, list[int] | None]:
+               progress: Any, spread: tuple | None = None
+               ) -> tuple[DesignStudyResult, list[int] | None]:
     """:func:`_study`, reporting each design evaluated to ``progress(done, total)``."""
     import functools
 
     from pdamper.design.study import optimize_design
 
     o = sc.optimization
+    if spread is not None:
+        from pdamper.design.study import make_objective, run_design_study
+        from pdamper.runs.uncertainty import design_evaluator as uncertain_evaluator
+
+        obj = make_objective(o.objective, o.at, sc.structure.initial_displacement,
+                             sc.structure_model(), o.threshold, load=history,
+                             tail=sc.load.tail, band=o.frf_band(), frf_load=o.frf_load)
+        res = run_design_study(uncertain_evaluator(sc, spread[0], spread[1], obj, spread[2]),
+                               damper, variables, obj, method=o.method, max_grid=o.max_grid,
+                               max_evaluations=o.max_evaluations, seed=o.seed,
+                               workers=n_workers, scheduler=o.scheduler,
+                               tolerance=o.tolerance)
+        return res, None
     if n_real > 1:
         from pdamper.design.study import make_objective, run_design_study
         from pdamper.runs.realisations import design_evaluator

@@ -155,9 +155,9 @@ def simulate(
     models = {n: sc.model(n, damper) for n in names}  # all built (and checked) before any run
     n_real = _realisation_count(sc, realisations, uncertainty)
     if sc.load.given:  # a load history instead of the release (docs/forced.md)
-        _run_load_history(sc, models, out_path, plot_path, as_json, force, measured=measured,
-                          duration=duration, initial_displacement=initial_displacement,
-                          uncertainty=uncertainty)
+        _run_load_history(sc, models, out_path, plot_path, as_json, force,
+                          (uncertainty, uncertainty_seed), measured=measured,
+                          duration=duration, initial_displacement=initial_displacement)
         return
     _check_release_options(tail, workers)
     banded = _banded_models(sc, models, n_real, force) if n_real > 1 else []
@@ -212,6 +212,14 @@ def _release(sc: Scenario, models: dict[str, Any], banded: list[str], n_real: in
 
 def _check_uncertainty(sc: Scenario, uncertainty: int | None, force: bool) -> None:
     """``--uncertainty`` checked, and the sampled model refused, before any run."""
+    if sc.load.given:  # the response to the load history: its runs' cost and model
+        history = sc.load.history()
+        _uncertainty.check(sc, "load", uncertainty, force, history=history, tail=sc.load.tail)
+        if uncertainty is not None:
+            from pdamper.runs.uncertainty import load_answers
+
+            load_answers(sc, history, sc.load.tail)
+        return
     _uncertainty.check(sc, "level3", uncertainty, force)
     if uncertainty is not None:  # the sampled model refused before any run
         from pdamper.runs.uncertainty import level3_answers
@@ -275,6 +283,7 @@ def _realisation_count(sc: Scenario, realisations: str | None,
 
 def _run_load_history(sc: Scenario, models: dict[str, Any], out: Path | None,
                       plot: Path | None, as_json: bool, force: bool,
+                      uncertainty: tuple[int | None, int] = (None, 0),
                       **release: object) -> None:
     """The run under a load history (docs/forced.md), refusing the ``release`` options
     (``measured``, ``duration``, ...) that belong to the release alone."""
@@ -285,7 +294,7 @@ def _run_load_history(sc: Scenario, models: dict[str, Any], out: Path | None,
                              "record plus --tail: leave out --"
                              + name.replace("_", "-"))
     _load_history.run(sc, models, sc.load.history(), sc.load.tail, out, plot, as_json,
-                      force)
+                      force, uncertainty=uncertainty)
 
 
 def _banded_models(sc: Scenario, models: dict[str, Any], n_real: int,

@@ -319,6 +319,10 @@ class UncertaintyResult:
     #: "std", "p5", ..., "p95"} per element over the 2 n points of A and B (no indices)
     bands: dict[str, dict[str, np.ndarray]] = field(repr=False, compare=False,
                                                     default_factory=dict)
+    #: the inputs the sampled model does not use: field -> {"fidelity", "reason",
+    #: "used_by"} (:func:`pdamper.models.registry.not_used`); their indices are 0 because
+    #: the model cannot see them, not because the damper is insensitive to them
+    not_used: dict[str, dict] = field(default_factory=dict)
 
     @property
     def driver(self) -> str | None:
@@ -336,7 +340,7 @@ class UncertaintyResult:
                 "answers": {k: a.as_dict() for k, a in self.answers.items()},
                 "bands": {k: {q: np.asarray(v).tolist() for q, v in b.items()}
                           for k, b in self.bands.items()},
-                "driver": self.driver}
+                "driver": self.driver, "not_used": self.not_used}
 
 
 def check_points(n: int, field_name: str = "uncertainty") -> int:

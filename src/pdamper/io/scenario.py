@@ -170,7 +170,9 @@ class StructureSpec(_Section):
         single = sorted({"mass", "stiffness", "damping"} & self.model_fields_set)
         if given and single:
             raise ValueError(f"{given[0]} describes the whole structure: leave out "
-                             f"{', '.join(single)} (the 1-DOF of Eq. 23)")
+                             f"{', '.join(single)} (the 1-DOF of Eq. 23); a mode's "
+                             "uncertain damping or frequency is mode<k>.damping_ratio or "
+                             "mode<k>.frequency, e.g. mode1.damping_ratio")
         return self
 
 
@@ -435,6 +437,8 @@ class Scenario(_Section):
     frf: FRFSpec = FRFSpec()
     #: inputs given as "value +- sd" (field -> UncertainInput; pdamper.io.uncertain)
     _uncertain: dict = PrivateAttr(default_factory=dict)
+    #: modal parameters of a sample of the uncertain inputs (pdamper.io.uncertain)
+    _modal: dict = PrivateAttr(default_factory=dict)
 
     def uncertain_inputs(self) -> tuple:
         """The :class:`~pdamper.design.uncertainty.UncertainInput` of every value given
@@ -484,8 +488,11 @@ class Scenario(_Section):
     def structure_model(self) -> SingleDOFStructure | ModalStructure:
         """The structure of ``[structure]`` (:func:`pdamper.io.structure.structure_model`)."""
         from pdamper.io.structure import structure_model
+        from pdamper.io.uncertain import modal_values, with_modes
 
-        return structure_model(self)
+        # the uncertain modal parameters (mode1.damping_ratio, ...) at their nominal value
+        # or a sample's
+        return with_modes(structure_model(self), modal_values(self))
 
     def model(self, name: str | None = None,
               damper: ParticleDamper | None = None) -> DamperModel:

@@ -33,6 +33,12 @@ class AnalyticalDamper(DamperModel):
     fidelity = "analytic"
     takes_gravity = True
     vectorised = True
+    #: the bed is one perfectly plastic block (Eqs. 5-22): no friction, no rebound
+    unused_inputs = {
+        f: "the analytical bed is a perfectly plastic block (Eqs. 5-22): neither friction "
+           "nor the coefficient of restitution enters it"
+        for f in ("particles.friction", "dem.restitution_pp", "dem.restitution_pw",
+                  "restitution.particle_particle", "restitution.particle_wall")}
 
     def __init__(self, damper: ParticleDamper, gravity: float = STANDARD_GRAVITY):
         super().__init__(damper)

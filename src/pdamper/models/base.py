@@ -5,7 +5,7 @@ from __future__ import annotations
 import copy
 import inspect
 from abc import ABC, abstractmethod
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -100,6 +100,13 @@ class DamperModel(ABC):
     #: Whether the model takes ``gravity`` [m/s^2] as a keyword (a scenario passes its
     #: ``[excitation] gravity``).
     takes_gravity: ClassVar[bool] = False
+
+    #: Inputs of a scenario this fidelity's answers do not depend on: field (as in
+    #: ``--uncertain``, e.g. ``"particles.friction"``; a fitted COR curve by its field,
+    #: ``"restitution.particle_wall"``) -> why. An uncertainty propagation reports them as
+    #: not used by this fidelity, with the fidelities that do use them
+    #: (:func:`pdamper.models.registry.input_users`), instead of a zero sensitivity.
+    unused_inputs: ClassVar[Mapping[str, str]] = {}
 
     def __init__(self, damper: ParticleDamper):
         if not isinstance(damper, ParticleDamper):

@@ -236,6 +236,12 @@ class EffectiveFieldDamper(DamperModel):
     fidelity = "fields"
     coupling = "pseudo_force"
     takes_gravity = True
+    #: the map's fields were computed at the friction and COR of its own runs
+    unused_inputs = {
+        f: "the effective fields are read from the map, computed at the friction and COR "
+           "of its own runs (a map per value: pdamper map --model dem)"
+        for f in ("particles.friction", "dem.restitution_pp", "dem.restitution_pw",
+                  "restitution.particle_particle", "restitution.particle_wall")}
     #: per particle count of the map (None: no count axis): the count, its grid, its bed mass
     _grids: list[tuple[int | None, _Grid, float]]
     #: the grids read for the damper's count with their weights (empty: model 3 throughout)

@@ -795,6 +795,61 @@ def run_level3_realisations(scenario: Scenario, count: int, model_name: str | No
                       run_seconds=[float(p.values["wall_seconds"]) for p in res.points])
 
 
+def realisation_models(scenario: Scenario, count: int, model_name: str | None = None
+                       ) -> tuple[list[DamperModel], dict]:
+    """The models of ``count`` realisations of the scenario's damper with fidelity
+    ``model_name`` (default ``[simulation] model``): the DEM from the random packings of
+    seeds ``dem.seed + k``, the effective fields from realisation ``k`` of their map; with
+    the record of which (``{"seeds": [...]}`` or ``{"map_realisations": [...]}``). The
+    count is judged by :func:`check_realisation_models` first."""
+    damper = scenario.damper()
+    proto = scenario.model(model_name, damper)
+    if level3_kind(proto) == "map":
+        m = cast("EffectiveFieldDamper", proto)
+        opts = {**scenario.fields.options(), "file": None}
+        return ([type(proto)(damper, **{**opts, "field": realisation_map(m._map, k)})
+                 for k in range(count)], {"map_realisations": list(range(count))})
+    seeds = seeds_of(scenario, count)
+    return ([with_seed(scenario, s).model(model_name, damper) for s in seeds],
+            {"seeds": seeds})
+
+
+def check_realisation_models(count: Any, scenario: Scenario,
+                             model_name: str | None = None) -> int:
+    """``count`` realisations of the damper model: a whole number >= 1; N > 1 for a model
+    with a random packing (the DEM) or the effective fields of a map with at least N
+    realisations (the cost of the runs is the caller's to judge, N times one run's)."""
+    n = check_count(count)
+    if n == 1:
+        return n
+    model = scenario.model(model_name, scenario.damper())
+    if level3_kind(model) == "map":
+        have = int(cast("EffectiveFieldDamper", model).map_attrs["realisations"])
+        if n > have:
+            raise InputError("realisations", f"must be at most the {have} realisations of the "
+                             f"effective-field map, got {n}")
+    else:
+        _need_random(model, n)
+    return n
+
+
+def scaled_require(n: int, require=None):
+    """A ``require(cost, force)`` that judges ``n`` runs of ``cost`` (time ``n`` times
+    over, memory per run), naming ``realisations`` as the driver (:func:`_scaled_check`)."""
+    def scaled(cost, force_=False):
+        if cost.seconds > 0 and n > 1:
+            cost = resources.Cost(
+                f"{n} realisations of {cost.what}", cost.seconds * n, cost.memory,
+                f"{n} realisations, each {cost.detail}",
+                (*cost.drivers, ("realisations", n / USUAL_REALISATIONS)),
+                runs=n * max(cost.runs or 1, 1),
+                longest=cost.longest if cost.longest is not None else cost.seconds,
+                remedy="ask for fewer realisations" if n > USUAL_REALISATIONS else cost.remedy)
+        return (require or resources.require)(cost, force_)
+
+    return scaled
+
+
 # --------------------------------------------------------------------------- design studies
 def seeded_model(scenario: Scenario, seed: int, damper: ParticleDamper) -> DamperModel:
     """The ``[simulation]`` model of ``damper`` with the random packing of seed ``seed``
@@ -826,13 +881,21 @@ class RealisationsEvaluator:
 
 def check_design_realisations(count: Any, scenario: Scenario, *, force: bool = False) -> int:
     """``count`` realisations of every design of the scenario's study: a whole number >= 1;
-    N > 1 only with a ``[simulation]`` model of a random packing, N times the study's cost
-    within the limits."""
-    n = check_count(count)
+    N > 1 only with a ``[simulation]`` model of a random packing (the DEM) or the effective
+    fields of a map with at least N realisations, N times the study's cost within the
+    limits."""
+    n = check_realisation_models(count, scenario)
     if n > 1:
-        _need_random(scenario.model(None, scenario.damper()), n)
         _scaled_check(scenario, "optimization", None, n, force)
     return n
+
+
+def map_realisation_model(scenario: Scenario, k: int, damper: ParticleDamper) -> DamperModel:
+    """The effective-field model of ``damper`` from realisation ``k`` of the scenario's map
+    (a picklable model factory of a design study, with ``functools.partial``)."""
+    proto = cast("EffectiveFieldDamper", scenario.model(None, damper))
+    return type(proto)(damper, **{**scenario.fields.options(), "file": None},
+                       field=realisation_map(proto._map, k))
 
 
 def design_evaluator(scenario: Scenario, count: int,
@@ -842,9 +905,14 @@ def design_evaluator(scenario: Scenario, count: int,
     (:func:`pdamper.design.study.make_objective`)."""
     from pdamper.design.study import DesignEvaluator
 
-    seeds = seeds_of(scenario, count)
     structure, damper = scenario.structure_model(), scenario.damper()
     x0 = scenario.structure.initial_displacement
+    if level3_kind(scenario.model(None, damper)) == "map":  # the map's realisations 0 .. N-1
+        return RealisationsEvaluator(
+            [DesignEvaluator(structure, damper, x0, objective,
+                             functools.partial(map_realisation_model, scenario, k))
+             for k in range(count)], list(range(count)))
+    seeds = seeds_of(scenario, count)
     return RealisationsEvaluator(
         [DesignEvaluator(structure, damper, x0, objective,
                          functools.partial(seeded_model, scenario, s)) for s in seeds], seeds)

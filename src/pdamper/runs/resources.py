@@ -373,5 +373,18 @@ def frf_cost(scenario: Scenario, model: str | None, frequencies: Sequence[float]
                                "or give structure.modes fewer modes")
 
 
+def frf_sample_cost(scenario: Scenario, frequencies: int) -> resources.Cost:
+    """What one sample of an uncertain forced response costs (``pdamper frf
+    --uncertainty``, :func:`pdamper.runs.uncertainty.frf_answers`): harmonic balance at
+    ``frequencies`` frequencies on the scenario's structure (a describing-function table
+    per frequency, no stepped sine), as :func:`frf_cost` judges it."""
+    from pdamper.coupling.frf import DEFAULT_STROKES, _modal
+
+    n = int(_modal(scenario.structure_model()).modes)
+    return resources.stepped_sine_cost(int(frequencies), 0, 0, n, DEFAULT_STROKES,
+                                       [("frequency", frequencies / USUAL_FRF["frequencies"]),
+                                        ("structure.modes", float(n))])
+
+
 __all__ = ["FRF_OVERRIDE", "RUNS", "USUAL_EXCITATION", "check_frf", "check_resources",
-           "check_runs", "excitation_cost", "frf_cost"]
+           "check_runs", "excitation_cost", "frf_cost", "frf_sample_cost"]

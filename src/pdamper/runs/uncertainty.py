@@ -5,11 +5,22 @@ The inputs given as ``"value +- sd"`` (:mod:`pdamper.io.uncertain`) are sampled
 inputs) and every sample's answers computed: Level II at ``[excitation]``
 (:func:`level2_answers`; the DEM: :func:`dem_answers`, in parallel on the sweep engine by
 :func:`dem_batch`), the map of ``[map]`` (:func:`map_answers`) or the Level III free decay
-(:func:`level3_answers`). :func:`check_cost` judges the propagation's cost before any run;
-:func:`propagate_scenario` runs it.
+(:func:`level3_answers`), the forced response of ``pdamper frf`` (:func:`frf_answers`) or
+the response to a load history (:func:`load_answers`). :func:`check_cost` judges the
+propagation's cost before any run; :func:`propagate_scenario` runs it.
+
+The inputs the sampled fidelity does not use (its declared
+:attr:`~pdamper.models.base.DamperModel.unused_inputs`, e.g. the friction in the analytical
+bed) are still sampled, so that the design and its indices are those of every input given,
+and are reported under ``not_used`` with the fidelities that do use them
+(:func:`pdamper.models.registry.not_used`): their zero index says nothing of the damper,
+only of the model asked.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
 
 from pdamper.errors import InputError
 from pdamper.io.uncertain import sampled_damper, with_values
@@ -23,6 +34,23 @@ LEVEL3_UNITS = {"amplitude_at": "m", "final_amplitude": "m", "mean_damping_ratio
                 "envelope": "m"}
 #: Times of the Level III envelope band (from release to the end of the run).
 ENVELOPE_POINTS = 101
+FRF_UNITS = {"peak": "m", "peak_frequency": "Hz", "rms": "m", "amplitude": "m"}
+LOAD_UNITS = {"peak": "m", "rms": "m", "peak_acceleration": "m/s^2",
+              "rms_acceleration": "m/s^2", "dissipated_energy": "J", "envelope": "m"}
+#: Most and fewest windows of the load response's envelope band (the largest |x| in each;
+#: each a period of the structure's first mode where that fits).
+LOAD_WINDOWS = (20, 400)
+
+
+def _load_windows(scenario, history, tail: float):
+    """The edges [s] of the envelope's windows of a load response: about one period of
+    the first natural frequency each (:data:`LOAD_WINDOWS`)."""
+    import numpy as np
+
+    end = history.duration + tail
+    f1 = scenario.structure_model().natural_frequency
+    n = int(np.clip(round(end * f1), *LOAD_WINDOWS))
+    return np.linspace(0.0, end, n + 1)
 
 
 def _model_class(scenario, name: str | None):
@@ -156,15 +184,192 @@ def dem_batch(scenario, *, workers: int | None = None, serial: bool = False, pro
     return batch
 
 
+def _sampled(scenario, values: dict[str, float], model: str | None):
+    """The scenario's model (fidelity ``model``, default ``[simulation] model``) and
+    structure at the sample ``values``."""
+    sc = with_values(scenario, values)
+    return sc.model(model, sampled_damper(scenario, values)), sc.structure_model()
+
+
+def frf_answers(scenario, load, frequency, model: str | None = None):
+    """``evaluate(values) -> answers`` of the forced response under the harmonic ``load``
+    (:class:`~pdamper.coupling.frf.HarmonicLoad`) at ``frequency`` [Hz]: harmonic balance
+    (every sample's describing functions; the stepped sines run at the nominal inputs
+    alone), the largest stable amplitude of the output point at each frequency
+    (``amplitude``: its band), its largest value over the frequencies (``peak``), where
+    (``peak_frequency``) and its RMS over them (``rms``; :data:`FRF_UNITS`)."""
+    import numpy as np
+
+    from pdamper.coupling.frf import HARMONIC_BALANCE, frequency_response
+
+    cls = _model_class(scenario, model or scenario.simulation.model)
+    if cls.coupling not in HARMONIC_BALANCE:  # pragma: no cover - every cheap model has one
+        raise InputError("uncertainty", f"the {cls.fidelity} model has no harmonic balance "
+                         "to sample")
+    f = np.unique(np.atleast_1d(np.asarray(frequency, float)))
+
+    def evaluate(values: dict[str, float]) -> dict:
+        m, structure = _sampled(scenario, values, model)
+        hb = frequency_response(m, structure, load, f, sweep="none").harmonic_balance
+        assert hb is not None  # the pseudo-force coupling solves it
+        a = np.where(hb.steady, hb.amplitude, np.nan)
+        a = np.where(np.isnan(a).all(axis=1, keepdims=True), 0.0, a)
+        amp = np.nanmax(a, axis=1)
+        k = int(np.argmax(amp))
+        return {"peak": float(amp[k]), "peak_frequency": float(f[k]),
+                "rms": float(np.sqrt(np.mean(amp**2))), "amplitude": amp}
+
+    return evaluate
+
+
+def load_answers(scenario, history, tail: float, model: str | None = None):
+    """``evaluate(values) -> answers`` of the response to the load ``history``
+    (:class:`~pdamper.coupling.loads.LoadHistory`) plus ``tail`` [s]: peak and RMS of the
+    output point's displacement and acceleration, the energy the damper dissipated, and the
+    envelope (the largest |x| in each window, about a period of the first mode,
+    :data:`LOAD_WINDOWS`: its band;
+    :data:`LOAD_UNITS`)."""
+    import numpy as np
+
+    from pdamper.coupling.loads import check_model, run_load
+
+    _model_class(scenario, model or scenario.simulation.model)
+    rate = scenario.simulation.sample_rate
+    edges = _load_windows(scenario, history, tail)
+
+    def evaluate(values: dict[str, float]) -> dict:
+        m, structure = _sampled(scenario, values, model)
+        check_model(m, structure)
+        r = run_load(m, structure, history, rate, tail)
+        idx = np.clip(np.searchsorted(r.time - r.time[0], edges), 0, r.time.size - 1)
+        x = np.abs(r.displacement)
+        env = np.array([x[i:max(j, i + 1)].max() for i, j in zip(idx[:-1], idx[1:],
+                                                                   strict=True)])
+        return {"peak": r.peak, "rms": r.rms, "peak_acceleration": r.peak_acceleration,
+                "rms_acceleration": r.rms_acceleration,
+                "dissipated_energy": float(r.dissipated_energy), "envelope": env}
+
+    return evaluate
+
+
+# --------------------------------------------------------------------------- design studies
+def parse_quantile(value, field: str = "robust_quantile") -> float:
+    """``--robust-quantile`` as a number in (0, 1) (``0.9``, ``"90%"``)."""
+    from pdamper.units import parse_quantity
+
+    q = value if isinstance(value, float) else parse_quantity(str(value), "", field)
+    if not 0.0 < q < 1.0:
+        raise InputError(field, f"must be in (0, 1) (0.9: the design whose objective 90 % "
+                         f"of the uncertain inputs' samples meet), got {value!r}")
+    return float(q)
+
+
+@dataclass
+class UncertainDesignEvaluator:
+    """A design study's objective under the uncertain inputs: each design evaluated at
+    the ``2 n`` quasi-Monte Carlo samples of the inputs (the matrices A and B of
+    :func:`pdamper.design.uncertainty.design_matrices`); its value is their mean, or with
+    ``quantile`` q the robust value: the q-quantile of a minimised objective (the value
+    that a fraction q of the samples meet), the (1 - q)-quantile of a maximised one. The
+    candidate's extras hold ``objective_mean``, ``objective_std`` (divisor 2 n - 1),
+    ``objective_nominal`` (the nominal inputs), ``objective_p5`` ... ``objective_p95`` and
+    ``objective_quantile``. Picklable for dask."""
+
+    nominal: Any
+    samples: list
+    sense: str
+    quantile: float | None = None
+
+    def __call__(self, design: dict) -> tuple[float, dict]:
+        import numpy as np
+
+        from pdamper.design.uncertainty import PERCENTILES
+
+        value0, extras = self.nominal(design)
+        v = np.array([e(design)[0] for e in self.samples], float)
+        if not np.all(np.isfinite(v)):
+            raise InputError("uncertainty", "the objective is not finite at some samples of "
+                             "the uncertain inputs; narrow their standard deviations")
+        q = None
+        if self.quantile is not None:
+            q = float(np.quantile(v, self.quantile if self.sense == "min"
+                                  else 1.0 - self.quantile))
+        out = {**extras, "objective_nominal": float(value0), "objective_mean": float(v.mean()),
+               "objective_std": float(v.std(ddof=1)),
+               **{f"objective_p{p:g}": float(x)
+                  for p, x in zip(PERCENTILES, np.percentile(v, PERCENTILES), strict=True)}}
+        if q is not None:
+            out["objective_quantile"] = q
+        return (float(v.mean()) if q is None else q), out
+
+    def check(self, design: dict) -> None:
+        """The physical limits of the design at the nominal inputs."""
+        self.nominal.check(design)
+
+
+def design_evaluator(scenario, n: int, seed: int, objective, quantile: float | None = None):
+    """The :class:`UncertainDesignEvaluator` of the scenario's design study for
+    ``objective`` (:func:`pdamper.design.study.make_objective`) at ``2 n`` samples of its
+    uncertain inputs (``n`` base points, seeded)."""
+    import functools
+
+    from pdamper.design.study import DesignEvaluator
+    from pdamper.design.uncertainty import check_points, design_matrices
+
+    check_points(n)
+    inputs = scenario.uncertain_inputs()
+    a, b = design_matrices(inputs, n, seed)
+    x0 = scenario.structure.initial_displacement
+
+    def at(values: dict[str, float]):
+        sc = with_values(scenario, values)
+        try:
+            return DesignEvaluator(sc.structure_model(), sampled_damper(scenario, values), x0,
+                                   objective, functools.partial(sc.model, None))
+        except InputError as exc:
+            shown = ", ".join(f"{k} = {v:.6g}" for k, v in values.items())
+            raise InputError(exc.field, f"at the uncertainty sample {shown}: "
+                             f"{exc.message}") from None
+
+    samples = [at({u.field: float(m[i, j]) for i, u in enumerate(inputs)})
+               for m in (a, b) for j in range(n)]
+    return UncertainDesignEvaluator(at({u.field: u.value for u in inputs}), samples,
+                                    objective.sense, quantile)
+
+
+def check_design_cost(scenario, n: int, force: bool = False) -> None:
+    """Refuse a design study whose every design runs ``2 n + 1`` times (the samples and
+    the nominal) beyond the limits: the study's cost check
+    (:func:`pdamper.runs.resources.check_resources`) with its time ``2 n + 1`` times over."""
+    from pdamper import resources
+    from pdamper.runs.resources import check_resources
+
+    runs = 2 * n + 1
+
+    def require(cost, force_=False):
+        if cost.seconds > 0:
+            cost = resources.Cost(
+                f"{cost.what} under the uncertain inputs", cost.seconds * runs, cost.memory,
+                f"{runs} runs of every design ({n} Sobol' base points), each {cost.detail}",
+                (*cost.drivers, ("uncertainty", n / 16)), runs=runs * max(cost.runs or 1, 1),
+                longest=cost.longest if cost.longest is not None else cost.seconds,
+                remedy="give --uncertainty fewer base points or vary fewer designs")
+        return resources.require(cost, force_)
+
+    check_resources(scenario, "optimization", None, force, require=require)
+
+
 #: The map's answers whose bands become variables of its NetCDF file.
 MAP_BANDS = ("loss_factor", "effective_mass_ratio")
 MAP_UNITS = {"max_loss_factor": "1", "mean_loss_factor": "1", "loss_factor": "1",
              "effective_mass_ratio": "1"}
 
 
-def check_cost(scenario, level: str, n: int, force: bool = False) -> None:
+def check_cost(scenario, level: str, n: int, force: bool = False, *,
+               frequencies: int = 1, history=None, tail: float = 0.0) -> None:
     """Refuse a propagation whose ``n (d + 2) + 1`` runs exceed the limits of
-    :mod:`pdamper.resources`."""
+    :mod:`pdamper.resources` (``frequencies``: of a forced response, ``"frf"``;
+    ``history`` and ``tail``: of a load history, ``"load"``)."""
     from pdamper import resources
 
     d = len(scenario.uncertain_inputs())
@@ -180,6 +385,14 @@ def check_cost(scenario, level: str, n: int, force: bool = False) -> None:
         dem = excitation_cost(scenario, "dem")
         assert dem is not None  # the DEM states what a run costs
         one = dem
+    elif level == "frf":  # a describing-function table per frequency, then the solution
+        from pdamper.runs.resources import frf_sample_cost
+
+        one = frf_sample_cost(scenario, frequencies)
+    elif level == "load":  # one pseudo-force run over the record and its tail
+        one = resources.pseudo_force_cost(history.duration + tail,
+                                          scenario.simulation.sample_rate,
+                                          scenario.structure_model().natural_frequency)
     elif level == "level3":
         one = resources.pseudo_force_cost(scenario.simulation.duration, _SAMPLE_RATE,
                                           scenario.structure_model().natural_frequency)
@@ -192,15 +405,30 @@ def check_cost(scenario, level: str, n: int, force: bool = False) -> None:
 
 
 def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str | None = None,
-                       progress=None, batch=None):
-    """Propagate the scenario's uncertain inputs to its ``"level2"``, ``"map"`` or
-    ``"level3"`` answers with ``n`` base points (:func:`pdamper.design.uncertainty.propagate`). A
-    sample the models refuse is an error naming its field and the sample."""
+                       progress=None, batch=None, *, load=None, frequency=None,
+                       history=None, tail: float = 0.0):
+    """Propagate the scenario's uncertain inputs to its ``"level2"``, ``"map"``,
+    ``"level3"``, ``"frf"`` (``load``, ``frequency``) or ``"load"`` (``history``,
+    ``tail``) answers with ``n`` base points
+    (:func:`pdamper.design.uncertainty.propagate`). A sample the models refuse is an error
+    naming its field and the sample; the inputs the sampled fidelity does not use are
+    listed in the result's ``not_used`` (module docstring)."""
+    import dataclasses
+
     from pdamper.design.uncertainty import check_points, propagate
+    from pdamper.models import get_damper_model
+    from pdamper.models.registry import not_used
 
     check_points(n)
     inputs = scenario.uncertain_inputs()
-    if level == "level2":
+    fidelity = {"dem": "dem"}.get(level) or model or (
+        "analytic" if level in ("level2", "map") else scenario.simulation.model)
+    unused = not_used(get_damper_model(fidelity, "model"), [u.field for u in inputs])
+    if level == "frf":
+        evaluate, units = frf_answers(scenario, load, frequency, model), FRF_UNITS
+    elif level == "load":
+        evaluate, units = load_answers(scenario, history, tail, model), LOAD_UNITS
+    elif level == "level2":
         evaluate, units = level2_answers(scenario, model), LEVEL2_UNITS
     elif level == "map":
         evaluate, units = map_answers(scenario, model or "analytic"), MAP_UNITS
@@ -222,11 +450,22 @@ def propagate_scenario(scenario, level: str, n: int, seed: int = 0, model: str |
     if "envelope" in result.bands:  # its times: release to the end of the run [s]
         import numpy as np
 
-        result.bands["envelope"]["time"] = np.linspace(0.0, scenario.simulation.duration,
-                                                       ENVELOPE_POINTS)
-    return result
+        if level == "load":  # the windows' centres [s]
+            edges = _load_windows(scenario, history, tail)
+            result.bands["envelope"]["time"] = 0.5 * (edges[:-1] + edges[1:])
+        else:
+            result.bands["envelope"]["time"] = np.linspace(
+                0.0, scenario.simulation.duration, ENVELOPE_POINTS)
+    if "amplitude" in result.bands:  # the forced response's frequencies [Hz]
+        import numpy as np
+
+        result.bands["amplitude"]["frequency"] = np.unique(
+            np.atleast_1d(np.asarray(frequency, float)))
+    return dataclasses.replace(result, not_used=unused)
 
 
-__all__ = ["ENVELOPE_POINTS", "LEVEL2_UNITS", "LEVEL3_UNITS", "MAP_BANDS", "MAP_UNITS",
-           "check_cost", "dem_answers", "dem_batch", "dem_point", "level2_answers",
-           "level3_answers", "map_answers", "propagate_scenario"]
+__all__ = ["ENVELOPE_POINTS", "FRF_UNITS", "LEVEL2_UNITS", "LEVEL3_UNITS", "LOAD_UNITS",
+           "LOAD_WINDOWS", "MAP_BANDS", "MAP_UNITS", "UncertainDesignEvaluator", "check_cost",
+           "check_design_cost", "dem_answers", "dem_batch", "design_evaluator",
+           "dem_point", "frf_answers", "level2_answers", "level3_answers", "load_answers",
+           "map_answers", "parse_quantile", "propagate_scenario"]
