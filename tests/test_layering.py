@@ -33,6 +33,7 @@ LEVELS = {
     "runs": 9,                                        # a scenario's runs and their cost
     "reports": 10,                                    # rendering of the runs' results
     "cli": 11, "__main__": 11,
+    "explore": 11,                                    # the local web page (beside cli)
 }
 
 

@@ -39,6 +39,7 @@ OWN = {
                "workers", "force", "scenario", "as_json"},
     "frf": {"base", "max_cycles", "allow_cost", "plot", "out", "uncertainty", "uncertain",
             "uncertainty_seed", "realisations", "scenario", "as_json"},
+    "explore": {"port", "no_browser", "out", "mass_limit", "scenario"},
 }
 
 

@@ -128,6 +128,7 @@ def _register() -> None:
         cor,
         cor_sensitivity,
         dem,
+        explore,
         frf,
         map,
         optimize,
@@ -142,7 +143,8 @@ def _register() -> None:
                            ("dem", dem.dem), ("paper", paper.paper),
                            ("example-scenario", scenario.example_scenario), ("cor", cor.cor),
                            ("cor-sensitivity", cor_sensitivity.cor_sensitivity),
-                           ("report", report.report), ("frf", frf.frf)):
+                           ("report", report.report), ("frf", frf.frf),
+                           ("explore", explore.explore)):
         app.command(name, cls=_Command, short_help=_summary(function))(function)
     _registered = True
 

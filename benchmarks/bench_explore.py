@@ -1,0 +1,67 @@
+"""Latency of ``pdamper explore``: from a slider's new value to the views it redraws.
+
+The page redraws in two stages (docs/explore.md): the quick views (the bare structure's FRF,
+the Level II map, the mass) in the server's event loop, then the forced response (harmonic
+balance and the stepped sines of the sweep, what ``pdamper frf`` computes) in a worker
+thread while the page keeps answering. This prints both, per fidelity and structure, for a
+sequence of slider values each seen for the first time (no cache), plus a cached revisit.
+
+    python benchmarks/bench_explore.py [--grid 3Hz:9Hz:121]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+from pdamper.explore import design
+from pdamper.explore.design import Inputs
+
+MODES = """frequency [Hz], damping ratio [%], damper [kg^-0.5], observation [kg^-0.5]
+5.5, 0.8, 0.2582, 0.2582
+31.0, 0.8, -0.3162, -0.3162
+"""
+
+
+def _cases(tmp: Path, grid: str) -> dict[str, Inputs]:
+    modes = tmp / "modes.csv"
+    modes.write_text(MODES)
+    scen = tmp / "two_modes.toml"
+    scen.write_text(f'[structure]\nmodes = "{modes}"\n')
+    return {"1-DOF (the paper's structure)": Inputs(frequency=grid),
+            "two modes (modes file)": Inputs(scenario=scen, frequency=grid)}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--grid", default="3Hz:9Hz:121", help="the page's frequencies")
+    ap.add_argument("--moves", type=int, default=5, help="slider values per case")
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as d:
+        for name, base in _cases(Path(d), args.grid).items():
+            design.quick(base)  # imports and first compiles out of the figures
+            quick, full = [], []
+            for i in range(args.moves):
+                inputs = base.with_value("particles.count", 33 + i)
+                t0 = time.perf_counter()
+                design.quick(inputs)
+                t1 = time.perf_counter()
+                design.response(inputs)
+                t2 = time.perf_counter()
+                quick.append(t1 - t0)
+                full.append(t2 - t0)
+            t0 = time.perf_counter()
+            design.quick(base.with_value("particles.count", 33))
+            design.response(base.with_value("particles.count", 33))
+            cached = time.perf_counter() - t0
+            print(f"{name}, analytic, {args.grid}: quick views median "
+                  f"{statistics.median(quick) * 1e3:.0f} ms (worst {max(quick) * 1e3:.0f} ms); "
+                  f"with the forced response median {statistics.median(full):.2f} s "
+                  f"(worst {max(full):.2f} s); a revisited design {cached * 1e3:.1f} ms")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,442 @@
+"""The page of ``pdamper explore``: widgets for :class:`~pdamper.explore.design.Inputs`,
+Bokeh figures for its views, a DEM check that runs beside the page (docs/explore.md).
+
+Every number the page shows comes from :mod:`pdamper.explore.design`, which the command
+line shares: the peak lines are ``pdamper frf``'s, verbatim. A slider's move redraws the
+quick views (bare FRF, Level II map, mass) at once and the forced response when it is
+solved, in a worker thread, so that the page keeps answering; the DEM check runs in a
+separate process (a dask ``LocalCluster`` of one worker, as the maps use) and adds its
+point to the map when it arrives.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import dataclasses
+import time
+from concurrent.futures import Future, ThreadPoolExecutor
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import panel as pn
+from bokeh.models import ColorBar, ColumnDataSource, LinearColorMapper
+from bokeh.plotting import figure
+
+from pdamper.errors import PdamperError
+from pdamper.explore import design
+from pdamper.explore.design import CONTROLS, LOADS, Inputs
+
+#: One thread solves forced responses: a newer design's result replaces an older one's.
+_SOLVER = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pdamper-frf")
+#: Seconds between the DEM check's progress updates on the page.
+POLL = 0.5
+
+_MODE_NAMES = ["solid-like", "single CaC", "single CaC subh.", "double CaC",
+               "double CaC subh.", "scattering", "rattling"]
+
+
+def _dem_point(inputs: Inputs, frequency: float, stroke: float) -> dict[str, Any]:
+    """One DEM point of the design (runs in the check's worker process)."""
+    from pdamper.explore.design import scenario_of
+
+    t0 = time.perf_counter()
+    sc = scenario_of(dataclasses.replace(inputs, model=None))
+    model = sc.model("dem", sc.damper())
+    r = model.response(frequency, stroke)
+    return {"frequency": frequency, "stroke": stroke,
+            "loss_factor": float(np.ravel(r.loss_factor)[0]),
+            "effective_mass_ratio": float(np.ravel(r.effective_mass_ratio)[0]),
+            "mode": int(np.ravel(r.mode)[0]), "seconds": time.perf_counter() - t0}
+
+
+class DEMChecks:
+    """The DEM checks of one server: a one-worker dask cluster started at the first check,
+    results cached per (design, point)."""
+
+    def __init__(self) -> None:
+        self._client: Any = None
+        self.cache: dict[tuple, dict[str, Any]] = {}
+
+    def submit(self, inputs: Inputs, frequency: float, stroke: float) -> Future | Any:
+        key = (inputs, round(frequency, 9), round(stroke, 12))
+        if key in self.cache:
+            done: Future = Future()
+            done.set_result(self.cache[key])
+            return done
+        if self._client is None:
+            from dask.distributed import Client, LocalCluster
+
+            cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                   dashboard_address=None)
+            self._client = Client(cluster)
+        fut = self._client.submit(_dem_point, inputs, frequency, stroke, pure=False)
+        fut.add_done_callback(lambda f: self.cache.setdefault(key, f.result())
+                              if f.status == "finished" else None)
+        return fut
+
+    def close(self) -> None:
+        if self._client is not None:
+            cluster = self._client.cluster
+            self._client.close()
+            cluster.close()
+            self._client = None
+
+
+class Page:
+    """One browser session's page."""
+
+    def __init__(self, base: Inputs, checks: DEMChecks, out_dir: Path,
+                 mass_limit: float | None = None):
+        self.inputs = base
+        self.checks = checks
+        self.out_dir = out_dir
+        self.generation = 0
+        sc = design.scenario_of(base)
+        start = design.values_of(sc)
+        self.widgets: dict[str, Any] = {}
+        self.rows: dict[str, Any] = {}
+        for c in CONTROLS:
+            if c.key.startswith("structure.") and sc.structure.modes is not None:
+                continue  # a modes file: the structure is the file's, not the sliders'
+            value = start.get(c.key, c.low)
+            decl = c.declaration()
+            unit = "" if c.unit == "1" else f" [{c.unit}]"
+            tip = f"{decl.doc} Scenario key {c.key}; allowed {decl.allowed or 'any'}."
+            cls = pn.widgets.IntSlider if c.integer else pn.widgets.FloatSlider
+            lo, hi = design.span(c, value)
+            w = cls(name=f"{c.label}{unit}", start=lo, end=hi, step=c.step,
+                    value=int(value) if c.integer else value,
+                    sizing_mode="stretch_width", css_classes=[f"ctl-{c.key.replace('.', '-')}"])
+            w.param.watch(self._on_value(c.key), "value_throttled")
+            self.widgets[c.key] = w
+            self.rows[c.key] = pn.Row(w, pn.widgets.TooltipIcon(value=tip), sizing_mode="stretch_width")
+        if "particles.count" in self.widgets:
+            self.widgets["particles.count"].end = max(int(sc.damper().max_count),
+                                                      self.widgets["particles.count"].value)
+        mats = design.materials()
+        self.particle_material = pn.widgets.Select(
+            name="particle material", options=mats, value=_name(sc.particles.material, mats))
+        self.container_material = pn.widgets.Select(
+            name="container material", options=mats, value=_name(sc.container.material, mats))
+        self.particle_material.param.watch(self._on_value("particles.material"), "value")
+        self.container_material.param.watch(self._on_value("container.material"), "value")
+        kind = base.load_kind
+        self.load_kind = pn.widgets.RadioButtonGroup(name="load", options=list(LOADS),
+                                                     value=kind)
+        unit, _, lo, hi = LOADS[kind]
+        self.load = pn.widgets.FloatSlider(name=f"load amplitude [{unit}]", start=lo, end=hi,
+                                           step=0.1, value=base.load_amplitude,
+                                           css_classes=["ctl-load"])
+        self.frequency = pn.widgets.TextInput(name="frequencies (start:stop:count)",
+                                              value=base.frequency_text())
+        self.sweep = pn.widgets.Select(name="sweep", options=["both", "up", "down"],
+                                       value=base.sweep)
+        fidelities = ["analytic"] + (["fields"] if base.fields is not None else [])
+        self.fidelity = pn.widgets.Select(name="fidelity", options=fidelities,
+                                          value=base.model if base.model in fidelities
+                                          else "analytic")
+        self.mass_limit = pn.widgets.FloatInput(name="mass limit [g] (0: none)", start=0,
+                                                value=0 if mass_limit is None
+                                                else mass_limit * 1e3)
+        for w in (self.load_kind, self.frequency, self.sweep, self.fidelity):
+            w.param.watch(self._on_load, "value")
+        self.load.param.watch(self._on_load, "value_throttled")
+        self.mass_limit.param.watch(lambda _e: self._draw_quick(), "value")
+
+        self.message = pn.pane.Alert("", alert_type="danger", visible=False,
+                                     css_classes=["message"])
+        self.status = pn.pane.Markdown("", css_classes=["status"])
+        self.peaks = pn.pane.Markdown("", css_classes=["peaks"])
+        self.mass = pn.pane.Markdown("", css_classes=["mass"])
+        self.notes = pn.pane.Markdown("", css_classes=["notes"])
+        self.dem_text = pn.pane.Markdown("", css_classes=["dem"])
+        self.saved = pn.pane.Markdown("", css_classes=["saved"])
+        self.save_path = pn.widgets.TextInput(name="scenario file",
+                                              value=str(out_dir / "explored.toml"))
+        self.save_button = pn.widgets.Button(name="Save scenario", button_type="primary",
+                                             css_classes=["save"])
+        self.report_button = pn.widgets.Button(name="Report", css_classes=["report"])
+        self.dem_button = pn.widgets.Button(name="DEM check", button_type="warning",
+                                            css_classes=["demcheck"])
+        self.save_button.on_click(lambda _e: self._save())
+        self.report_button.on_click(self._report)
+        self.dem_button.on_click(self._dem)
+        self._figures()
+        self.dem_points: list[dict[str, Any]] = []
+        self.response: design.Response | None = None
+
+    # ---- layout ---------------------------------------------------------------------------
+    def layout(self) -> pn.template.BaseTemplate:
+        row = self.rows.get
+        side = pn.Column(
+            "### Damper", row("particles.count"), row("particles.radius"),
+            self.particle_material, row("container.length"), row("container.width"),
+            row("container.depth"), self.container_material, row("container.mass"),
+            row("particles.friction"),
+            "### Structure and load",
+            *[w for k, w in self.rows.items() if k.startswith("structure.")],
+            self.load_kind, self.load, self.frequency, self.sweep, self.fidelity,
+            self.mass_limit, sizing_mode="stretch_width")
+        side.objects = [o for o in side.objects if o is not None]
+        main = pn.Column(
+            self.message, self.status,
+            pn.Row(self.frf_fig, self.map_fig),
+            self.peaks, self.mass, self.notes,
+            pn.Row(self.dem_button, self.dem_text),
+            pn.Row(self.save_path, self.save_button, self.report_button), self.saved)
+        tpl = pn.template.BootstrapTemplate(title="pdamper explore", sidebar=[side],
+                                            main=[main])
+        pn.state.onload(self._start)
+        return tpl
+
+    def _figures(self) -> None:
+        self.frf_src = {n: ColumnDataSource(data={"f": [], "x": []})
+                        for n in ("bare", "up", "down")}
+        self.hb_src = {n: ColumnDataSource(data={"f": [], "x": []}) for n in ("s", "u", "e")}
+        p = figure(title="forced response at the output point", height=380, width=560,
+                   x_axis_label="frequency [Hz]", y_axis_label="amplitude [mm]",
+                   tools="pan,wheel_zoom,box_zoom,reset,save")
+        p.line("f", "x", source=self.frf_src["bare"], color="gray", line_dash="dashed",
+               legend_label="without damper")
+        p.line("f", "x", source=self.frf_src["up"], color="#1f77b4", line_width=2,
+               legend_label="sweep up")
+        p.line("f", "x", source=self.frf_src["down"], color="#d62728", line_width=2,
+               line_dash="dotdash", legend_label="sweep down")
+        p.scatter("f", "x", source=self.hb_src["s"], color="black", size=4,
+                  legend_label="harmonic balance, stable")
+        p.scatter("f", "x", source=self.hb_src["u"], color="orange", size=4, marker="x",
+                  legend_label="harmonic balance, unstable")
+        p.scatter("f", "x", source=self.hb_src["e"], color="purple", size=4,
+                  marker="triangle", legend_label="harmonic balance, edge")
+        p.legend.click_policy = "hide"
+        p.legend.label_text_font_size = "8pt"
+        self.frf_fig = pn.pane.Bokeh(p)
+        self.map_src = ColumnDataSource(data={"image": [np.zeros((2, 2))], "x": [0], "y": [0],
+                                              "dw": [1], "dh": [1]})
+        self.path_src = ColumnDataSource(data={"f": [], "x": []})
+        self.dem_src = ColumnDataSource(data={"f": [], "x": [], "eta": [], "label": []})
+        self.mapper = LinearColorMapper(palette="Viridis256", low=0, high=1)
+        m = figure(title="damper loss factor (Level II) and operating path", height=380,
+                   width=520, x_axis_label="frequency [Hz]",
+                   y_axis_label="container stroke [mm]", tools="pan,wheel_zoom,reset,save")
+        m.image("image", x="x", y="y", dw="dw", dh="dh", source=self.map_src,
+                color_mapper=self.mapper)
+        m.line("f", "x", source=self.path_src, color="white", line_width=2,
+               legend_label="operating path (sweep up)")
+        m.scatter("f", "x", source=self.dem_src, size=12, marker="star", color="red",
+                  line_color="white", legend_label="DEM check")
+        m.add_layout(ColorBar(color_mapper=self.mapper, title="eta"), "right")
+        m.legend.label_text_font_size = "8pt"
+        self.map_fig = pn.pane.Bokeh(m)
+
+    # ---- events ---------------------------------------------------------------------------
+    def _on_value(self, key: str):
+        def changed(event) -> None:
+            self.inputs = self.inputs.with_value(key, event.new)
+            self._schedule()
+        return changed
+
+    def _on_load(self, _event=None) -> None:
+        kind = self.load_kind.value
+        if kind != self.inputs.load_kind:
+            unit, _, lo, hi = LOADS[kind]
+            self.load.name = f"load amplitude [{unit}]"
+            self.load.start, self.load.end = lo, hi
+            self.load.value = min(max(self.load.value, lo), hi)
+        model = self.fidelity.value
+        self.inputs = dataclasses.replace(
+            self.inputs, load_kind=kind, load_amplitude=float(self.load.value),
+            frequency=self.frequency.value.strip(), sweep=self.sweep.value, model=model)
+        self._schedule()
+
+    def _start(self) -> None:
+        self._schedule()
+
+    def _fail(self, exc: Exception) -> None:
+        self.message.object = f"error: {exc}"
+        self.message.visible = True
+        self.status.object = ""
+
+    def _schedule(self) -> None:
+        """Quick views now; the forced response in the solver thread (the page answers
+        meanwhile; a newer design supersedes an older one's result)."""
+        self.generation += 1
+        gen = self.generation
+        t0 = time.perf_counter()
+        try:
+            self.quick = design.quick(self.inputs)
+        except (PdamperError, ValueError) as exc:
+            self._fail(exc)
+            return
+        self.message.visible = False
+        self._draw_quick()
+        self.status.object = (f"views redrawn in {(time.perf_counter() - t0) * 1e3:.0f} ms; "
+                              "solving the forced response ...")
+        inputs = self.inputs
+        fut = _SOLVER.submit(design.response, inputs)
+        doc = pn.state.curdoc
+
+        def done(f: Future) -> None:
+            if doc is None:
+                return
+            doc.add_next_tick_callback(lambda: self._solved(gen, f, t0))
+        fut.add_done_callback(done)
+
+    def _solved(self, gen: int, fut: Future, t0: float) -> None:
+        if gen != self.generation:
+            return  # a newer design is being solved
+        try:
+            res = fut.result()
+        except (PdamperError, ValueError) as exc:
+            self._fail(exc)
+            return
+        self.response = res
+        self._draw_response(res)
+        self.status.object = (f"forced response solved ({res.seconds:.2f} s; page answered "
+                              f"after {(time.perf_counter() - t0):.2f} s)")
+
+    # ---- drawing --------------------------------------------------------------------------
+    def _draw_quick(self) -> None:
+        q = self.quick
+        self.frf_src["bare"].data = {"f": q.frequency, "x": q.bare * 1e3}
+        eta = np.where(np.isfinite(q.map_loss_factor), q.map_loss_factor, np.nan)
+        f0, f1 = float(q.map_frequency[0]), float(q.map_frequency[-1])
+        x0, x1 = float(q.map_stroke[0]) * 1e3, float(q.map_stroke[-1]) * 1e3
+        # the map's strokes are log-spaced: drawn against their index scaled to mm
+        lin = np.linspace(x0, x1, eta.shape[0])
+        img = np.array([np.interp(lin, q.map_stroke * 1e3, eta[:, j])
+                        for j in range(eta.shape[1])]).T
+        self.map_src.data = {"image": [img], "x": [f0], "y": [x0], "dw": [max(f1 - f0, 1e-9)],
+                             "dh": [max(x1 - x0, 1e-9)]}
+        finite = eta[np.isfinite(eta)]
+        self.mapper.high = float(max(finite.max(), 1e-3)) if finite.size else 1.0
+        limit = self.mass_limit.value
+        self.mass.object = "**mass** " + design.mass_text(q, None if not limit
+                                                           else limit * 1e-3)
+        notes = [f"- {k}: not used by the {self.fidelity.value} fidelity ({why})"
+                 for k, why in q.unused.items()]
+        self.notes.object = "\n".join(notes)
+
+    def _draw_response(self, res: design.Response) -> None:
+        r = res.frf
+        for name in ("up", "down"):
+            c = r.sweeps.get(name)
+            self.frf_src[name].data = ({"f": r.frequency, "x": c.amplitude * 1e3} if c is not None
+                                       else {"f": [], "x": []})
+        hb = r.harmonic_balance
+        for code in ("s", "u", "e"):
+            fs, xs = [], []
+            if hb is not None and hb.branch is not None:
+                for i, f in enumerate(r.frequency):
+                    for a, b in zip(hb.amplitude[i], hb.branch[i], strict=True):
+                        if b and b[0] == code:
+                            fs.append(float(f))
+                            xs.append(float(a) * 1e3)
+            self.hb_src[code].data = {"f": fs, "x": xs}
+        path = r.sweeps.get("up") or next(iter(r.sweeps.values()), None)
+        self.path_src.data = ({"f": r.frequency, "x": path.stroke * 1e3} if path is not None
+                              else {"f": [], "x": []})
+        self.peaks.object = "\n".join(f"- `{line}`" for line in res.peak_lines)
+
+    # ---- DEM check, save, report ----------------------------------------------------------
+    def _dem(self, _event=None) -> None:
+        if self.response is None:
+            self.dem_text.object = "the forced response is not solved yet"
+            return
+        r = self.response.frf
+        c = r.sweeps.get("up") or next(iter(r.sweeps.values()))
+        k = int(np.argmax(c.amplitude))
+        f, x = float(r.frequency[k]), float(c.stroke[k])
+        try:
+            fut = self.checks.submit(self.inputs, f, x)
+        except Exception as exc:  # noqa: BLE001 - the page says why, in one line
+            self.dem_text.object = f"DEM check could not start: {exc}"
+            return
+        t0 = time.perf_counter()
+        self.dem_text.object = f"DEM check at {f:g} Hz, stroke {x * 1e3:.2f} mm: running ..."
+        analytic = float(np.ravel(self.inputs_model_response(f, x))[0])
+
+        def poll() -> None:
+            if not fut.done():
+                self.dem_text.object = (f"DEM check at {f:g} Hz, stroke {x * 1e3:.2f} mm: "
+                                        f"running, {time.perf_counter() - t0:.0f} s")
+                return
+            cb.stop()
+            try:
+                p = fut.result()
+            except Exception as exc:  # noqa: BLE001
+                self.dem_text.object = f"DEM check failed: {exc}"
+                return
+            self.dem_points.append(p)
+            self.dem_src.stream({"f": [p["frequency"]], "x": [p["stroke"] * 1e3],
+                                 "eta": [p["loss_factor"]], "label": ["DEM"]})
+            self.dem_text.object = (
+                f"DEM at {p['frequency']:g} Hz, stroke {p['stroke'] * 1e3:.2f} mm: "
+                f"eta {p['loss_factor']:.3g} (this fidelity {analytic:.3g}), "
+                f"{_MODE_NAMES[p['mode']] if 0 <= p['mode'] < len(_MODE_NAMES) else 'unclassified'}"
+                f"; {p['seconds']:.1f} s")
+        cb = pn.state.add_periodic_callback(poll, period=int(POLL * 1000))
+
+    def inputs_model_response(self, f: float, x: float) -> np.ndarray:
+        sc = design.scenario_of(self.inputs)
+        return sc.model(self.inputs.model, sc.damper()).response(f, x).loss_factor
+
+    def _save(self) -> Path | None:
+        try:
+            path = design.save_scenario(self.inputs, Path(self.save_path.value).expanduser())
+        except (PdamperError, ValueError, OSError) as exc:
+            self._fail(exc)
+            return None
+        self.saved.object = (f"saved `{path}`; the forced response of this view: "
+                             f"`{self.inputs.command(path)}`")
+        return path
+
+    async def _report(self, _event=None) -> None:
+        import sys
+
+        path = self._save()
+        if path is None:
+            return
+        out = path.with_suffix("")
+        out = out.with_name(out.name + "-report")
+        self.saved.object += f"\n\nreport running: `pdamper report --scenario {path} --out {out}`"
+        proc = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "pdamper", "report", "--scenario", str(path), "--out",
+            str(out), stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE)
+        _, err = await proc.communicate()
+        if proc.returncode == 0:
+            self.saved.object += f"\n\nreport written: `{out / 'report.html'}`"
+        else:
+            self.saved.object += f"\n\nreport failed: {err.decode().strip().splitlines()[-1:]}"
+
+
+def _name(material: Any, names: list[str]) -> str:
+    name = material if isinstance(material, str) else getattr(material, "name", "")
+    return name if name in names else names[0]
+
+
+def serve(base: Inputs, *, port: int, show: bool, out_dir: Path,
+          mass_limit: float | None = None) -> None:
+    """Serve the page on 127.0.0.1:``port`` until interrupted (Ctrl-C: the command line's
+    ``interrupted``, status 130)."""
+    checks = DEMChecks()
+
+    def page() -> Any:
+        return Page(base, checks, out_dir, mass_limit).layout()
+
+    server = pn.serve({"/": page}, address="127.0.0.1", port=port, show=False, start=False,
+                      websocket_origin=[f"127.0.0.1:{port}", f"localhost:{port}"],
+                      title="pdamper explore")
+    url = f"http://127.0.0.1:{server.port}/"
+    print(f"pdamper explore: serving {url} (Ctrl-C stops)", flush=True)
+    if show:
+        import webbrowser
+
+        server.io_loop.add_callback(lambda: webbrowser.open(url))
+    try:
+        server.start()
+        server.io_loop.start()
+    finally:
+        server.stop()
+        checks.close()

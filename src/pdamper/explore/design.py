@@ -1,0 +1,371 @@
+"""The design behind ``pdamper explore``'s page, without the page: its inputs (scenario keys
+with their declared units and ranges), the scenario they make, the TOML that reproduces it,
+and what the views show (:func:`compute`), so that every number the page draws is the one
+the command line prints for the same scenario.
+
+The page (:mod:`pdamper.explore.app`) only turns widgets into :class:`Inputs` and
+:class:`Views` into figures; everything here runs and is tested without a browser.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+import time
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from pdamper.coupling.frf import FRFResult
+    from pdamper.io.scenario import Scenario
+
+
+@dataclass(frozen=True)
+class Control:
+    """One input of the page: a scenario key, how the page shows it and its span.
+
+    ``unit`` is the unit the widget shows (``scale`` SI units per widget unit); ``low`` and
+    ``high`` bound the slider inside the declared range (``allowed`` of the key's
+    declaration, which the page shows beside it and which the scenario judges).
+    """
+
+    key: str
+    label: str
+    unit: str
+    scale: float
+    low: float
+    high: float
+    step: float
+    integer: bool = False
+
+    def declaration(self) -> Any:
+        """The scenario's declaration of the key (unit, default, allowed range, doc)."""
+        from pdamper.io.scenario_reference import declaration_of
+
+        return declaration_of(self.key)
+
+    def text(self, value: float) -> str | int | float:
+        """The value as the scenario reads it (``"4 mm"``; a bare number without a unit)."""
+        if self.integer:
+            return int(value)
+        return f"{value:g} {self.unit}" if self.unit not in ("", "1") else float(value)
+
+
+#: The page's numeric inputs, in the order shown. Slider spans are what the page offers; the
+#: declared ranges (``>= 0``, ``> 0``) are wider and the scenario judges every value.
+CONTROLS: tuple[Control, ...] = (
+    Control("particles.count", "particles", "1", 1.0, 0, 200, 1, integer=True),
+    Control("particles.radius", "sphere radius", "mm", 1e-3, 0.5, 10.0, 0.1),
+    Control("container.length", "container length (vertical)", "mm", 1e-3, 10.0, 300.0, 1.0),
+    Control("container.width", "container width", "mm", 1e-3, 10.0, 200.0, 1.0),
+    Control("container.depth", "container depth", "mm", 1e-3, 10.0, 200.0, 1.0),
+    Control("container.mass", "container mass", "g", 1e-3, 0.0, 1000.0, 1.0),
+    Control("particles.friction", "friction coefficient", "1", 1.0, 0.0, 1.0, 0.01),
+    Control("structure.stiffness", "structure stiffness", "N/m", 1.0, 100.0, 1e5, 1.0),
+    Control("structure.damping", "structure damping", "kg/s", 1.0, 0.0, 50.0, 0.01),
+)
+CONTROL = {c.key: c for c in CONTROLS}
+#: Controls whose slider spans a decade either side of the scenario's value (a structure's
+#: stiffness or damping has no span common to all users).
+RELATIVE = ("structure.stiffness", "structure.damping")
+
+
+def span(control: Control, value: float) -> tuple[float, float]:
+    """The slider's (low, high) for a control whose scenario value is ``value``: the
+    control's span, a decade either side for :data:`RELATIVE` ones, and always wide
+    enough to hold ``value``."""
+    low, high = control.low, control.high
+    if control.key in RELATIVE and value > 0:
+        low, high = value / 10.0, value * 10.0
+    return min(low, value), max(high, value)
+
+#: Loads the page offers: kind -> (unit shown, SI per unit, slider span).
+LOADS: dict[str, tuple[str, float, float, float]] = {
+    "force": ("N", 1.0, 0.1, 50.0),
+    "base": ("mm", 1e-3, 0.1, 20.0),
+}
+
+
+@dataclass(frozen=True)
+class Inputs:
+    """What the page holds: the base scenario (a file or the paper's), the values the user
+    set (scenario key -> value in the control's unit; ``None`` keeps the scenario's), the
+    load and the frequency grid of the forced response."""
+
+    scenario: Path | None = None
+    values: tuple[tuple[str, Any], ...] = ()
+    load_kind: str = "force"
+    load_amplitude: float = 2.0          # in LOADS[load_kind]'s unit
+    frequency: str = ""                  # 'start:stop:count'; "" = the command's default
+    sweep: str = "both"
+    model: str | None = None             # fidelity; None = the scenario's [simulation] model
+    fields: Path | None = None
+
+    def with_value(self, key: str, value: Any) -> Inputs:
+        rest = tuple((k, v) for k, v in self.values if k != key)
+        return dataclasses.replace(self, values=rest + ((key, value),))
+
+    def overrides(self) -> dict[str, Any]:
+        """Scenario overrides (dotted key -> the scenario's text) of the values set."""
+        out: dict[str, Any] = {}
+        for key, value in self.values:
+            if value is None:
+                continue
+            c = CONTROL.get(key)
+            out[key] = c.text(value) if c is not None else value
+        if self.model is not None:
+            out["simulation.model"] = self.model
+        if self.fields is not None:
+            out["fields.file"] = str(self.fields)
+        return out
+
+    def load_text(self) -> str:
+        unit = LOADS[self.load_kind][0]
+        return f"{self.load_amplitude:g}{unit}"
+
+    def frequency_text(self) -> str:
+        if self.frequency:
+            return self.frequency
+        from pdamper.cli.frf import DEFAULT_FREQUENCY
+
+        return DEFAULT_FREQUENCY
+
+    def command(self, saved: Path) -> str:
+        """The ``pdamper frf`` command line that answers this view from the saved scenario."""
+        flag = "--force" if self.load_kind == "force" else "--base"
+        return (f"pdamper frf --scenario {saved} {flag} {self.load_text()} "
+                f"--frequency {self.frequency_text()} --sweep {self.sweep}")
+
+
+def scenario_of(inputs: Inputs) -> Scenario:
+    """The scenario the page shows: the base scenario with the page's values on top (judged
+    as the command line judges them: an :class:`~pdamper.errors.InputError` naming the key)."""
+    from pdamper.io.scenario import load_scenario
+
+    return load_scenario(inputs.scenario, inputs.overrides())
+
+
+def scenario_toml(inputs: Inputs) -> str:
+    """TOML text of a scenario file that reproduces the page: the base file's tables with the
+    page's values written in, units included (``radius = "4 mm"``), and a ``[frf]`` comment
+    with the command that reproduces the forced response.
+
+    The result is read back and judged before it is returned, so a file that would not load
+    is never written.
+    """
+    import tomli_w
+
+    base: dict[str, Any] = {}
+    if inputs.scenario is not None:
+        base = tomllib.loads(Path(inputs.scenario).read_text(encoding="utf-8"))
+        base = _relative_paths(base, Path(inputs.scenario).parent)
+    for key, value in inputs.overrides().items():
+        *tables, name = key.split(".")
+        node = base
+        for t in tables:
+            sub = node.get(t)
+            if not isinstance(sub, dict):  # a table given by name ("PVC") becomes its name
+                sub = {}
+                node[t] = sub
+            node = sub
+        node[name] = value
+    text = tomli_w.dumps(base)
+    header = ("# written by `pdamper explore`; the forced response of the page:\n"
+              f"#   {inputs.command(Path('<this file>'))}\n")
+    return header + text
+
+
+def _relative_paths(table: dict[str, Any], root: Path) -> dict[str, Any]:
+    """File keys of the base scenario made absolute, so that the saved copy (elsewhere)
+    still finds them."""
+    out = dict(table)
+    for section, key in (("structure", "modes"), ("fields", "file"), ("load", "file")):
+        sec = out.get(section)
+        if isinstance(sec, dict) and isinstance(sec.get(key), str):
+            p = Path(sec[key])
+            sec = dict(sec)
+            sec[key] = str(p if p.is_absolute() else (root / p).resolve())
+            out[section] = sec
+    return out
+
+
+def save_scenario(inputs: Inputs, path: Path) -> Path:
+    """Write :func:`scenario_toml` to ``path`` atomically after judging it (the scenario it
+    describes must load); returns ``path``."""
+    from pdamper.files import atomic_write_text
+    from pdamper.io.scenario import load_scenario
+
+    text = scenario_toml(inputs)
+    probe = path.with_name(path.name + ".check.toml")
+    try:  # judged as the command line will read it, before the file exists
+        probe.write_text(text, encoding="utf-8")
+        load_scenario(probe)
+    finally:
+        probe.unlink(missing_ok=True)
+    atomic_write_text(path, text)
+    return path
+
+
+@dataclass
+class Quick:
+    """What the page redraws at once for a design (all SI; the page converts): the bare
+    structure's FRF, the damper's Level II map, its mass."""
+
+    frequency: np.ndarray                 # [Hz]
+    bare: np.ndarray                      # |x| of the structure without the damper [m]
+    map_frequency: np.ndarray             # [Hz]
+    map_stroke: np.ndarray                # container stroke amplitude [m]
+    map_loss_factor: np.ndarray           # (stroke, frequency) [1]
+    map_mode: np.ndarray                  # MotionMode code (stroke, frequency), -1 none
+    bed_mass: float                       # [kg]
+    container_mass: float                 # [kg]
+    unused: dict[str, str] = field(default_factory=dict)
+    seconds: float = 0.0
+
+
+@dataclass
+class Response:
+    """The forced response of a design, as ``pdamper frf`` computes and prints it."""
+
+    frf: FRFResult
+    peak_lines: list[str]                 # `pdamper frf`'s peak lines, verbatim
+    seconds: float = 0.0
+
+
+def _load(inputs: Inputs) -> Any:
+    from pdamper.cli.frf import parse_load
+
+    text = inputs.load_text()
+    return parse_load(text, None) if inputs.load_kind == "force" else parse_load(None, text)
+
+
+def _grid(inputs: Inputs) -> np.ndarray:
+    from pdamper.cli.frf import _frequencies
+
+    return np.unique(np.asarray(_frequencies(inputs.frequency_text()), dtype=float))
+
+
+@functools.lru_cache(maxsize=64)
+def quick(inputs: Inputs) -> Quick:
+    """The views that redraw at once (cached per design). Raises
+    :class:`~pdamper.errors.InputError` for a value the scenario refuses."""
+    from pdamper.coupling.frf import _modal, linear_frf
+
+    t0 = time.perf_counter()
+    sc = scenario_of(inputs)
+    load = _load(inputs)
+    freqs = _grid(inputs)
+    damper = sc.damper()
+    bare = np.abs(linear_frf(_modal(sc.structure_model()), load, freqs))
+    mf, ms, eta, mode = level2_map(sc, damper, inputs.model, freqs)
+    return Quick(freqs, bare, mf, ms, eta, mode, float(damper.bed_mass),
+                 float(sc.container.mass), unused_inputs(sc, inputs.model),
+                 time.perf_counter() - t0)
+
+
+@functools.lru_cache(maxsize=64)
+def response(inputs: Inputs) -> Response:
+    """The forced response of the design: ``pdamper frf`` with the page's scenario, load,
+    frequencies and sweep (its cost judged first, as the command judges it)."""
+    from pdamper.cli.frf import _table
+    from pdamper.coupling.frf import frequency_response
+    from pdamper.runs.resources import check_frf
+
+    t0 = time.perf_counter()
+    sc = scenario_of(inputs)
+    load = _load(inputs)
+    freqs = _grid(inputs)
+    check_frf(sc, inputs.model, freqs, load, max_cycles=None, sweep=inputs.sweep, force=False)
+    damper = sc.damper()
+    res = frequency_response(sc.model(None, damper), sc.structure_model(), load, freqs,
+                             sweep=inputs.sweep)
+    peaks = [line for line in _table(res)
+             if any(line.startswith(f"{s}: peak") for s in res.sweeps)]
+    return Response(res, peaks, time.perf_counter() - t0)
+
+
+#: Points of the Level II map: strokes from a twentieth of to this many times the damper's
+#: optimal stroke (Eq. (5): where the loss factor peaks), log-spaced; frequencies over the
+#: forced response's band.
+MAP_STROKES = 20
+MAP_FREQUENCIES = 30
+MAP_TOP = 4.0
+
+
+def level2_map(sc: Scenario, damper: Any, name: str | None, freqs: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Loss factor and motion mode of the damper over (frequency x stroke): the Level II
+    field the structure's operating path runs through. Cells outside the fidelity's range
+    (a fields map's grid) stay blank (NaN, mode -1)."""
+    top = max(float(damper.optimal_stroke), 1e-4) * MAP_TOP
+    mf = np.linspace(float(freqs[0]), float(freqs[-1]), MAP_FREQUENCIES)
+    ms = np.geomspace(top / 80.0, top, MAP_STROKES)
+    model = sc.model(name, damper)
+    F, X = np.meshgrid(mf, ms)
+    eta = np.full(F.shape, np.nan)
+    mode = np.full(F.shape, -1, dtype=int)
+    if damper.count == 0:
+        return mf, ms, np.zeros(F.shape), mode
+    try:
+        r = model.response(F.ravel(), X.ravel())
+        return (mf, ms, np.asarray(r.loss_factor, dtype=float).reshape(F.shape),
+                np.asarray(r.mode, dtype=int).reshape(F.shape))
+    except Exception:  # noqa: BLE001 - the map point by point: a refused cell stays blank
+        pass
+    for i, j in np.ndindex(F.shape):
+        try:
+            r = model.response(F[i, j], X[i, j])
+        except Exception:  # noqa: BLE001
+            continue
+        eta[i, j] = float(np.ravel(r.loss_factor)[0])
+        mode[i, j] = int(np.ravel(r.mode)[0])
+    return mf, ms, eta, mode
+
+
+def unused_inputs(sc: Scenario, name: str | None) -> dict[str, str]:
+    """Inputs the page shows that the design's fidelity does not use, with the reason."""
+    model = sc.model(name, sc.damper())
+    declared = getattr(model, "unused_inputs", None)
+    return dict(declared()) if callable(declared) else {}
+
+
+def mass_text(views: Quick, limit: float | None) -> str:
+    """The design's mass in grams, against ``limit`` [kg] where one is set."""
+    total = views.bed_mass + views.container_mass
+    text = (f"bed {views.bed_mass * 1e3:.1f} g + container {views.container_mass * 1e3:.1f} g "
+            f"= {total * 1e3:.1f} g")
+    if limit is not None and math.isfinite(limit):
+        margin = limit - total
+        text += (f"; limit {limit * 1e3:.0f} g: " +
+                 (f"met by {margin * 1e3:.1f} g" if margin >= 0
+                  else f"exceeded by {-margin * 1e3:.1f} g"))
+    return text
+
+
+def values_of(sc: Scenario) -> dict[str, float]:
+    """The scenario's value of every control, in the control's unit (the widgets' start)."""
+    out: dict[str, float] = {}
+    for c in CONTROLS:
+        section, _, name = c.key.partition(".")
+        value = getattr(getattr(sc, section), name, None)
+        if isinstance(value, (int, float)) and value is not None:
+            out[c.key] = float(value) / c.scale
+    return out
+
+
+def materials() -> list[str]:
+    """Material names the page offers (the library's)."""
+    from pdamper.materials.library import known_names
+
+    return list(known_names())
+
+
+def text_values(values: Mapping[str, Any]) -> dict[str, str]:
+    """Controls' values as the scenario reads them (for messages and the saved file)."""
+    return {k: CONTROL[k].text(v) if k in CONTROL else str(v) for k, v in values.items()}

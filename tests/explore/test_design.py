@@ -1,0 +1,101 @@
+"""The page's design layer against the command line: the numbers ``pdamper explore`` shows
+are ``pdamper frf``'s for the same design, and a saved scenario reproduces them."""
+
+from __future__ import annotations
+
+import subprocess
+
+import numpy as np
+import pytest
+
+from pdamper.errors import InputError
+
+pytest.importorskip("tomli_w")
+
+from pdamper.explore import design  # noqa: E402
+from pdamper.explore.design import Inputs  # noqa: E402
+from proc import command, env  # noqa: E402
+
+GRID = "3Hz:9Hz:31"
+
+
+def _frf_lines(*args: object) -> list[str]:
+    out = subprocess.run(command("frf", "--frequency", GRID, "--sweep", "both", *args),
+                         capture_output=True, text=True, env=env(), timeout=300)
+    assert out.returncode == 0, out.stderr
+    return [line for line in out.stdout.splitlines() if ": peak " in line]
+
+
+def test_peak_lines_are_the_commands_for_a_changed_count():
+    base = Inputs(frequency=GRID)
+    more = base.with_value("particles.count", 40)
+    shown = design.response(more).peak_lines
+    assert shown == _frf_lines("--particles", 40)
+    # more spheres, a lower peak (the direction the command gives too)
+    peak = [float(line.split("peak ")[1].split(" mm")[0]) for line in shown]
+    peak0 = [float(line.split("peak ")[1].split(" mm")[0])
+             for line in design.response(base).peak_lines]
+    assert all(a < b for a, b in zip(peak, peak0, strict=True))
+
+
+def test_saved_scenario_reproduces_the_view(tmp_path):
+    view = (Inputs(frequency=GRID).with_value("particles.count", 28)
+            .with_value("particles.radius", 4.5).with_value("container.length", 110.0))
+    path = design.save_scenario(view, tmp_path / "explored.toml")
+    text = path.read_text()
+    assert 'radius = "4.5 mm"' in text and "count = 28" in text
+    assert design.response(view).peak_lines == _frf_lines("--scenario", path, "--force", "2N")
+
+
+def test_bare_curve_is_the_closed_form_1dof():
+    sc = design.scenario_of(Inputs(frequency=GRID))
+    q = design.quick(Inputs(frequency=GRID))
+    m = sc.structure_model()
+    k, d = m.stiffness, m.damping
+    w = 2 * np.pi * q.frequency
+    closed = 2.0 / np.abs(k - m.mass * w**2 + 1j * d * w)  # 2 N at the damper's point
+    np.testing.assert_allclose(q.bare, closed, rtol=1e-9)
+
+
+def test_level2_map_is_the_models_response():
+    inputs = Inputs(frequency=GRID)
+    q = design.quick(inputs)
+    sc = design.scenario_of(inputs)
+    r = sc.model("analytic", sc.damper()).response(q.map_frequency[5], q.map_stroke[7])
+    assert q.map_loss_factor[7, 5] == pytest.approx(float(np.ravel(r.loss_factor)[0]))
+    assert q.map_mode[7, 5] == int(np.ravel(r.mode)[0])
+
+
+def test_mass_against_a_limit():
+    q = design.quick(Inputs(frequency=GRID).with_value("container.mass", 80.0))
+    assert q.container_mass == pytest.approx(0.080)
+    total = q.bed_mass + q.container_mass
+    assert f"= {total * 1e3:.1f} g" in design.mass_text(q, 0.5)
+    assert "exceeded by" in design.mass_text(q, 0.1)
+    assert "met by" in design.mass_text(q, 0.5)
+
+
+def test_bad_values_get_the_command_lines_message():
+    with pytest.raises(InputError) as err:
+        design.quick(Inputs(frequency=GRID).with_value("particles.count", 500))
+    assert err.value.field == "particles.count" and "must be in [0, " in str(err.value)
+    with pytest.raises(InputError) as err:
+        design.quick(Inputs(frequency="3Hz:9Hz:0"))
+    assert err.value.field == "frequency"
+
+
+def test_a_scenario_that_would_not_load_is_not_written(tmp_path):
+    view = Inputs(frequency=GRID).with_value("particles.radius", -1.0)
+    with pytest.raises(InputError):
+        design.save_scenario(view, tmp_path / "bad.toml")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_slider_spans_hold_the_scenarios_value_and_the_declared_range():
+    for c in design.CONTROLS:
+        decl = c.declaration()
+        assert decl.unit in ("1", "m", "kg", "N/m", "kg/s"), c.key
+        lo, hi = design.span(c, 1e9)
+        assert hi >= 1e9
+    lo, hi = design.span(design.CONTROL["structure.stiffness"], 1848.0)
+    assert (lo, hi) == pytest.approx((184.8, 18480.0))
