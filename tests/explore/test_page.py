@@ -49,9 +49,13 @@ def _server(tmp_path: Path, *args: object) -> Iterator[tuple[subprocess.Popen, s
                             stderr=subprocess.PIPE, text=True, env=env())
     try:
         assert proc.stdout is not None
-        line = proc.stdout.readline()  # printed once the server listens
+        seen = []
+        for line in proc.stdout:  # the address is printed once the server listens
+            seen.append(line)
+            if "serving http://127.0.0.1:" in line or len(seen) > 20:
+                break
         ready = time.monotonic()
-        assert "serving http://127.0.0.1:" in line, line + proc.stderr.read()
+        assert "serving http://127.0.0.1:" in seen[-1], "".join(seen)
         yield proc, f"http://127.0.0.1:{port}/", ready
     finally:
         if proc.poll() is None:

@@ -142,7 +142,7 @@ class Page:
         for w in (self.load_kind, self.frequency, self.sweep, self.fidelity):
             w.param.watch(self._on_load, "value")
         self.load.param.watch(self._on_load, "value_throttled")
-        self.mass_limit.param.watch(lambda _e: self._draw_quick(), "value")
+        self.mass_limit.param.watch(lambda _e: self._schedule(), "value")
 
         self.message = pn.pane.Alert("", alert_type="danger", visible=False,
                                      css_classes=["message"])
@@ -270,12 +270,16 @@ class Page:
             self._fail(exc)
             return
         self.message.visible = False
-        self._draw_quick()
-        self.status.object = (f"views redrawn in {(time.perf_counter() - t0) * 1e3:.0f} ms; "
-                              "solving the forced response ...")
+        doc = pn.state.curdoc
+
+        def redraw() -> None:
+            self._draw_quick()
+            self.status.object = (f"views redrawn in {(time.perf_counter() - t0) * 1e3:.0f} ms; "
+                                  "solving the forced response ...")
+        # Bokeh sources change under the document's lock: on the next tick of its loop
+        (doc.add_next_tick_callback(redraw) if doc is not None else redraw())
         inputs = self.inputs
         fut = _SOLVER.submit(design.response, inputs)
-        doc = pn.state.curdoc
 
         def done(f: Future) -> None:
             if doc is None:
