@@ -99,3 +99,44 @@ def test_slider_spans_hold_the_scenarios_value_and_the_declared_range():
         assert hi >= 1e9
     lo, hi = design.span(design.CONTROL["structure.stiffness"], 1848.0)
     assert (lo, hi) == pytest.approx((184.8, 18480.0))
+
+
+def test_machine_frame_unbalance_on_two_modes_is_the_commands(tmp_path):
+    """A user's scenario (two modes, the load at the motor), the unbalance load: the page's
+    peak lines are `pdamper frf --unbalance`'s."""
+    from pathlib import Path
+
+    import pdamper
+
+    example = Path(pdamper.__file__).parents[2] / "examples" / "machine-frame" / "scenario.toml"
+    view = Inputs(scenario=example, load_kind="unbalance", load_amplitude=1.76,
+                  frequency="10Hz:14Hz:17", sweep="up")
+    shown = design.response(view).peak_lines
+    out = subprocess.run(command("frf", "--scenario", example, "--unbalance", "1.76kg*mm",
+                                 "--frequency", "10Hz:14Hz:17", "--sweep", "up"),
+                         capture_output=True, text=True, env=env(), timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert shown == [line for line in out.stdout.splitlines() if ": peak " in line]
+    assert view.command(Path("f.toml")).startswith("pdamper frf --scenario f.toml "
+                                                   "--unbalance 1.76kg*mm")
+
+
+def test_inputs_the_fidelity_does_not_use_are_named_with_who_uses_them():
+    q = design.quick(Inputs(frequency=GRID))
+    assert "particles.friction" in q.unused and "dem" in q.unused["particles.friction"]
+
+
+def test_a_saved_user_scenario_keeps_its_files(tmp_path):
+    """The machine frame's modes and shock files are found from the saved copy elsewhere."""
+    import tomllib
+    from pathlib import Path
+
+    import pdamper
+
+    example = Path(pdamper.__file__).parents[2] / "examples" / "machine-frame" / "scenario.toml"
+    path = design.save_scenario(Inputs(scenario=example).with_value("particles.count", 150),
+                                tmp_path / "frame.toml")
+    saved = tomllib.loads(path.read_text())
+    assert Path(saved["structure"]["modes"]) == (example.parent / "modes.csv").resolve()
+    assert Path(saved["load"]["force"]) == (example.parent / "shock.csv").resolve()
+    assert saved["particles"]["count"] == 150

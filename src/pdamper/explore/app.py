@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import asyncio
 import dataclasses
+import signal
 import time
 from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
@@ -129,9 +130,11 @@ class Page:
                                            step=0.1, value=base.load_amplitude,
                                            css_classes=["ctl-load"])
         self.frequency = pn.widgets.TextInput(name="frequencies (start:stop:count)",
-                                              value=base.frequency_text())
+                                              value=base.frequency,
+                                              placeholder="default: every mode, resolved")
         self.sweep = pn.widgets.Select(name="sweep", options=["both", "up", "down"],
                                        value=base.sweep)
+        self.load.name = f"load amplitude [{LOADS[kind][0]}]"
         fidelities = ["analytic"] + (["fields"] if base.fields is not None else [])
         self.fidelity = pn.widgets.Select(name="fidelity", options=fidelities,
                                           value=base.model if base.model in fidelities
@@ -438,9 +441,24 @@ def serve(base: Inputs, *, port: int, show: bool, out_dir: Path,
         import webbrowser
 
         server.io_loop.add_callback(lambda: webbrowser.open(url))
+    received: list[int] = []
+
+    def stop(signum: int, _frame: Any) -> None:
+        # the server's loop ends first, then the command line reports the signal
+        # (`interrupted`, 128 + signal) as every command does
+        received.append(signum)
+        server.io_loop.add_callback_from_signal(server.io_loop.stop)
+
+    previous = {s: signal.signal(s, stop) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         server.start()
         server.io_loop.start()
     finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
         server.stop()
         checks.close()
+    if received:
+        from pdamper.errors import Interrupted
+
+        raise Interrupted(received[0])

@@ -85,10 +85,13 @@ def span(control: Control, value: float) -> tuple[float, float]:
         low, high = value / 10.0, value * 10.0
     return min(low, value), max(high, value)
 
-#: Loads the page offers: kind -> (unit shown, SI per unit, slider span).
+#: Loads the page offers: kind -> (unit shown, SI per unit, slider span). Each is the
+#: command line's option of that name (``pdamper frf --force 2N``, ``--base 1mm``,
+#: ``--unbalance 1.76kg*mm``).
 LOADS: dict[str, tuple[str, float, float, float]] = {
     "force": ("N", 1.0, 0.1, 50.0),
     "base": ("mm", 1e-3, 0.1, 20.0),
+    "unbalance": ("kg*mm", 1e-6, 0.1, 20.0),
 }
 
 
@@ -103,6 +106,7 @@ class Inputs:
     load_kind: str = "force"
     load_amplitude: float = 2.0          # in LOADS[load_kind]'s unit
     frequency: str = ""                  # 'start:stop:count'; "" = the command's default
+                                         # (the scenario's [frf], else every mode resolved)
     sweep: str = "both"
     model: str | None = None             # fidelity; None = the scenario's [simulation] model
     fields: Path | None = None
@@ -129,18 +133,11 @@ class Inputs:
         unit = LOADS[self.load_kind][0]
         return f"{self.load_amplitude:g}{unit}"
 
-    def frequency_text(self) -> str:
-        if self.frequency:
-            return self.frequency
-        from pdamper.cli.frf import DEFAULT_FREQUENCY
-
-        return DEFAULT_FREQUENCY
-
     def command(self, saved: Path) -> str:
         """The ``pdamper frf`` command line that answers this view from the saved scenario."""
-        flag = "--force" if self.load_kind == "force" else "--base"
-        return (f"pdamper frf --scenario {saved} {flag} {self.load_text()} "
-                f"--frequency {self.frequency_text()} --sweep {self.sweep}")
+        grid = f"--frequency {self.frequency} " if self.frequency else ""
+        return (f"pdamper frf --scenario {saved} --{self.load_kind} {self.load_text()} "
+                f"{grid}--sweep {self.sweep}")
 
 
 def scenario_of(inputs: Inputs) -> Scenario:
@@ -182,16 +179,18 @@ def scenario_toml(inputs: Inputs) -> str:
 
 
 def _relative_paths(table: dict[str, Any], root: Path) -> dict[str, Any]:
-    """File keys of the base scenario made absolute, so that the saved copy (elsewhere)
+    """The base scenario's file keys (a modes file, a load record, a fields map: any text
+    that names a file beside the scenario) made absolute, so that the saved copy, elsewhere,
     still finds them."""
-    out = dict(table)
-    for section, key in (("structure", "modes"), ("fields", "file"), ("load", "file")):
-        sec = out.get(section)
-        if isinstance(sec, dict) and isinstance(sec.get(key), str):
-            p = Path(sec[key])
-            sec = dict(sec)
-            sec[key] = str(p if p.is_absolute() else (root / p).resolve())
-            out[section] = sec
+    out: dict[str, Any] = {}
+    for key, value in table.items():
+        if isinstance(value, dict):
+            out[key] = _relative_paths(value, root)
+        elif isinstance(value, str) and not Path(value).is_absolute() \
+                and (root / value).is_file():
+            out[key] = str((root / value).resolve())
+        else:
+            out[key] = value
     return out
 
 
@@ -238,31 +237,31 @@ class Response:
     seconds: float = 0.0
 
 
-def _load(inputs: Inputs) -> Any:
-    from pdamper.cli.frf import parse_load
+def _resolved(inputs: Inputs, sc: Scenario) -> tuple[Any, np.ndarray]:
+    """The load and the frequencies [Hz] as ``pdamper frf`` resolves them for these
+    options and this scenario (the same function)."""
+    from pdamper.cli.frf import _frequencies, _resolved, parse_load
 
     text = inputs.load_text()
-    return parse_load(text, None) if inputs.load_kind == "force" else parse_load(None, text)
-
-
-def _grid(inputs: Inputs) -> np.ndarray:
-    from pdamper.cli.frf import _frequencies
-
-    return np.unique(np.asarray(_frequencies(inputs.frequency_text()), dtype=float))
+    given = parse_load(**{k: text if k == inputs.load_kind else None
+                          for k in ("force", "base", "unbalance")}, default=None)
+    freqs = _frequencies(inputs.frequency) if inputs.frequency else None
+    load, grid, _, _ = _resolved(sc, given, freqs, inputs.sweep)
+    return load, np.unique(np.asarray(grid, dtype=float))
 
 
 @functools.lru_cache(maxsize=64)
 def quick(inputs: Inputs) -> Quick:
     """The views that redraw at once (cached per design). Raises
     :class:`~pdamper.errors.InputError` for a value the scenario refuses."""
+    from pdamper.cli.frf import _acting
     from pdamper.coupling.frf import _modal, linear_frf
 
     t0 = time.perf_counter()
     sc = scenario_of(inputs)
-    load = _load(inputs)
-    freqs = _grid(inputs)
+    load, freqs = _resolved(inputs, sc)
     damper = sc.damper()
-    bare = np.abs(linear_frf(_modal(sc.structure_model()), load, freqs))
+    bare = np.abs(linear_frf(_modal(_acting(sc)), load, freqs))
     mf, ms, eta, mode = level2_map(sc, damper, inputs.model, freqs)
     return Quick(freqs, bare, mf, ms, eta, mode, float(damper.bed_mass),
                  float(sc.container.mass), unused_inputs(sc, inputs.model),
@@ -273,17 +272,16 @@ def quick(inputs: Inputs) -> Quick:
 def response(inputs: Inputs) -> Response:
     """The forced response of the design: ``pdamper frf`` with the page's scenario, load,
     frequencies and sweep (its cost judged first, as the command judges it)."""
-    from pdamper.cli.frf import _table
+    from pdamper.cli.frf import _acting, _table
     from pdamper.coupling.frf import frequency_response
     from pdamper.runs.resources import check_frf
 
     t0 = time.perf_counter()
     sc = scenario_of(inputs)
-    load = _load(inputs)
-    freqs = _grid(inputs)
+    load, freqs = _resolved(inputs, sc)
     check_frf(sc, inputs.model, freqs, load, max_cycles=None, sweep=inputs.sweep, force=False)
     damper = sc.damper()
-    res = frequency_response(sc.model(None, damper), sc.structure_model(), load, freqs,
+    res = frequency_response(sc.model(None, damper), _acting(sc), load, freqs,
                              sweep=inputs.sweep)
     peaks = [line for line in _table(res)
              if any(line.startswith(f"{s}: peak") for s in res.sweeps)]
@@ -329,10 +327,15 @@ def level2_map(sc: Scenario, damper: Any, name: str | None, freqs: np.ndarray
 
 
 def unused_inputs(sc: Scenario, name: str | None) -> dict[str, str]:
-    """Inputs the page shows that the design's fidelity does not use, with the reason."""
-    model = sc.model(name, sc.damper())
-    declared = getattr(model, "unused_inputs", None)
-    return dict(declared()) if callable(declared) else {}
+    """Inputs the page shows that the design's fidelity does not use: key -> the reason and
+    the fidelities that do (the models' declarations, :func:`pdamper.models.registry.not_used`)."""
+    from pdamper.models.registry import not_used
+
+    shown = [c.key for c in CONTROLS] + ["restitution.particle_particle",
+                                         "restitution.particle_wall"]
+    out = not_used(type(sc.model(name, sc.damper())), shown)
+    return {k: f"{v['reason']}; used by: {', '.join(v['used_by']) or 'none'}"
+            for k, v in out.items()}
 
 
 def mass_text(views: Quick, limit: float | None) -> str:
