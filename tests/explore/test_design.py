@@ -140,3 +140,14 @@ def test_a_saved_user_scenario_keeps_its_files(tmp_path):
     assert Path(saved["structure"]["modes"]) == (example.parent / "modes.csv").resolve()
     assert Path(saved["load"]["force"]) == (example.parent / "shock.csv").resolve()
     assert saved["particles"]["count"] == 150
+
+
+def test_the_page_starts_from_the_scenarios_frf_load():
+    from pathlib import Path
+
+    import pdamper
+
+    example = Path(pdamper.__file__).parents[2] / "examples" / "machine-frame" / "scenario.toml"
+    start = design.scenario_load(Inputs(scenario=example))
+    assert (start.load_kind, start.load_text()) == ("unbalance", "1.76kg*mm")
+    assert design.scenario_load(Inputs()).load_text() == "2N"  # the paper's: no [frf]

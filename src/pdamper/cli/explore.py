@@ -52,10 +52,11 @@ def explore(
         if not limit > 0:
             raise InputError("max_mass", f"must be > 0 kg, got {mass_limit!r}")
     out_dir = check_directory_target(out, "out")
-    from pdamper.explore.design import Inputs, quick
+    from pdamper.explore.design import Inputs, quick, scenario_load
 
     base = Inputs(scenario=scenario, fields=fields,
                   model="fields" if fields is not None else "analytic")
+    base = scenario_load(base)  # the page starts from the scenario's [frf] load
     quick(base)  # the scenario judged (one line, exit 2) before the server starts
     from pdamper.explore.app import serve
 

@@ -436,7 +436,9 @@ def serve(base: Inputs, *, port: int, show: bool, out_dir: Path,
                       websocket_origin=[f"127.0.0.1:{port}", f"localhost:{port}"],
                       title="pdamper explore")
     url = f"http://127.0.0.1:{server.port}/"
-    print(f"pdamper explore: serving {url} (Ctrl-C stops)", flush=True)
+    # the address is printed once the loop runs with the signal handlers below in place
+    server.io_loop.add_callback(
+        lambda: print(f"pdamper explore: serving {url} (Ctrl-C stops)", flush=True))
     if show:
         import webbrowser
 

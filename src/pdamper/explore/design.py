@@ -91,7 +91,7 @@ def span(control: Control, value: float) -> tuple[float, float]:
 LOADS: dict[str, tuple[str, float, float, float]] = {
     "force": ("N", 1.0, 0.1, 50.0),
     "base": ("mm", 1e-3, 0.1, 20.0),
-    "unbalance": ("kg*mm", 1e-6, 0.1, 20.0),
+    "unbalance": ("kg*mm", 1e-3, 0.1, 20.0),
 }
 
 
@@ -138,6 +138,19 @@ class Inputs:
         grid = f"--frequency {self.frequency} " if self.frequency else ""
         return (f"pdamper frf --scenario {saved} --{self.load_kind} {self.load_text()} "
                 f"{grid}--sweep {self.sweep}")
+
+
+def scenario_load(inputs: Inputs) -> Inputs:
+    """``inputs`` with the load of the scenario's ``[frf]`` where it gives one the page
+    offers (a force, an unbalance, a base displacement); else unchanged (2 N)."""
+    frf = scenario_of(inputs).frf
+    for kind, key in (("force", "force"), ("unbalance", "unbalance"),
+                      ("base", "base_displacement")):
+        value = getattr(frf, key, None)
+        if value is not None:
+            return dataclasses.replace(inputs, load_kind=kind,
+                                       load_amplitude=float(value) / LOADS[kind][1])
+    return inputs
 
 
 def scenario_of(inputs: Inputs) -> Scenario:
