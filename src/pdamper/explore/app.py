@@ -21,7 +21,8 @@ from typing import Any
 
 import numpy as np
 import panel as pn
-from bokeh.models import ColorBar, ColumnDataSource, LinearColorMapper
+from bokeh.models import ColumnDataSource, LinearColorMapper
+from bokeh.models.annotations import ColorBar
 from bokeh.plotting import figure
 
 from pdamper.errors import PdamperError
@@ -142,8 +143,8 @@ class Page:
         self.mass_limit = pn.widgets.FloatInput(name="mass limit [g] (0: none)", start=0,
                                                 value=0 if mass_limit is None
                                                 else mass_limit * 1e3)
-        for w in (self.load_kind, self.frequency, self.sweep, self.fidelity):
-            w.param.watch(self._on_load, "value")
+        for chooser in (self.load_kind, self.frequency, self.sweep, self.fidelity):
+            chooser.param.watch(self._on_load, "value")
         self.load.param.watch(self._on_load, "value_throttled")
         self.mass_limit.param.watch(lambda _e: self._schedule(), "value")
 
@@ -162,7 +163,7 @@ class Page:
         self.report_button = pn.widgets.Button(name="Report", css_classes=["report"])
         self.dem_button = pn.widgets.Button(name="DEM check", button_type="warning",
                                             css_classes=["demcheck"])
-        self.save_button.on_click(lambda _e: self._save())
+        self.save_button.on_click(self._on_save)
         self.report_button.on_click(self._report)
         self.dem_button.on_click(self._dem)
         self._figures()
@@ -224,7 +225,7 @@ class Page:
                    width=520, x_axis_label="frequency [Hz]",
                    y_axis_label="container stroke [mm]", tools="pan,wheel_zoom,reset,save")
         m.image("image", x="x", y="y", dw="dw", dh="dh", source=self.map_src,
-                color_mapper=self.mapper)
+                color_mapper=self.mapper)  # type: ignore[call-arg]  # bokeh's stubs lag
         m.line("f", "x", source=self.path_src, color="white", line_width=2,
                legend_label="operating path (sweep up)")
         m.scatter("f", "x", source=self.dem_src, size=12, marker="star", color="red",
@@ -246,11 +247,11 @@ class Page:
             unit, _, lo, hi = LOADS[kind]
             self.load.name = f"load amplitude [{unit}]"
             self.load.start, self.load.end = lo, hi
-            self.load.value = min(max(self.load.value, lo), hi)
+            self.load.value = min(max(float(self.load.value or lo), lo), hi)
         model = self.fidelity.value
         self.inputs = dataclasses.replace(
-            self.inputs, load_kind=kind, load_amplitude=float(self.load.value),
-            frequency=self.frequency.value.strip(), sweep=self.sweep.value, model=model)
+            self.inputs, load_kind=kind, load_amplitude=float(self.load.value or 0.0),
+            frequency=(self.frequency.value or "").strip(), sweep=self.sweep.value, model=model)
         self._schedule()
 
     def _start(self) -> None:
@@ -389,9 +390,13 @@ class Page:
         sc = design.scenario_of(self.inputs)
         return sc.model(self.inputs.model, sc.damper()).response(f, x).loss_factor
 
+    def _on_save(self, _event=None) -> None:
+        self._save()
+
     def _save(self) -> Path | None:
         try:
-            path = design.save_scenario(self.inputs, Path(self.save_path.value).expanduser())
+            path = design.save_scenario(self.inputs, Path(self.save_path.value or
+                                                          "explored.toml").expanduser())
         except (PdamperError, ValueError, OSError) as exc:
             self._fail(exc)
             return None

@@ -14,7 +14,6 @@ import functools
 import math
 import time
 import tomllib
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -380,8 +379,3 @@ def materials() -> list[str]:
     from pdamper.materials.library import known_names
 
     return list(known_names())
-
-
-def text_values(values: Mapping[str, Any]) -> dict[str, str]:
-    """Controls' values as the scenario reads them (for messages and the saved file)."""
-    return {k: CONTROL[k].text(v) if k in CONTROL else str(v) for k, v in values.items()}
