@@ -796,3 +796,34 @@ CASES += [
 ]
 HEADROOM.update({name: 2**30 for name in (
     "optimize-band-count-100000", "optimize-band-count-1e6", "optimize-band-count-1e6-scenario")})
+
+def _modes_file(n: int) -> str:
+    """A modes file of ``n`` modes from 5 Hz up, 1 % damping, shapes falling as 1/k."""
+    rows = [f"{5.0 * (1 + 0.5 * k):.4g}, 0.01, {0.8 / (k + 1):.4g}" for k in range(n)]
+    return "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n" + "\n".join(rows) + "\n"
+
+
+FILES.update({"modes_1000.csv": _modes_file(1000), "modes_50.csv": _modes_file(50)})
+SCENARIOS["modes_1000"] = '[structure]\nmodes = "modes_1000.csv"\n'
+
+# -- the modal free vibration costed from its mode count (the state's eigen-decomposition and
+# the scan for each minimum, ~(2N)^3 and ~(2N)^2 per sample): refused before any matrix is
+# built; uncertainty propagations judged at a sample's measured cost, one after another
+CASES += [
+    ("simulate-modes-1000", ["simulate", "--modes", "{tmp}/modes_1000.csv"],
+     Error("structure.modes")),
+    ("simulate-modes-1000-scenario", ["simulate", "--scenario", "{scenario:modes_1000}"],
+     Error("structure.modes")),
+    ("optimize-modes-1000", ["optimize", "--modes", "{tmp}/modes_1000.csv"],
+     Error("structure.modes")),
+    ("ok-simulate-modes-50", ["simulate", "--modes", "{tmp}/modes_50.csv", "--duration",
+                              "0.2s", "--json"], OK()),
+    ("report-uncertainty-65536", ["report", "--scenario", "{scenario:uncertain_friction}",
+                                  "--out", "{tmp}/r", "--uncertainty", "65536"],
+     Error("uncertainty")),
+    ("simulate-uncertainty-65536", ["simulate", "--scenario", "{scenario:uncertain_friction}",
+                                    "--uncertainty", "65536"], Error("uncertainty")),
+]
+HEADROOM.update({name: 2**30 for name in (
+    "simulate-modes-1000", "simulate-modes-1000-scenario", "optimize-modes-1000",
+    "report-uncertainty-65536", "simulate-uncertainty-65536")})

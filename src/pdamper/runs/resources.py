@@ -197,6 +197,53 @@ def _check_simulation(sc: Scenario, damper: ParticleDamper, cls: type[DamperMode
         damper, duration, sample_rate, structure.natural_frequency, sc.settings_of(cls),
         x0=sc.structure.initial_displacement, drivers=drivers,
         damper_drivers=_damper_drivers(damper, default)), force)
+    modes = int(getattr(structure, "modes", 1))
+    if modes > 1 and cls.coupling != "co_simulation":  # the DEM couples one mode only
+        req(modal_free_vibration_cost(structure, duration, sample_rate, drivers), force)
+
+
+#: Pseudo-force coupling on N modes (:mod:`pdamper.coupling.modal`), per damper update:
+#: one-core seconds per entry of the 2N x 2N state matrix cubed (its eigen-decomposition,
+#: condition number and solve; measured 1-5 ns for N = 100-400), per entry of the state
+#: matrix squared and scan sample (the closed-form state at each sample of the scan for the
+#: next minimum; measured 0.25-0.6 ns), and bytes per state entry and scan sample (the
+#: complex exponentials, their product with the eigenvectors and its real part, at once).
+MODAL_SECONDS_PER_STATE_CUBED = 5e-9
+MODAL_SECONDS_PER_STATE_SQUARED_SAMPLE = 1e-9
+MODAL_BYTES_PER_STATE_SAMPLE = 16 * 5
+#: Scan samples per first-mode period and per period of the fastest mode
+#: (:mod:`pdamper.coupling.modal`'s scan step).
+MODAL_SCAN_PER_PERIOD, MODAL_SCAN_PER_FAST_PERIOD = 400, 12
+
+
+def modal_free_vibration_cost(structure: Any, duration: float, sample_rate: float,
+                              drivers: Sequence[tuple] = ()) -> resources.Cost:
+    """What the pseudo-force free vibration of an N-mode ``structure`` (a
+    :class:`~pdamper.structure.modal.ModalStructure`) of ``duration`` [s] sampled at
+    ``sample_rate`` [Hz] costs, judged from the mode count and the modes' frequencies
+    before any matrix is built: per damper update (one per first-mode period, ``duration
+    f_1 + 1`` of them) an eigen-decomposition of the 2N x 2N state matrix, ~(2N)^3, and a
+    scan of ``max(400, 12 f_N / f_1)`` samples of the state, ~(2N)^2 each and held at once;
+    the stored trajectory, N x the samples. The mode count is named when it is too high.
+    """
+    n = int(structure.modes)
+    freqs = np.asarray(structure.frequencies, float)
+    f1, fmax = float(freqs.min()), float(freqs.max())
+    state = 2.0 * n
+    scan = max(MODAL_SCAN_PER_PERIOD, MODAL_SCAN_PER_FAST_PERIOD * fmax / f1)
+    updates = duration * f1 + 1.0
+    per_update = (MODAL_SECONDS_PER_STATE_CUBED * state**3
+                  + MODAL_SECONDS_PER_STATE_SQUARED_SAMPLE * state**2 * scan)
+    samples = duration * sample_rate + 1.0
+    memory = (MODAL_BYTES_PER_STATE_SAMPLE * state * scan
+              + resources.FRF_BYTES_PER_STATE_ENTRY * state**2 + 8.0 * (n + 3) * samples)
+    return resources.Cost(
+        "the modal free vibration", updates * per_update, memory,
+        f"{n} modes ({f1:.3g}-{fmax:.3g} Hz), {updates:.3g} damper updates of a "
+        f"{int(state)} x {int(state)} state scanned at {scan:.3g} samples per period",
+        (("structure.modes", float(n)), *drivers),
+        remedy="give structure.modes fewer modes (the first few carry a damper's response) "
+               "or shorten simulation.duration")
 
 
 def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperModel],
@@ -387,4 +434,5 @@ def frf_sample_cost(scenario: Scenario, frequencies: int) -> resources.Cost:
 
 
 __all__ = ["FRF_OVERRIDE", "RUNS", "USUAL_EXCITATION", "check_frf", "check_resources",
-           "check_runs", "excitation_cost", "frf_cost", "frf_sample_cost"]
+           "check_runs", "excitation_cost", "frf_cost", "frf_sample_cost",
+           "modal_free_vibration_cost"]
