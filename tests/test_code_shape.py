@@ -131,6 +131,7 @@ def test_the_engine_takes_at_most_six_parameters():
     assert not [p for p in params if p.kind in (p.VAR_KEYWORD, p.VAR_POSITIONAL)]
 
 
+@pytest.mark.long  # a whole mypy run (tens of CPU seconds cold): in CI's long group
 def test_the_type_check_passes():
     """``python3 -m mypy`` from the repository root, as CI runs it: no error."""
     if importlib.util.find_spec("mypy") is None:

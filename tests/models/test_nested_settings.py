@@ -25,8 +25,8 @@ from pdamper.parameters import PAPER_DAMPER
 ROOT = Path(__file__).resolve().parents[2]
 
 
+@pytest.mark.long  # CI's long group runs it: about 10 s of mypy from a cold cache
 def test_mypy_rejects_a_misspelt_setting_on_the_engine_and_on_the_damper(tmp_path):
-    # about 10 s of mypy on this 2-core machine from a cold cache
     snippet = tmp_path / "probe.py"
     snippet.write_text(textwrap.dedent("""
         from pdamper.dem import EngineSettings

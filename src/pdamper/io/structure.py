@@ -23,7 +23,17 @@ def structure_model(sc: Scenario) -> SingleDOFStructure | ModalStructure:
     """The :class:`~pdamper.structure.SingleDOFStructure` of Eq. (23) (M defaults to the
     paper's, see :mod:`pdamper.parameters.vertical_dampers_paper`), or the
     :class:`~pdamper.structure.modal.ModalStructure` of ``[structure] modes`` or
-    ``beam``."""
+    ``beam``: :func:`given_structure` with the container's mass added at the damper's point
+    unless the data include it (:func:`includes_container_mass`)."""
+    structure = given_structure(sc)
+    if not includes_container_mass(sc):
+        structure = structure.with_added_mass(sc.container.mass)
+    return structure
+
+
+def given_structure(sc: Scenario) -> SingleDOFStructure | ModalStructure:
+    """The structure as the scenario's data give it (the modes file, the beam, the 1-DOF),
+    before the container's mass is added: what a report shows as the user's data."""
     from pdamper.structure import SingleDOFStructure
 
     s = sc.structure
@@ -37,8 +47,6 @@ def structure_model(sc: Scenario) -> SingleDOFStructure | ModalStructure:
     else:
         structure = SingleDOFStructure(mass=paper.PAPER_MASS if s.mass is None else s.mass,
                                        damping=s.damping, stiffness=s.stiffness)
-    if not includes_container_mass(sc):
-        structure = structure.with_added_mass(sc.container.mass)
     return structure
 
 

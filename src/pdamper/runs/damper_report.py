@@ -276,7 +276,13 @@ def _record_inputs(rep: DamperReport, sc: Scenario, damper: ParticleDamper, stru
 
     load_used = sc.optimization.objective in LOAD_OBJECTIVES and sc.load.given
     rep.used, rep.not_used = used_inputs(rep.inputs, dem=dem, load_used=load_used)
-    rep.modal = modal_data(structure)
+    from pdamper.io.structure import given_structure, includes_container_mass
+
+    rep.modal = modal_data(given_structure(sc))  # the user's data as given
+    if not includes_container_mass(sc) and sc.container.mass > 0:
+        # the runs' structure: the container's mass added at the damper's point
+        rep.modal["with_container"] = {"container_mass": sc.container.mass,
+                                       **modal_data(structure)}
     rep.mode_damping = mode_damping(structure, damper, sc.excitation.gravity)
     for key, path in (("modes", sc.structure.modes),
                       ("load", (sc.load.force or sc.load.base_acceleration)
