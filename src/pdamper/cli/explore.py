@@ -31,7 +31,7 @@ def explore(
 ) -> None:
     """Start a local web page (on 127.0.0.1) to design a damper by hand: sliders for the
     damper, the structure and the load; the forced response, the Level II map with the
-    operating path, the mass against its limit; a DEM check in the background; save the
+    structure's operating points on it, the mass against its limit; a DEM check in the background; save the
     scenario or write its report. Needs the optional dependencies:
     pip install -e ".[explore]"."""
     from pdamper.errors import InputError

@@ -60,73 +60,82 @@ def parse_load(force: str | None, base: str | None, unbalance: str | None = None
     return HarmonicLoad.parse(DEFAULT_FORCE if force is None else force, "force")
 
 
+#: The command's options (module level: the signature stays readable).
+_ForceOpt = Annotated[str | None, typer.Option(
+    "--force", help=key_help("frf.force", "Harmonic force amplitude at the structure's "
+                             "load point (the damper's point unless the modes name a "
+                             "load point), e.g. '2N' (default 2 N)"))]
+_UnbalanceOpt = Annotated[str | None, typer.Option(
+    "--unbalance", help=key_help("frf.unbalance", "Rotating unbalance m e at the load "
+                                 "point instead, e.g. '1.76kg*mm': the force m e Omega^2 "
+                                 "at each speed"))]
+_BaseOpt = Annotated[str | None, typer.Option(
+    help="Harmonic base motion instead: displacement ('1mm') or acceleration ('0.3g') "
+         "amplitude (one-mode structures; scenario keys frf.base_displacement, "
+         "frf.base_acceleration).")]
+_LoadAtOpt = Annotated[str | None, typer.Option(
+    "--load-at", help=key_help("frf.at", "Where the force or unbalance acts: load (the "
+                               "structure's load point) or damper"))]
+_FrequencyOpt = Annotated[str | None, typer.Option(
+    help=key_help("frf.frequency", "Frequencies 'start:stop:count' (e.g. '3Hz:9Hz:121', "
+                  "'360rpm:2400rpm:100') or one; default every mode of the structure, "
+                  "each resonance resolved for its damping"))]
+_SweepOpt = Annotated[str | None, typer.Option(
+    help=key_help("frf.sweep", "Stepped-sine direction: up, down or both (default "
+                  "both)"))]
+_MaxCyclesOpt = Annotated[int | None, typer.Option(
+    "--max-cycles", help="Most load cycles per frequency step of the stepped sine "
+                         "(default 2000; the DEM 60).")]
+_AllowCostOpt = Annotated[bool, typer.Option(
+    "--allow-cost", help="Allow a response whose estimated memory or run time is above the "
+                         "usual limits (2 GiB, 1 h), up to what this machine can hold; "
+                         "every other command's --force (here --force is the load).")]
+_RealisationsOpt = Annotated[str | None, typer.Option(
+    "--realisations", help="The response from N realisations of the damper: the DEM from "
+    "N random packings (seeds dem.seed ... dem.seed + N - 1), the fields from the first "
+    "N realisations of their map; the JSON key 'realisations' holds the band of each "
+    "sweep and of the peak (default 1).")]
+
+
 def frf(
     model: ModelOpt = None,
-    force: Annotated[str | None, typer.Option(
-        "--force", help=key_help("frf.force", "Harmonic force amplitude at the structure's "
-                                 "load point (the damper's point unless the modes name a "
-                                 "load point), e.g. '2N' (default 2 N)"))] = None,
-    unbalance: Annotated[str | None, typer.Option(
-        "--unbalance", help=key_help("frf.unbalance", "Rotating unbalance m e at the load "
-                                     "point instead, e.g. '1.76kg*mm': the force m e Omega^2 "
-                                     "at each speed"))] = None,
-    base: Annotated[str | None, typer.Option(
-        help="Harmonic base motion instead: displacement ('1mm') or acceleration ('0.3g') "
-             "amplitude (one-mode structures; scenario keys frf.base_displacement, "
-             "frf.base_acceleration).")] = None,
-    load_at: Annotated[str | None, typer.Option(
-        "--load-at", help=key_help("frf.at", "Where the force or unbalance acts: load (the "
-                                   "structure's load point) or damper"))] = None,
-    frequency: Annotated[str | None, typer.Option(
-        help=key_help("frf.frequency", "Frequencies 'start:stop:count' (e.g. '3Hz:9Hz:121', "
-                      "'360rpm:2400rpm:100') or one; default every mode of the structure, "
-                      "each resonance resolved for its damping"))] = None,
-    sweep: Annotated[str | None, typer.Option(
-        help=key_help("frf.sweep", "Stepped-sine direction: up, down or both (default "
-                      "both)"))] = None,
+    force: _ForceOpt = None,
+    unbalance: _UnbalanceOpt = None,
+    base: _BaseOpt = None,
+    load_at: _LoadAtOpt = None,
+    frequency: _FrequencyOpt = None,
+    sweep: _SweepOpt = None,
     particles: Annotated[int | None, typer.Option(help=key_help("particles.count",
                                                                 "Number of spheres."))] = None,
     fields: Annotated[Path | None, typer.Option(
         help=key_help("fields.file",
                       "Effective-field map (NetCDF from `pdamper map`) of the fields model."))] = None,
-    max_cycles: Annotated[int | None, typer.Option(
-        "--max-cycles", help="Most load cycles per frequency step of the stepped sine "
-                             "(default 2000; the DEM 60).")] = None,
+    max_cycles: _MaxCyclesOpt = None,
     plot: Annotated[str | None, plot_param("the amplitude and phase against frequency")] = None,
     out: Annotated[str | None, typer.Option(help="NetCDF file of the response.")] = None,
     modes: ModesOpt = None,
-    allow_cost: Annotated[bool, typer.Option(
-        "--allow-cost", help="Allow a response whose estimated memory or run time is above the "
-                             "usual limits (2 GiB, 1 h), up to what this machine can hold; "
-                             "every other command's --force (here --force is the load).")] = False,
+    allow_cost: _AllowCostOpt = False,
     uncertainty: _uncertainty.UncertaintyOpt = None,
     uncertain: _uncertainty.UncertainOpt = None,
     uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
-    realisations: Annotated[str | None, typer.Option(
-        "--realisations", help="The response from N realisations of the damper: the DEM from "
-        "N random packings (seeds dem.seed ... dem.seed + N - 1), the fields from the first "
-        "N realisations of their map; the JSON key 'realisations' holds the band of each "
-        "sweep and of the peak (default 1).")] = None,
+    realisations: _RealisationsOpt = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
     """Steady amplitude and phase under a harmonic force, unbalance or base motion against
     frequency: harmonic balance (every branch) and stepped sines up and down."""
-    from pdamper.coupling.frf import frequency_response
-    from pdamper.errors import InputError, check_whole
+    from pdamper.errors import check_whole
     from pdamper.runs.resources import check_frf
 
-    given = parse_load(force, base, unbalance, default=None)
-    freqs = None if frequency is None else _frequencies(frequency)
-    if sweep is not None and sweep not in ("up", "down", "both"):
-        raise InputError("sweep", f"must be up, down or both, got {sweep!r}")
-    if max_cycles is not None:
-        check_whole("max_cycles", max_cycles, 1)
     sc = load(scenario, **_uncertainty.merged(dict(
         simulation__model=model, particles__count=particles,
         fields__file=None if fields is None else str(fields),
         structure__modes=None if modes is None else str(modes), frf__at=load_at), uncertain))
-    load_, freqs, sweep, source = _resolved(sc, given, freqs, sweep)
+    load_, freqs, sweep, source = _resolved(
+        sc, parse_load(force, base, unbalance, default=None),
+        None if frequency is None else _frequencies(frequency), _checked_sweep(sweep))
+    if max_cycles is not None:
+        check_whole("max_cycles", max_cycles, 1)
     n_real = _realisation_count(sc, model, realisations, uncertainty)
     # the cost of every frequency, sweep, cycle and mode, judged before any is solved
     check_frf(sc, model, freqs, load_, max_cycles=max_cycles, sweep=sweep, force=allow_cost,
@@ -134,44 +143,12 @@ def frf(
     _check_uncertainty(sc, model, uncertainty, allow_cost, len(freqs))
     out_path = check_output(out)
     plot_path = check_plot(plot)
-    damper = sc.damper()
-    m = sc.model(None, damper)
-    structure = _acting(sc)
-    band = None
-    if n_real > 1:  # realisation 0 is the run reported; the band is over all of them
-        from pdamper.runs.realisations import realisation_models
-
-        models, which = realisation_models(sc, n_real, model)
-        runs = [frequency_response(mk, structure, load_, freqs, sweep=sweep,
-                                   max_cycles=max_cycles) for mk in models]
-        res, band = runs[0], _band(runs, which)
-    else:
-        from pdamper.cli._progress import frf_steps  # the DEM's steps: minutes (stderr only)
-
-        with frf_steps(len(freqs) * (2 if sweep == "both" else 1)) as steps:
-            res = frequency_response(m, structure, load_, freqs, sweep=sweep,
-                                     max_cycles=max_cycles,
-                                     progress=None if steps is None else steps.step)
+    res, band = _solve(sc, model, n_real, load_, freqs, sweep, max_cycles)
     meta = metadata(sc)
     if out_path is not None:
         _write_response(out_path, res, meta)
-    payload = res.as_dict()
-    payload["frf_inputs"] = payload.pop("inputs")  # "inputs" is the scenario's, as everywhere
-    payload["frf_inputs"]["frequency_source"] = source
-    from pdamper.coupling.decrement import frf_resonances
-
-    payload["resonances"] = frf_resonances(res)  # each resonance's zeta, with and without
-    payload["units"] = {"frequency": "Hz", "amplitude": "m", "stroke": "m", "phase": "rad",
-                        "loss_factor": "1", "effective_mass": "kg", "wall_seconds": "s",
-                        "load": load_.unit}
-    spread, text = None, _table(res)
-    if band is not None:
-        payload["realisations"] = band
-        text += [f"{band['count']} realisations ({'seeds ' if 'seeds' in band else 'map '}"
-                 f"{band.get('seeds', band.get('map_realisations'))}; the table is the first): "
-                 + "; ".join(f"{name} peak {p['mean'] * 1e3:.3g} +- {p['std'] * 1e3:.2g} mm "
-                             f"[{p['min'] * 1e3:.3g}, {p['max'] * 1e3:.3g}]"
-                             for name, p in band["peak"].items())]
+    payload, text = _payload(res, source, load_, band)
+    spread = None
     if uncertainty is not None:
         from pdamper.runs.uncertainty import propagate_scenario
 
@@ -186,6 +163,59 @@ def frf(
     emit(payload, as_json, "\n".join(text))  # the results first: a figure cannot lose them
     if plot_path is not None:
         _figure(res, plot_path, spread, band)
+
+
+def _checked_sweep(sweep: str | None) -> str | None:
+    from pdamper.errors import InputError
+
+    if sweep is not None and sweep not in ("up", "down", "both"):
+        raise InputError("sweep", f"must be up, down or both, got {sweep!r}")
+    return sweep
+
+
+def _solve(sc, model: str | None, n_real: int, load_, freqs, sweep: str,
+           max_cycles: int | None) -> tuple:
+    """The forced response (realisation 0 where ``n_real`` > 1) and the band over the
+    realisations (None for one run)."""
+    from pdamper.coupling.frf import frequency_response
+
+    structure = _acting(sc)
+    if n_real > 1:  # realisation 0 is the run reported; the band is over all of them
+        from pdamper.runs.realisations import realisation_models
+
+        models, which = realisation_models(sc, n_real, model)
+        runs = [frequency_response(mk, structure, load_, freqs, sweep=sweep,
+                                   max_cycles=max_cycles) for mk in models]
+        return runs[0], _band(runs, which)
+    from pdamper.cli._progress import frf_steps  # the DEM's steps: minutes (stderr only)
+
+    with frf_steps(len(freqs) * (2 if sweep == "both" else 1)) as steps:
+        res = frequency_response(sc.model(None, sc.damper()), structure, load_, freqs,
+                                 sweep=sweep, max_cycles=max_cycles,
+                                 progress=None if steps is None else steps.step)
+    return res, None
+
+
+def _payload(res, source: str, load_, band: dict | None) -> tuple[dict, list[str]]:
+    """The JSON of the response (without the scenario's metadata) and its text lines."""
+    from pdamper.coupling.decrement import frf_resonances
+
+    payload = res.as_dict()
+    payload["frf_inputs"] = payload.pop("inputs")  # "inputs" is the scenario's, as everywhere
+    payload["frf_inputs"]["frequency_source"] = source
+    payload["resonances"] = frf_resonances(res)  # each resonance's zeta, with and without
+    payload["units"] = {"frequency": "Hz", "amplitude": "m", "stroke": "m", "phase": "rad",
+                        "loss_factor": "1", "effective_mass": "kg", "wall_seconds": "s",
+                        "load": load_.unit}
+    text = _table(res)
+    if band is not None:
+        payload["realisations"] = band
+        text += [f"{band['count']} realisations ({'seeds ' if 'seeds' in band else 'map '}"
+                 f"{band.get('seeds', band.get('map_realisations'))}; the table is the first): "
+                 + "; ".join(f"{name} peak {p['mean'] * 1e3:.3g} +- {p['std'] * 1e3:.2g} mm "
+                             f"[{p['min'] * 1e3:.3g}, {p['max'] * 1e3:.3g}]"
+                             for name, p in band["peak"].items())]
+    return payload, text
 
 
 def _realisation_count(sc, model: str | None, realisations: str | None,

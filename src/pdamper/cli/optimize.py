@@ -55,6 +55,42 @@ RequireOpt = Annotated[list[str] | None, typer.Option("--require", help=key_help
     "quantities the objective's runs compute)"))]
 
 
+#: Options of the command (module level: the signature stays readable).
+_BandOpt = Annotated[str | None, typer.Option(
+    help=key_help("optimization.band",
+                  "Frequencies of peak-frf and rms-frf, 'start:stop:count', e.g. '3Hz:9Hz:41' "
+         "(default every mode of the structure, each resonance resolved for its damping)."))]
+_FrfLoadOpt = Annotated[str | None, typer.Option(
+    "--frf-load", help=key_help("optimization.frf_load",
+                                "Harmonic load of peak-frf and rms-frf: a force ('2N', default), "
+                       "an unbalance ('1.76kg*mm') or a base motion ('1mm', '0.3g')."))]
+_WorkersOpt = Annotated[str | None, typer.Option(
+    help=key_help("optimization.workers",
+                  "Parallel dask workers; 0 = in-process; auto = 0 for cheap models, all cores "
+         "for the DEM (when dask.distributed is installed)."))]
+_ToleranceOpt = Annotated[str | None, typer.Option(
+    help=key_help("optimization.tolerance",
+                  "Relative tolerance on the objective: the lightest design within it of the best "
+         "is reported with the Pareto front of added (bed) mass against the objective, "
+         "e.g. '5%' or 0.05; in [0 %, 100 %) (default 5 %)."))]
+_RealisationsOpt = Annotated[str | None, typer.Option(
+    "--realisations", help="Evaluate every design from N random packings (DEM; seeds "
+    "dem.seed ... dem.seed + N - 1) or the first N realisations of the fields' map: the "
+    "objective is their mean, each candidate has "
+    "objective_std, objective_min, objective_max and objective_values (default 1).")
+]
+_RobustQuantileOpt = Annotated[str | None, typer.Option(
+    "--robust-quantile", help="With --uncertainty: rank the designs by this quantile of "
+    "their objective over the samples (0.9 or 90%: the value 90 % of the samples meet; "
+    "for a maximised objective the 10 % quantile) instead of the mean.")]
+_MethodOpt = Annotated[str | None, typer.Option(
+    help=key_help("optimization.method",
+                  "auto, grid (brute force) or optimize (scipy differential evolution)."))]
+_ThresholdOpt = Annotated[str | None, typer.Option(
+    help=key_help("optimization.threshold",
+                  "Settling threshold, e.g. '15mm' (default |x0| / 4)."))]
+
+
 def optimize(
     model: ModelOpt = None,
     at: Annotated[str | None, typer.Option(help=key_help("optimization.at",
@@ -63,24 +99,11 @@ def optimize(
         "optimization.step", "Particle-count increment (default: one layer)."))] = None,
     vary: VaryOpt = None,
     objective: ObjectiveOpt = None,
-    band: Annotated[str | None, typer.Option(
-        help=key_help("optimization.band",
-                      "Frequencies of peak-frf and rms-frf, 'start:stop:count', e.g. '3Hz:9Hz:41' "
-             "(default every mode of the structure, each resonance resolved for its damping)."))] = None,
-    frf_load: Annotated[str | None, typer.Option(
-        "--frf-load", help=key_help("optimization.frf_load",
-                                    "Harmonic load of peak-frf and rms-frf: a force ('2N', default), "
-                           "an unbalance ('1.76kg*mm') or a base motion ('1mm', '0.3g')."))] = None,
-    threshold: Annotated[str | None, typer.Option(
-        help=key_help("optimization.threshold",
-                      "Settling threshold, e.g. '15mm' (default |x0| / 4)."))] = None,
-    method: Annotated[str | None, typer.Option(
-        help=key_help("optimization.method",
-                      "auto, grid (brute force) or optimize (scipy differential evolution)."))] = None,
-    workers: Annotated[str | None, typer.Option(
-        help=key_help("optimization.workers",
-                      "Parallel dask workers; 0 = in-process; auto = 0 for cheap models, all cores "
-             "for the DEM (when dask.distributed is installed)."))] = None,
+    band: _BandOpt = None,
+    frf_load: _FrfLoadOpt = None,
+    threshold: _ThresholdOpt = None,
+    method: _MethodOpt = None,
+    workers: _WorkersOpt = None,
     scheduler: Annotated[str | None, typer.Option(
         help=key_help("optimization.scheduler", "Address of an existing dask scheduler."))] = None,
     max_evaluations: Annotated[int | None, typer.Option(
@@ -88,11 +111,7 @@ def optimize(
                                            "Evaluation budget of the optimiser."))] = None,
     seed: Annotated[int | None, typer.Option(help=key_help("optimization.seed",
                                                            "Seed of the optimiser."))] = None,
-    tolerance: Annotated[str | None, typer.Option(
-        help=key_help("optimization.tolerance",
-                      "Relative tolerance on the objective: the lightest design within it of the best "
-             "is reported with the Pareto front of added (bed) mass against the objective, "
-             "e.g. '5%' or 0.05; in [0 %, 100 %) (default 5 %)."))] = None,
+    tolerance: _ToleranceOpt = None,
     max_mass: MaxMassOpt = None,
     require: RequireOpt = None,
     plot: Annotated[str | None, plot_param("the design landscape")] = None,
@@ -100,19 +119,11 @@ def optimize(
     load_file: LoadOpt = None,
     base_acceleration: BaseAccelerationOpt = None,
     tail: TailOpt = None,
-    realisations: Annotated[str | None, typer.Option(
-        "--realisations", help="Evaluate every design from N random packings (DEM; seeds "
-        "dem.seed ... dem.seed + N - 1) or the first N realisations of the fields' map: the "
-        "objective is their mean, each candidate has "
-        "objective_std, objective_min, objective_max and objective_values (default 1).")
-    ] = None,
+    realisations: _RealisationsOpt = None,
     uncertainty: _uncertainty.UncertaintyOpt = None,
     uncertain: _uncertainty.UncertainOpt = None,
     uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
-    robust_quantile: Annotated[str | None, typer.Option(
-        "--robust-quantile", help="With --uncertainty: rank the designs by this quantile of "
-        "their objective over the samples (0.9 or 90%: the value 90 % of the samples meet; "
-        "for a maximised objective the 10 % quantile) instead of the mean.")] = None,
+    robust_quantile: _RobustQuantileOpt = None,
     force: ForceOpt = False,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,

@@ -55,6 +55,9 @@ def _run_payload(res, seconds: float) -> dict:
         # N modes: each mode's ratio from its own modal coordinate (the sum above beats)
         "damping_per_mode": None if res.damping_per_mode is None
         else [m.as_dict() for m in res.damping_per_mode],
+        **({"not_applicable": {"damping_per_mode": "one mode: its damping ratio is the "
+                                                   "decay's own (damping_ratio)"}}
+           if res.damping_per_mode is None else {}),
     }
 
 

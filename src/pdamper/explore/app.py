@@ -95,24 +95,9 @@ class Page:
         self.out_dir = out_dir
         self.generation = 0
         sc = design.scenario_of(base)
-        start = design.values_of(sc)
         self.widgets: dict[str, Any] = {}
         self.rows: dict[str, Any] = {}
-        for c in CONTROLS:
-            if c.key.startswith("structure.") and sc.structure.modes is not None:
-                continue  # a modes file: the structure is the file's, not the sliders'
-            value = start.get(c.key, c.low)
-            decl = c.declaration()
-            unit = "" if c.unit == "1" else f" [{c.unit}]"
-            tip = f"{decl.doc} Scenario key {c.key}; allowed {decl.allowed or 'any'}."
-            cls = pn.widgets.IntSlider if c.integer else pn.widgets.FloatSlider
-            lo, hi = design.span(c, value)
-            w = cls(name=f"{c.label}{unit}", start=lo, end=hi, step=c.step,
-                    value=int(value) if c.integer else value,
-                    sizing_mode="stretch_width", css_classes=[f"ctl-{c.key.replace('.', '-')}"])
-            w.param.watch(self._on_value(c.key), "value_throttled")
-            self.widgets[c.key] = w
-            self.rows[c.key] = pn.Row(w, pn.widgets.TooltipIcon(value=tip), sizing_mode="stretch_width")
+        self._controls(sc)
         if "particles.count" in self.widgets:
             self.widgets["particles.count"].end = max(int(sc.damper().max_count),
                                                       self.widgets["particles.count"].value)
@@ -169,6 +154,27 @@ class Page:
         self._figures()
         self.dem_points: list[dict[str, Any]] = []
         self.response: design.Response | None = None
+
+    def _controls(self, sc: Any) -> None:
+        """A slider per control, with its declaration (key, allowed range) in a tooltip."""
+        start = design.values_of(sc)
+        for c in CONTROLS:
+            if c.key.startswith("structure.") and sc.structure.modes is not None:
+                continue  # a modes file: the structure is the file's, not the sliders'
+            value = start.get(c.key, c.low)
+            decl = c.declaration()
+            unit = "" if c.unit == "1" else f" [{c.unit}]"
+            tip = f"{decl.doc} Scenario key {c.key}; allowed {decl.allowed or 'any'}."
+            cls = pn.widgets.IntSlider if c.integer else pn.widgets.FloatSlider
+            lo, hi = design.span(c, value)
+            w = cls(name=f"{c.label}{unit}", start=lo, end=hi, step=c.step,
+                    value=int(value) if c.integer else value,
+                    sizing_mode="stretch_width",
+                    css_classes=[f"ctl-{c.key.replace('.', '-')}"])
+            w.param.watch(self._on_value(c.key), "value_throttled")
+            self.widgets[c.key] = w
+            self.rows[c.key] = pn.Row(w, pn.widgets.TooltipIcon(value=tip),
+                                      sizing_mode="stretch_width")
 
     # ---- layout ---------------------------------------------------------------------------
     def layout(self) -> pn.template.BaseTemplate:

@@ -18,7 +18,7 @@ defaults; nothing here restates a number.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import (
     AfterValidator,
@@ -36,7 +36,7 @@ from pydantic import (
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.damper import QUANTITIES, ParticleDamper
 from pdamper.errors import InputError
-from pdamper.io.damper_sections import ContainerSpec, MaterialSpec, ParticlesSpec, _DeclaredSection
+from pdamper.io.damper_sections import ContainerSpec, MaterialSpec, ParticlesSpec
 from pdamper.io.dem_section import (  # noqa: F401  (importable from here)
     DEM_SCENARIO_ONLY,
     DEM_SET_ELSEWHERE,
@@ -45,7 +45,7 @@ from pdamper.io.dem_section import (  # noqa: F401  (importable from here)
     DEMSpec,
 )
 from pdamper.io.grids import _grid, _range_text, count_grid, grid, parse_axis
-from pdamper.io.loads import FRFSpec
+from pdamper.io.loads import FRFSpec, LoadSpec
 from pdamper.io.quantities import (
     Count,
     Damping,
@@ -66,13 +66,12 @@ from pdamper.io.quantities import (
 from pdamper.io.restitution import RestitutionSpec
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.resources import DEFAULT_MAX_EVALUATIONS, DEFAULT_MAX_GRID, DEFAULT_TOLERANCE
-from pdamper.settings import redeclare, setting
+from pdamper.settings import setting
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
 
     from pdamper.contact.restitution import RestitutionCurve
-    from pdamper.coupling.loads import LoadHistory, RunUp
     from pdamper.design.study import DesignVariable
     from pdamper.materials import Material
     from pdamper.models.base import DamperModel
@@ -174,84 +173,6 @@ class StructureSpec(_Section):
                              "uncertain damping or frequency is mode<k>.damping_ratio or "
                              "mode<k>.frequency, e.g. mode1.damping_ratio")
         return self
-
-
-class LoadSpec(_DeclaredSection):
-    """A load history on the structure (:mod:`pdamper.io.loads`, docs/forced.md): a force
-    (``force``, a CSV file), a base acceleration (``base_acceleration``) or a rotating
-    unbalance on a speed ramp (``unbalance`` with ``run_up``,
-    :class:`~pdamper.coupling.loads.RunUp`), one of them; a relative path is taken
-    relative to the scenario file. The run lasts the record plus ``tail`` of free
-    vibration. A force acts at the structure's load point (``at = "load"``: the modes
-    file's load column, the beam's ``load_position``; the damper's point where the
-    structure names none) or at the damper's point (``at = "damper"``: a shock on the
-    damper's housing)."""
-
-    prefix: ClassVar[str] = "load."
-
-    force: str | None = None
-    base_acceleration: str | None = None
-    unbalance: float | None = redeclare(
-        FRFSpec, "unbalance", None, "Rotating unbalance m e of the run-up at the load point, "
-        "e.g. '1.76 kg*mm'.")
-    #: speed ramp of the unbalance "start:stop:duration", e.g. "400rpm:2400rpm:20s"
-    run_up: str | None = None
-    tail: Annotated[float, _q("s"), Field(ge=0, allow_inf_nan=False)] = 0.0
-    at: str = redeclare(FRFSpec, "at", "load", "Where a force acts: load (the structure's "
-                        "load point: the modes file's load column, the beam's load_position; "
-                        "the damper's point where the structure names none) or damper.")
-
-    @model_validator(mode="after")
-    def _one_load(self):
-        given = [k for k in ("force", "base_acceleration", "run_up")
-                 if getattr(self, k) is not None]
-        if len(given) > 1:
-            raise ValueError(f"give the load as one of force, base_acceleration or run_up, "
-                             f"not {' and '.join(given)}")
-        if (self.run_up is None) != (self.unbalance is None):
-            raise ValueError("a run-up needs both unbalance (m e, e.g. '1.76 kg*mm') and "
-                             "run_up (the speed ramp, e.g. '400rpm:2400rpm:20s')")
-        self.run_up_load()  # its ramp checked here
-        return self
-
-    @property
-    def given(self) -> bool:
-        return (self.force is not None or self.base_acceleration is not None
-                or self.run_up is not None)
-
-    @classmethod
-    def override(cls, section: dict[str, Any], name: str, value: Any) -> None:
-        """Set ``name`` to ``value`` in the ``[load]`` table ``section`` as read from a file:
-        a load given on the command line (a force, a base acceleration, a run-up or its
-        unbalance) replaces the file's load of another kind, and where it acts (``at``)
-        unless the command line says that too (it is set after)."""
-        drop = {"force": ("base_acceleration", "run_up", "unbalance"),
-                "base_acceleration": ("force", "run_up", "unbalance"),
-                "run_up": ("force", "base_acceleration"),
-                "unbalance": ("force", "base_acceleration")}.get(name)
-        if drop is not None:
-            for other in (*drop, "at"):
-                section.pop(other, None)
-        section[name] = value
-
-    def run_up_load(self) -> RunUp | None:
-        """The :class:`~pdamper.coupling.loads.RunUp` (None: none given)."""
-        from pdamper.coupling.loads import RunUp
-
-        if self.run_up is None or self.unbalance is None:
-            return None
-        return RunUp.parse(self.unbalance, self.run_up)
-
-    def history(self) -> LoadHistory | None:
-        """The :class:`~pdamper.coupling.loads.LoadHistory` (None: no load given)."""
-        from pdamper.io.loads import read_load
-
-        if self.force is not None:
-            return read_load(self.force, "force")
-        if self.base_acceleration is not None:
-            return read_load(self.base_acceleration, "base_acceleration")
-        run_up = self.run_up_load()
-        return None if run_up is None else run_up.history()
 
 
 class SimulationSpec(_Section):
