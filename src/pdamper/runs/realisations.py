@@ -280,18 +280,7 @@ def _scaled_check(scenario, run: str, model: str | None, n: int, force: bool) ->
     ``model`` for ``n`` runs of it: every time cost it implies, ``n`` times over (memory is
     per run: one at a time per worker); the driver ``realisations`` is named when the
     count is what inflates it."""
-    def require(cost, force_=False):
-        if cost.seconds > 0:
-            cost = resources.Cost(
-                f"{n} realisations of {cost.what}", cost.seconds * n, cost.memory,
-                f"{n} realisations, each {cost.detail}",
-                (*cost.drivers, ("realisations", n / USUAL_REALISATIONS)),
-                runs=n * max(cost.runs or 1, 1),
-                longest=cost.longest if cost.longest is not None else cost.seconds,
-                remedy="ask for fewer realisations" if n > USUAL_REALISATIONS else cost.remedy)
-        return resources.require(cost, force_)
-
-    check_resources(scenario, run, model, force, require=require)
+    check_resources(scenario, run, model, force, require=scaled_require(n))
 
 
 def _need_random(model, n: int) -> None:
