@@ -710,19 +710,11 @@ def check_level3_realisations(count: Any, scenario: Scenario, model_name: str | 
     number >= 1; N > 1 for a model with a random packing (the DEM, N times its cost within
     the limits, ``[optimization] at`` within the simulated time) or the effective fields of
     a map with at least N realisations."""
-    n = check_count(count)
+    n = check_realisation_models(count, scenario, model_name)
     if n == 1:
         return n
-    model = scenario.model(model_name, scenario.damper())
-    kind = level3_kind(model)
-    if kind == "map":
-        have = int(cast("EffectiveFieldDamper", model).map_attrs["realisations"])
-        if n > have:
-            raise InputError("realisations", f"must be at most the {have} realisations of the "
-                             f"effective-field map, got {n}")
-    else:
-        _need_random(model, n)
-        _scaled_check(scenario, "simulation", model_name, n, force)
+    if level3_kind(scenario.model(model_name, scenario.damper())) != "map":
+        _scaled_check(scenario, "simulation", model_name, n, force)  # N DEM runs
     _check_at(scenario.optimization.at, scenario.simulation.duration)
     return n
 
