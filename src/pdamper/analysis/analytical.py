@@ -202,14 +202,87 @@ def _flight_span(y0, c, low, high, gam):
     return np.fmin(np.where(np.isnan(fall), np.inf, fall), rise)
 
 
-def _first_crossing(gap, phi_start, active, max_phase, rising: bool):
-    """First phase > phi_start where ``gap(phi, idx)`` crosses zero.
+@dataclass(frozen=True)
+class _Gap:
+    """The gap ``y(phi) - sin(phi) - offset`` [strokes] between a flying bed and a wall of
+    the container, with the bed's flight the parabola ``y = base + slope s - s^2 / gam2``,
+    ``s = phi - p0`` (Eqs. 7, 9, 14; ``gam2 = 2 Gamma``, inf without gravity): one array
+    per parameter over all points, rows picked by index. The arithmetic is written once
+    (:meth:`values`), in the same order for an array of phases and for one phase, so that
+    one point alone and one point of many give the same bits."""
+
+    p0: np.ndarray
+    base: np.ndarray
+    slope: np.ndarray
+    gam2: np.ndarray
+    offset: np.ndarray
+
+    def rows(self, idx: np.ndarray) -> tuple:
+        """The parameters of the rows ``idx`` as columns (to broadcast over a phase grid)."""
+        return tuple(a[idx, None] for a in (self.p0, self.base, self.slope, self.gam2,
+                                            self.offset))
+
+    @staticmethod
+    def values(phi, p0, base, slope, gam2, offset):
+        s = phi - p0
+        return base + slope * s - (s * s) / gam2 - np.sin(phi) - offset
+
+    def bounds(self, row: int, lo: float, hi: float) -> tuple[float, float]:
+        """Lower and upper bounds of the gap of point ``row`` over phases [lo, hi]: the
+        parabola's extremes there (its ends, and its top where the parabola opens
+        downwards), minus ``offset``, then -1 and +1 for the sine. Widened by a margin
+        of 1e-9 of the largest term, some million times the round-off of the gap's
+        arithmetic: a cycle these bounds exclude holds no crossing on the grid either."""
+        p0, base, slope, gam2 = (float(self.p0[row]), float(self.base[row]),
+                                 float(self.slope[row]), float(self.gam2[row]))
+        off = float(self.offset[row])
+
+        def y(phi: float) -> float:
+            s = phi - p0
+            return base + slope * s - (s * s) / gam2
+
+        ends = (y(lo), y(hi))
+        low, high = min(ends), max(ends)
+        vertex = p0 + 0.5 * slope * gam2 if math.isfinite(gam2) else math.nan
+        if lo < vertex < hi:
+            high = max(high, y(vertex))
+        s = max(abs(lo - p0), abs(hi - p0))
+        margin = 1e-9 * (1.0 + abs(base) + abs(slope) * s + s * s / gam2 + abs(off)
+                         + abs(low) + abs(high))
+        return low - off - 1.0 - margin, high - off + 1.0 + margin
+
+    def bounds_rows(self, idx: np.ndarray, lo: np.ndarray, hi: np.ndarray):
+        """:meth:`bounds` of the rows ``idx``, each over its [lo, hi] (arrays)."""
+        p0, base, slope, gam2, off = (a[idx] for a in (self.p0, self.base, self.slope,
+                                                        self.gam2, self.offset))
+        with np.errstate(invalid="ignore"):
+            def y(phi):
+                s = phi - p0
+                return base + slope * s - (s * s) / gam2
+
+            y_lo, y_hi = y(lo), y(hi)
+            low, high = np.minimum(y_lo, y_hi), np.maximum(y_lo, y_hi)
+            vertex = np.where(np.isfinite(gam2), p0 + 0.5 * slope * gam2, np.nan)
+            inside = (lo < vertex) & (vertex < hi)
+            high = np.where(inside, np.maximum(high, y(np.where(inside, vertex, lo))), high)
+            s = np.maximum(np.abs(lo - p0), np.abs(hi - p0))
+            margin = 1e-9 * (1.0 + np.abs(base) + np.abs(slope) * s + s * s / gam2
+                             + np.abs(off) + np.abs(low) + np.abs(high))
+        return low - off - 1.0 - margin, high - off + 1.0 + margin
+
+
+def _first_crossing(gap: _Gap, phi_start, active, max_phase, rising: bool):
+    """First phase > phi_start where ``gap`` crosses zero.
 
     ``rising``: crossing from negative to >= 0 (else from positive to <= 0). Scans cycle by
     cycle on a fine phase grid and refines the bracketing interval by bisection. Returns NaN
     where no crossing occurs before ``max_phase``. The scan ends after at most
     ``(max_phase - phi_start) / 2 pi + 2`` cycles, which the caller bounds
     (:func:`_check_flight`).
+
+    One point alone (the harmonic balance's root search asks for one at a time) is scanned
+    by :func:`_first_crossing_one`: the same grid, the same arithmetic, the same bits, at a
+    fraction of the cost of numpy's calls on arrays of one row.
     """
     n = phi_start.size
     result = np.full(n, np.nan)
@@ -224,32 +297,89 @@ def _first_crossing(gap, phi_start, active, max_phase, rising: bool):
     if not span <= 2.0 * math.pi * MAX_FLIGHT_CYCLES:
         raise SimulationError(f"phase scan over {span:.3g} rad: the flight was not bounded")
     cycles = int(math.ceil(span / (2.0 * math.pi))) + 2
+    if todo.size == 1:
+        i = int(todo[0])
+        result[i] = _first_crossing_one(gap, i, float(lo_phase[0]), float(max_phase[i]),
+                                        rising, offsets, cycles)
+        return result
     for cycle in range(cycles):
         if not todo.size:
             break
-        grid = lo_phase[:, None] + offsets[None, :] - (2.0 * math.pi / k) * (cycle == 0) * 0.999
-        vals = gap(grid, todo)
-        hit = vals >= 0 if rising else vals <= 0
-        any_hit = hit.any(axis=1)
-        if np.any(any_hit):
-            rows = np.flatnonzero(any_hit)
-            j = hit[rows].argmax(axis=1)
-            b = grid[rows, j]
-            a = np.where(j > 0, grid[rows, np.maximum(j - 1, 0)], lo_phase[rows])
-            idx = todo[rows]
-            for _ in range(_BISECTIONS):
-                m = 0.5 * (a + b)
-                gm = gap(m[:, None], idx)[:, 0]
-                h = gm >= 0 if rising else gm <= 0
-                b = np.where(h, m, b)
-                a = np.where(h, a, m)
-            result[idx] = b
-        keep = ~any_hit & (grid[:, -1] < max_phase[todo])
+        shift = (2.0 * math.pi / k) * (cycle == 0) * 0.999
+        end = lo_phase + offsets[-1] - shift  # the grid's last phase, as the grid has it
+        # the grid is evaluated only where the gap's bounds allow a crossing this cycle
+        low, high = gap.bounds_rows(todo, lo_phase, end)
+        scan = np.flatnonzero(high >= 0 if rising else low <= 0)
+        any_hit = np.zeros(todo.size, bool)
+        if scan.size:
+            grid = lo_phase[scan, None] + offsets[None, :] - shift
+            vals = gap.values(grid, *gap.rows(todo[scan]))
+            hit = vals >= 0 if rising else vals <= 0
+            any_hit[scan] = hit.any(axis=1)
+            rows = np.flatnonzero(any_hit[scan])
+            if rows.size:
+                j = hit[rows].argmax(axis=1)
+                b = grid[rows, j]
+                a = np.where(j > 0, grid[rows, np.maximum(j - 1, 0)], lo_phase[scan[rows]])
+                params = gap.rows(todo[scan[rows]])
+                for _ in range(_BISECTIONS):
+                    m = 0.5 * (a + b)
+                    gm = gap.values(m[:, None], *params)[:, 0]
+                    h = gm >= 0 if rising else gm <= 0
+                    b2, a2 = np.where(h, m, b), np.where(h, a, m)
+                    if np.array_equal(a2, a) and np.array_equal(b2, b):
+                        break  # a fixed point: the bisections left would not move it
+                    a, b = a2, b2
+                result[todo[scan[rows]]] = b
+        keep = ~any_hit & (end < max_phase[todo])
         todo = todo[keep]
-        lo_phase = grid[keep, -1]
+        lo_phase = end[keep]
     if todo.size:  # the bound above is exact: never here
         raise SimulationError(f"phase scan did not end within {cycles} cycles")
     return result
+
+
+def _first_crossing_one(gap: _Gap, i: int, lo: float, max_phase: float, rising: bool,
+                        offsets: np.ndarray, cycles: int) -> float:
+    """:func:`_first_crossing` of the one point ``i`` from phase ``lo``: the same grid and
+    arithmetic, the bisection on Python floats, and cycles that the gap's bounds
+    (:meth:`_Gap.bounds`) show to hold no crossing passed over without evaluating the grid
+    (a long flight without gravity spans up to a million cycles). The phases stepped over
+    are the grid's, added cycle by cycle as the scan adds them."""
+    params = tuple(float(a[i]) for a in (gap.p0, gap.base, gap.slope, gap.gam2, gap.offset))
+    first = (2.0 * math.pi / offsets.size) * 0.999
+    last = float(offsets[-1])
+    for cycle in range(cycles):
+        end = lo + last - (first if cycle == 0 else 0.0)
+        low, high = gap.bounds(i, lo, end)
+        if (high < 0.0) if rising else (low > 0.0):  # no crossing in this cycle
+            if not end < max_phase:
+                return math.nan
+            lo = end
+            continue
+        grid = lo + offsets - (first if cycle == 0 else 0.0)
+        vals = _Gap.values(grid, *params)
+        hit = vals >= 0 if rising else vals <= 0
+        if hit.any():
+            j = int(hit.argmax())
+            b = float(grid[j])
+            a = float(grid[j - 1]) if j > 0 else lo
+            for _ in range(_BISECTIONS):
+                m = 0.5 * (a + b)
+                gm = float(_Gap.values(m, *params))
+                if (gm >= 0) if rising else (gm <= 0):
+                    if m == b:
+                        break  # a fixed point, as in the scan of many points
+                    b = m
+                else:
+                    if m == a:
+                        break
+                    a = m
+            return b
+        if not float(grid[-1]) < max_phase:
+            return math.nan
+        lo = float(grid[-1])
+    raise SimulationError(f"phase scan did not end within {cycles} cycles")
 
 
 def bed_response(
@@ -289,11 +419,10 @@ def bed_response(
     """
     f, x, h, m, gravity, shape = _bed_inputs(frequency, amplitude, clearance, bed_mass, gravity)
     b = _Flights.start(f, x, h, gravity)
-    top = _first_crossing(lambda p, i: b.y_bed(p, i) - np.sin(p) - b.ht[i, None],
-                          b.phi0, b.flying, b.max_phase, rising=True)
+    top = _first_crossing(b.gap(b.ht), b.phi0, b.flying, b.max_phase, rising=True)
     # a bottom impact counts only before the lid's: no need to scan the flight beyond it
-    bot = _first_crossing(lambda p, i: b.y_bed(p, i) - np.sin(p),
-                          b.phi0, b.flying, np.fmin(b.max_phase, top), rising=False)
+    bot = _first_crossing(b.gap(np.zeros_like(b.ht)), b.phi0, b.flying,
+                          np.fmin(b.max_phase, top), rising=False)
     double = b.flying & np.isfinite(top) & ~(np.isfinite(bot) & (bot < top))
     b.single_cac(np.flatnonzero(b.flying & ~double), bot)
     b.double_cac(np.flatnonzero(double), top)
@@ -392,10 +521,10 @@ class _Flights:
                    phi_nd=nan.copy(), dv_st=nan.copy(), dv_nd=nan.copy(),
                    eta=np.full(n, SOLID_LOSS_FACTOR))
 
-    def y_bed(self, phi, idx):  # flight from the bottom, Eqs. (7) and (9)
-        s = phi - self.phi0[idx, None]
-        return (self.s0[idx, None] + self.c0[idx, None] * s
-                - s**2 / (2.0 * self.gam[idx, None]))
+    def gap(self, offset: np.ndarray) -> _Gap:
+        """The gap between the bed in its flight from the bottom (Eqs. 7 and 9) and the
+        bottom (``offset`` 0) or the lid (``offset`` the clearance ``ht``) [strokes]."""
+        return _Gap(self.phi0, self.s0, self.c0, 2.0 * self.gam, offset)
 
     def single_cac(self, i: np.ndarray, bot: np.ndarray) -> None:
         """Single collect-and-collide at the points ``i``, Eqs. (9)-(12)."""
@@ -421,11 +550,6 @@ class _Flights:
         phi_tt[i] = np.maximum(top[i], math.pi - phi0[i])
         st, ct = np.sin(phi_tt), np.cos(phi_tt)
 
-        def y_bed2(phi, idx):  # flight from the lid, Eq. (14), bed bottom coordinate
-            s = phi - phi_tt[idx, None]
-            return (st[idx, None] + ht[idx, None] + ct[idx, None] * s
-                    - s**2 / (2.0 * gam[idx, None]))
-
         max2 = phi_tt + _flight_span(st + ht, ct, -1.0, ht + 1.0, gam) + 2 * math.pi
         # weak or no gravity: a bed released from the lid almost at rest in the mean frame
         # (phi_tt near 3 pi / 2) drifts above the bottom's sweep (y > 1 stroke) for more than
@@ -441,10 +565,12 @@ class _Flights:
         act = np.zeros(self.f.size, bool)
         act[i] = True
         _check_flight(phi_tt, max2, act, self.f, self.x, gam)
-        bot2 = _first_crossing(lambda p, k: y_bed2(p, k) - np.sin(p), phi_tt, act, max2,
-                               rising=False)
+        # the flight from the lid, Eq. (14) (the bed's bottom coordinate), to the bottom
+        # and to the lid
+        bot2 = _first_crossing(_Gap(phi_tt, st + ht, ct, 2.0 * gam, np.zeros_like(ht)),
+                               phi_tt, act, max2, rising=False)
         # leave the lid just after release: a renewed lid contact first means no repetition
-        top2 = _first_crossing(lambda p, k: y_bed2(p, k) - np.sin(p) - ht[k, None],
+        top2 = _first_crossing(_Gap(phi_tt, st + ht, ct, 2.0 * gam, ht),
                                phi_tt + 1e-9, act, max2, rising=True)
         again = np.isfinite(top2[i]) & (~np.isfinite(bot2[i]) | (top2[i] < bot2[i]))
         mode[i[again]] = int(MotionMode.SCATTERING)
