@@ -51,6 +51,10 @@ SOLID_LOSS_FACTOR = 1.0e-3
 ETA_MAX = 4.0 / math.pi
 
 _SAMPLES_PER_CYCLE = 256
+#: :data:`EFFECTIVE_MASS_RATIO` indexed by the modes' integer codes.
+_RATIO_BY_CODE = np.full(max(int(m) for m in MotionMode) + 1, np.nan)
+for _mode, _ratio in EFFECTIVE_MASS_RATIO.items():
+    _RATIO_BY_CODE[int(_mode)] = _ratio
 _BISECTIONS = 60
 #: Phase tolerance [rad] of comparisons of two impact phases found by bisection.
 _PHASE_TOL = 1e-9
@@ -436,7 +440,7 @@ def bed_response(
     if not np.all(np.isfinite(e_tilde)):
         raise _out_of_range(int(np.flatnonzero(~np.isfinite(e_tilde))[0]), f, x, b.gam,
                             "the container's kinetic energy overflows")
-    ratio = np.vectorize(lambda c: EFFECTIVE_MASS_RATIO[MotionMode(c)], otypes=[float])(b.mode)
+    ratio = _RATIO_BY_CODE[b.mode]  # the table of Eq. (22) by mode code
     b.phi_tt[~double] = np.nan
 
     def out(a):
