@@ -79,11 +79,31 @@ def _run(cli, *args) -> dict:
     return json.loads(out)
 
 
-def test_machine_frame_best_and_lightest_respect_the_mass_of_bed_and_box(cli, tmp_path):
+@pytest.fixture(scope="module")
+def frame_limited(tmp_path_factory):
+    """The machine frame's study within 0.5 kg, run once with ``--plot`` and ``--json``
+    (two tests read it: its JSON and its figure)."""
+    import contextlib
+    import io
+
+    from pdamper.cli import main
+
+    tmp = tmp_path_factory.mktemp("frame")
+    png = tmp / "front.png"
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        code = main(["optimize", "--scenario", str(_frame(tmp)), *FRAME_VARY, "--max-mass",
+                     "0.5kg", "--plot", str(png), "--json"])
+    assert code == 0
+    return json.loads(buf.getvalue()), png
+
+
+def test_machine_frame_best_and_lightest_respect_the_mass_of_bed_and_box(cli, tmp_path,
+                                                                         frame_limited):
     sc = _frame(tmp_path)
     box = box_mass(FRAME_BOX, FRAME_WALL)
     free = _run(cli, "--scenario", sc, *FRAME_VARY)
-    study = _run(cli, "--scenario", sc, *FRAME_VARY, "--max-mass", "0.5kg")
+    study = frame_limited[0]
     # without the limit the best is the heaviest bed, 450 g with a box of 87.5 g: too heavy
     assert free["best"]["mass"] + box > 0.5
     for key in ("best", "lightest_within"):
@@ -116,7 +136,7 @@ def test_machine_frame_best_and_lightest_respect_the_mass_of_bed_and_box(cli, tm
     assert study["lightest_within"]["total_mass"] == min(c["total_mass"] for c in near)
 
 
-def test_the_front_figure_marks_the_designs_outside_the_limits(cli, tmp_path):
+def test_the_front_figure_marks_the_designs_outside_the_limits(tmp_path, frame_limited):
     from matplotlib.figure import Figure
 
     from pdamper.design.study import make_objective, optimize_design
@@ -144,10 +164,7 @@ def test_the_front_figure_marks_the_designs_outside_the_limits(cli, tmp_path):
     ax2 = plot_design_landscape(res, ax=Figure().subplots())
     assert "outside the limits (infeasible)" in {ln.get_label() for ln in ax2.get_lines()}
     # the command draws both panels with --plot
-    png = tmp_path / "front.png"
-    code, _, err = cli("optimize", "--scenario", _frame(tmp_path), *FRAME_VARY,
-                       "--max-mass", "0.5kg", "--plot", png)
-    assert code == 0, err
+    png = frame_limited[1]
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
