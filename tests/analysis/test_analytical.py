@@ -330,3 +330,24 @@ def test_zero_gravity_bed_drifting_from_the_lid_is_scattering_not_out_of_range()
     r = bed_response(5.35, 0.017505809936591753, d.clearance, d.bed_mass, 0.0)
     assert MotionMode(int(r.mode)) == MotionMode.SCATTERING
     assert np.isfinite(float(r.loss_factor))
+
+
+@pytest.mark.parametrize("gravity", [9.81, 1.0, 0.0])
+def test_one_point_alone_gives_the_bits_of_the_same_point_among_many(gravity):
+    """The harmonic balance asks for one point at a time, a map for many: the phase scan
+    of one point (Python floats, cycles skipped by the gap's bounds) and of many (arrays)
+    give the same bits, on points over every motion mode and clearance."""
+    rng = np.random.default_rng(7)
+    n = 120
+    f = rng.uniform(2.0, 40.0, n)
+    x = np.exp(rng.uniform(math.log(1e-4), math.log(0.1), n))
+    h = rng.choice([0.0, 0.005, 0.02, 0.1, 0.3], n) * rng.uniform(0.5, 1.5, n)
+    many = bed_response(f, x, h, 0.132, gravity=gravity)
+    assert len(set(np.asarray(many.mode).tolist())) >= 3  # several motion modes
+    for i in range(n):
+        one = bed_response(f[i], x[i], h[i], 0.132, gravity=gravity)
+        for name in ("mode", "takeoff_phase", "top_impact_phase", "top_release_phase",
+                     "bottom_impact_phase", "relative_velocity_top",
+                     "relative_velocity_bottom", "loss_factor", "effective_mass_ratio"):
+            assert np.array_equal(np.asarray(getattr(one, name)),
+                                  np.asarray(getattr(many, name))[i], equal_nan=True), (i, name)
