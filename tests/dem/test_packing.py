@@ -16,6 +16,7 @@ from pdamper.dem.packing import (
     max_particles,
     random_packing,
     scaled_box,
+    sequential_packing,
     spheres_per_layer,
 )
 from pdamper.errors import InputError
@@ -183,7 +184,7 @@ def test_random_packing_refuses_more_than_fill_limit():
 def test_random_packing_gives_up_cleanly_after_max_attempts():
     # 120 spheres fill 0.33 < limit of the narrow benchmark box, but the walls make it jam
     with pytest.raises(InputError, match=r"particles\.count.*could place only"):
-        random_packing(120, R, BOX, seed=0, max_attempts=2000)
+        sequential_packing(120, R, BOX, seed=0, max_attempts=2000)
 
 
 @pytest.mark.parametrize("seed", [-1, 1.5, None, True])
