@@ -633,6 +633,8 @@ def _relax_kernel(  # pragma: no cover - compiled
 #: contact distance larger by _DENSE_EXTRA than asked, so converged beds keep the margin.
 _DENSE_TOL = 1e-7
 _DENSE_EXTRA = 1e-5
+#: Smallest relative growth step tried before the growth gives up [-].
+_DENSE_MIN_STEP = 1e-6
 
 
 def _dense(count: int, radii: np.ndarray, lbox, seed_int: int, m: float) -> np.ndarray:
@@ -683,7 +685,7 @@ def _dense(count: int, radii: np.ndarray, lbox, seed_int: int, m: float) -> np.n
             step = min(0.01, 1.5 * step)
             continue
         step *= 0.5
-        if step < 1e-6:
+        if step < _DENSE_MIN_STEP:
             break
         # back to the last relaxed bed, shaken, so the retry can find another way
         pos[:] = good + rng.normal(0.0, 0.02, (count, 3)) * radii[:, None]
