@@ -312,3 +312,25 @@ def test_scaled_box_is_square_whole_diameters_and_holds_n(n):
 
 def test_scaled_box_widens_above_192_spheres():
     assert scaled_box(10_000, R) == pytest.approx((0.29, 0.29, 0.72))
+
+
+@pytest.mark.long
+def test_dense_tungsten_bed_settles_in_the_dem_inside_the_frames_box():
+    """The DEM starts from the dense random bed (90 % of the lattice's count) and settles it
+    under gravity: every sphere stays inside the walls, overlaps stay elastic-small and the
+    bed comes to rest below its height when it started."""
+    from dem_inputs import container, engine
+    from pdamper.dem import HarmonicMotion, ParticleSet
+    from pdamper.materials import get_material
+
+    tungsten = get_material("tungsten")
+    ps = ParticleSet.random(58, FRAME_BOX, R, tungsten, seed=0)
+    # the settling does not depend on the motion; it only fixes the sampling
+    bed = engine(ps, container(FRAME_BOX), motion=HarmonicMotion(0.01, 10.0),
+                 settle_time=0.5).settle()
+    x = bed.state.pos
+    assert_inside(x, R, FRAME_BOX, tol=0.01 * R)
+    assert min_pair_distance(x) >= 2 * R * (1 - 0.01)
+    weight = 58 * float(ps.masses[0]) * 9.81
+    assert bed.kinetic_energy < 1e-3 * weight * R
+    assert x[:, 2].mean() < ps.positions[:, 2].mean()
