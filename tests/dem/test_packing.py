@@ -259,6 +259,20 @@ def test_random_packing_is_sequential_addition_where_that_places_every_sphere(n,
                                   sequential_packing(n, R, BOX, seed=seed))
 
 
+def test_a_growth_that_jams_early_grows_again_from_new_centres():
+    """60 of the frame box's 64 sites: the first growth from seed 3 jams at 0.94 of the
+    volume, a second one from new random centres packs them."""
+    from pdamper.dem.packing import _grow
+
+    radii = np.full(60, R)
+    fill = 60 * 4 / 3 * math.pi * R**3 / math.prod(FRAME_BOX)
+    bed, share = _grow(radii, FRAME_BOX, np.random.default_rng([3, 1]), fill, 1e-6)
+    assert bed is None and share < 0.97
+    x = random_packing(60, R, FRAME_BOX, seed=3)
+    assert_inside(x, R, FRAME_BOX, tol=1e-12)
+    assert min_pair_distance(x) >= 2 * R * (1 + 1e-6)
+
+
 def test_dense_bed_of_unequal_spheres_keeps_their_distances():
     radii = np.random.default_rng(2).uniform(0.003, 0.005, size=120)
     x = random_packing(120, radii, BOX, seed=1)
@@ -288,6 +302,12 @@ def test_a_bed_too_dense_for_random_is_refused_with_the_count_that_fits():
     fits = int(re.search(r"holds about (\d+)", text).group(1))
     assert 0.85 * 64 <= fits < 64
     assert not any(word in text for word in INTERNAL)
+    # asked again (a map's points with packing "auto"): the same refusal, without the growths
+    t0 = time.perf_counter()
+    with pytest.raises(InputError) as again:
+        random_packing(64, R, FRAME_BOX, seed=0)
+    assert time.perf_counter() - t0 < 0.05
+    assert str(again.value) == text
 
 
 def test_scaled_box_reproduces_benchmark_for_32_spheres():
