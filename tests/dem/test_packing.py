@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import time
 
 import numpy as np
@@ -11,11 +12,13 @@ from scipy.spatial import cKDTree
 
 from pdamper.dem.packing import (
     RANDOM_FILL_LIMIT,
+    dense_packing,
     lattice_layers,
     max_layers,
     max_particles,
     random_packing,
     scaled_box,
+    sequential_packing,
     spheres_per_layer,
 )
 from pdamper.errors import InputError
@@ -183,7 +186,7 @@ def test_random_packing_refuses_more_than_fill_limit():
 def test_random_packing_gives_up_cleanly_after_max_attempts():
     # 120 spheres fill 0.33 < limit of the narrow benchmark box, but the walls make it jam
     with pytest.raises(InputError, match=r"particles\.count.*could place only"):
-        random_packing(120, R, BOX, seed=0, max_attempts=2000)
+        sequential_packing(120, R, BOX, seed=0, max_attempts=2000)
 
 
 @pytest.mark.parametrize("seed", [-1, 1.5, None, True])
@@ -195,6 +198,116 @@ def test_random_packing_bad_seed_raises_seed_error(seed):
 def test_random_packing_nan_radius_raises_radius_error():
     with pytest.raises(InputError, match=r"particles\.radius"):
         random_packing(5, math.nan, BOX, seed=0)
+
+
+# ------------------------------------------------------------------------- dense beds
+
+FRAME_BOX = (0.040, 0.041, 0.041)  # the machine frame's container [m]: 4 x 4 x 4 = 64 sites
+
+
+def lattice_share(x: np.ndarray, radius: float, box) -> float:
+    """Share of the centres within radius / 10 of a site of the container's lattice."""
+    sites = lattice_layers(max_particles(box, radius), radius, box)
+    d, _ = cKDTree(sites).query(x)
+    return float(np.mean(d < 0.1 * radius))
+
+
+def test_40_tungsten_spheres_in_the_frames_box_pack_at_random():
+    from pdamper.dem import ParticleSet
+    from pdamper.materials import get_material
+
+    # sequential addition alone jams here (a third of the lattice's fill)
+    with pytest.raises(InputError, match=r"particles\.count"):
+        sequential_packing(40, R, FRAME_BOX, seed=0)
+    ps = ParticleSet.random(40, FRAME_BOX, R, get_material("tungsten"), seed=0)
+    x = ps.positions
+    assert x.shape == (40, 3)
+    assert_inside(x, R, FRAME_BOX, tol=1e-12)
+    assert min_pair_distance(x) >= 2 * R
+    # not a lattice: few centres on the lattice's sites, heights spread over many levels
+    assert lattice_share(x, R, FRAME_BOX) < 0.25
+    assert np.unique(np.round(x[:, 2] / R, 2)).size > 20
+
+
+@pytest.mark.parametrize("box", [
+    (0.04, 0.04, 0.12),   # tall: the benchmark box, 192 sites
+    (0.10, 0.10, 0.02),   # flat: two layers of 10 x 10
+    FRAME_BOX,            # cubic: 64 sites
+], ids=["tall", "flat", "cubic"])
+def test_ninety_percent_of_the_lattice_count_packs_at_random(box):
+    n = math.ceil(0.9 * max_particles(box, R))
+    for seed in (0, 1):
+        x = random_packing(n, R, box, seed=seed)
+        assert x.shape == (n, 3)
+        assert_inside(x, R, box, tol=1e-12)
+        assert min_pair_distance(x) >= 2 * R * (1 + 1e-6)
+        assert lattice_share(x, R, box) < 0.5
+
+
+def test_dense_bed_is_reproducible_from_its_seed():
+    a = random_packing(58, R, FRAME_BOX, seed=5)
+    b = random_packing(58, R, FRAME_BOX, seed=5)
+    c = random_packing(58, R, FRAME_BOX, seed=6)
+    np.testing.assert_array_equal(a, b)
+    assert not np.allclose(a, c)
+    np.testing.assert_array_equal(dense_packing(58, R, FRAME_BOX, seed=5), a)
+
+
+@pytest.mark.parametrize("n, seed", [(64, 3), (50, 42), (100, 0)])
+def test_random_packing_is_sequential_addition_where_that_places_every_sphere(n, seed):
+    np.testing.assert_array_equal(random_packing(n, R, BOX, seed=seed),
+                                  sequential_packing(n, R, BOX, seed=seed))
+
+
+def test_a_growth_that_jams_early_grows_again_from_new_centres():
+    """60 of the frame box's 64 sites: the first growth from seed 3 jams at 0.94 of the
+    volume, a second one from new random centres packs them."""
+    from pdamper.dem.packing import _grow
+
+    radii = np.full(60, R)
+    fill = 60 * 4 / 3 * math.pi * R**3 / math.prod(FRAME_BOX)
+    bed, share = _grow(radii, FRAME_BOX, np.random.default_rng([3, 1]), fill, 1e-6)
+    assert bed is None and share < 0.97
+    x = random_packing(60, R, FRAME_BOX, seed=3)
+    assert_inside(x, R, FRAME_BOX, tol=1e-12)
+    assert min_pair_distance(x) >= 2 * R * (1 + 1e-6)
+
+
+def test_dense_bed_of_unequal_spheres_keeps_their_distances():
+    radii = np.random.default_rng(2).uniform(0.003, 0.005, size=120)
+    x = random_packing(120, radii, BOX, seed=1)
+    assert_inside(x, radii, BOX, tol=1e-12)
+    d = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=-1)
+    contact = radii[:, None] + radii[None, :]
+    off = ~np.eye(120, dtype=bool)
+    assert np.all(d[off] >= contact[off])
+
+
+INTERNAL = ("attempt", "max_attempts", "margin", "RANDOM_FILL_LIMIT", "lattice_layers",
+            "step", "relax")
+
+
+def test_more_spheres_than_the_container_holds_are_refused_by_user_keys():
+    with pytest.raises(InputError, match=r"particles\.count.*\[0, 64\].*40x41x41 mm.*65"):
+        random_packing(65, R, FRAME_BOX, seed=0)
+
+
+def test_a_bed_too_dense_for_random_is_refused_with_the_count_that_fits():
+    with pytest.raises(InputError) as info:
+        random_packing(64, R, FRAME_BOX, seed=0)
+    err = info.value
+    assert err.field == "particles.count"
+    text = str(err)
+    assert "--particles" in text and "container.box" in text and "40x41x41 mm" in text
+    fits = int(re.search(r"holds about (\d+)", text).group(1))
+    assert 0.85 * 64 <= fits < 64
+    assert not any(word in text for word in INTERNAL)
+    # asked again (a map's points with packing "auto"): the same refusal, without the growths
+    t0 = time.perf_counter()
+    with pytest.raises(InputError) as again:
+        random_packing(64, R, FRAME_BOX, seed=0)
+    assert time.perf_counter() - t0 < 0.05
+    assert str(again.value) == text
 
 
 def test_scaled_box_reproduces_benchmark_for_32_spheres():
@@ -219,3 +332,25 @@ def test_scaled_box_is_square_whole_diameters_and_holds_n(n):
 
 def test_scaled_box_widens_above_192_spheres():
     assert scaled_box(10_000, R) == pytest.approx((0.29, 0.29, 0.72))
+
+
+@pytest.mark.long
+def test_dense_tungsten_bed_settles_in_the_dem_inside_the_frames_box():
+    """The DEM starts from the dense random bed (90 % of the lattice's count) and settles it
+    under gravity: every sphere stays inside the walls, overlaps stay elastic-small and the
+    bed comes to rest below its height when it started."""
+    from dem_inputs import container, engine
+    from pdamper.dem import HarmonicMotion, ParticleSet
+    from pdamper.materials import get_material
+
+    tungsten = get_material("tungsten")
+    ps = ParticleSet.random(58, FRAME_BOX, R, tungsten, seed=0)
+    # the settling does not depend on the motion; it only fixes the sampling
+    bed = engine(ps, container(FRAME_BOX), motion=HarmonicMotion(0.01, 10.0),
+                 settle_time=0.5).settle()
+    x = bed.state.pos
+    assert_inside(x, R, FRAME_BOX, tol=0.01 * R)
+    assert min_pair_distance(x) >= 2 * R * (1 - 0.01)
+    weight = 58 * float(ps.masses[0]) * 9.81
+    assert bed.kinetic_energy < 1e-3 * weight * R
+    assert x[:, 2].mean() < ps.positions[:, 2].mean()
