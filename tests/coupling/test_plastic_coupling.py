@@ -1,0 +1,107 @@
+"""The ``plastic_bed`` coupling (pdamper.coupling.plastic): the plastic block on the
+structure for a release (1-DOF, N modes) and under load histories, through Simulation,
+run_load and the command line."""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pdamper.coupling import Simulation, run_load
+from pdamper.coupling.loads import LoadHistory
+from pdamper.models import AnalyticalDamper, PlasticBedDamper
+from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE
+from pdamper.structure.modal import ModalStructure
+
+FRAME = Path(__file__).resolve().parents[2] / "examples" / "machine-frame"
+
+
+def _frame(load_at_tip: bool = False) -> ModalStructure:
+    """The machine frame's two modes (examples/machine-frame/modes.csv)."""
+    tip = np.array([0.2582, -0.3162])
+    return ModalStructure(frequencies=np.array([12.0, 31.0]),
+                          damping_ratios=np.array([0.010, 0.008]), damper_shape=tip,
+                          output_shape=tip,
+                          load_shape=tip if load_at_tip else np.array([0.15, 0.24]))
+
+
+def test_free_decay_of_a_1dof_damps_and_closes_its_energy():
+    res = Simulation(PAPER_STRUCTURE, PlasticBedDamper(PAPER_DAMPER), -0.058).run(1.0)
+    assert res.model == "plastic"
+    _, zeta = res.damping_ratio
+    assert zeta.size >= 3 and np.all(np.isfinite(zeta)) and np.all(zeta > 0)
+    assert res.inputs["impacts"] > 5 and res.inputs["dissipated_energy"] > 0
+    assert abs(res.inputs["energy_balance_error"]) < 1e-4
+    # the pseudo force of the closed forms on the same release: the same decay within 10 %
+    ref = Simulation(PAPER_STRUCTURE, AnalyticalDamper(PAPER_DAMPER), -0.058).run(1.0)
+    assert res.amplitude_at(0.8) == pytest.approx(ref.amplitude_at(0.8), rel=0.10)
+    # the bed damps: the bare structure's own decay is far slower
+    assert res.amplitude_at(0.8) < 0.6 * 0.058 * math.exp(
+        -PAPER_STRUCTURE.damping / (2 * PAPER_STRUCTURE.mass) * 0.8)
+
+
+def test_free_decay_of_two_modes_reports_each_modes_damping():
+    s = _frame()
+    damper = PAPER_DAMPER.with_count(32)
+    res = Simulation(s, PlasticBedDamper(damper), -0.003).run(1.0)
+    assert res.inputs["modes"] == 2 and abs(res.inputs["energy_balance_error"]) < 1e-3
+    per_mode = res.damping_per_mode
+    assert per_mode is not None and len(per_mode) == 2
+    z1 = per_mode[0].damping_ratio
+    # the bed adds damping to mode 1 (its own is 1 %)
+    assert math.isfinite(z1) and z1 > 0.010
+    assert np.all(np.isfinite(res.displacement))
+
+
+def test_force_pulse_on_two_modes_closes_its_energy_balance():
+    t = np.linspace(0.0, 0.01, 41)
+    pulse = LoadHistory(t, 1000.0 * np.sin(np.pi * t / 0.01), "force", "half-sine")
+    r = run_load(PlasticBedDamper(PAPER_DAMPER.with_count(32)), _frame(True), pulse,
+                 tail=0.5)
+    assert r.model == "plastic" and r.inputs["impacts"] > 0
+    s = r.summary()
+    assert all(math.isfinite(v) for k, v in s.items() if k != "not_applicable")
+    # W_in = Delta E + E_struct + E_bed
+    assert abs(r.input_work - r.energy_change - r.structural_dissipation
+               - r.dissipated_energy) < 1e-3 * r.input_work
+    assert r.dissipated_energy > 0.05 * r.input_work
+
+
+def test_base_acceleration_on_a_1dof_runs():
+    t = np.linspace(0.0, 0.05, 101)
+    shock = LoadHistory(t, 30.0 * np.sin(np.pi * t / 0.05), "base_acceleration", "shock")
+    r = run_load(PlasticBedDamper(PAPER_DAMPER), PAPER_STRUCTURE, shock, tail=0.3)
+    assert np.all(np.isfinite(r.displacement)) and r.peak > 0
+    assert r.dissipated_energy > 0 and r.kind == "base_acceleration"
+    assert set(r.not_applicable()) >= {"input_work", "energy_balance_error"}
+
+
+def test_machine_frame_shock_end_to_end_through_the_cli(cli):
+    """``pdamper simulate --scenario examples/machine-frame/scenario.toml --model plastic``:
+    the 1 kN shock on the frame's two modes."""
+    code, out, err = cli("simulate", "--scenario", FRAME / "scenario.toml", "--model",
+                         "plastic", "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    for k in ("peak", "rms", "peak_acceleration", "rms_acceleration", "dissipated_energy",
+              "input_work", "structural_dissipation", "energy_change"):
+        assert math.isfinite(d[k]) and d[k] != 0.0, k
+    assert abs(d["energy_balance_error"]) < 1e-3
+    assert d["dissipated_energy"] > 0.2 * d["input_work"]
+    code, text, _ = cli("simulate", "--scenario", FRAME / "scenario.toml", "--model",
+                        "plastic")
+    assert code == 0 and "PlasticBedDamper" in text
+
+
+def test_release_on_the_machine_frame_modes_file_through_the_cli(cli, tmp_path):
+    sc = tmp_path / "sc.toml"
+    sc.write_text(f'[structure]\nmodes = "{FRAME / "modes.csv"}"\n'
+                  'initial_displacement = "-3 mm"\n'
+                  '[simulation]\nmodel = "plastic"\nduration = "0.5 s"\n')
+    code, out, err = cli("simulate", "--scenario", sc, "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["damping_per_mode"] is not None and len(d["damping_per_mode"]) == 2
+    assert math.isfinite(d["final_amplitude"]) and d["final_amplitude"] < 0.003
