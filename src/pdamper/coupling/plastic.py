@@ -151,8 +151,8 @@ class PlasticBedCoupling:
         e = _energy(sys_, bed, run, x_c)
         w_struct = float(np.trapezoid(np.einsum("it,ij,jt->t", run.qdot, sys_.damping,
                                                 run.qdot), run.time))
-        balance = (e[0] - e[-1] - w_struct - run.dissipated_energy) / e[0] if e[0] > 0 \
-            else math.nan
+        balance = float((e[0] - e[-1] - w_struct - run.dissipated_energy) / e[0]) \
+            if e[0] > 0 else math.nan
         keep = slice(None, None, sub)
         t, q = run.time[keep], run.q[:, keep]
         x_out = sys_.out @ q
