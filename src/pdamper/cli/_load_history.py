@@ -24,8 +24,11 @@ def check_one_load(**given: object) -> None:
 
 
 def response_payload(res, seconds: float) -> dict:
-    """JSON of one :class:`~pdamper.coupling.loads.LoadResponse` (SI units)."""
-    return {
+    """JSON of one :class:`~pdamper.coupling.loads.LoadResponse` (SI units), with
+    ``harmonicity`` and ``near_harmonic`` (:mod:`pdamper.coupling.harmonicity`)."""
+    from pdamper.coupling.harmonicity import payload
+
+    out = {
         "model": res.model,
         **res.summary(),
         "cycles": [{"time": c.time, "amplitude": c.amplitude, "frequency": c.frequency,
@@ -34,6 +37,12 @@ def response_payload(res, seconds: float) -> dict:
                     "loss_factor": c.loss_factor} for c in res.cycles],
         "wall_seconds": seconds,
     }
+    extra = payload(res)
+    why = extra.pop("not_applicable", {})
+    out.update(extra)
+    if why:
+        out["not_applicable"] = {**out.get("not_applicable", {}), **why}
+    return out
 
 
 def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | None,
@@ -103,6 +112,11 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
                      f"{r.peak_acceleration:.4g} m/s^2, RMS {r.rms_acceleration:.4g} m/s^2; "
                      f"damper dissipated {r.dissipated_energy:.4g} J"
                      + (f" in {len(r.cycles)} updates" if r.cycles else ""))
+        from pdamper.coupling.harmonicity import of_result
+
+        h = of_result(r)
+        if h is not None and not h.near_harmonic:
+            lines.append("  " + h.warning())
     if spread is not None:
         from pdamper.cli._uncertainty import lines as spread_lines
 
