@@ -28,9 +28,9 @@ from pdamper.models.base import DamperModel, DamperResponse
 #: Seconds one point of :func:`~pdamper.analysis.plastic_bed.harmonic_plastic_bed` takes
 #: (measured: 10-15 ms on one core).
 SECONDS_PER_POINT = 0.015
-#: Seconds one integration step of the block on a structure takes (measured: 0.3-0.7 ms on
+#: Seconds one integration step of the block on a structure takes (measured: 0.1-0.2 ms on
 #: a busy core for one or two modes).
-SECONDS_PER_STEP = 7e-4
+SECONDS_PER_STEP = 2e-4
 #: Bytes per output sample of a run on a structure (the state, its rate, the bed).
 BYTES_PER_SAMPLE = 200.0
 
