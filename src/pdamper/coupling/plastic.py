@@ -175,6 +175,25 @@ class PlasticBedCoupling:
             details=PlasticCouplingRun(q, x_c[keep], run, h))
 
     @staticmethod
+    def load_cost(model, structure, load, sample_rate: float = 2000.0, tail: float = 0.0):
+        """What :meth:`load` costs: one integration step of about
+        :data:`~pdamper.models.plastic.SECONDS_PER_STEP` per step of its grid."""
+        from pdamper import resources
+        from pdamper.coupling.loads import _time_grid
+        from pdamper.models.plastic import BYTES_PER_SAMPLE, SECONDS_PER_STEP
+
+        sys_, _ = _system(model, structure)
+        _, h, _, steps = _time_grid(load, tail, sample_rate, sys_.phi.size)
+        steps *= _split(h, _fastest(sys_))
+        field = "load" if load.kind == "force" else "base_acceleration"
+        f_n = structure.natural_frequency
+        duration = load.duration + tail
+        return resources.Cost("the plastic bed under the load", steps * SECONDS_PER_STEP,
+                              steps * BYTES_PER_SAMPLE, f"{steps:.3g} steps",
+                              ((field, duration * f_n),
+                               ("simulation.sample_rate", sample_rate / f_n)))
+
+    @staticmethod
     def load(model, structure, load, sample_rate: float = 2000.0, tail: float = 0.0):
         """Response of ``structure`` carrying the block to ``load`` (a
         :class:`~pdamper.coupling.loads.LoadHistory`: a force at the load point or a base
@@ -188,6 +207,11 @@ class PlasticBedCoupling:
         check_range("load.tail", tail, low=0.0, unit="s")
         if not isinstance(load, LoadHistory):
             raise InputError("load", f"must be a LoadHistory, got {type(load).__name__}")
+        from pdamper import resources
+
+        # what no run can do (more memory than the machine has), as the pseudo force
+        resources.require(PlasticBedCoupling.load_cost(model, structure, load, sample_rate,
+                                                       tail), force=True)
         sys_, bed = _system(model, structure)
         kind = load.kind
         if kind == "base_acceleration" and sys_.base_shape is None:
