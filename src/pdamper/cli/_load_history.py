@@ -115,8 +115,9 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
         from pdamper.coupling.harmonicity import of_result
 
         h = of_result(r)
-        if h is not None and not h.near_harmonic:
-            lines.append("  " + h.warning())
+        warn = None if h is None else h.warning()
+        if warn is not None:
+            lines.append("  " + warn)
     if spread is not None:
         from pdamper.cli._uncertainty import lines as spread_lines
 

@@ -103,8 +103,9 @@ def _table(label: str, res) -> list[str]:
     from pdamper.coupling.harmonicity import of_result
 
     h = of_result(res)
-    if h is not None and not h.near_harmonic:
-        lines.append(h.warning())
+    warn = None if h is None else h.warning()
+    if warn is not None:
+        lines.append(warn)
     return lines
 
 
