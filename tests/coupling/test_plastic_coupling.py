@@ -138,3 +138,29 @@ def test_beam_modes_release_and_base_shock():
     shock = LoadHistory(t, 30.0 * np.sin(np.pi * t / 0.05), "base_acceleration", "shock")
     load = run_load(PlasticBedDamper(PAPER_DAMPER), s, shock, tail=0.3)
     assert np.all(np.isfinite(load.displacement)) and load.dissipated_energy > 0
+
+
+@pytest.mark.long
+def test_shock_on_the_paper_structure_against_the_dem():
+    """The paper's 1-DOF and 32 spheres under a 40 N half-sine of 40 ms (docs/forced.md):
+    the block's peak equals the DEM's within 1 % and its RMS over the first 0.5 s (while
+    the bed flies) within 15 % of the DEM's, nearer than the closed forms' pseudo force.
+    (Over the whole 2.5 s it is not: below take-off the block rides without loss, the
+    DEM's contacts keep dissipating; docs/analytical.md.)"""
+    from pdamper.models import DEMDamper
+
+    t = np.arange(0.0, 1.5005, 1e-3)
+    shock = LoadHistory(t, np.where(t < 0.04, 40.0 * np.sin(np.pi * t / 0.04), 0.0),
+                        "force", "shock")
+    runs = {n: run_load(m(PAPER_DAMPER), PAPER_STRUCTURE, shock, tail=1.0)
+            for n, m in (("plastic", PlasticBedDamper), ("dem", DEMDamper),
+                         ("analytic", AnalyticalDamper))}
+
+    def rms(r, until=0.5):
+        sel = r.time <= until
+        return math.sqrt(np.trapezoid(r.displacement[sel] ** 2, r.time[sel]) / until)
+
+    assert runs["plastic"].peak == pytest.approx(runs["dem"].peak, rel=0.01)
+    err = abs(rms(runs["plastic"]) / rms(runs["dem"]) - 1.0)
+    assert err < 0.15
+    assert err < abs(rms(runs["analytic"]) / rms(runs["dem"]) - 1.0)
