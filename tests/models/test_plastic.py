@@ -102,3 +102,19 @@ def test_gravity_is_an_option_and_zero_gravity_gives_four_over_pi():
     r = m.response(10.0, h / np.pi)
     assert float(r.loss_factor) == pytest.approx(4.0 / np.pi, rel=1e-4)  # Eq. (21)
     assert m.clone(gravity=9.81).gravity == 9.81
+
+
+def test_map_of_the_plastic_fidelity_through_the_cli(cli, tmp_path):
+    import xarray as xr
+
+    out = tmp_path / "plastic.nc"
+    code, _, err = cli("map", "--model", "plastic", "--frequency", "6Hz:25Hz:3",
+                       "--amplitude", "10mm:32mm:2", "--out", out)
+    assert code == 0, err
+    ds = xr.open_dataset(out)
+    f, x = np.meshgrid(ds["frequency"].values, ds["amplitude"].values, indexing="ij")
+    ref = PlasticBedDamper(PAPER_DAMPER).response(f, x)
+    eta = ds["loss_factor"].transpose("frequency", "amplitude").values
+    np.testing.assert_allclose(eta, ref.loss_factor, rtol=1e-12)
+    modes = ds["motion_mode"].transpose("frequency", "amplitude").values
+    np.testing.assert_array_equal(modes, ref.mode)
