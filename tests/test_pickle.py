@@ -123,6 +123,7 @@ FIDELITIES = {
     "fields": lambda: (DAMPER_MODELS["fields"](PAPER_DAMPER, field=_fields_map()), 6.0, 0.03),
     "dem": lambda: (DAMPER_MODELS["dem"](DAMPER, integrator="verlet", cycles=2, skip_cycles=1,
                                          sample_rate=2000.0), 10.0, 0.01),
+    "plastic": lambda: (DAMPER_MODELS["plastic"](DAMPER), 10.0, 0.032),
 }
 
 

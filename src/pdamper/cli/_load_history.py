@@ -24,8 +24,11 @@ def check_one_load(**given: object) -> None:
 
 
 def response_payload(res, seconds: float) -> dict:
-    """JSON of one :class:`~pdamper.coupling.loads.LoadResponse` (SI units)."""
-    return {
+    """JSON of one :class:`~pdamper.coupling.loads.LoadResponse` (SI units), with
+    ``harmonicity`` and ``near_harmonic`` (:mod:`pdamper.coupling.harmonicity`)."""
+    from pdamper.coupling.harmonicity import payload
+
+    out = {
         "model": res.model,
         **res.summary(),
         "cycles": [{"time": c.time, "amplitude": c.amplitude, "frequency": c.frequency,
@@ -34,6 +37,12 @@ def response_payload(res, seconds: float) -> dict:
                     "loss_factor": c.loss_factor} for c in res.cycles],
         "wall_seconds": seconds,
     }
+    extra = payload(res)
+    why = extra.pop("not_applicable", {})
+    out.update(extra)
+    if why:
+        out["not_applicable"] = {**out.get("not_applicable", {}), **why}
+    return out
 
 
 def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | None,
@@ -97,12 +106,7 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
     lines = [f"{what} {history.source}{where}: {history.time.size} samples over "
              f"{history.duration:g} s (+ {tail:g} s free tail), linear between samples"]
     for n, r in runs.items():
-        rel = " (relative to the base)" if history.kind != "force" else ""
-        lines.append(f"{models[n]!r} ({seconds[n]:.2f} s): peak {r.peak * 1e3:.3f} mm, "
-                     f"RMS {r.rms * 1e3:.3f} mm{rel}; acceleration peak "
-                     f"{r.peak_acceleration:.4g} m/s^2, RMS {r.rms_acceleration:.4g} m/s^2; "
-                     f"damper dissipated {r.dissipated_energy:.4g} J"
-                     + (f" in {len(r.cycles)} updates" if r.cycles else ""))
+        lines += _run_lines(models[n], r, seconds[n], history.kind)
     if spread is not None:
         from pdamper.cli._uncertainty import lines as spread_lines
 
@@ -114,6 +118,24 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
     emit(payload, as_json, "\n".join(lines))  # the results first: a figure cannot lose them
     if plot is not None:
         figure_last(lambda: _figure(runs, history, spread), plot)
+
+
+def _run_lines(model, r, seconds: float, kind: str) -> list[str]:
+    """The text of one model's run, and a line where its describing function rests on a
+    motion that is not near-harmonic (:mod:`pdamper.coupling.harmonicity`)."""
+    from pdamper.coupling.harmonicity import of_result
+
+    rel = " (relative to the base)" if kind != "force" else ""
+    lines = [f"{model!r} ({seconds:.2f} s): peak {r.peak * 1e3:.3f} mm, "
+             f"RMS {r.rms * 1e3:.3f} mm{rel}; acceleration peak "
+             f"{r.peak_acceleration:.4g} m/s^2, RMS {r.rms_acceleration:.4g} m/s^2; "
+             f"damper dissipated {r.dissipated_energy:.4g} J"
+             + (f" in {len(r.cycles)} updates" if r.cycles else "")]
+    h = of_result(r)
+    warn = None if h is None else h.warning()
+    if warn is not None:
+        lines.append("  " + warn)
+    return lines
 
 
 def _figure(runs: dict, history, spread=None) -> Figure:

@@ -39,7 +39,7 @@ if TYPE_CHECKING:
 
 def _run_payload(res, seconds: float) -> dict:
     amp, zeta = res.damping_ratio
-    return {
+    out = {
         "model": res.model,
         "peaks": [{"time": float(t), "amplitude": float(a)}
                   for t, a in zip(res.peak_times, res.peak_amplitudes, strict=True)],
@@ -59,6 +59,20 @@ def _run_payload(res, seconds: float) -> dict:
                                                    "decay's own (damping_ratio)"}}
            if res.damping_per_mode is None else {}),
     }
+    _add_harmonicity(out, res)
+    return out
+
+
+def _add_harmonicity(out: dict, res) -> None:
+    """``harmonicity`` and ``near_harmonic`` of a describing-function run
+    (:mod:`pdamper.coupling.harmonicity`), their reasons merged into ``not_applicable``."""
+    from pdamper.coupling.harmonicity import payload
+
+    extra = payload(res)
+    why = extra.pop("not_applicable", {})
+    out.update(extra)
+    if why:
+        out["not_applicable"] = {**out.get("not_applicable", {}), **why}
 
 
 def _table(label: str, res) -> list[str]:
@@ -86,6 +100,12 @@ def _table(label: str, res) -> list[str]:
         for m in per_mode:
             lines.append(f"  mode {m.mode}: zeta {m.damping_ratio:.4f}" if m.reason is None
                          else f"  mode {m.mode}: not applicable ({m.reason})")
+    from pdamper.coupling.harmonicity import of_result
+
+    h = of_result(res)
+    warn = None if h is None else h.warning()
+    if warn is not None:
+        lines.append(warn)
     return lines
 
 

@@ -670,8 +670,16 @@ def _co_simulation_cost(model, structure, load, sample_rate, tail):
     return load_cost(model, structure, load, sample_rate, tail)[0]
 
 
+def _plastic_bed_load(model, structure, load, sample_rate=2000.0, tail=0.0):
+    """The plastic block's form (:meth:`pdamper.coupling.plastic.PlasticBedCoupling.load`)."""
+    from pdamper.coupling.plastic import PlasticBedCoupling
+
+    return PlasticBedCoupling.load(model, structure, load, sample_rate, tail)
+
+
 #: Load-history strategies by coupling name (a new coupling registers here).
-LOAD_COUPLINGS = {"pseudo_force": simulate_load, "co_simulation": _co_simulate_load}
+LOAD_COUPLINGS = {"pseudo_force": simulate_load, "co_simulation": _co_simulate_load,
+                  "plastic_bed": _plastic_bed_load}
 #: What a load history costs by coupling name, where it is more than seconds:
 #: ``f(model, structure, load, sample_rate, tail) -> resources.Cost``.
 LOAD_COSTS = {"co_simulation": _co_simulation_cost}

@@ -16,6 +16,7 @@ from collections.abc import Callable
 from pdamper import resources
 from pdamper.coupling.cosimulation import co_simulate
 from pdamper.coupling.modal import simulate_modal_pseudo_force
+from pdamper.coupling.plastic import PlasticBedCoupling
 from pdamper.coupling.pseudo_force import simulate_pseudo_force
 from pdamper.coupling.results import FreeVibrationResult
 from pdamper.errors import InputError, check_range
@@ -26,11 +27,13 @@ from pdamper.structure import SingleDOFStructure
 COUPLINGS: dict[str, Callable[..., FreeVibrationResult]] = {
     "pseudo_force": simulate_pseudo_force,
     "co_simulation": co_simulate,
+    PlasticBedCoupling.name: PlasticBedCoupling.free_vibration,
 }
 
 #: Coupling strategies of N-mode structures, same signature.
 MODAL_COUPLINGS: dict[str, Callable[..., FreeVibrationResult]] = {
     "pseudo_force": simulate_modal_pseudo_force,
+    PlasticBedCoupling.name: PlasticBedCoupling.free_vibration,
 }
 
 

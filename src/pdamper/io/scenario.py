@@ -178,7 +178,7 @@ class StructureSpec(_Section):
 class SimulationSpec(_Section):
     #: the damper's fidelity (:data:`pdamper.models.registry.DAMPER_MODELS`)
     model: str = Field(default="analytic", validation_alias=AliasChoices("model", "damper"),
-                       json_schema_extra={"choices": ["analytic", "fields", "dem"]})
+                       json_schema_extra={"choices": ["analytic", "fields", "dem", "plastic"]})
     duration: Duration = paper.PAPER_DURATION
     sample_rate: Frequency = 2000.0
 

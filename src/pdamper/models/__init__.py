@@ -10,13 +10,16 @@ strategies (:mod:`pdamper.coupling`) run any of them on a structure, chosen by t
 - :class:`EffectiveFieldDamper` (``"fields"``, the paper's model 2): effective fields
   (a ``pdamper map``) interpolated in frequency and stroke.
 - :class:`DEMDamper` (``"dem"``, the paper's model 1): the discrete element method.
+- :class:`PlasticBedDamper` (``"plastic"``): the analytical bed integrated event by event as
+  one perfectly plastic block, on the structure itself (any container motion).
 """
 
 from pdamper.models.analytical import AnalyticalDamper
 from pdamper.models.base import DamperModel, DamperResponse
 from pdamper.models.dem import DEMDamper
 from pdamper.models.fields import EffectiveFieldDamper
+from pdamper.models.plastic import PlasticBedDamper
 from pdamper.models.registry import DAMPER_MODELS, get_damper_model
 
 __all__ = ["AnalyticalDamper", "DAMPER_MODELS", "DEMDamper", "DamperModel", "DamperResponse",
-           "EffectiveFieldDamper", "get_damper_model"]
+           "EffectiveFieldDamper", "PlasticBedDamper", "get_damper_model"]

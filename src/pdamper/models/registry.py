@@ -10,11 +10,13 @@ from pdamper.models.analytical import AnalyticalDamper
 from pdamper.models.base import DamperModel
 from pdamper.models.dem import DEMDamper
 from pdamper.models.fields import EffectiveFieldDamper
+from pdamper.models.plastic import PlasticBedDamper
 
 DAMPER_MODELS: dict[str, type[DamperModel]] = {
     AnalyticalDamper.fidelity: AnalyticalDamper,
     EffectiveFieldDamper.fidelity: EffectiveFieldDamper,
     DEMDamper.fidelity: DEMDamper,
+    PlasticBedDamper.fidelity: PlasticBedDamper,
 }
 
 
