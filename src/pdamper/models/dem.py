@@ -62,6 +62,10 @@ if TYPE_CHECKING:
     from pdamper.dem.result import DEMResult
 
 logger = logging.getLogger(__name__)
+#: Share of the lattice's count up to which ``packing = "auto"`` starts from a random bed
+#: (dense random beds grow for every seed tried at 90 % of it in tall, flat and cubic boxes;
+#: docs/dem.md), the lattice above.
+AUTO_RANDOM_SHARE = 0.9
 
 #: Motion-mode code of a point without a mode (kept for callers of the first DEM model).
 UNCLASSIFIED = -1
@@ -536,7 +540,12 @@ class DEMDamper(FlatSettings, DamperModel):
         d = self.damper
         if d.count < 1:
             raise InputError("particles.count", "the DEM model needs at least 1 particle")
-        if self.packing in ("random", "auto"):
+        # "auto" starts from the lattice beyond AUTO_RANDOM_SHARE of its count: below it
+        # the dense random bed packs for every seed tried (docs/dem.md), above it a growth
+        # that jams costs seconds before its refusal, and seeds of one damper could start
+        # some random and some from the lattice
+        auto_random = d.count <= AUTO_RANDOM_SHARE * d.max_count
+        if self.packing == "random" or (self.packing == "auto" and auto_random):
             try:
                 return "random", ParticleSet.random(d.count, d.box, d.particle_radius,
                                                     d.particle_material, seed=self.seed)
