@@ -28,7 +28,6 @@ from pdamper.cli._common import (
     plot_param,
 )
 from pdamper.cli._quiet import quiet
-from pdamper.analysis.analytical import assumption_line
 from pdamper.errors import InputError
 
 if TYPE_CHECKING:
@@ -242,6 +241,8 @@ def _summary(sc: Scenario, model: str, result: Any, out: Path | None, n_real: in
                 f"{sc.dem.seed + n_real - 1}), spread per cell in the file"
                 if n_real > 1 else "")
              + (f"; written to {out}" if out else ""))
+    from pdamper.analysis.analytical import assumption_line
+
     line = None if marks is None else assumption_line(marks, "points")
     return payload, human + (f"\n{line}" if line else "")
 
