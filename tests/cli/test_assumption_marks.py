@@ -5,9 +5,6 @@ from __future__ import annotations
 
 import json
 
-import numpy as np
-import pytest
-
 
 def test_map_flags_a_scattering_cell_in_json_netcdf_and_plot(tmp_path, cli):
     import matplotlib
