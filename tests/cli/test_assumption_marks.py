@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
+
 
 def test_map_flags_a_scattering_cell_in_json_netcdf_and_plot(tmp_path, cli):
     import matplotlib
@@ -62,3 +64,106 @@ def test_a_map_whose_assumptions_hold_everywhere_has_no_marks():
     ds = effective_field(AnalyticalDamper(PAPER_DAMPER), [10.0], [0.032, 0.05])
     assert ds["assumptions_hold"].values.tolist() == [[1, 1]]
     assert not [c for c in plot_loss_factor_map(ds).collections if c.get_hatch()]
+
+
+def test_frf_on_the_papers_case_flags_the_scattering_solution(tmp_path, cli):
+    """At 5.5 Hz under 2 N the paper's damper has three harmonic-balance solutions, the
+    largest stroke a scattering bed (Eq. 8's eta = 1e-3): that one is flagged, per row
+    and in the summary, the text says so in one line and the NetCDF carries it."""
+    import xarray as xr
+
+    nc = tmp_path / "frf.nc"
+    code, out, _ = cli("frf", "--model", "analytic", "--frequency", "5.5Hz", "--out", nc,
+                       "--json")
+    assert code == 0
+    d = json.loads(out)
+    hb = d["points"][0]["harmonic_balance"]
+    assert [r["assumptions_hold"] for r in hb] == [r["mode"] != "scattering" for r in hb]
+    assert [r["mode"] for r in hb].count("scattering") == 1
+    bad = next(r for r in hb if r["mode"] == "scattering")
+    assert "scattering" in bad["assumptions"] and "dem" in bad["assumptions"]
+    assert all(d["points"][0][s]["assumptions_hold"] for s in ("up", "down"))
+    a = d["assumptions"]
+    assert (a["points"], a["flagged"], a["reasons"]) == (5, 1, {"scattering": 1})
+    assert a["by_source"]["harmonic_balance"] == {"points": 3, "flagged": 1}
+    assert a["frequencies"] == [5.5] and "fields" in a["use"]
+    with xr.open_dataset(nc, engine="h5netcdf") as ds:
+        assert int((ds["hb_assumptions_hold"].values == 0).sum()) == 1
+        assert int((ds["sweep_assumptions_hold"].values == 0).sum()) == 0
+        assert ds["hb_assumptions"].values.ravel().tolist().count("") == \
+            ds["hb_assumptions"].size - 1
+    code, out, _ = cli("frf", "--model", "analytic", "--frequency", "5.5Hz")
+    lines = [ln for ln in out.splitlines() if "assumptions fail" in ln]
+    assert lines == ["analytic assumptions fail at 1 of 5 answers (scattering 1): use fields "
+                     "from a DEM map (--model fields) or dem there (5.5-5.5 Hz; o in the "
+                     "figure, JSON assumptions_hold per row)"]
+
+
+def test_frf_without_flagged_points_prints_no_line_and_keeps_its_keys(cli):
+    code, out, _ = cli("frf", "--model", "analytic", "--frequency", "4Hz:4.5Hz:2", "--json")
+    d = json.loads(out)
+    assert d["assumptions"]["flagged"] == 0 and d["assumptions"]["reasons"] == {}
+    assert all(p["up"]["assumptions_hold"] and p["up"]["assumptions"] == ""
+               for p in d["points"])
+    code, out, _ = cli("frf", "--model", "analytic", "--frequency", "4Hz:4.5Hz:2")
+    assert code == 0 and "assumptions fail" not in out
+
+
+def test_frf_plot_rings_the_flagged_answers():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from pdamper.coupling.frf import HarmonicLoad, frequency_response
+    from pdamper.models import AnalyticalDamper
+    from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE
+    from pdamper.plots.frf import plot_frf
+
+    res = frequency_response(AnalyticalDamper(PAPER_DAMPER, gravity=0.0), PAPER_STRUCTURE,
+                             HarmonicLoad("force", 2.0), [4.0, 6.5], sweep="up")
+    # without gravity, strokes below h / pi (26.5 mm here) scatter (docs/analytical.md)
+    up = res.sweeps["up"]
+    assert not up.diagnostics["assumptions_hold"].any() and (up.mode == 5).all()
+    axes = plot_frf(res)
+    ring = [ln for ln in axes[0].get_lines() if "assumptions" in str(ln.get_label())]
+    assert len(ring) == 1
+    assert "fields from a DEM map, or dem" in ring[0].get_label()
+    n_hb = int(np.count_nonzero(~res.harmonic_balance.diagnostics["assumptions_hold"]
+                                & np.isfinite(res.harmonic_balance.amplitude)))
+    assert len(ring[0].get_xdata()) == 2 + n_hb
+
+
+def test_a_single_ball_is_flagged_at_every_frequency():
+    import dataclasses
+
+    from pdamper.coupling.frf import HarmonicLoad, assumption_record, frequency_response
+    from pdamper.models import AnalyticalDamper
+    from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE
+
+    ball = dataclasses.replace(PAPER_DAMPER, length=0.041, width=0.041, depth=0.041,
+                               particle_radius=0.02, count=1)
+    res = frequency_response(AnalyticalDamper(ball), PAPER_STRUCTURE,
+                             HarmonicLoad("force", 2.0), [5.0, 5.5, 6.0], sweep="up")
+    rec = assumption_record(res)
+    assert rec["flagged"] == rec["points"] and rec["reasons"]["collected_bed"] == rec["points"]
+    assert rec["frequencies"] == [5.0, 5.5, 6.0]
+
+
+def test_frf_at_zero_gravity_answers_within_seconds(cli):
+    """frf at g = 0 answers where analytic answers, in seconds, and flags the scattering
+    answers below h / pi (it used to run 100 s and refuse with advice about gravity)."""
+    import time
+
+    t0 = time.perf_counter()
+    code, out, err = cli("frf", "--model", "analytic", "--gravity", "0 m/s^2",
+                         "--frequency", "5Hz:6Hz:5", "--json")
+    assert code == 0, err
+    assert time.perf_counter() - t0 < 30
+    d = json.loads(out)
+    assert d["inputs"]["excitation"]["gravity"] == 0.0
+    rows = [p["up"] for p in d["points"]]
+    assert all(np.isfinite(r["amplitude"]) for r in rows)
+    assert all(r["assumptions_hold"] == (r["mode"] != "scattering") for r in rows)
+    assert d["assumptions"]["reasons"]["scattering"] >= 1
+    code, out, _ = cli("analytic", "--gravity", "0 m/s^2", "--frequency", "5.5Hz",
+                       "--amplitude", f"{rows[2]['stroke'] * 1e3:.6g}mm", "--json")
+    assert code == 0 and json.loads(out)["mode"] == rows[2]["mode"]

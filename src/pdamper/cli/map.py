@@ -99,12 +99,7 @@ def map_(
     plot_path = check_plot(plot)
     if out_path is not None and scheduler is None:
         _check_partial_store(out_path)
-    options: dict[str, Any] = {"retries": retries, "retry_failed": retry_failed,
-                               "serial": serial}
-    if workers is not None:
-        options["workers"] = workers
-    if scheduler is not None:
-        options["scheduler"] = scheduler
+    options = _sweep_options(workers, scheduler, retries, retry_failed, serial)
     meta = metadata(sc, model=model, seed=sc.dem.seed)
     n_real = _realisation_count(sc, model, realisations, uncertainty, force)
     # with --uncertainty the file is written once, at the end, with its bands: a failed or
@@ -148,6 +143,18 @@ def _map_figure(ds: Any, model: str) -> Any:
     plot_mode_map(ds, ax=axes[0]).set_title(f"motion modes ({what})")
     plot_loss_factor_map(ds, ax=axes[1]).set_title(f"loss factor ({what})")
     return fig
+
+
+def _sweep_options(workers: int | None, scheduler: str | None, retries: int,
+                   retry_failed: bool, serial: bool) -> dict[str, Any]:
+    """The options of the sweep engine (those given; the engine's defaults for the rest)."""
+    options: dict[str, Any] = {"retries": retries, "retry_failed": retry_failed,
+                               "serial": serial}
+    if workers is not None:
+        options["workers"] = workers
+    if scheduler is not None:
+        options["scheduler"] = scheduler
+    return options
 
 
 def _check_run_options(workers: int | None, retries: int, scheduler: str | None) -> None:
