@@ -1233,9 +1233,7 @@ class DesignEvaluator:
     def __call__(self, design: dict) -> tuple[float, dict]:
         o = self.objective
         if o.frf_load is not None:  # a forced response, both sweep directions
-            from pdamper.coupling.frf import frequency_response
-
-            from pdamper.coupling.frf import assumption_record
+            from pdamper.coupling.frf import assumption_record, frequency_response
             from pdamper.coupling.validity import design_marks
 
             sim = self.simulation(design)  # the same physics limits as every design
