@@ -117,6 +117,7 @@ class DamperReport:
             out["no_particles"] = {"peak_amplitude": float(lin[j]),
                                    "peak_frequency": float(f[j])}
             out["models"][label]["modes"] = _per_mode(self.structure, f, best, lin)
+            out["models"][label].update(_peak_assumptions(r, i))
         out["units"] = {"peak_amplitude": "m", "peak_frequency": "Hz"}
         return out
 
@@ -355,6 +356,24 @@ def forced_response(rep: DamperReport, models: dict, structure: Any, x0: float,
     for label, (model, _source) in models.items():
         if model.coupling in HARMONIC_BALANCE:
             rep.forced[label] = frequency_response(model, structure, load, f, sweep="none")
+
+
+def _peak_assumptions(r: Any, i: int) -> dict:
+    """``assumptions`` (:func:`~pdamper.coupling.frf.assumption_record`) of the forced
+    response ``r`` and whether they hold at its peak, the largest stable solution at
+    frequency index ``i`` (``peak_assumptions_hold``, ``peak_assumptions``: the reason
+    and the fidelity to use); {} where the model reports no such check."""
+    from pdamper.coupling.frf import assumption_record
+
+    marks = assumption_record(r)
+    hb = r.harmonic_balance
+    if marks is None or "assumptions_hold" not in hb.diagnostics:
+        return {}
+    amp = np.where(hb.steady[i] & np.isfinite(hb.amplitude[i]), hb.amplitude[i], -np.inf)
+    j = int(np.argmax(amp))
+    holds = bool(hb.diagnostics["assumptions_hold"][i, j]) or not np.isfinite(amp[j])
+    return {"assumptions": marks, "peak_assumptions_hold": holds,
+            "peak_assumptions": "" if holds else str(hb.diagnostics["assumptions"][i, j])}
 
 
 def level3_models(sc: Scenario, damper: ParticleDamper, dem: bool) -> dict[str, tuple]:
