@@ -167,3 +167,73 @@ def test_frf_at_zero_gravity_answers_within_seconds(cli):
     code, out, _ = cli("analytic", "--gravity", "0 m/s^2", "--frequency", "5.5Hz",
                        "--amplitude", f"{rows[2]['stroke'] * 1e3:.6g}mm", "--json")
     assert code == 0 and json.loads(out)["mode"] == rows[2]["mode"]
+
+
+BALL = """[container]
+length = "41mm"
+width = "41mm"
+depth = "41mm"
+[particles]
+radius = "20mm"
+count = 1
+"""
+
+
+def test_optimize_marks_a_design_resting_on_flagged_answers(tmp_path, cli):
+    """One 40 mm ball in a 41 mm box: the analytical model's clearance is 0 (n_max = 1)
+    and one ball rebounds rather than collects; the design that has it is marked, the
+    empty container is not."""
+    sc = tmp_path / "ball.toml"
+    sc.write_text(BALL)
+    args = ("optimize", "--scenario", sc, "--model", "analytic", "--at", "0.8s",
+            "--vary", "particles=0:1:1")
+    code, out, _ = cli(*args, "--json")
+    assert code == 0
+    rows = {c["particles"]: c for c in json.loads(out)["candidates"]}
+    assert rows[0]["assumptions_hold"] is True and rows[0]["assumptions"] == ""
+    assert rows[1]["assumptions_hold"] is False
+    assert "collected bed" in rows[1]["assumptions"] and "clearance" in rows[1]["assumptions"]
+    assert "fields from a DEM map" in rows[1]["assumptions"]
+    code, out, _ = cli(*args)
+    assert code == 0
+    table = [ln for ln in out.splitlines() if ln.strip().startswith("1 ")]
+    assert table and table[0].rstrip().endswith("!")
+    assert ("! 1 of 2 evaluated designs rest on answers outside the analytic model's "
+            "assumptions: check them with fields from a DEM map, or dem") in out
+
+
+def test_peak_frf_study_marks_its_designs():
+    from pdamper.coupling.frf import HarmonicLoad
+    from pdamper.design.study import DesignEvaluator, make_objective
+    from pdamper.models import AnalyticalDamper
+    from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE
+
+    o = make_objective("peak-frf", 0.8, -0.058, PAPER_STRUCTURE,
+                       frf_load=HarmonicLoad("force", 2.0), band=(5.0, 5.5, 6.0))
+    ev = DesignEvaluator(PAPER_STRUCTURE, PAPER_DAMPER, -0.058, o,
+                         lambda d: AnalyticalDamper(d, gravity=0.0))
+    _, extra = ev({"particles": 32})
+    assert extra["assumptions_hold"] is False and "scattering" in extra["assumptions"]
+
+
+def test_report_tables_say_where_the_analytic_answers_rest_on_failed_assumptions():
+    """Without gravity the paper's damper scatters at its forced peak (stroke < h / pi):
+    the report's forced-response row says so with the reason and the fidelity to use."""
+    from pdamper.coupling.frf import HarmonicLoad, frequency_response
+    from pdamper.models import AnalyticalDamper
+    from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE
+    from pdamper.reports.damper_report import _assumptions_cell
+    from pdamper.runs.damper_report import _peak_assumptions
+
+    r = frequency_response(AnalyticalDamper(PAPER_DAMPER, gravity=0.0), PAPER_STRUCTURE,
+                           HarmonicLoad("force", 2.0), [5.0, 5.5, 6.0], sweep="none")
+    i = int(np.nanargmax(np.where(r.harmonic_balance.steady, r.harmonic_balance.amplitude,
+                                  np.nan)) // r.harmonic_balance.amplitude.shape[1])
+    m = _peak_assumptions(r, i)
+    assert m["peak_assumptions_hold"] is False and "scattering" in m["peak_assumptions"]
+    cell = _assumptions_cell(m)
+    assert cell.startswith("fail at the peak: scattering")
+    assert cell.endswith("use fields from a DEM map, or dem")
+    ok = frequency_response(AnalyticalDamper(PAPER_DAMPER), PAPER_STRUCTURE,
+                            HarmonicLoad("force", 2.0), [4.0, 4.5], sweep="none")
+    assert _assumptions_cell(_peak_assumptions(ok, 1)) == "hold at the peak; hold at every answer"
