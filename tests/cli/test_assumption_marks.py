@@ -237,3 +237,14 @@ def test_report_tables_say_where_the_analytic_answers_rest_on_failed_assumptions
     ok = frequency_response(AnalyticalDamper(PAPER_DAMPER), PAPER_STRUCTURE,
                             HarmonicLoad("force", 2.0), [4.0, 4.5], sweep="none")
     assert _assumptions_cell(_peak_assumptions(ok, 1)) == "hold at the peak; hold at every answer"
+
+
+def test_analytic_says_whether_its_assumptions_hold(cli):
+    code, out, _ = cli("analytic", "--frequency", "25Hz", "--amplitude", "10mm", "--json")
+    d = json.loads(out)
+    assert d["mode"] == "scattering" and d["assumptions_hold"] is False
+    assert "scattering" in d["assumptions"] and "use dem" in d["assumptions"]
+    code, out, _ = cli("analytic", "--frequency", "25Hz", "--amplitude", "10mm")
+    assert "outside the model's assumptions: scattering" in out
+    code, out, _ = cli("analytic", "--frequency", "10Hz", "--amplitude", "32mm", "--json")
+    assert json.loads(out)["assumptions_hold"] is True
