@@ -19,13 +19,11 @@ def decay_assumptions(model: Any, res: Any, until: float | None = None) -> dict 
     """The :func:`~pdamper.analysis.analytical.assumption_summary` of the damper's updates
     of the free vibration ``res`` up to ``until`` [s] (default all), asked of ``model`` at
     each update's (frequency, amplitude); None where the model reports no check or no
-    update was made."""
+    update was made (a damper without particles)."""
     from pdamper.analysis.analytical import assumption_summary
 
-    if not getattr(model, "reports_assumptions", False):
-        return None
-    if model.damper.count == 0:  # no particles: no damper answer to rest on
-        return assumption_summary(np.zeros(0, bool), np.zeros(0, object))
+    if not getattr(model, "reports_assumptions", False) or model.damper.count == 0:
+        return None  # (no particles: no damper answer to rest on)
     ups = [c for c in getattr(res, "cycles", ()) if until is None
            or c.time <= until * (1.0 + 1e-12)]
     ups = [c for c in ups if c.amplitude > 0 and np.isfinite(c.amplitude)]
