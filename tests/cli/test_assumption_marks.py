@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 
 def test_map_flags_a_scattering_cell_in_json_netcdf_and_plot(tmp_path, cli):
@@ -248,3 +249,17 @@ def test_analytic_says_whether_its_assumptions_hold(cli):
     assert "outside the model's assumptions: scattering" in out
     code, out, _ = cli("analytic", "--frequency", "10Hz", "--amplitude", "32mm", "--json")
     assert json.loads(out)["assumptions_hold"] is True
+
+
+@pytest.mark.long  # the whole report: 50-100 s on two busy cores
+def test_report_at_zero_gravity_answers_and_marks_the_scattering_peak(tmp_path, cli):
+    sc = tmp_path / "zg.toml"
+    sc.write_text('[excitation]\ngravity = "0 m/s^2"\n')
+    code, out, err = cli("report", "--scenario", sc, "--out", tmp_path / "rep")
+    assert code == 0, err
+    assert "! forced response, analytical formulas (model 3): the peak is outside" in out
+    res = json.loads((tmp_path / "rep" / "results.json").read_text())
+    m = res["forced_response"]["models"]["analytical formulas (model 3)"]
+    assert m["peak_assumptions_hold"] is False and m["assumptions"]["flagged"] > 0
+    html = (tmp_path / "rep" / "report.html").read_text()
+    assert "fail at the peak: scattering" in html

@@ -290,7 +290,7 @@ def field_point(model, params: dict) -> dict:
         if isinstance(v, bool | int | float | np.number):
             out[name] = v.item() if isinstance(v, np.number) else v
         elif name == "assumptions" and v is not None:
-            out[name] = str(v)
+            out[name] = v  # the reasons (a str, "" where the assumptions hold)
         elif name == "stationarity" and v is not None:
             out["steady_reason"] = v.reason
         elif name == "motion" and v is not None:

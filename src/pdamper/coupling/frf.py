@@ -1210,7 +1210,10 @@ def assumption_record(res: FRFResult) -> dict | None:
     curves = dict(res.sweeps)
     if res.harmonic_balance is not None:
         curves["harmonic_balance"] = res.harmonic_balance
-    holds, whys, by_source, flagged_f = [], [], {}, set()
+    holds: list[np.ndarray] = []
+    whys: list[np.ndarray] = []
+    by_source: dict[str, dict] = {}
+    flagged_f: set[float] = set()
     for name, c in curves.items():
         if "assumptions_hold" not in c.diagnostics:
             continue
