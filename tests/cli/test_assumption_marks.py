@@ -217,6 +217,27 @@ def test_peak_frf_study_marks_its_designs():
     assert extra["assumptions_hold"] is False and "scattering" in extra["assumptions"]
 
 
+def test_a_free_decay_at_zero_gravity_rests_on_scattering_updates():
+    """The paper's decay from -58 mm: at 9.81 m/s^2 every update up to 0.8 s holds the
+    assumptions; without gravity the bed scatters below h / pi (26.5 mm), so 3 of the 5
+    updates before 0.8 s are flagged, and the report's models table says so."""
+    from pdamper.coupling import Simulation
+    from pdamper.coupling.validity import decay_assumptions
+    from pdamper.models import AnalyticalDamper
+    from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE
+    from pdamper.reports.damper_report import _decay_cell
+
+    marks = {}
+    for g in (9.81, 0.0):
+        m = AnalyticalDamper(PAPER_DAMPER, gravity=g)
+        marks[g] = decay_assumptions(m, Simulation(PAPER_STRUCTURE, m, -0.058).run(1.0), 0.8)
+    assert (marks[9.81]["points"], marks[9.81]["flagged"]) == (5, 0)
+    assert (marks[0.0]["points"], marks[0.0]["flagged"]) == (5, 3)
+    assert _decay_cell(marks[9.81]) == "hold at every update (5)"
+    assert _decay_cell(marks[0.0]) == ("fail at 3 of 5 updates (scattering): use fields "
+                                       "from a DEM map, or dem")
+
+
 def test_report_tables_say_where_the_analytic_answers_rest_on_failed_assumptions():
     """Without gravity the paper's damper scatters at its forced peak (stroke < h / pi):
     the report's forced-response row says so with the reason and the fidelity to use."""
@@ -263,3 +284,6 @@ def test_report_at_zero_gravity_answers_and_marks_the_scattering_peak(tmp_path, 
     assert m["peak_assumptions_hold"] is False and m["assumptions"]["flagged"] > 0
     html = (tmp_path / "rep" / "report.html").read_text()
     assert "fail at the peak: scattering" in html
+    row = next(r for r in res["models"] if r["label"] == "analytical formulas (model 3)")
+    assert row["assumptions"]["reasons"]["scattering"] >= 1
+    assert "updates (scattering): use fields from a DEM map, or dem" in html

@@ -255,6 +255,17 @@ def _forced_html(rep: DamperReport) -> list[str]:
             *_fig(rep, "forced_response")]
 
 
+def _decay_cell(a: dict | None) -> str:
+    """Whether a free decay's damper answers hold the analytical model's assumptions."""
+    if a is None:
+        return ""
+    if not a["flagged"]:
+        return f"hold at every update ({a['points']})"
+    kinds = ", ".join(k.replace("_", " ") for k in a["reasons"])
+    return (f"fail at {a['flagged']} of {a['points']} updates ({kinds}): use fields from a "
+            "DEM map, or dem")
+
+
 def _assumptions_cell(m: dict) -> str:
     """Whether a model's forced response rests on the analytical model's assumptions:
     at its peak (the reason and the fidelity to use where not) and over every answer."""
@@ -364,12 +375,14 @@ def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:
         "inputs")
     models = rep.models()
     model_table = _table(["run", "model", "damper data", f"amplitude at {rep.at:g} s [mm]",
-                          "final amplitude [mm]", "wall time [s]"],
+                          "final amplitude [mm]", "wall time [s]",
+                          f"analytic model's assumptions up to {rep.at:g} s"],
                          [[m["label"], m["model"], m["source"], _mm(m["amplitude_at"]),
                            _mm(m["final_amplitude"]),
-                           "" if m["seconds"] is None else f"{m['seconds']:.3f}"]
+                           "" if m["seconds"] is None else f"{m['seconds']:.3f}",
+                           _decay_cell(m.get("assumptions"))]
                           for m in models], "models",
-                         [["", "", "", "num", "num", "num"]] * len(models))
+                         [["", "", "", "num", "num", "num", ""]] * len(models))
     summary, limits, land = _landscape_html(rep)
     timings = _table(["step", "wall time [s]"],
                      [[k, f"{v:.3f}"] for k, v in rep.timings.items()], "timings",

@@ -73,6 +73,10 @@ class DamperReport:
     band: Any = None  # Level3Band of the DEM's realisations (with dem and realisations)
     figure_errors: dict = field(default_factory=dict)  # figure name -> why it is missing
     not_applicable: dict = field(default_factory=dict)  # result key -> why it is null
+    # label -> whether the run's damper answers up to ``at`` hold the analytical model's
+    # assumptions (pdamper.coupling.validity.decay_assumptions; models without the check
+    # absent)
+    assumptions: dict = field(default_factory=dict)
     used: dict = field(default_factory=dict)  # the inputs the report used
     not_used: dict = field(default_factory=dict)  # key -> why the report did not use it
     modal: dict = field(default_factory=dict)  # the structure's data (runs.report_inputs)
@@ -88,7 +92,9 @@ class DamperReport:
             out.append({"label": label, "model": run.model, "source": self.sources[label],
                         "amplitude_at": run.amplitude_at(self.at) if reached else None,
                         "final_amplitude": run.final_amplitude,
-                        "seconds": self.timings.get(f"Level III: {label}")})
+                        "seconds": self.timings.get(f"Level III: {label}"),
+                        **({"assumptions": self.assumptions[label]}
+                           if label in self.assumptions else {})})
         return out
 
     def forced_summary(self) -> dict | None:
@@ -228,6 +234,8 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
             sc, "dem", frequency=f, amplitude=x, particles=np.array([damper.count]),
             out=target, cache=True, **sweep_options).dataset)
 
+    from pdamper.coupling.validity import decay_assumptions
+
     gravity = sc.excitation.gravity
     models = level3_models(sc, damper, dem)
     for label, (model, source) in models.items():
@@ -235,6 +243,9 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
         rep.runs[label] = _timed(rep, f"Level III: {label}", lambda m=model: Simulation(
             structure, m, x0).run(duration, sc.simulation.sample_rate))
         rep.sources[label] = source
+        marks = decay_assumptions(model, rep.runs[label], rep.at)
+        if marks is not None:
+            rep.assumptions[label] = marks
     rep.empty = _timed(rep, "Level III: no particles", lambda: Simulation(
         structure, AnalyticalDamper(damper.with_count(0), gravity=gravity), x0).run(
         duration, sc.simulation.sample_rate))
