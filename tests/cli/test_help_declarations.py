@@ -22,7 +22,7 @@ OWN = {
                  "as_json"},
     "map": {"model", "out", "uncertainty", "uncertain", "uncertainty_seed", "force", "workers",
             "scheduler", "retries", "retry_failed", "keep_partial", "serial", "realisations",
-            "scenario", "as_json"},
+            "plot", "scenario", "as_json"},
     "simulate": {"compare", "measured", "plot", "out", "uncertainty", "uncertain",
                  "uncertainty_seed", "realisations", "workers", "serial", "force", "scenario",
                  "as_json"},

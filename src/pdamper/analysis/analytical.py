@@ -36,6 +36,7 @@ Conventions fixed where the printed paper is ambiguous:
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -709,3 +710,55 @@ def assumption_checks(response: BedResponse, *, count: int, per_layer: int, diam
         reasons[i] = "; ".join(r)
     holds = np.array([not s for s in reasons], bool)
     return holds.reshape(shape), reasons.reshape(shape)
+
+
+#: The fidelities to use where the closed forms' assumptions fail, as legends and summaries
+#: name them (a fields map made by the DEM, or the DEM itself).
+USE_BEYOND_LIMITS = "fields from a DEM map (--model fields) or dem"
+
+#: Each check of :func:`assumption_checks` by its short name, and the text that opens its
+#: reason.
+ASSUMPTION_KINDS = {"collected_bed": "not a collected bed",
+                    "clearance": "clearance L (1 - n/n_max)",
+                    "scattering": "scattering:"}
+
+
+def assumption_kinds(reason: str) -> list[str]:
+    """The short names (:data:`ASSUMPTION_KINDS`) of the checks that failed in ``reason``
+    (one entry of :func:`assumption_checks`' reasons; [] where they hold)."""
+    return [k for k, opening in ASSUMPTION_KINDS.items() if opening in str(reason)]
+
+
+def assumption_summary(holds, reasons) -> dict:
+    """How many of the points ``holds`` / ``reasons`` (:func:`assumption_checks`, any
+    shape; the caller leaves out points without an answer) rest on failed assumptions.
+
+    Returns
+    -------
+    dict
+        ``points`` (all), ``flagged`` (where they fail), ``reasons`` (flagged points per
+        check of :data:`ASSUMPTION_KINDS`, only those that occur), ``reason`` (the text of
+        each occurring check, from its first flagged point) and ``use`` (the fidelities to
+        use there, :data:`USE_BEYOND_LIMITS`).
+    """
+    ok = np.asarray(holds, bool).ravel()
+    why = np.asarray(reasons, object).ravel()
+    counts: dict[str, int] = {}
+    text: dict[str, str] = {}
+    for r in why[~ok]:
+        for part in re.split(r";\s*use [^;]*;?\s*", str(r)):  # each check's own text
+            for k in assumption_kinds(part):
+                text.setdefault(k, part.strip())
+        for k in assumption_kinds(r):
+            counts[k] = counts.get(k, 0) + 1
+    return {"points": int(ok.size), "flagged": int((~ok).sum()), "reasons": counts,
+            "reason": text, "use": USE_BEYOND_LIMITS}
+
+
+def assumption_line(summary: dict, what: str = "points") -> str | None:
+    """One line of text from :func:`assumption_summary` (None where every point holds)."""
+    if not summary.get("flagged"):
+        return None
+    kinds = ", ".join(f"{k.replace('_', ' ')} {n}" for k, n in summary["reasons"].items())
+    return (f"analytic assumptions fail at {summary['flagged']} of {summary['points']} "
+            f"{what} ({kinds}): use {summary['use']} there")

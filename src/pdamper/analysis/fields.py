@@ -16,6 +16,8 @@ works, and this Level II module imports no model.
 Both give the same variables: ``loss_factor``, ``effective_mass_ratio``,
 ``dissipated_energy_per_cycle``, ``motion_mode``, ``subharmonic_order``, ``stationary``,
 ``status`` (and from a sweep ``error``, ``attempts`` and the model's run diagnostics).
+A model whose answers carry ``assumptions_hold`` / ``assumptions`` (the analytical one,
+docs/analytical.md) adds them per point: a 0/1 flag and the reason with the fidelity to use.
 """
 
 from __future__ import annotations
@@ -129,6 +131,14 @@ _INTEGER = {"subharmonic_order", "steps", "total_steps", "excitation_steps", "se
 
 STATIONARY_ATTRS = {"long_name": "averaged window is a steady state", "units": "1",
                     "flag_values": [-1, 0, 1], "flag_meanings": "no_result transient steady"}
+ASSUMPTIONS_HOLD_ATTRS = {
+    "long_name": "the analytical model's assumptions hold at the point (0: its answer is "
+                 "outside them, see 'assumptions')", "units": "1", "flag_values": [0, 1],
+    "flag_meanings": "outside_assumptions assumptions_hold"}
+ASSUMPTIONS_ATTRS = {"long_name": "why the analytical model's assumptions fail, and the "
+                                  "fidelity to use there (empty: they hold)"}
+#: Per-point labels of the analytical model's validity (its response's ``diagnostics``).
+ASSUMPTION_VARIABLES = ("assumptions_hold", "assumptions")
 STATUS_ATTRS = {"long_name": "outcome of the point", "units": "1", "flag_values": [0, 1],
                 "flag_meanings": "ok failed"}
 
@@ -163,6 +173,11 @@ def _dataset(values: dict[str, np.ndarray], coords, dims, attrs: dict) -> xr.Dat
         elif name == "error":
             data[name] = (dims, np.asarray(arr, dtype=str),
                           {"long_name": "error of a failed point (empty if ok)"})
+        elif name == "assumptions_hold":
+            data[name] = (dims, np.asarray(arr, bool).astype(np.int8),
+                          dict(ASSUMPTIONS_HOLD_ATTRS))
+        elif name == "assumptions":
+            data[name] = (dims, np.asarray(arr, dtype=str), dict(ASSUMPTIONS_ATTRS))
         elif name == "attempts":
             data[name] = (dims, np.asarray(arr, np.int32),
                           {"long_name": "attempts of the point", "units": "1"})
@@ -236,7 +251,7 @@ def effective_field(model, frequency, amplitude, attrs: dict | None = None,
         "status": stack(lambda r: 0),
     }
     for name in rs[0].diagnostics:
-        if name in VARIABLES:
+        if name in VARIABLES or name in ASSUMPTION_VARIABLES:
             values[name] = stack(lambda r, n=name: r.diagnostics[n])
     coords, dims = _coords(f, x, particles)
     ds = _dataset(values, coords, dims, {})
@@ -274,6 +289,8 @@ def field_point(model, params: dict) -> dict:
         v = np.asarray(arr).item() if np.ndim(arr) == 0 else None
         if isinstance(v, bool | int | float | np.number):
             out[name] = v.item() if isinstance(v, np.number) else v
+        elif name == "assumptions" and v is not None:
+            out[name] = v  # the reasons (a str, "" where the assumptions hold)
         elif name == "stationarity" and v is not None:
             out["steady_reason"] = v.reason
         elif name == "motion" and v is not None:
@@ -362,6 +379,12 @@ def sweep_field(model, frequency, amplitude, particles=None, *, store=None,
     ds = _dataset(values, coords, dims, {})
     reasons = {k: np.array([p.values.get(k, "") for p in sweep.points], dtype=str)
                for k in ("steady_reason", "mode_reason")}
+    if any("assumptions_hold" in p.values for p in sweep.points):  # the analytical model's
+        hold = np.array([bool(p.values.get("assumptions_hold", True)) for p in sweep.points])
+        why = np.array([str(p.values.get("assumptions", "")) for p in sweep.points], dtype=str)
+        ds["assumptions_hold"] = (dims, hold.reshape(shape).astype(np.int8),
+                                  dict(ASSUMPTIONS_HOLD_ATTRS))
+        ds["assumptions"] = (dims, why.reshape(shape), dict(ASSUMPTIONS_ATTRS))
     for k, long_name in (("steady_reason", "why the window is not steady (empty: steady)"),
                          ("mode_reason", "how the motion mode was decided")):
         if any(reasons[k]):

@@ -69,6 +69,9 @@ def analytic(
                                   "unbounded (the bed is never held by its weight)"}}),
         "gravity": bed.gravity,
         "eta_max": ETA_MAX,
+        # whether the closed forms' assumptions hold here (docs/analytical.md)
+        "assumptions_hold": bool(r.diagnostics["assumptions_hold"]),
+        "assumptions": str(r.diagnostics["assumptions"]),
         "units": {"gravity": "m/s^2", "dissipated_energy_per_cycle": "J", "clearance": "m",
                   "optimal_stroke": "m", "bed_mass": "kg", "loss_factor": "1", "effective_mass_ratio": "1"},
         **metadata(sc),
@@ -83,6 +86,8 @@ def analytic(
         f"  clearance h                  {format_quantity(damper.clearance, 'mm')}\n"
         f"  optimal stroke X_opt = h/pi  {format_quantity(damper.optimal_stroke, 'mm')}"
     )
+    if not payload["assumptions_hold"]:
+        human += f"\n  outside the model's assumptions: {payload['assumptions']}"
     unused = {k: why for k, why in _UNUSED.items() if k in sc.model_fields_set}
     if unused:
         payload["unused_inputs"] = unused

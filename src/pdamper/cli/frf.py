@@ -90,6 +90,9 @@ _AllowCostOpt = Annotated[bool, typer.Option(
     "--allow-cost", help="Allow a response whose estimated memory or run time is above the "
                          "usual limits (2 GiB, 1 h), up to what this machine can hold; "
                          "every other command's --force (here --force is the load).")]
+_GravityOpt = Annotated[str | None, typer.Option(
+    "--gravity", help=key_help("excitation.gravity", "g, e.g. '9.81 m/s^2' (default); "
+                               "'0 m/s^2' for a structure in orbit"))]
 _RealisationsOpt = Annotated[str | None, typer.Option(
     "--realisations", help="The response from N realisations of the damper: the DEM from "
     "N random packings (seeds dem.seed ... dem.seed + N - 1), the fields from the first "
@@ -119,6 +122,7 @@ def frf(
     uncertain: _uncertainty.UncertainOpt = None,
     uncertainty_seed: _uncertainty.UncertaintySeedOpt = 0,
     realisations: _RealisationsOpt = None,
+    gravity: _GravityOpt = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -130,7 +134,8 @@ def frf(
     sc = load(scenario, **_uncertainty.merged(dict(
         simulation__model=model, particles__count=particles,
         fields__file=None if fields is None else str(fields),
-        structure__modes=None if modes is None else str(modes), frf__at=load_at), uncertain))
+        structure__modes=None if modes is None else str(modes), frf__at=load_at,
+        excitation__gravity=gravity), uncertain))
     load_, freqs, sweep, source = _resolved(
         sc, parse_load(force, base, unbalance, default=None),
         None if frequency is None else _frequencies(frequency), _checked_sweep(sweep))
@@ -208,6 +213,13 @@ def _payload(res, source: str, load_, band: dict | None) -> tuple[dict, list[str
                         "loss_factor": "1", "effective_mass": "kg", "wall_seconds": "s",
                         "load": load_.unit}
     text = _table(res)
+    marks = payload.get("assumptions")
+    if marks is not None and marks["flagged"]:
+        from pdamper.analysis.analytical import assumption_line
+
+        fl = marks["frequencies"]
+        text.append(f"{assumption_line(marks, 'answers')} ({fl[0]:g}-{fl[-1]:g} Hz; "
+                    "o in the figure, JSON assumptions_hold per row)")
     if band is not None:
         payload["realisations"] = band
         text += [f"{band['count']} realisations ({'seeds ' if 'seeds' in band else 'map '}"

@@ -15,7 +15,18 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal, TextIO
 import typer
 
 from pdamper.cli import _uncertainty
-from pdamper.cli._common import ForceOpt, JsonOpt, ScenarioOpt, check_output, emit, key_help, load
+from pdamper.cli._common import (
+    ForceOpt,
+    JsonOpt,
+    ScenarioOpt,
+    check_output,
+    check_plot,
+    emit,
+    figure_last,
+    key_help,
+    load,
+    plot_param,
+)
 from pdamper.cli._quiet import quiet
 from pdamper.errors import InputError
 
@@ -63,6 +74,9 @@ def map_(
         "--realisations", help="DEM: N independent random packings (seeds dem.seed ... "
         "dem.seed + N - 1); the map's values are their means, with the spread (std, min, max) "
         "of every cell and each realisation's values (dimension 'realisation').")] = None,
+    plot: Annotated[str | None, plot_param(
+        "the motion modes and the loss factor over the grid (the first particle count), "
+        "points outside the analytical model's assumptions hatched")] = None,
     scenario: ScenarioOpt = None,
     as_json: JsonOpt = False,
 ) -> None:
@@ -82,14 +96,10 @@ def map_(
 
         map_answers(sc, model)
     out_path = check_output(out)
+    plot_path = check_plot(plot)
     if out_path is not None and scheduler is None:
         _check_partial_store(out_path)
-    options: dict[str, Any] = {"retries": retries, "retry_failed": retry_failed,
-                               "serial": serial}
-    if workers is not None:
-        options["workers"] = workers
-    if scheduler is not None:
-        options["scheduler"] = scheduler
+    options = _sweep_options(workers, scheduler, retries, retry_failed, serial)
     meta = metadata(sc, model=model, seed=sc.dem.seed)
     n_real = _realisation_count(sc, model, realisations, uncertainty, force)
     # with --uncertainty the file is written once, at the end, with its bands: a failed or
@@ -113,6 +123,38 @@ def map_(
             sc, model, uncertainty, uncertainty_seed, result.dataset, out_path)
         human += "\n" + "\n".join(_uncertainty.lines(spread, {}))
     emit(payload, as_json, human)
+    if plot_path is not None:
+        figure_last(lambda: _map_figure(result.dataset, model), plot_path, dpi=110)
+
+
+def _map_figure(ds: Any, model: str) -> Any:
+    """The motion modes and the loss factor over the grid (of the first particle count);
+    cells outside the analytical model's assumptions hatched (plots.figures)."""
+    from matplotlib.figure import Figure
+
+    from pdamper.plots import plot_loss_factor_map, plot_mode_map
+
+    what = f"{model} model"
+    if "particles" in ds.dims:
+        n = int(ds["particles"].values[0])
+        ds, what = ds.isel(particles=0), f"{what}, {n} particles"
+    fig = Figure(figsize=(13, 5), layout="constrained")
+    axes = fig.subplots(1, 2)
+    plot_mode_map(ds, ax=axes[0]).set_title(f"motion modes ({what})")
+    plot_loss_factor_map(ds, ax=axes[1]).set_title(f"loss factor ({what})")
+    return fig
+
+
+def _sweep_options(workers: int | None, scheduler: str | None, retries: int,
+                   retry_failed: bool, serial: bool) -> dict[str, Any]:
+    """The options of the sweep engine (those given; the engine's defaults for the rest)."""
+    options: dict[str, Any] = {"retries": retries, "retry_failed": retry_failed,
+                               "serial": serial}
+    if workers is not None:
+        options["workers"] = workers
+    if scheduler is not None:
+        options["scheduler"] = scheduler
+    return options
 
 
 def _check_run_options(workers: int | None, retries: int, scheduler: str | None) -> None:
@@ -189,6 +231,9 @@ def _summary(sc: Scenario, model: str, result: Any, out: Path | None, n_real: in
         "max_loss_factor": float(np.nanmax(eta)) if finite.any() else None, "max_at": best,
         **meta,
     }
+    marks = assumption_record(ds)
+    if marks is not None:
+        payload["assumptions"] = marks
     if n_real > 1:
         from pdamper.runs.realisations import map_spread_record
 
@@ -203,7 +248,25 @@ def _summary(sc: Scenario, model: str, result: Any, out: Path | None, n_real: in
                 f"{sc.dem.seed + n_real - 1}), spread per cell in the file"
                 if n_real > 1 else "")
              + (f"; written to {out}" if out else ""))
-    return payload, human
+    from pdamper.analysis.analytical import assumption_line
+
+    line = None if marks is None else assumption_line(marks, "points")
+    return payload, human + (f"\n{line}" if line else "")
+
+
+def assumption_record(ds: Any) -> dict | None:
+    """The map's ``assumptions_hold`` summed up (:func:`~pdamper.analysis.analytical.
+    assumption_summary` over the points with a result; None: the model reports none)."""
+    import numpy as np
+
+    from pdamper.analysis.analytical import assumption_summary
+
+    if "assumptions_hold" not in ds:
+        return None
+    ok = (ds["status"].values == 0) if "status" in ds else np.ones(
+        ds["assumptions_hold"].shape, bool)
+    return assumption_summary(ds["assumptions_hold"].values[ok] == 1,
+                              ds["assumptions"].values[ok])
 
 
 class _progress:

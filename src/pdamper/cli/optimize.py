@@ -473,7 +473,8 @@ def _candidate_lines(res: DesignStudyResult) -> list[str]:
             mark = f"  <- lightest within {res.tolerance * 100:g} %"
         if c.violations:
             mark = "  outside the limits: " + "; ".join(c.violations)
-        lines.append("  " + "  ".join(cells) + f"  {mass}  {value}{mark}")
+        outside = " !" if c.extra.get("assumptions_hold") is False else ""
+        lines.append("  " + "  ".join(cells) + f"  {mass}  {value}{outside}{mark}")
 
     def brief(c: Any) -> str:
         design = ", ".join(f"{n} {show_value(n, c.design[n])}" for n in names)
@@ -504,7 +505,22 @@ def _candidate_lines(res: DesignStudyResult) -> list[str]:
             if pick is not None and pick.limits and not any(pick is d for d in shown_):
                 shown_.append(pick)
                 lines.append(f"  {label}: {describe_design(pick, names)}: " + margins(pick))
-    return lines
+    return lines + _assumption_lines(res)
+
+
+def _assumption_lines(res: DesignStudyResult) -> list[str]:
+    """The designs whose answer rests on the analytical model outside its assumptions
+    (! in the table), with the best design's reason (JSON per candidate:
+    ``assumptions_hold``, ``assumptions``)."""
+    flagged = [c for c in res.candidates if c.extra.get("assumptions_hold") is False]
+    if not flagged:
+        return []
+    ok = sum(c.status == "ok" for c in res.candidates)
+    out = [f"! {len(flagged)} of {ok} evaluated designs rest on answers outside the analytic "
+           "model's assumptions: check them with fields from a DEM map, or dem"]
+    if res.best is not None and res.best.extra.get("assumptions_hold") is False:
+        out.append(f"! the best design: {res.best.extra['assumptions']}")
+    return out
 
 
 def margins(c: Any) -> str:

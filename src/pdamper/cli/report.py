@@ -90,7 +90,22 @@ def report(
              f"{damper_report._brief(st.lightest_within, [v.name for v in st.variables])}"]
     for level, r in rep.uncertainty.items():
         lines.append(f"  uncertainty ({level}): driver {r.driver or 'none (no spread)'}")
-    emit(payload, as_json, "\n".join(lines))
+    emit(payload, as_json, "\n".join(lines + _assumption_lines(rep)))
+
+
+def _assumption_lines(rep) -> list[str]:
+    """Where the report's answers rest on the analytical model outside its assumptions:
+    the best design and the forced response's peak (the tables say more)."""
+    out = []
+    best = None if rep.study is None else rep.study.best
+    if best is not None and best.extra.get("assumptions_hold") is False:
+        out.append(f"  ! best design: {best.extra['assumptions']}")
+    summary = rep.forced_summary() or {"models": {}}
+    for label, m in summary["models"].items():
+        if m.get("peak_assumptions_hold") is False:
+            out.append(f"  ! forced response, {label}: the peak is outside the analytic "
+                       "model's assumptions; use fields from a DEM map, or dem there")
+    return out
 
 
 def _check_runs(sc, dem: bool, realisations: str | None, uncertainty: int | None,

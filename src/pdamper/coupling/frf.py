@@ -60,6 +60,7 @@ DEM stepped sine makes no such assumption; docs/forced.md compares them.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 import time
@@ -662,6 +663,7 @@ class FRFResult:
             assert hb.branch is not None  # harmonic balance labels every solution's branch
             ds["hb_branch"] = (("frequency", "solution"), hb.branch.astype(str),
                                {"long_name": "harmonic balance branch: stable, unstable, edge"})
+            _assumption_variables(ds, "hb", ("frequency", "solution"), [hb])
         if self.sweeps:
             ds = ds.assign_coords(sweep=("sweep", list(self.sweeps)))
             extra = {"cycles": ("1", "load cycles run")}
@@ -675,6 +677,8 @@ class FRFResult:
                 ds[f"sweep_{k}"] = (("sweep", "frequency"),
                                     v.astype("i1") if k == "steady" else v,
                                     {"units": unit, "long_name": f"stepped sine: {name}"})
+            _assumption_variables(ds, "sweep", ("sweep", "frequency"),
+                                  list(self.sweeps.values()))
         ds.attrs.update(title="pdamper forced response", model=self.model,
                         load_kind=self.load.kind, load_amplitude=self.load.amplitude,
                         load_unit=self.load.unit, pdamper_version=__version__,
@@ -697,6 +701,9 @@ class FRFResult:
                 out["branch"] = str(c.branch[idx])
             if c.cycles is not None:
                 out["cycles"] = int(c.cycles[idx])
+            if "assumptions_hold" in c.diagnostics:  # the damper model's own check
+                out["assumptions_hold"] = bool(c.diagnostics["assumptions_hold"][idx])
+                out["assumptions"] = str(c.diagnostics["assumptions"][idx])
             if c.amplitude_mean is not None and c.amplitude_std is not None:
                 from pdamper.coupling.results import with_reasons
 
@@ -720,8 +727,27 @@ class FRFResult:
             for name, c in self.sweeps.items():
                 p[name] = rows(c, i)
             points.append(p)
-        return {"model": self.model, "load": self.load.as_dict(), "points": points,
-                "inputs": self.inputs, "wall_seconds": self.wall_seconds}
+        out = {"model": self.model, "load": self.load.as_dict(), "points": points,
+               "inputs": self.inputs, "wall_seconds": self.wall_seconds}
+        marks = assumption_record(self)
+        if marks is not None:
+            out["assumptions"] = marks
+        return out
+
+
+def _assumption_variables(ds, prefix: str, dims: tuple[str, str], curves: list) -> None:
+    """``<prefix>_assumptions_hold`` (0/1) and ``<prefix>_assumptions`` (the reasons) of
+    ``curves`` in ``ds``, where the model reported them."""
+    from pdamper.analysis.fields import ASSUMPTIONS_ATTRS, ASSUMPTIONS_HOLD_ATTRS
+
+    if not all("assumptions_hold" in c.diagnostics for c in curves):
+        return
+    hold = np.stack([np.asarray(c.diagnostics["assumptions_hold"], bool) for c in curves])
+    why = np.stack([np.asarray(c.diagnostics["assumptions"], object) for c in curves])
+    if prefix == "hb":  # one curve of (frequency, solution)
+        hold, why = hold[0], why[0]
+    ds[f"{prefix}_assumptions_hold"] = (dims, hold.astype("i1"), dict(ASSUMPTIONS_HOLD_ATTRS))
+    ds[f"{prefix}_assumptions"] = (dims, why.astype(str), dict(ASSUMPTIONS_ATTRS))
 
 
 # ----------------------------------------------------------------------------- harmonic balance
@@ -1149,6 +1175,65 @@ def _final_particles(engine, res):
                        angular_velocities=np.array(res.snapshot_angular_velocities[-1]))
 
 
+# ----------------------------------------------------------------------------- validity
+def _with_assumptions(model, frequency: np.ndarray, curve: FRFCurve | None) -> FRFCurve | None:
+    """``curve`` with ``assumptions_hold`` (bool) and ``assumptions`` (the reasons, ""
+    where they hold) in its ``diagnostics``: the model's own check
+    (:func:`~pdamper.analysis.analytical.assumption_checks`) at the stroke of each answer
+    found. Models that report no such check (``reports_assumptions``), a damper without
+    particles and padding (no stroke) are left as they are (they hold)."""
+    if curve is None or not getattr(model, "reports_assumptions", False) \
+            or model.damper.count == 0:
+        return curve
+    x = np.asarray(curve.stroke, float)
+    f = np.broadcast_to(frequency.reshape((-1,) + (1,) * (x.ndim - 1)), x.shape)
+    ok = np.isfinite(x) & (x > 0)
+    hold = np.ones(x.shape, bool)
+    why = np.full(x.shape, "", dtype=object)
+    if ok.any():
+        diag = model.response(f[ok], x[ok]).diagnostics
+        hold[ok] = np.asarray(diag["assumptions_hold"], bool)
+        why[ok] = np.asarray(diag["assumptions"], object)
+    return dataclasses.replace(curve, diagnostics={**curve.diagnostics,
+                                                   "assumptions_hold": hold,
+                                                   "assumptions": why})
+
+
+def assumption_record(res: FRFResult) -> dict | None:
+    """Whether the answers of ``res`` rest on the damper model's assumptions: the
+    :func:`~pdamper.analysis.analytical.assumption_summary` over every answer found (the
+    stepped sines' points and the harmonic balance's solutions), the answers and flagged
+    ones per source (``by_source``) and the frequencies with a flagged answer
+    (``frequencies`` [Hz]); None where the model reports no such check."""
+    from pdamper.analysis.analytical import assumption_summary
+
+    curves = dict(res.sweeps)
+    if res.harmonic_balance is not None:
+        curves["harmonic_balance"] = res.harmonic_balance
+    holds: list[np.ndarray] = []
+    whys: list[np.ndarray] = []
+    by_source: dict[str, dict] = {}
+    flagged_f: set[float] = set()
+    for name, c in curves.items():
+        if "assumptions_hold" not in c.diagnostics:
+            continue
+        found = np.isfinite(np.asarray(c.stroke, float))
+        if c.branch is not None:
+            found &= c.branch != ""
+        h = np.asarray(c.diagnostics["assumptions_hold"], bool)
+        holds.append(h[found])
+        whys.append(np.asarray(c.diagnostics["assumptions"], object)[found])
+        by_source[name] = {"points": int(found.sum()), "flagged": int((found & ~h).sum())}
+        rows = (found & ~h) if h.ndim == 1 else (found & ~h).any(axis=1)
+        flagged_f.update(float(v) for v in res.frequency[rows])
+    if not holds:
+        return None
+    out = assumption_summary(np.concatenate(holds), np.concatenate(whys))
+    out["by_source"] = by_source
+    out["frequencies"] = sorted(flagged_f)
+    return out
+
+
 # ----------------------------------------------------------------------------- driver
 #: Stepped-sine strategies by the model's coupling name (as :data:`pdamper.coupling.COUPLINGS`).
 STEPPED_SINES: dict[str, Callable[..., FRFCurve]] = {
@@ -1241,8 +1326,10 @@ def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
         options["progress"] = progress
     for d in directions:
         t0 = time.perf_counter()
-        sweeps[d] = STEPPED_SINES[model.coupling](model, s, load, f, d, **options)
+        sweeps[d] = _with_assumptions(model, f, STEPPED_SINES[model.coupling](
+            model, s, load, f, d, **options))
         walls[d] = time.perf_counter() - t0
+    hb = _with_assumptions(model, f, hb)
     return FRFResult(frequency=f, load=load, linear=lin, harmonic_balance=hb, sweeps=sweeps,
                      model=model.fidelity, wall_seconds=walls,
                      inputs={"frequency": f.tolist(), "sweep": sweep, "load": load.as_dict(),

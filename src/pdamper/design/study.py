@@ -1233,12 +1233,14 @@ class DesignEvaluator:
     def __call__(self, design: dict) -> tuple[float, dict]:
         o = self.objective
         if o.frf_load is not None:  # a forced response, both sweep directions
-            from pdamper.coupling.frf import frequency_response
+            from pdamper.coupling.frf import assumption_record, frequency_response
+            from pdamper.coupling.validity import design_marks
 
             sim = self.simulation(design)  # the same physics limits as every design
-            return o.evaluate(frequency_response(sim.model, self.structure, o.frf_load,
-                                                 o.band, sweep="both",
-                                                 with_harmonic_balance=False))
+            frf = frequency_response(sim.model, self.structure, o.frf_load, o.band,
+                                     sweep="both", with_harmonic_balance=False)
+            value, extra = o.evaluate(frf)
+            return value, {**extra, **design_marks(assumption_record(frf))}
         if o.load is not None:  # the response to the load history
             from pdamper.coupling.loads import run_load
 
@@ -1246,8 +1248,13 @@ class DesignEvaluator:
             return o.evaluate(run_load(sim.model, self.structure, o.load, o.sample_rate,
                                        o.tail))
         assert o.duration is not None  # make_objective gives a free vibration its duration
-        res = self.simulation(design).run(o.duration, sample_rate=_SAMPLE_RATE)
-        return o.evaluate(res)
+        from pdamper.coupling.validity import decay_assumptions, design_marks
+
+        sim = self.simulation(design)
+        res = sim.run(o.duration, sample_rate=_SAMPLE_RATE)
+        value, extra = o.evaluate(res)
+        until = None if o.name == "settling-time" else o.at  # the updates it rests on
+        return value, {**extra, **design_marks(decay_assumptions(sim.model, res, until))}
 
     def simulation(self, design: dict) -> Simulation:
         """The free vibration of ``design``, made but not run: making it judges the design

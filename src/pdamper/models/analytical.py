@@ -33,6 +33,8 @@ class AnalyticalDamper(DamperModel):
     fidelity = "analytic"
     takes_gravity = True
     vectorised = True
+    #: every response carries ``assumptions_hold`` / ``assumptions`` in its diagnostics
+    reports_assumptions = True
     #: the bed is one perfectly plastic block (Eqs. 5-22): no friction, no rebound
     unused_inputs = {
         f: "the analytical bed is a perfectly plastic block (Eqs. 5-22): neither friction "

@@ -63,8 +63,9 @@ def _grid_lines(ax, ds, gravity=STANDARD_GRAVITY):
         ax.set_ylim(lo, hi)
 
 
-def _mark_cells(ax, ds) -> None:
-    """Mark the cells that are no steady value: transients (x) and failed runs (grey x)."""
+def _mark_cells(ax, ds, hatch: str = "0.7") -> None:
+    """Mark the cells that are no steady value: transients (x) and failed runs (grey x);
+    hatch (in colour ``hatch``) those outside the analytical model's assumptions."""
     f = ds["frequency"].values
     x = ds["amplitude"].values * 1e3
     ff, xx = np.meshgrid(f, x, indexing="ij")
@@ -77,11 +78,45 @@ def _mark_cells(ax, ds) -> None:
     if failed.any():
         ax.plot(ff[failed], xx[failed], "x", color="0.45", ms=6, mew=1.5, ls="none",
                 label="run failed")
+    if "assumptions_hold" in ds:
+        _hatch_outside_assumptions(ax, ds, ~failed, hatch)
 
 
-def _field_axes(ax, ds) -> None:
+def _edges(v: np.ndarray) -> np.ndarray:
+    """Cell edges of a grid drawn with ``shading="nearest"`` (midpoints; a one-value grid
+    gets a cell of +-5 %)."""
+    if v.size == 1:
+        return np.array([v[0] * 0.95, v[0] * 1.05]) if v[0] else np.array([-0.5, 0.5])
+    mid = 0.5 * (v[1:] + v[:-1])
+    return np.concatenate([[v[0] - (mid[0] - v[0])], mid, [v[-1] + (v[-1] - mid[-1])]])
+
+
+def _hatch_outside_assumptions(ax, ds, answered: np.ndarray, color: str) -> None:
+    """Hatch the cells where the analytical model's assumptions fail (``assumptions_hold``
+    0), the legend line naming the checks that failed and the fidelity to use there."""
+    from matplotlib.collections import PolyCollection
+
+    from pdamper.analysis.analytical import assumption_summary
+
+    flagged = (ds["assumptions_hold"].values == 0) & answered
+    if not flagged.any():
+        return
+    fe = _edges(np.asarray(ds["frequency"].values, float))
+    xe = _edges(np.asarray(ds["amplitude"].values, float) * 1e3)
+    verts = [[(fe[i], xe[j]), (fe[i + 1], xe[j]), (fe[i + 1], xe[j + 1]), (fe[i], xe[j + 1])]
+             for i, j in zip(*np.nonzero(flagged), strict=True)]
+    why = assumption_summary(ds["assumptions_hold"].values[answered] == 1,
+                             ds["assumptions"].values[answered])
+    kinds = ", ".join(k.replace("_", " ") for k in why["reasons"]) or "assumptions"
+    ax.add_collection(PolyCollection(
+        verts, facecolors="none", edgecolors=color, linewidths=0.0, hatch="////",
+        label=f"outside the analytic model's assumptions ({kinds}):\n"
+              "use fields from a DEM map, or dem"))
+
+
+def _field_axes(ax, ds, hatch: str = "0.7") -> None:
     _grid_lines(ax, ds)
-    _mark_cells(ax, ds)
+    _mark_cells(ax, ds, hatch)
     x = ds["amplitude"].values
     if x.size > 2 and np.all(x > 0) and np.allclose(np.diff(np.log(x)), np.log(x[1] / x[0])) \
             and not np.allclose(np.diff(x), x[1] - x[0]):
@@ -112,13 +147,15 @@ def plot_mode_map(ds, ax=None):
     x = ds["amplitude"].values * 1e3
     data = ds["motion_mode"].values
     ax.pcolormesh(f, x, data.T, cmap=cmap, norm=norm, shading="nearest")
-    _field_axes(ax, ds)
+    _field_axes(ax, ds, hatch="k")
     present = set(np.unique(data).tolist())
     shown = [m for m in MotionMode if m is not MotionMode.RATTLING or int(m) in present]
     handles = [Patch(color=_MODE_COLORS[m], label=m.title) for m in shown]
     if -1 in present:
         handles.append(Patch(facecolor=_NO_MODE_COLOR, edgecolor="0.5", label="no mode"))
-    ax.legend(handles=handles + ax.get_lines(), fontsize="x-small", loc="upper right")
+    marked = [c for c in ax.collections if not str(c.get_label()).startswith("_")]
+    ax.legend(handles=handles + ax.get_lines() + marked, fontsize="x-small",
+              loc="upper right")
     return ax
 
 

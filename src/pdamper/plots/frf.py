@@ -56,6 +56,7 @@ def plot_frf(res, axes=None, label: str | None = None, linear: bool = True,
             amp_ax.plot(f[~c.steady], c.amplitude[~c.steady] * 1e3, mk, ms=5, mfc="none",
                         color=col, label=f"{tag}{name}: not steady")
         ph_ax.plot(f, _lag(c.phase), color=col, lw=1)
+    _mark_outside_assumptions(res, amp_ax, tag)
     amp_ax.set_ylabel("amplitude [mm]")
     amp_ax.legend(fontsize=8)
     amp_ax.grid(alpha=0.3)
@@ -70,6 +71,33 @@ def plot_frf(res, axes=None, label: str | None = None, linear: bool = True,
     axes[-1].set_xlabel("frequency [Hz]")
     amp_ax.set_title(f"forced response, {res.model} model, {res.load.describe()}")
     return axes
+
+
+def _mark_outside_assumptions(res, ax, tag: str) -> None:
+    """Ring the answers (stepped sines, harmonic-balance solutions) found where the damper
+    model's assumptions fail (``assumptions_hold`` false, :mod:`pdamper.coupling.frf`);
+    the legend names the checks that failed and the fidelity to use there."""
+    from pdamper.analysis.analytical import assumption_kinds
+
+    ff, aa, kinds = [], [], {}
+    curves = list(res.sweeps.values())
+    if res.harmonic_balance is not None:
+        curves.append(res.harmonic_balance)
+    for c in curves:
+        if "assumptions_hold" not in c.diagnostics:
+            continue
+        bad = ~np.asarray(c.diagnostics["assumptions_hold"], bool) & np.isfinite(c.amplitude)
+        ff.append(np.broadcast_to(res.frequency.reshape((-1,) + (1,) * (bad.ndim - 1)),
+                                  bad.shape)[bad])
+        aa.append(np.asarray(c.amplitude)[bad] * 1e3)
+        for r in np.asarray(c.diagnostics["assumptions"], object)[bad]:
+            kinds.update(dict.fromkeys(assumption_kinds(r)))
+    if not ff or not np.concatenate(ff).size:
+        return
+    names = ", ".join(k.replace("_", " ") for k in kinds) or "assumptions"
+    ax.plot(np.concatenate(ff), np.concatenate(aa), "o", ms=8, mfc="none", mec="k", mew=0.8,
+            ls="none", label=f"{tag}outside the analytic model's assumptions ({names}): "
+                             "use fields from a DEM map, or dem")
 
 
 def _lag(phase) -> np.ndarray:

@@ -232,11 +232,11 @@ def _forced_html(rep: DamperReport) -> list[str]:
     load = rep.forced_load
     rows = [[label, _mm(m["peak_amplitude"]), "" if m["peak_frequency"] is None
              else f"{m['peak_frequency']:.3f}",
-             "yes" if m["several_solutions"] else "no"]
+             "yes" if m["several_solutions"] else "no", _assumptions_cell(m)]
             for label, m in summary["models"].items()]
     rows.append(["no particles (linear FRF)",
                  f"{summary['no_particles']['peak_amplitude'] * 1e3:.2f}",
-                 f"{summary['no_particles']['peak_frequency']:.3f}", "no"])
+                 f"{summary['no_particles']['peak_frequency']:.3f}", "no", ""])
     first = next(iter(rep.forced.values()))
     return ["<h2>Forced response</h2>",
             (f"<p>{_e(rep.forced_text[0].upper() + rep.forced_text[1:])}, "
@@ -250,8 +250,35 @@ def _forced_html(rep: DamperReport) -> list[str]:
             "(docs/forced.md). Where a model has several solutions at a frequency, up and "
             "down sweeps jump between them.</p>",
             _table(["model", "largest steady amplitude [mm]", "at f [Hz]",
-                    "several solutions somewhere"], rows, "forced_response",
-                   [["", "num", "num", ""]] * len(rows)), *_fig(rep, "forced_response")]
+                    "several solutions somewhere", "analytic model's assumptions"], rows,
+                   "forced_response", [["", "num", "num", "", ""]] * len(rows)),
+            *_fig(rep, "forced_response")]
+
+
+def _decay_cell(a: dict | None) -> str:
+    """Whether a free decay's damper answers hold the analytical model's assumptions."""
+    if a is None:
+        return ""
+    if not a["flagged"]:
+        return f"hold at every update ({a['points']})"
+    kinds = ", ".join(k.replace("_", " ") for k in a["reasons"])
+    return (f"fail at {a['flagged']} of {a['points']} updates ({kinds}): use fields from a "
+            "DEM map, or dem")
+
+
+def _assumptions_cell(m: dict) -> str:
+    """Whether a model's forced response rests on the analytical model's assumptions:
+    at its peak (the reason and the fidelity to use where not) and over every answer."""
+    a = m.get("assumptions")
+    if a is None:
+        return ""
+    where = f"fail at {a['flagged']} of {a['points']} answers" if a["flagged"] else \
+        "hold at every answer"
+    if not m.get("peak_assumptions_hold", True):
+        return (f"fail at the peak: {m['peak_assumptions']}; {where}; use fields from a "
+                "DEM map, or dem")
+    return f"hold at the peak; {where}" + ("; use fields from a DEM map, or dem there"
+                                          if a["flagged"] else "")
 
 
 def _band_html(rep: DamperReport) -> list[str]:
@@ -348,12 +375,14 @@ def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:
         "inputs")
     models = rep.models()
     model_table = _table(["run", "model", "damper data", f"amplitude at {rep.at:g} s [mm]",
-                          "final amplitude [mm]", "wall time [s]"],
+                          "final amplitude [mm]", "wall time [s]",
+                          f"analytic model's assumptions up to {rep.at:g} s"],
                          [[m["label"], m["model"], m["source"], _mm(m["amplitude_at"]),
                            _mm(m["final_amplitude"]),
-                           "" if m["seconds"] is None else f"{m['seconds']:.3f}"]
+                           "" if m["seconds"] is None else f"{m['seconds']:.3f}",
+                           _decay_cell(m.get("assumptions"))]
                           for m in models], "models",
-                         [["", "", "", "num", "num", "num"]] * len(models))
+                         [["", "", "", "num", "num", "num", ""]] * len(models))
     summary, limits, land = _landscape_html(rep)
     timings = _table(["step", "wall time [s]"],
                      [[k, f"{v:.3f}"] for k, v in rep.timings.items()], "timings",
@@ -403,14 +432,19 @@ def _landscape_html(rep: DamperReport) -> tuple[str, list[str], str]:
         land_rows.append([*(_shown(n, c.design.get(n)) for n in names),
                           "" if c.mass is None else f"{c.mass * 1e3:.1f}",
                           "" if c.objective is None else f"{c.objective * scale:.5g}",
-                          status + (f": {reason}" if reason else ""), mark])
+                          status + (f": {reason}" if reason else "")
+                          + (f"; ! {c.extra['assumptions']}"
+                             if c.extra.get("assumptions_hold") is False else ""), mark])
     land = _table([*(_head(n) for n in names), "added mass [g]",
                    f"{st.objective.name} [{shown_unit}", "status", "on the front"],
                   land_rows, "landscape",
                   [["num"] * len(names) + ["num", "num", "", ""]] * len(land_rows))
     summary = (f"best: {_brief(best, names)}; lightest within {st.tolerance * 100:g} % of "
                f"the best: {_brief(light, names)}; {len(st.front)} designs on the Pareto "
-               "front." + ("" if st.no_best is None else f" No best design: {st.no_best}."))
+               "front." + ("" if st.no_best is None else f" No best design: {st.no_best}.")
+               + ("" if best is None or best.extra.get("assumptions_hold") is not False else
+                  f" The best design rests on answers outside the analytic model's "
+                  f"assumptions ({best.extra['assumptions']})."))
     limits = _limits_html(st, names)
     return summary, limits, land
 

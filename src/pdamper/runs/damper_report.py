@@ -73,6 +73,10 @@ class DamperReport:
     band: Any = None  # Level3Band of the DEM's realisations (with dem and realisations)
     figure_errors: dict = field(default_factory=dict)  # figure name -> why it is missing
     not_applicable: dict = field(default_factory=dict)  # result key -> why it is null
+    # label -> whether the run's damper answers up to ``at`` hold the analytical model's
+    # assumptions (pdamper.coupling.validity.decay_assumptions; models without the check
+    # absent)
+    assumptions: dict = field(default_factory=dict)
     used: dict = field(default_factory=dict)  # the inputs the report used
     not_used: dict = field(default_factory=dict)  # key -> why the report did not use it
     modal: dict = field(default_factory=dict)  # the structure's data (runs.report_inputs)
@@ -88,7 +92,9 @@ class DamperReport:
             out.append({"label": label, "model": run.model, "source": self.sources[label],
                         "amplitude_at": run.amplitude_at(self.at) if reached else None,
                         "final_amplitude": run.final_amplitude,
-                        "seconds": self.timings.get(f"Level III: {label}")})
+                        "seconds": self.timings.get(f"Level III: {label}"),
+                        **({"assumptions": self.assumptions[label]}
+                           if label in self.assumptions else {})})
         return out
 
     def forced_summary(self) -> dict | None:
@@ -117,6 +123,7 @@ class DamperReport:
             out["no_particles"] = {"peak_amplitude": float(lin[j]),
                                    "peak_frequency": float(f[j])}
             out["models"][label]["modes"] = _per_mode(self.structure, f, best, lin)
+            out["models"][label].update(_peak_assumptions(r, i))
         out["units"] = {"peak_amplitude": "m", "peak_frequency": "Hz"}
         return out
 
@@ -227,6 +234,8 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
             sc, "dem", frequency=f, amplitude=x, particles=np.array([damper.count]),
             out=target, cache=True, **sweep_options).dataset)
 
+    from pdamper.coupling.validity import decay_assumptions
+
     gravity = sc.excitation.gravity
     models = level3_models(sc, damper, dem)
     for label, (model, source) in models.items():
@@ -234,6 +243,9 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
         rep.runs[label] = _timed(rep, f"Level III: {label}", lambda m=model: Simulation(
             structure, m, x0).run(duration, sc.simulation.sample_rate))
         rep.sources[label] = source
+        marks = decay_assumptions(model, rep.runs[label], rep.at)
+        if marks is not None:
+            rep.assumptions[label] = marks
     rep.empty = _timed(rep, "Level III: no particles", lambda: Simulation(
         structure, AnalyticalDamper(damper.with_count(0), gravity=gravity), x0).run(
         duration, sc.simulation.sample_rate))
@@ -355,6 +367,24 @@ def forced_response(rep: DamperReport, models: dict, structure: Any, x0: float,
     for label, (model, _source) in models.items():
         if model.coupling in HARMONIC_BALANCE:
             rep.forced[label] = frequency_response(model, structure, load, f, sweep="none")
+
+
+def _peak_assumptions(r: Any, i: int) -> dict:
+    """``assumptions`` (:func:`~pdamper.coupling.frf.assumption_record`) of the forced
+    response ``r`` and whether they hold at its peak, the largest stable solution at
+    frequency index ``i`` (``peak_assumptions_hold``, ``peak_assumptions``: the reason
+    and the fidelity to use); {} where the model reports no such check."""
+    from pdamper.coupling.frf import assumption_record
+
+    marks = assumption_record(r)
+    hb = r.harmonic_balance
+    if marks is None or "assumptions_hold" not in hb.diagnostics:
+        return {}
+    amp = np.where(hb.steady[i] & np.isfinite(hb.amplitude[i]), hb.amplitude[i], -np.inf)
+    j = int(np.argmax(amp))
+    holds = bool(hb.diagnostics["assumptions_hold"][i, j]) or not np.isfinite(amp[j])
+    return {"assumptions": marks, "peak_assumptions_hold": holds,
+            "peak_assumptions": "" if holds else str(hb.diagnostics["assumptions"][i, j])}
 
 
 def level3_models(sc: Scenario, damper: ParticleDamper, dem: bool) -> dict[str, tuple]:
