@@ -69,8 +69,7 @@ def analytic(
                                   "unbounded (the bed is never held by its weight)"}}),
         "gravity": bed.gravity,
         "eta_max": ETA_MAX,
-        # whether the closed forms' assumptions hold here (docs/analytical.md)
-        "assumptions_hold": bool(r.diagnostics["assumptions_hold"]),
+        "assumptions_hold": bool(r.diagnostics["assumptions_hold"]),  # docs/analytical.md
         "assumptions": str(r.diagnostics["assumptions"]),
         "units": {"gravity": "m/s^2", "dissipated_energy_per_cycle": "J", "clearance": "m",
                   "optimal_stroke": "m", "bed_mass": "kg", "loss_factor": "1", "effective_mass_ratio": "1"},
