@@ -338,7 +338,8 @@ def _run_study(sc: Scenario, damper: Any, variables: list[DesignVariable],
                                damper, variables, obj, method=o.method, max_grid=o.max_grid,
                                max_evaluations=o.max_evaluations, seed=o.seed,
                                workers=n_workers, scheduler=o.scheduler,
-                               tolerance=o.tolerance)
+                               tolerance=o.tolerance, limits=o.require,
+                               max_mass=o.max_mass, progress=progress)
         return res, None
     if n_real > 1:
         from pdamper.design.study import make_objective, run_design_study
