@@ -71,3 +71,23 @@ def test_optimize_uncertainty_keeps_the_mass_limit(cli):
     feasible = [c for c in d["candidates"] if c.get("feasible", True)]
     assert [c["particles"] for c in feasible] == [0]
     assert d["best"]["particles"] == 0
+
+
+@pytest.mark.parametrize("args", [
+    ("frf", "--frequency", "3Hz:9Hz:5", "--particles", "0", "--max-cycles", "1"),
+    ("simulate", "--duration", "1s", "--particles", "0"),
+    ("optimize", "--vary", "particles=0:32:32", "--at", "0.3s"),
+], ids=["frf", "simulate", "optimize"])
+def test_uncertainty_runs_show_progress_on_stderr_only(args, cli, monkeypatch):
+    import pdamper.cli._progress as progress
+
+    monkeypatch.setattr(progress, "showing", lambda: True)
+    spread = ("--uncertain", "structure.damping=4kg/s+-0.4kg/s", "--uncertainty", "4", "--json")
+    code, out, err = cli(*args, *spread)
+    assert code == 0, err
+    assert json.loads(out)["uncertainty"]  # stdout: the JSON alone
+    word = "designs evaluated" if args[0] == "optimize" else "uncertainty runs"
+    assert word in err
+    monkeypatch.setattr(progress, "showing", lambda: False)
+    code, out, err = cli(*args, *spread)
+    assert code == 0 and err == ""

@@ -150,10 +150,8 @@ def frf(
     payload, text = _payload(res, source, load_, band)
     spread = None
     if uncertainty is not None:
-        from pdamper.runs.uncertainty import propagate_scenario
-
-        spread = propagate_scenario(sc, "frf", uncertainty, uncertainty_seed, model=model,
-                                    load=load_, frequency=freqs)
+        spread = _uncertainty.propagate(sc, "frf", uncertainty, uncertainty_seed, model=model,
+                                        load=load_, frequency=freqs)
         payload["uncertainty"] = spread.as_dict()
         text += _uncertainty.lines(spread, {"peak": (1e3, "mm"), "rms": (1e3, "mm"),
                                             "peak_frequency": (1.0, "Hz")})
