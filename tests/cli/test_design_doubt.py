@@ -91,3 +91,68 @@ def test_uncertainty_runs_show_progress_on_stderr_only(args, cli, monkeypatch):
     monkeypatch.setattr(progress, "showing", lambda: False)
     code, out, err = cli(*args, *spread)
     assert code == 0 and err == ""
+
+
+_FRAME = ("frequency [Hz], damping ratio [%], damper [kg^-0.5], load [kg^-0.5], "
+          "observation [kg^-0.5]\n{z1}, 0.2582, 0.1500, 0.2582\n{f2}, 0.8, -0.3162, 0.2400, "
+          "-0.3162\n")
+
+
+def _frame(tmp_path, name, z1="12.0, 1.0", f2="31.0"):
+    p = tmp_path / name
+    p.write_text(_FRAME.format(z1=z1, f2=f2))
+    return p
+
+
+def test_uncertainty_written_in_the_modes_file(tmp_path, cli):
+    # '1.0 +- 0.3' in the [%] column is mode 1's damping ratio 1 % +- 0.3 %: the same
+    # samples and answers as the plain file with --uncertain mode1.damping_ratio=1%+-0.3%
+    plain = _frame(tmp_path, "plain.csv")
+    spread = _frame(tmp_path, "spread.csv", z1="12.0, 1.0 +- 0.3", f2="31.0 ± 0.5")
+    run = ("frf", "--particles", "0", "--frequency", "11Hz:13Hz:3", "--max-cycles", "1",
+           "--uncertainty", "4", "--json")
+    code, out, err = cli(*run, "--modes", plain, "--uncertain",
+                         "mode1.damping_ratio=1%+-0.3%", "--uncertain",
+                         "mode2.frequency=31Hz+-0.5Hz")
+    assert code == 0, err
+    given = json.loads(out)["uncertainty"]
+    code, out, err = cli(*run, "--modes", spread)
+    assert code == 0, err
+    written = json.loads(out)["uncertainty"]
+    assert [u["field"] for u in written["inputs"]] == ["mode1.damping_ratio",
+                                                        "mode2.frequency"]
+    assert written["inputs"] == given["inputs"]
+    assert written["answers"]["peak"]["mean"] == pytest.approx(
+        given["answers"]["peak"]["mean"], rel=1e-12)
+    assert written["answers"]["peak"]["std"] > 0
+    # the nominal structure is the file's nominal values
+    code, out, err = cli("frf", "--particles", "0", "--frequency", "12Hz", "--max-cycles",
+                         "1", "--json", "--modes", spread)
+    code2, out2, _ = cli("frf", "--particles", "0", "--frequency", "12Hz", "--max-cycles",
+                         "1", "--json", "--modes", plain)
+    assert code == code2 == 0 and json.loads(out)["points"] == json.loads(out2)["points"]
+
+
+def test_command_line_uncertainty_replaces_the_files(tmp_path, cli):
+    from pdamper.io.scenario import load_scenario
+
+    spread = _frame(tmp_path, "spread.csv", z1="12.0, 1.0 +- 0.3")
+    sc = load_scenario(None, {"structure.modes": str(spread)})
+    (u,) = sc.uncertain_inputs()
+    assert (u.field, u.value, u.sd) == ("mode1.damping_ratio", pytest.approx(0.01),
+                                        pytest.approx(0.003))
+    sc = load_scenario(None, {"structure.modes": str(spread),
+                              "mode1.damping_ratio": "1 % +- 0.1 %"})
+    (u,) = sc.uncertain_inputs()
+    assert u.sd == pytest.approx(0.001)
+
+
+@pytest.mark.parametrize("cell, msg", [
+    ("1.0 +- x", "expected 'value +- sd' of two numbers"),
+    ("1.0 +- 0", "the standard deviation must be > 0"),
+])
+def test_a_bad_uncertain_cell_names_its_row_and_column(tmp_path, cli, cell, msg):
+    bad = _frame(tmp_path, "bad.csv", z1=f"12.0, {cell}")
+    code, out, err = cli("frf", "--particles", "0", "--frequency", "12Hz", "--modes", bad)
+    assert code == 2 and err.count("\n") == 1
+    assert "row 2, column 'damping ratio [%]'" in err and msg in err
