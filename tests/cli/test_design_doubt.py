@@ -156,3 +156,40 @@ def test_a_bad_uncertain_cell_names_its_row_and_column(tmp_path, cli, cell, msg)
     code, out, err = cli("frf", "--particles", "0", "--frequency", "12Hz", "--modes", bad)
     assert code == 2 and err.count("\n") == 1
     assert "row 2, column 'damping ratio [%]'" in err and msg in err
+
+
+def test_the_front_carries_each_designs_spread(tmp_path, cli, monkeypatch):
+    # optimize --uncertainty --plot: the mass-objective front beside the landscape, each
+    # design's mean +- std as an error bar and the front's 5-95 % band
+    import pdamper.cli.optimize as opt
+
+    drawn = []
+
+    def keep(draw, path, **kw):
+        drawn.append(draw())
+
+    monkeypatch.setattr(opt, "figure_last", keep)
+    code, out, err = cli("optimize", "--vary", "particles=0:64:32", "--at", "0.8s",
+                         "--uncertain", "mode1.damping_ratio=0.33%+-0.1%", "--uncertainty",
+                         "4", "--json", "--plot", tmp_path / "front.png")
+    assert code == 0, err
+    d = json.loads(out)
+    (fig,) = drawn
+    front_ax = fig.axes[1]
+    assert front_ax.get_xlabel() == "mass of bed and container [g]"
+    (bars,) = front_ax.containers
+    segments = bars.lines[2][0].get_segments()
+    got = sorted((round(s[0][0], 6), s[0][1], s[1][1]) for s in segments)
+    want = sorted((round(c["total_mass"] * 1e3, 6),
+                   (c["objective_mean"] - c["objective_std"]) * 1e3,
+                   (c["objective_mean"] + c["objective_std"]) * 1e3)
+                  for c in d["candidates"])
+    assert len(got) == len(want) == 3
+    for g, w in zip(got, want, strict=True):
+        assert g == pytest.approx(w, rel=1e-9)
+    bands = [c for c in front_ax.collections if c.get_label() == "front's 5-95 %"]
+    assert len(bands) == 1
+    ys = bands[0].get_paths()[0].vertices[:, 1]
+    lows = [c["objective_p5"] * 1e3 for c in d["front"]]
+    highs = [c["objective_p95"] * 1e3 for c in d["front"]]
+    assert min(ys) == pytest.approx(min(lows)) and max(ys) == pytest.approx(max(highs))
