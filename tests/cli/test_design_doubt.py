@@ -193,3 +193,36 @@ def test_the_front_carries_each_designs_spread(tmp_path, cli, monkeypatch):
     lows = [c["objective_p5"] * 1e3 for c in d["front"]]
     highs = [c["objective_p95"] * 1e3 for c in d["front"]]
     assert min(ys) == pytest.approx(min(lows)) and max(ys) == pytest.approx(max(highs))
+
+
+def test_frf_realisations_of_the_dem_are_its_serial_runs(tmp_path, cli, monkeypatch):
+    # four spheres from random packings (seeds 3, 4), two frequencies, ten cycles: the
+    # band's values are the forced responses run one by one with each seed
+    def scenario(seed):
+        p = tmp_path / f"dem{seed}.toml"
+        p.write_text(f'[particles]\ncount = 4\n\n[dem]\npacking = "random"\nseed = {seed}\n')
+        return p
+
+    import pdamper.cli._progress as progress
+
+    args = ("frf", "--model", "dem", "--frequency", "4Hz:4.5Hz:2", "--sweep", "up",
+            "--max-cycles", "10", "--force", "0.5N", "--json")
+    monkeypatch.setattr(progress, "showing", lambda: True)
+    code, out, err = cli(*args, "-s", scenario(3), "--realisations", "2",
+                         "--plot", tmp_path / "band.png")
+    assert code == 0, err
+    assert "realisations of the forced response" in err  # stderr: the JSON stays alone
+    monkeypatch.setattr(progress, "showing", lambda: False)
+    band = json.loads(out)["realisations"]
+    assert band["count"] == 2 and band["seeds"] == [3, 4]
+    runs = []
+    for seed in (3, 4):
+        code, out, err = cli(*args, "-s", scenario(seed))
+        assert code == 0, err
+        runs.append([p["up"]["amplitude"] for p in json.loads(out)["points"]])
+    up = band["sweeps"]["up"]
+    assert up["amplitude_min"] == pytest.approx([min(a) for a in zip(*runs)], rel=1e-12)
+    assert up["amplitude_max"] == pytest.approx([max(a) for a in zip(*runs)], rel=1e-12)
+    assert band["peak"]["up"]["values"] == pytest.approx([max(r) for r in runs], rel=1e-12)
+    assert runs[0] != runs[1]  # two packings, two responses: the band is not one run
+    assert (tmp_path / "band.png").stat().st_size > 0

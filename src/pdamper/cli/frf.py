@@ -181,9 +181,16 @@ def _solve(sc, model: str | None, n_real: int, load_, freqs, sweep: str,
     if n_real > 1:  # realisation 0 is the run reported; the band is over all of them
         from pdamper.runs.realisations import realisation_models
 
+        from pdamper.cli._progress import Bar
+
         models, which = realisation_models(sc, n_real, model)
-        runs = [frequency_response(mk, structure, load_, freqs, sweep=sweep,
-                                   max_cycles=max_cycles) for mk in models]
+        runs = []
+        with Bar("realisations of the forced response") as progress:  # stderr only
+            for mk in models:
+                runs.append(frequency_response(mk, structure, load_, freqs, sweep=sweep,
+                                               max_cycles=max_cycles))
+                if progress is not None:
+                    progress(len(runs), len(models))
         return runs[0], _band(runs, which)
     from pdamper.cli._progress import frf_steps  # the DEM's steps: minutes (stderr only)
 
