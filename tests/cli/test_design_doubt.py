@@ -221,8 +221,8 @@ def test_frf_realisations_of_the_dem_are_its_serial_runs(tmp_path, cli, monkeypa
         assert code == 0, err
         runs.append([p["up"]["amplitude"] for p in json.loads(out)["points"]])
     up = band["sweeps"]["up"]
-    assert up["amplitude_min"] == pytest.approx([min(a) for a in zip(*runs)], rel=1e-12)
-    assert up["amplitude_max"] == pytest.approx([max(a) for a in zip(*runs)], rel=1e-12)
+    assert up["amplitude_min"] == pytest.approx([min(a) for a in zip(*runs, strict=True)], rel=1e-12)
+    assert up["amplitude_max"] == pytest.approx([max(a) for a in zip(*runs, strict=True)], rel=1e-12)
     assert band["peak"]["up"]["values"] == pytest.approx([max(r) for r in runs], rel=1e-12)
     assert runs[0] != runs[1]  # two packings, two responses: the band is not one run
     assert (tmp_path / "band.png").stat().st_size > 0

@@ -179,9 +179,8 @@ def _solve(sc, model: str | None, n_real: int, load_, freqs, sweep: str,
 
     structure = _acting(sc)
     if n_real > 1:  # realisation 0 is the run reported; the band is over all of them
-        from pdamper.runs.realisations import realisation_models
-
         from pdamper.cli._progress import Bar
+        from pdamper.runs.realisations import realisation_models
 
         models, which = realisation_models(sc, n_real, model)
         runs = []
