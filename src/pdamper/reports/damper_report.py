@@ -322,10 +322,11 @@ def _uncertainty_html(rep: DamperReport) -> list[str]:
                          "95 %", "driver"], rows, "uncertainty",
                         [["", "", "", "num", "num", "num", "num", "num", "num", ""]]
                         * len(rows)))
+    drivers, rows = _drivers_html(rep)
     parts.append(_table(["level", "answer", "input", "first-order index", "total index",
-                         "total: 95 % interval"], idx, "sobol_indices",
-                        [["", "", "", "num", "num", ""]] * len(idx)))
-    return parts + _drivers_html(rep)
+                         "total: 95 % interval"], idx + rows, "sobol_indices",
+                        [["", "", "", "num", "num", ""]] * len(idx + rows)))
+    return parts[:-1] + drivers + parts[-1:]
 
 
 #: What each level of the propagation answers, in words.
@@ -334,30 +335,34 @@ _LEVELS = {"level2": "the Level II answers at the excitation",
            "load": "the response to the load record ([load])"}
 
 
-def _drivers_html(rep: DamperReport) -> list[str]:
-    """The chosen design's sensitivity drivers: the Sobol' indices of its objective's
-    answer under the uncertain inputs, largest total index first."""
+def _drivers_html(rep: DamperReport) -> tuple[list[str], list[list[str]]]:
+    """The chosen design's sensitivity drivers: a paragraph naming the design, its
+    objective's answer under the uncertain inputs and its driver, and the rows of its
+    Sobol' indices (level ``chosen design``, largest total index first) for the table of
+    indices."""
     dd = rep.design_drivers
     if not dd:
-        return []
+        return [], []
     r, answer = dd["result"], dd["answer"]
     a = r.answers[answer]
     st = rep.study
     names = [] if st is None else [v.name for v in st.variables]
-    rows = [[inp, f"{a.first_order[inp]:.3f}", f"{a.total_order[inp]:.3f}",
-             "{:.3f} - {:.3f}".format(*a.total_order_interval[inp]),
-             "not used by the analytical model" if inp in r.not_used else ""]
+    rows = [["chosen design", answer, inp, f"{a.first_order[inp]:.3f}",
+             f"{a.total_order[inp]:.3f}",
+             "[{:.3f}, {:.3f}]".format(*a.total_order_interval[inp])]
             for inp in sorted(a.total_order, key=lambda k: -a.total_order[k])]
     k, unit = (1e3, "mm") if a.unit == "m" else (1.0, a.unit or "")
-    return ["<h3>What the chosen design is sensitive to</h3>",
-            f"<p>The best design ({_e(_brief(st.best, names) if st is not None else '')}) "
-            f"under the uncertain inputs: {_e(answer)} of {_e(_LEVELS[dd['level']])}, "
-            f"mean {a.mean * k:.4g} {_e(unit)}, standard deviation {a.std * k:.3g} {_e(unit)}"
-            f", 5-95 % [{a.percentiles[5.0] * k:.4g}, {a.percentiles[95.0] * k:.4g}] "
-            f"{_e(unit)}; its driver: <strong>{_e(a.driver or 'none (no spread)')}"
-            "</strong>.</p>",
-            _table(["input", "first-order index", "total index", "total: 95 % interval",
-                    ""], rows, "design_drivers", [["", "num", "num", "", ""]] * len(rows))]
+    unused = [f for f in r.not_used if f in a.total_order]
+    return (["<h3>What the chosen design is sensitive to</h3>",
+             f"<p>The best design ({_e(_brief(st.best, names) if st is not None else '')}) "
+             f"under the uncertain inputs: {_e(answer)} of {_e(_LEVELS[dd['level']])}, "
+             f"mean {a.mean * k:.4g} {_e(unit)}, standard deviation {a.std * k:.3g} "
+             f"{_e(unit)}, 5-95 % [{a.percentiles[5.0] * k:.4g}, "
+             f"{a.percentiles[95.0] * k:.4g}] {_e(unit)}; its driver: <strong>"
+             f"{_e(a.driver or 'none (no spread)')}</strong> (the rows <em>chosen design"
+             "</em> of the table of indices)"
+             + (f"; not used by the analytical model: {_e(', '.join(unused))}"
+                if unused else "") + ".</p>"], rows)
 
 
 def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:

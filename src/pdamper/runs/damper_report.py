@@ -347,18 +347,22 @@ DESIGN_QUESTION = {"peak-frf": ("frf", "peak"), "rms-frf": ("frf", "rms"),
                    "peak": ("load", "peak"), "rms": ("load", "rms")}
 
 
-def design_scenario(sc: Scenario, design: dict) -> Scenario:
-    """``sc`` with the damper of a study's ``design`` (its count, radius, container and
-    material as the candidate records them)."""
+#: The scenario field of each design variable set by :func:`design_scenario` (a bed mass
+#: or fill sets the count the candidate records).
+_DESIGN_FIELDS = {"radius": "particles.radius", "container_length": "container.length",
+                  "container_width": "container.width", "container_depth": "container.depth",
+                  "particle_material": "particles.material"}
+
+
+def design_scenario(sc: Scenario, design: dict, varied: Any = None) -> Scenario:
+    """``sc`` with the damper of a study's ``design``: its particle count and the values
+    of the variables named in ``varied`` (default all that the candidate records), as the
+    candidate records them (SI; a material by its library name)."""
     from pdamper.io.uncertain import with_values
 
-    values = {"particles.count": int(design["particles"])}
-    for key, field_ in (("radius", "particles.radius"),
-                        ("container_length", "container.length"),
-                        ("container_width", "container.width"),
-                        ("container_depth", "container.depth"),
-                        ("particle_material", "particles.material")):
-        if key in design and design[key] is not None:
+    values: dict[str, Any] = {"particles.count": int(design["particles"])}
+    for key, field_ in _DESIGN_FIELDS.items():
+        if (varied is None or key in varied) and design.get(key) is not None:
             values[field_] = design[key]
     return with_values(sc, values)
 
@@ -373,7 +377,7 @@ def chosen_design_drivers(sc: Scenario, study: DesignStudyResult, n: int, seed: 
 
     assert study.best is not None
     design = study.best.as_dict()
-    at = design_scenario(sc, design)
+    at = design_scenario(sc, design, [v.name for v in study.variables])
     level, answer = DESIGN_QUESTION.get(study.objective.name, ("level3", "amplitude_at"))
     obj = study.objective
     options: dict = ({"load": obj.frf_load, "frequency": obj.band} if level == "frf" else
