@@ -273,10 +273,11 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
             rep.uncertainty[level] = _timed(
                 rep, f"uncertainty ({level})", lambda lv=level, o=options: propagate_scenario(
                     sc, lv, n, uncertainty_seed, model="analytic", **o))
-        if rep.study is not None and rep.study.best is not None:
+        study = rep.study
+        if study is not None and study.best is not None:
             say("uncertainty: the chosen design's drivers")
             rep.design_drivers = _timed(rep, "uncertainty (chosen design)", lambda: (
-                chosen_design_drivers(sc, rep.study, n, uncertainty_seed)))
+                chosen_design_drivers(sc, study, n, uncertainty_seed)))
     return rep
 
 
@@ -318,9 +319,10 @@ def question_uncertainty(sc: Scenario, rep: DamperReport | None = None) -> dict[
 
         if rep is not None and rep.forced:
             first = next(iter(rep.forced.values()))
-            summary = rep.forced_summary() or {}
-            peaks = [m["peak_frequency"] for m in next(iter(
-                summary.get("models", {}).values()), {}).get("modes", [])]
+            summary: dict[str, Any] = rep.forced_summary() or {}
+            per_model: list[dict] = list(summary.get("models", {}).values())
+            peaks = [m["peak_frequency"] for m in (per_model[0].get("modes", [])
+                                                   if per_model else [])]
             out["frf"] = {"load": rep.forced_load,
                           "frequency": sampled_frequencies(first.frequency, peaks)}
         elif rep is None:
@@ -329,9 +331,10 @@ def question_uncertainty(sc: Scenario, rep: DamperReport | None = None) -> dict[
             structure = sc.structure_model()
             try:
                 check_damped(structure)
+                damped = True
             except InputError:  # no forced response: nothing to sample
-                structure = None
-            if structure is not None:
+                damped = False
+            if damped:
                 at = acting_at(structure, sc.frf.at, "frf.at")
                 load = sc.frf.load() or forced_load(at, sc.structure.initial_displacement)
                 f = np.atleast_1d(sc.frf.frequencies(at, sc.damper().bed_mass))
