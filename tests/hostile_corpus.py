@@ -446,6 +446,11 @@ CASES: list[tuple[str, list[str], OK | Error]] = [
                                        "{scenario:uncertain_friction}", "--json"], OK()),
     ("ok-analytic-uncertainty", ["analytic", "--scenario", "{scenario:uncertain_friction}",
                                  "--uncertainty", "4", "--json"], OK()),
+    ("optimize-uncertainty-65536", ["optimize", "--uncertain", "particles.friction=0.1+-0.03",
+                                    "--uncertainty", "65536"], Error("uncertainty")),
+    ("optimize-uncertainty-65536-scenario", ["optimize", "--scenario",
+                                             "{scenario:uncertain_friction}",
+                                             "--uncertainty", "65536"], Error("uncertainty")),
     # -- pdamper report: its output directory and options, judged before any run
     ("report-out-no-parent", ["report", "--out", "{tmp}/no/such/dir"], Error("out")),
     ("report-out-is-a-file", ["report", "--out", "{tmp}/file"], Error("out")),

@@ -95,10 +95,10 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
         payload["models"] = {n: response_payload(r, seconds[n]) for n, r in runs.items()}
     spread = None
     if uncertainty[0] is not None:
-        from pdamper.runs.uncertainty import propagate_scenario
+        from pdamper.cli._uncertainty import propagate
 
-        spread = propagate_scenario(sc, "load", uncertainty[0], uncertainty[1],
-                                    model=names[0], history=history, tail=tail)
+        spread = propagate(sc, "load", uncertainty[0], uncertainty[1],
+                           model=names[0], history=history, tail=tail)
         payload["uncertainty"] = spread.as_dict()
     payload.update(meta)
     what = "force" if history.kind == "force" else "base acceleration"

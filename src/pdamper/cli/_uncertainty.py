@@ -131,6 +131,17 @@ def check(sc, level: str, n: int | None, force: bool, **cost: Any) -> None:
     check_cost(sc, level, n, force, **cost)
 
 
+def propagate(sc, level: str, n: int, seed: int, **options: Any):
+    """:func:`pdamper.runs.uncertainty.propagate_scenario` with a progress display of its
+    runs on standard error (:class:`pdamper.cli._progress.Bar`; none with ``--quiet`` or
+    when standard error is not a terminal, and never on standard output)."""
+    from pdamper.cli._progress import Bar
+    from pdamper.runs.uncertainty import propagate_scenario
+
+    with Bar("uncertainty runs") as progress:
+        return propagate_scenario(sc, level, n, seed, progress=progress, **options)
+
+
 def lines(result, scale: dict[str, tuple[float, str]]) -> list[str]:
     """Human-readable summary of an :class:`~pdamper.design.uncertainty.UncertaintyResult`."""
     from pdamper.design.uncertainty import FitAxis

@@ -155,10 +155,8 @@ def frf(
     payload, text = _payload(res, source, load_, band)
     spread = None
     if uncertainty is not None:
-        from pdamper.runs.uncertainty import propagate_scenario
-
-        spread = propagate_scenario(sc, "frf", uncertainty, uncertainty_seed, model=model,
-                                    load=load_, frequency=freqs)
+        spread = _uncertainty.propagate(sc, "frf", uncertainty, uncertainty_seed, model=model,
+                                        load=load_, frequency=freqs)
         payload["uncertainty"] = spread.as_dict()
         text += _uncertainty.lines(spread, {"peak": (1e3, "mm"), "rms": (1e3, "mm"),
                                             "peak_frequency": (1.0, "Hz")})
@@ -186,11 +184,17 @@ def _solve(sc, model: str | None, n_real: int, load_, freqs, sweep: str,
 
     structure = _acting(sc)
     if n_real > 1:  # realisation 0 is the run reported; the band is over all of them
+        from pdamper.cli._progress import Bar
         from pdamper.runs.realisations import realisation_models
 
         models, which = realisation_models(sc, n_real, model)
-        runs = [frequency_response(mk, structure, load_, freqs, sweep=sweep,
-                                   max_cycles=max_cycles) for mk in models]
+        runs = []
+        with Bar("realisations of the forced response") as progress:  # stderr only
+            for mk in models:
+                runs.append(frequency_response(mk, structure, load_, freqs, sweep=sweep,
+                                               max_cycles=max_cycles))
+                if progress is not None:
+                    progress(len(runs), len(models))
         return runs[0], _band(runs, which)
     from pdamper.cli._progress import frf_steps  # the DEM's steps: minutes (stderr only)
 

@@ -338,7 +338,8 @@ def _run_study(sc: Scenario, damper: Any, variables: list[DesignVariable],
                                damper, variables, obj, method=o.method, max_grid=o.max_grid,
                                max_evaluations=o.max_evaluations, seed=o.seed,
                                workers=n_workers, scheduler=o.scheduler,
-                               tolerance=o.tolerance)
+                               tolerance=o.tolerance, limits=o.require,
+                               max_mass=o.max_mass, progress=progress)
         return res, None
     if n_real > 1:
         from pdamper.design.study import make_objective, run_design_study
@@ -373,14 +374,15 @@ def _figure(res: DesignStudyResult, path: Path) -> None:
         from matplotlib.figure import Figure
 
         from pdamper.plots import plot_design_landscape
+        from pdamper.plots.level3 import has_spread
 
-        if not res.limits:
+        if not res.limits and not has_spread(res):  # limits or a spread: the front too
             fig = Figure(figsize=(7, 5), layout="constrained")
             plot_design_landscape(res, ax=fig.subplots())
             return fig
         from pdamper.plots import plot_design_front
 
-        fig = Figure(figsize=(13, 5), layout="constrained")  # with limits: the front too
+        fig = Figure(figsize=(13, 5), layout="constrained")
         left, right = fig.subplots(1, 2)
         plot_design_landscape(res, ax=left)
         plot_design_front(res, ax=right)

@@ -134,6 +134,16 @@ def _check_runs(sc, dem: bool, realisations: str | None, uncertainty: int | None
         from pdamper.runs.uncertainty import check_cost
 
         check_cost(sc, "level3", DEFAULT_UNCERTAINTY_POINTS, force)
+    if sc.uncertain_inputs():  # the user's questions sampled too: the [frf] and [load] ones
+        from pdamper.runs.damper_report import question_uncertainty
+        from pdamper.runs.uncertainty import check_cost
+
+        n = DEFAULT_UNCERTAINTY_POINTS if uncertainty is None else uncertainty
+        for level, o in question_uncertainty(sc).items():
+            if level == "frf":
+                check_cost(sc, "frf", n, force, frequencies=len(o["frequency"]))
+            else:
+                check_cost(sc, "load", n, force, history=o["history"], tail=o["tail"])
     if sc.uncertain_inputs():  # its Level III answers (the time of the amplitude) judged
         from pdamper.runs.uncertainty import level3_answers
 

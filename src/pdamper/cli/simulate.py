@@ -222,9 +222,9 @@ def _release(sc: Scenario, models: dict[str, Any], banded: list[str], n_real: in
         payload["comparison"] = _comparison_payload(aligned, x0, comparisons)
     spread = None
     if uncertainty is not None:
-        from pdamper.runs.uncertainty import propagate_scenario
+        from pdamper.cli._uncertainty import propagate
 
-        spread = propagate_scenario(sc, "level3", uncertainty, uncertainty_seed)
+        spread = propagate(sc, "level3", uncertainty, uncertainty_seed)
         payload["uncertainty"] = spread.as_dict()
     payload.update(meta)
     lines = _human(structure, x0, models, runs, seconds, bands, aligned, comparisons, spread)

@@ -363,8 +363,11 @@ class Scenario(_Section):
 
     def uncertain_inputs(self) -> tuple:
         """The :class:`~pdamper.design.uncertainty.UncertainInput` of every value given
-        as ``"value +- sd"`` (:mod:`pdamper.io.uncertain`), in the file's order."""
-        return tuple(self._uncertain.values())
+        as ``"value +- sd"`` (:mod:`pdamper.io.uncertain`), in the file's order, after
+        those its modes file writes (:func:`~pdamper.io.uncertain.file_inputs`)."""
+        from pdamper.io.uncertain import file_inputs
+
+        return tuple({**file_inputs(self), **self._uncertain}.values())
 
     # -- builders of the domain objects ------------------------------------------------
     def damper(self) -> ParticleDamper:

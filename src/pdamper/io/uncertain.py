@@ -25,7 +25,10 @@ the command line (``--uncertain mode1.damping_ratio=1%+-0.3%``), in a scenario's
 ``[uncertain]`` table (``"mode1.damping_ratio" = "1 % +- 0.3 %"``) or its ``[mode1]``
 table. They apply to whatever structure the scenario describes (a modes file, the beam, the
 1-DOF of Eq. 23 as mode 1: its stiffness follows the frequency, its damping the ratio); the
-nominal value replaces the structure's own (:func:`with_modes`).
+nominal value replaces the structure's own (:func:`with_modes`). A modes file may carry
+them itself: a frequency or damping-ratio cell written ``0.01 +- 0.003`` (in its column's
+unit; :func:`cell_uncertainty`) is that mode's uncertain input, which a scenario or
+``--uncertain`` value of the same field replaces (:func:`file_inputs`).
 """
 
 from __future__ import annotations
@@ -217,6 +220,42 @@ def fit_uncertainty(scenario, pair: str):
 def _fitted_curve(params, *, fit, scale: float):
     """The curve of ``fit``'s family at ``params``, scaled (picklable: for the workers)."""
     return fit.curve_at(params).scaled(scale)
+
+
+def cell_uncertainty(text: str, field: str, factor: float):
+    """The :class:`~pdamper.design.uncertainty.UncertainInput` of a modes file's cell
+    ``"0.01 +- 0.003"`` for ``field`` (``mode<k>.<parameter>``): nominal value and
+    standard deviation as plain numbers in the column's unit, ``factor`` its factor to SI
+    (a ``[%]`` column: 0.01), then judged as :func:`parse_uncertain` judges the field."""
+    parts = _SPLIT.split(text.strip())
+    try:
+        value, sd = (float(x) * factor for x in parts) if len(parts) == 2 else (None, None)
+    except ValueError:
+        value = sd = None
+    if value is None or sd is None or not (math.isfinite(value) and math.isfinite(sd)):
+        raise InputError(field, f"expected 'value +- sd' of two numbers in the column's "
+                         f"unit, e.g. '0.01 +- 0.003', got {text.strip()!r}")
+    unit = _field_spec(field)[0]
+    si = "" if unit == "1" else f" {unit}"
+    return parse_uncertain(f"{value!r}{si} +- {sd!r}{si}", field)
+
+
+def file_inputs(scenario) -> dict:
+    """``{field: UncertainInput}`` written in the scenario's modes file
+    (:func:`pdamper.io.modes.modes_uncertainty`; empty without one), read once per
+    version of the file."""
+    path = scenario.structure.modes
+    if path is None:
+        return {}
+    import os
+
+    from pdamper.io.modes import modes_uncertainty
+
+    try:
+        st = os.stat(path)
+    except OSError:  # a missing file is the structure's error, where it is read
+        return {}
+    return modes_uncertainty(str(path), st.st_mtime_ns, st.st_size)
 
 
 def add_fit_inputs(scenario, fields) -> tuple:

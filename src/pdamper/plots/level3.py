@@ -11,6 +11,8 @@ import numpy as np
 from pdamper.plots.figures import _axes
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from matplotlib.axes import Axes
 
     from pdamper.coupling import FreeVibrationResult
@@ -184,6 +186,7 @@ def plot_design_front(study: DesignStudyResult, ax: Axes | None = None) -> Axes:
     front = study.front
     if front:
         ax.plot(*xy(front), "-", color="k", lw=1, label="Pareto front")
+    _front_spread(ax, ok, front, unit)
     for lim in study.limits:
         if lim.quantity == "mass":
             ax.axvline(lim.value * 1e3, ls="--", color="r", lw=1,
@@ -201,6 +204,38 @@ def plot_design_front(study: DesignStudyResult, ax: Axes | None = None) -> Axes:
     ax.set_ylabel(study.objective.label)
     ax.legend(fontsize="x-small")
     return ax
+
+
+def has_spread(study: DesignStudyResult) -> bool:
+    """Whether the study's designs carry a spread of their objective (``objective_std``:
+    under the uncertain inputs, or over realisations)."""
+    return any("objective_std" in c.extra for c in study.candidates)
+
+
+def _front_spread(ax: Axes, ok: Sequence[DesignCandidate], front: Sequence[DesignCandidate],
+                  unit: float) -> None:
+    """Each design's spread on the mass-objective plane: its mean +- one standard
+    deviation as an error bar (``objective_mean``, ``objective_std``; over realisations
+    the objective is the mean), and along the Pareto front the band of the 5-95 %
+    percentiles under the uncertain inputs (``objective_p5``, ``objective_p95``) or the
+    realisations' min-max."""
+    spread = [c for c in ok if "objective_std" in c.extra]
+    if not spread:
+        return
+    ax.errorbar([(c.total_mass or 0.0) * 1e3 for c in spread],
+                [float(c.extra.get("objective_mean", _objective(c))) * unit for c in spread],
+                yerr=[c.extra["objective_std"] * unit for c in spread], fmt="none",
+                ecolor="C0", elinewidth=1, capsize=3, label="mean +- std of each design")
+    band = [c for c in front if "objective_std" in c.extra]
+    lo, hi = (("objective_p5", "objective_p95") if band and "objective_p5" in band[0].extra
+              else ("objective_min", "objective_max"))
+    if band and all(lo in c.extra for c in band):
+        ax.fill_between([(c.total_mass or 0.0) * 1e3 for c in band],
+                        [float(c.extra[lo]) * unit for c in band],
+                        [float(c.extra[hi]) * unit for c in band],
+                        color="0.6", alpha=0.3, lw=0,
+                        label="front's 5-95 %" if lo == "objective_p5"
+                        else "front's min-max of the realisations")
 
 
 def _objective(c: DesignCandidate) -> float:

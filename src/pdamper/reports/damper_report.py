@@ -147,6 +147,15 @@ def _forced_figure(rep: DamperReport) -> Figure:
     axes = fig.subplots(2, 1, sharex=True)
     for i, (label, r) in enumerate(rep.forced.items()):
         plot_frf(r, axes=axes, label=label, linear=i == 0, color=("C0", "C4", "C5")[i % 3])
+    band = rep.uncertainty["frf"].bands.get("amplitude") if "frf" in rep.uncertainty else None
+    if band is not None:  # the analytical model's amplitude under the uncertain inputs
+        axes[0].fill_between(band["frequency"], np.asarray(band["p5"]) * 1e3,
+                             np.asarray(band["p95"]) * 1e3, color="C1", alpha=0.3, lw=0,
+                             label="5-95 % under the uncertain inputs (analytical)")
+        for edge in ("p5", "p95"):  # its edges drawn: a narrow band stays visible
+            axes[0].plot(band["frequency"], np.asarray(band[edge]) * 1e3, color="C1",
+                         lw=0.8, marker=".", ms=3)
+        axes[0].legend(fontsize="x-small")
     axes[0].set_title(f"forced response, {rep.forced_load.describe()}")
     return fig
 
@@ -343,10 +352,47 @@ def _uncertainty_html(rep: DamperReport) -> list[str]:
                          "95 %", "driver"], rows, "uncertainty",
                         [["", "", "", "num", "num", "num", "num", "num", "num", ""]]
                         * len(rows)))
+    drivers, rows = _drivers_html(rep)
     parts.append(_table(["level", "answer", "input", "first-order index", "total index",
-                         "total: 95 % interval"], idx, "sobol_indices",
-                        [["", "", "", "num", "num", ""]] * len(idx)))
-    return parts
+                         "total: 95 % interval"], idx + rows, "sobol_indices",
+                        [["", "", "", "num", "num", ""]] * len(idx + rows)))
+    return parts[:-1] + drivers + parts[-1:]
+
+
+#: What each level of the propagation answers, in words.
+_LEVELS = {"level2": "the Level II answers at the excitation",
+           "level3": "the free decay", "frf": "the forced response ([frf])",
+           "load": "the response to the load record ([load])"}
+
+
+def _drivers_html(rep: DamperReport) -> tuple[list[str], list[list[str]]]:
+    """The chosen design's sensitivity drivers: a paragraph naming the design, its
+    objective's answer under the uncertain inputs and its driver, and the rows of its
+    Sobol' indices (level ``chosen design``, largest total index first) for the table of
+    indices."""
+    dd = rep.design_drivers
+    if not dd:
+        return [], []
+    r, answer = dd["result"], dd["answer"]
+    a = r.answers[answer]
+    st = rep.study
+    names = [] if st is None else [v.name for v in st.variables]
+    rows = [["chosen design", answer, inp, f"{a.first_order[inp]:.3f}",
+             f"{a.total_order[inp]:.3f}",
+             "[{:.3f}, {:.3f}]".format(*a.total_order_interval[inp])]
+            for inp in sorted(a.total_order, key=lambda k: -a.total_order[k])]
+    k, unit = (1e3, "mm") if a.unit == "m" else (1.0, a.unit or "")
+    unused = [f for f in r.not_used if f in a.total_order]
+    return (["<h3>What the chosen design is sensitive to</h3>",
+             f"<p>The best design ({_e(_brief(st.best, names) if st is not None else '')}) "
+             f"under the uncertain inputs: {_e(answer)} of {_e(_LEVELS[dd['level']])}, "
+             f"mean {a.mean * k:.4g} {_e(unit)}, standard deviation {a.std * k:.3g} "
+             f"{_e(unit)}, 5-95 % [{a.percentiles[5.0] * k:.4g}, "
+             f"{a.percentiles[95.0] * k:.4g}] {_e(unit)}; its driver: <strong>"
+             f"{_e(a.driver or 'none (no spread)')}</strong> (the rows <em>chosen design"
+             "</em> of the table of indices)"
+             + (f"; not used by the analytical model: {_e(', '.join(unused))}"
+                if unused else "") + ".</p>"], rows)
 
 
 def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:

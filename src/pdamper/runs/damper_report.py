@@ -82,6 +82,7 @@ class DamperReport:
     modal: dict = field(default_factory=dict)  # the structure's data (runs.report_inputs)
     mode_damping: list = field(default_factory=list)  # what each mode gains
     embedded: dict = field(default_factory=dict)  # "modes", "load" -> {name, text}
+    design_drivers: dict = field(default_factory=dict)  # chosen_design_drivers
 
     def models(self) -> list[dict]:
         """One row per Level III run: label, model, source, amplitude at ``at``, final
@@ -133,6 +134,10 @@ class DamperReport:
                 "design_study": None if self.study is None else
                 {**self.study.as_dict(), "model": self.study_model},
                 "uncertainty": {k: v.as_dict() for k, v in self.uncertainty.items()},
+                **({"design_drivers": {
+                    **{k: v for k, v in self.design_drivers.items() if k != "result"},
+                    "result": self.design_drivers["result"].as_dict()}}
+                   if self.design_drivers else {}),
                 "forced_response": self.forced_summary(),
                 "realisations": None if self.band is None else self.band.as_dict(),
                 **({"not_applicable": dict(self.not_applicable)} if self.not_applicable
@@ -275,7 +280,127 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
             rep.uncertainty[level] = _timed(
                 rep, f"uncertainty ({level})", lambda lv=level: propagate_scenario(
                     sc, lv, n, uncertainty_seed, model="analytic"))
+        for level, options in question_uncertainty(sc, rep).items():
+            say(f"uncertainty: {level}")
+            rep.uncertainty[level] = _timed(
+                rep, f"uncertainty ({level})", lambda lv=level, o=options: propagate_scenario(
+                    sc, lv, n, uncertainty_seed, model="analytic", **o))
+        study = rep.study
+        if study is not None and study.best is not None:
+            say("uncertainty: the chosen design's drivers")
+            rep.design_drivers = _timed(rep, "uncertainty (chosen design)", lambda: (
+                chosen_design_drivers(sc, study, n, uncertainty_seed)))
     return rep
+
+
+#: The most frequencies of the report's forced response sampled under the uncertain
+#: inputs: each sample solves the harmonic balance at every one (about 0.05 s each with the
+#: analytical model), so the band is drawn on a subset that keeps every resonance.
+FRF_SAMPLED_POINTS = 25
+
+
+def sampled_frequencies(f: Any, peaks: Any = ()) -> np.ndarray:
+    """About :data:`FRF_SAMPLED_POINTS` of the frequencies ``f`` [Hz] (all of them when
+    fewer): each of ``peaks`` (a mode's resonance, None skipped) with its two neighbours on
+    either side, the rest evenly spread over ``f`` from its first to its last."""
+    f = np.asarray(f, float)
+    if f.size <= FRF_SAMPLED_POINTS:
+        return f
+    keep: set[int] = set()
+    for p in peaks:
+        if p is not None:
+            i = int(np.argmin(np.abs(f - p)))
+            keep.update(range(max(0, i - 2), min(f.size, i + 3)))
+    rest = max(FRF_SAMPLED_POINTS - len(keep), 2)
+    keep.update(np.round(np.linspace(0, f.size - 1, rest)).astype(int).tolist())
+    return f[sorted(keep)]
+
+
+def question_uncertainty(sc: Scenario, rep: DamperReport | None = None) -> dict[str, dict]:
+    """The user's own questions that the report's uncertainty propagation answers besides
+    the Level II and III ones: ``"frf"`` (the forced response at the frequencies of the
+    report's, with its load) when the scenario has an ``[frf]`` section, ``"load"`` (the
+    response to the record and its tail) when it has a ``[load]``; each level's options of
+    :func:`pdamper.runs.uncertainty.propagate_scenario` (``rep``: the report's forced
+    response, whose frequencies and load are sampled; without it they are built as
+    :func:`forced_response` builds them, for the cost check before any run)."""
+    out: dict[str, dict] = {}
+    if "frf" in sc.model_fields_set:
+        from pdamper.coupling.frf import check_damped
+        from pdamper.errors import InputError
+
+        if rep is not None and rep.forced:
+            first = next(iter(rep.forced.values()))
+            summary: dict[str, Any] = rep.forced_summary() or {}
+            per_model: list[dict] = list(summary.get("models", {}).values())
+            peaks = [m["peak_frequency"] for m in (per_model[0].get("modes", [])
+                                                   if per_model else [])]
+            out["frf"] = {"load": rep.forced_load,
+                          "frequency": sampled_frequencies(first.frequency, peaks)}
+        elif rep is None:
+            from pdamper.coupling.loads import acting_at
+
+            structure = sc.structure_model()
+            try:
+                check_damped(structure)
+                damped = True
+            except InputError:  # no forced response: nothing to sample
+                damped = False
+            if damped:
+                at = acting_at(structure, sc.frf.at, "frf.at")
+                load = sc.frf.load() or forced_load(at, sc.structure.initial_displacement)
+                f = np.atleast_1d(sc.frf.frequencies(at, sc.damper().bed_mass))
+                out["frf"] = {"load": load, "frequency": f[:FRF_SAMPLED_POINTS]}  # its count
+    if sc.load.given:
+        out["load"] = {"history": sc.load.history(), "tail": sc.load.tail}
+    return out
+
+
+#: The answer of the propagation at the chosen design per objective: the level sampled and
+#: the answer its Sobol' indices are read from.
+DESIGN_QUESTION = {"peak-frf": ("frf", "peak"), "rms-frf": ("frf", "rms"),
+                   "peak": ("load", "peak"), "rms": ("load", "rms")}
+
+
+#: The scenario field of each design variable set by :func:`design_scenario` (a bed mass
+#: or fill sets the count the candidate records).
+_DESIGN_FIELDS = {"radius": "particles.radius", "container_length": "container.length",
+                  "container_width": "container.width", "container_depth": "container.depth",
+                  "particle_material": "particles.material"}
+
+
+def design_scenario(sc: Scenario, design: dict, varied: Any = None) -> Scenario:
+    """``sc`` with the damper of a study's ``design``: its particle count and the values
+    of the variables named in ``varied`` (default all that the candidate records), as the
+    candidate records them (SI; a material by its library name)."""
+    from pdamper.io.uncertain import with_values
+
+    values: dict[str, Any] = {"particles.count": int(design["particles"])}
+    for key, field_ in _DESIGN_FIELDS.items():
+        if (varied is None or key in varied) and design.get(key) is not None:
+            values[field_] = design[key]
+    return with_values(sc, values)
+
+
+def chosen_design_drivers(sc: Scenario, study: DesignStudyResult, n: int, seed: int) -> dict:
+    """The sensitivity of the study's chosen design (its best) to the uncertain inputs: the
+    propagation (:func:`pdamper.runs.uncertainty.propagate_scenario`, analytical model) of
+    the objective's question at that design (:data:`DESIGN_QUESTION`; the free decay for
+    the free-decay objectives), with its Sobol' indices. ``{"design", "level", "answer",
+    "result"}``."""
+    from pdamper.runs.uncertainty import propagate_scenario
+
+    assert study.best is not None
+    design = study.best.as_dict()
+    at = design_scenario(sc, design, [v.name for v in study.variables])
+    level, answer = DESIGN_QUESTION.get(study.objective.name, ("level3", "amplitude_at"))
+    obj = study.objective
+    options: dict = ({"load": obj.frf_load, "frequency": obj.band} if level == "frf" else
+                     {"history": obj.load, "tail": obj.tail} if level == "load" else {})
+    result = propagate_scenario(at, level, n, seed, model="analytic", **options)
+    if answer not in result.answers:  # the free decay's answers: its amplitude at t
+        answer = next(iter(result.answers))
+    return {"design": design, "level": level, "answer": answer, "result": result}
 
 
 def _record_inputs(rep: DamperReport, sc: Scenario, damper: ParticleDamper, structure: Any,
@@ -443,5 +568,7 @@ def design_study(sc: Scenario, damper: ParticleDamper, structure: Any) -> Design
 
 
 __all__ = ["DEFAULT_UNCERTAINTY_POINTS", "FORCED_POINTS", "FORCED_SPAN", "DamperReport",
-           "design_study", "effective_field_map", "forced_load", "forced_response",
+           "DESIGN_QUESTION", "chosen_design_drivers", "design_scenario", "design_study",
+           "FRF_SAMPLED_POINTS", "effective_field_map", "question_uncertainty",
+           "sampled_frequencies", "forced_load", "forced_response",
            "level3_models", "run_damper_report"]

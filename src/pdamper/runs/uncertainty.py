@@ -347,23 +347,49 @@ def design_evaluator(scenario, n: int, seed: int, objective, quantile: float | N
 def check_design_cost(scenario, n: int, force: bool = False) -> None:
     """Refuse a design study whose every design runs ``2 n + 1`` times (the samples and
     the nominal) beyond the limits: the study's cost check
-    (:func:`pdamper.runs.resources.check_resources`) with its time ``2 n + 1`` times over."""
+    (:func:`pdamper.runs.resources.check_resources`) with its time ``2 n + 1`` times over.
+
+    A design's ``2 n + 1`` runs are one task (:class:`UncertainDesignEvaluator`, one after
+    another), so the longest run is ``2 n + 1`` times one design's; a study evaluated in
+    this process (:func:`study_in_process`: the designs one after another) is one run, its
+    whole time judged against one run's limit (:data:`pdamper.resources.TIME_LIMIT`), not
+    a sweep's."""
     from pdamper import resources
     from pdamper.runs.resources import check_resources
 
     runs = 2 * n + 1
+    serial = study_in_process(scenario)
 
     def require(cost, force_=False):
         if cost.seconds > 0:
+            one = cost.longest if cost.longest is not None else cost.seconds
             cost = resources.Cost(
                 f"{cost.what} under the uncertain inputs", cost.seconds * runs, cost.memory,
                 f"{runs} runs of every design ({n} Sobol' base points), each {cost.detail}",
-                (*cost.drivers, ("uncertainty", n / 16)), runs=runs * max(cost.runs or 1, 1),
-                longest=cost.longest if cost.longest is not None else cost.seconds,
+                (*cost.drivers, ("uncertainty", n / 16)),
+                runs=1 if serial else runs * max(cost.runs or 1, 1),
+                longest=None if serial else one * runs,
                 remedy="give --uncertainty fewer base points or vary fewer designs")
         return resources.require(cost, force_)
 
     check_resources(scenario, "optimization", None, force, require=require)
+
+
+def study_in_process(scenario) -> bool:
+    """Whether the scenario's design study evaluates its designs in this process, one
+    after another (no scheduler, ``workers`` 0, or ``"auto"`` for a model that is not
+    expensive or without dask.distributed), as ``pdamper optimize`` chooses."""
+    import importlib.util
+
+    from pdamper.models import get_damper_model
+
+    o = scenario.optimization
+    if o.scheduler is not None:
+        return False
+    if o.workers != "auto":
+        return not o.workers
+    cls = get_damper_model(scenario.simulation.model, "simulation.model")
+    return not (cls.expensive and importlib.util.find_spec("distributed") is not None)
 
 
 #: The map's answers whose bands become variables of its NetCDF file.
@@ -488,4 +514,4 @@ __all__ = ["ENVELOPE_POINTS", "FRF_UNITS", "LEVEL2_UNITS", "LEVEL3_UNITS", "LOAD
            "LOAD_WINDOWS", "MAP_BANDS", "MAP_UNITS", "UncertainDesignEvaluator", "check_cost",
            "check_design_cost", "dem_answers", "dem_batch", "design_evaluator",
            "dem_point", "frf_answers", "level2_answers", "level3_answers", "load_answers",
-           "map_answers", "parse_quantile", "propagate_scenario"]
+           "map_answers", "parse_quantile", "propagate_scenario", "study_in_process"]
