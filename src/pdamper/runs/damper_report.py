@@ -228,16 +228,7 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
     rep.level2_map = _timed(rep, "Level II: analytical map",
                             lambda: run_map(sc, "analytic").dataset)
     if dem:
-        from pdamper.dem import warmup
-
-        say("compiling the DEM kernels (first run only, then cached)")
-        _timed(rep, "DEM kernels", lambda: warmup((sc.dem.integrator,)))
-        f, x = sc.dem_map_grid()
-        say(f"Level II: DEM map {len(f)} x {len(x)}")
-        target = None if out is None else Path(out) / "dem_map.nc"
-        rep.dem_map = _timed(rep, "Level II: DEM map", lambda: run_map(
-            sc, "dem", frequency=f, amplitude=x, particles=np.array([damper.count]),
-            out=target, cache=True, **sweep_options).dataset)
+        _dem_map(rep, sc, damper.count, out, say, sweep_options)
 
     from pdamper.coupling.validity import decay_assumptions
 
@@ -401,6 +392,22 @@ def chosen_design_drivers(sc: Scenario, study: DesignStudyResult, n: int, seed: 
     if answer not in result.answers:  # the free decay's answers: its amplitude at t
         answer = next(iter(result.answers))
     return {"design": design, "level": level, "answer": answer, "result": result}
+
+
+def _dem_map(rep: DamperReport, sc: Scenario, count: int, out: Path | None,
+             say: Callable[[str], None], sweep_options: dict) -> None:
+    """The report's DEM map (Level II) into ``rep.dem_map``, its kernels compiled first."""
+    from pdamper.dem import warmup
+    from pdamper.runs.maps import run_map
+
+    say("compiling the DEM kernels (first run only, then cached)")
+    _timed(rep, "DEM kernels", lambda: warmup((sc.dem.integrator,)))
+    f, x = sc.dem_map_grid()
+    say(f"Level II: DEM map {len(f)} x {len(x)}")
+    target = None if out is None else Path(out) / "dem_map.nc"
+    rep.dem_map = _timed(rep, "Level II: DEM map", lambda: run_map(
+        sc, "dem", frequency=f, amplitude=x, particles=np.array([count]),
+        out=target, cache=True, **sweep_options).dataset)
 
 
 def _record_inputs(rep: DamperReport, sc: Scenario, damper: ParticleDamper, structure: Any,
