@@ -514,7 +514,7 @@ def describing_function(model, frequency: float, low: float, high: float,
 
 #: Points of the model per call when the tables of many frequencies are made together:
 #: the analytical model's phase scan holds arrays of 256 samples per point.
-TABLE_CHUNK = 4096
+TABLE_CHUNK = 2048
 
 
 def describing_functions(model, frequency: Sequence[float], bounds: Sequence[tuple[float, float]],
