@@ -151,3 +151,35 @@ def test_the_page_starts_from_the_scenarios_frf_load():
     start = design.scenario_load(Inputs(scenario=example))
     assert (start.load_kind, start.load_text()) == ("unbalance", "1.76kg*mm")
     assert design.scenario_load(Inputs()).load_text() == "2N"  # the paper's: no [frf]
+
+
+def test_map_cells_carry_the_models_assumptions():
+    """Where the analytical model's assumptions fail (a bed of fewer spheres than a layer
+    everywhere; a scattering bed), the map's cells say so with the model's reasons."""
+    inputs = Inputs(frequency=GRID)
+    q = design.quick(inputs)
+    sc = design.scenario_of(inputs)
+    F, X = np.meshgrid(q.map_frequency, q.map_stroke)
+    d = sc.model("analytic", sc.damper()).response(F, X).diagnostics
+    assert np.array_equal(q.map_holds, d["assumptions_hold"])
+    assert np.array_equal(q.map_reasons, d["assumptions"])
+    # scattering cells are among the failing ones, with the reason the model gives
+    scattering = q.map_mode == 5
+    assert scattering.any() and not q.map_holds[scattering].any()
+    few = design.quick(inputs.with_value("particles.count", 3))
+    assert not few.map_holds.any()
+    assert all("not a collected bed" in r for r in few.map_reasons.ravel())
+
+
+def test_failing_points_offer_the_fields_fidelity():
+    few = Inputs(frequency=GRID).with_value("particles.count", 3)
+    res = design.response(few)
+    assert res.holds is not None and not res.holds.any()  # every point of the path
+    line = design.fields_offer(design.quick(few), res, "analytic")
+    n_cells = design.quick(few).map_holds.size
+    assert f"fail at {n_cells} map cell(s) and {res.holds.size} forced-response" in line
+    assert "--fields map.nc" in line and "not a collected bed" in line
+    # the paper's damper on a low load: the path stays where the model holds
+    calm = Inputs(frequency="3Hz:4Hz:5", load_amplitude=0.5)
+    r = design.response(calm)
+    assert r.holds is not None and r.holds.all()

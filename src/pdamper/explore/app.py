@@ -36,6 +36,13 @@ POLL = 0.5
 
 _MODE_NAMES = ["solid-like", "single CaC", "single CaC subh.", "double CaC",
                "double CaC subh.", "scattering", "rattling"]
+#: A colour per motion mode on the map (code -> colour; -1, none: grey).
+_MODE_COLOURS = {0: "#7f7f7f", 1: "#2ca02c", 2: "#98df8a", 3: "#1f77b4", 4: "#aec7e8",
+                 5: "#ff7f0e", 6: "#9467bd"}
+
+
+def _mode_name(code: int) -> str:
+    return _MODE_NAMES[int(code)] if 0 <= int(code) < len(_MODE_NAMES) else "none"
 
 
 def _dem_point(inputs: Inputs, frequency: float, stroke: float) -> dict[str, Any]:
@@ -139,6 +146,8 @@ class Page:
         self.peaks = pn.pane.Markdown("", css_classes=["peaks"])
         self.mass = pn.pane.Markdown("", css_classes=["mass"])
         self.notes = pn.pane.Markdown("", css_classes=["notes"])
+        self.offer = pn.pane.Alert("", alert_type="warning", visible=False,
+                                   css_classes=["offer"])
         self.dem_text = pn.pane.Markdown("", css_classes=["dem"])
         self.saved = pn.pane.Markdown("", css_classes=["saved"])
         self.save_path = pn.widgets.TextInput(name="scenario file",
@@ -192,7 +201,7 @@ class Page:
         main = pn.Column(
             self.message, self.status,
             pn.Row(self.frf_fig, self.map_fig),
-            self.peaks, self.mass, self.notes,
+            self.peaks, self.mass, self.offer, self.notes,
             pn.Row(self.dem_button, self.dem_text),
             pn.Row(self.save_path, self.save_button, self.report_button), self.saved)
         tpl = pn.template.BootstrapTemplate(title="pdamper explore", sidebar=[side],
@@ -219,6 +228,9 @@ class Page:
                   legend_label="harmonic balance, unstable")
         p.scatter("f", "x", source=self.hb_src["e"], color="purple", size=4,
                   marker="triangle", legend_label="harmonic balance, edge")
+        self.frf_fail_src = ColumnDataSource(data={"f": [], "x": [], "why": []})
+        p.scatter("f", "x", source=self.frf_fail_src, color="red", size=9, marker="x",
+                  line_width=2, legend_label="analytical assumptions fail")
         p.legend.click_policy = "hide"
         p.legend.label_text_font_size = "8pt"
         self.frf_fig = pn.pane.Bokeh(p)
@@ -234,8 +246,22 @@ class Page:
                 color_mapper=self.mapper)  # type: ignore[call-arg]  # bokeh's stubs lag
         m.line("f", "x", source=self.path_src, color="white", line_width=2,
                legend_label="operating path (sweep up)")
+        # the motion mode of every cell, a colour per mode (hover: eta, mode, assumptions)
+        self.cell_src = ColumnDataSource(data={"f": [], "x": [], "eta": [], "mode": [],
+                                               "colour": [], "why": []})
+        cells = m.scatter("f", "x", source=self.cell_src, size=5, color="colour",
+                          line_color="black", line_width=0.3, legend_field="mode")
+        self.fail_src = ColumnDataSource(data={"f": [], "x": []})
+        m.scatter("f", "x", source=self.fail_src, size=8, marker="x", color="red",
+                  line_width=1.5, legend_label="analytical assumptions fail")
         m.scatter("f", "x", source=self.dem_src, size=12, marker="star", color="red",
                   line_color="white", legend_label="DEM check")
+        from bokeh.models import HoverTool
+
+        m.add_tools(HoverTool(renderers=[cells], tooltips=[
+            ("f", "@f{0.00} Hz"), ("stroke", "@x{0.000} mm"), ("eta", "@eta{0.000}"),
+            ("mode", "@mode"), ("assumptions", "@why")]))
+        m.legend.click_policy = "hide"
         m.add_layout(ColorBar(color_mapper=self.mapper, title="eta"), "right")
         m.legend.label_text_font_size = "8pt"
         self.map_fig = pn.pane.Bokeh(m)
@@ -325,6 +351,18 @@ class Page:
                              "dh": [max(x1 - x0, 1e-9)]}
         finite = eta[np.isfinite(eta)]
         self.mapper.high = float(max(finite.max(), 1e-3)) if finite.size else 1.0
+        F, X = np.meshgrid(q.map_frequency, q.map_stroke * 1e3)
+        codes = q.map_mode.ravel()
+        holds = (np.ones(codes.shape, bool) if q.map_holds is None
+                 else np.ravel(q.map_holds))
+        why = ([""] * codes.size if q.map_reasons is None
+               else [str(r) or "hold" for r in np.ravel(q.map_reasons)])
+        self.cell_src.data = {"f": F.ravel(), "x": X.ravel(), "eta": eta.ravel(),
+                              "mode": [_mode_name(c) for c in codes],
+                              "colour": [_MODE_COLOURS.get(int(c), "#bbbbbb") for c in codes],
+                              "why": why}
+        self.fail_src.data = {"f": F.ravel()[~holds], "x": X.ravel()[~holds]}
+        self._offer()
         limit = self.mass_limit.value
         self.mass.object = "**mass** " + design.mass_text(q, None if not limit
                                                            else limit * 1e-3)
@@ -352,6 +390,22 @@ class Page:
         self.path_src.data = ({"f": r.frequency, "x": path.stroke * 1e3} if path is not None
                               else {"f": [], "x": []})
         self.peaks.object = "\n".join(f"- `{line}`" for line in res.peak_lines)
+        bad = (np.zeros(r.frequency.size, bool) if res.holds is None else ~res.holds)
+        x_path = (path.amplitude * 1e3 if path is not None else np.full(r.frequency.size,
+                                                                         np.nan))
+        self.frf_fail_src.data = {"f": r.frequency[bad], "x": x_path[bad],
+                                  "why": [str(w) for w in np.asarray(res.reasons)[bad]]
+                                  if res.reasons is not None else []}
+        self._offer()
+
+    def _offer(self) -> None:
+        """The fields fidelity offered where the analytical model's assumptions fail."""
+        q = getattr(self, "quick", None)
+        if q is None:
+            return
+        text = design.fields_offer(q, self.response, self.fidelity.value)
+        self.offer.object = text
+        self.offer.visible = bool(text)
 
     # ---- DEM check, save, report ----------------------------------------------------------
     def _dem(self, _event=None) -> None:

@@ -238,6 +238,11 @@ class Quick:
     container_mass: float                 # [kg]
     unused: dict[str, str] = field(default_factory=dict)
     seconds: float = 0.0
+    #: whether the fidelity's assumptions hold at each map cell, and why not ("" where
+    #: they do; the analytical model's ``assumptions`` diagnostics; all True for a
+    #: fidelity without such checks)
+    map_holds: np.ndarray | None = None
+    map_reasons: np.ndarray | None = None
 
 
 @dataclass
@@ -247,6 +252,10 @@ class Response:
     frf: FRFResult
     peak_lines: list[str]                 # `pdamper frf`'s peak lines, verbatim
     seconds: float = 0.0
+    #: per frequency, whether the fidelity's assumptions hold where the upward sweep
+    #: (else the one run) drives the damper, and why not ("" where they do)
+    holds: np.ndarray | None = None
+    reasons: np.ndarray | None = None
 
 
 def _resolved(inputs: Inputs, sc: Scenario) -> tuple[Any, np.ndarray]:
@@ -275,9 +284,10 @@ def quick(inputs: Inputs) -> Quick:
     damper = sc.damper()
     bare = np.abs(linear_frf(_modal(_acting(sc)), load, freqs))
     mf, ms, eta, mode = level2_map(sc, damper, inputs.model, freqs)
+    holds, why = assumptions(sc, damper, inputs.model, *np.meshgrid(mf, ms))
     return Quick(freqs, bare, mf, ms, eta, mode, float(damper.bed_mass),
                  float(sc.container.mass), unused_inputs(sc, inputs.model),
-                 time.perf_counter() - t0)
+                 time.perf_counter() - t0, holds, why)
 
 
 @functools.lru_cache(maxsize=64)
@@ -297,7 +307,54 @@ def response(inputs: Inputs) -> Response:
                              sweep=inputs.sweep)
     peaks = [line for line in _table(res)
              if any(line.startswith(f"{s}: peak") for s in res.sweeps)]
-    return Response(res, peaks, time.perf_counter() - t0)
+    path = res.sweeps.get("up") or next(iter(res.sweeps.values()), None)
+    holds = why = None
+    if path is not None:
+        holds, why = assumptions(sc, damper, inputs.model, res.frequency, path.stroke)
+    return Response(res, peaks, time.perf_counter() - t0, holds, why)
+
+
+def assumptions(sc: Scenario, damper: Any, name: str | None, frequency: np.ndarray,
+                stroke: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Whether the fidelity's assumptions hold at the points (f [Hz], X [m]) and why not:
+    the model's ``assumptions_hold`` and ``assumptions`` diagnostics (the analytical
+    model's, :func:`~pdamper.analysis.analytical.assumption_checks`); all hold for a
+    fidelity without them, an empty bed, or a point the fidelity refuses (that point is
+    not drawn)."""
+    f = np.asarray(frequency, float)
+    x = np.asarray(stroke, float)
+    holds = np.ones(np.broadcast(f, x).shape, bool)
+    why = np.full(holds.shape, "", dtype=object)
+    ok = np.isfinite(f) & np.isfinite(x) & (x > 0)
+    if damper.count == 0 or not np.any(ok):
+        return holds, why
+    try:
+        r = sc.model(name, damper).response(np.broadcast_to(f, holds.shape)[ok],
+                                            np.broadcast_to(x, holds.shape)[ok])
+    except Exception:  # noqa: BLE001 - a refused point has no assumptions to judge
+        return holds, why
+    d = r.diagnostics or {}
+    if "assumptions_hold" in d:
+        holds[ok] = np.ravel(d["assumptions_hold"])
+        why[ok] = np.ravel(d["assumptions"])
+    return holds, why
+
+
+def fields_offer(views: Quick, res: Response | None, fidelity: str) -> str:
+    """The line the page shows where the fidelity's assumptions fail: how many map cells
+    and forced-response points, the first reason, and the fidelity to use there (a fields
+    map from the DEM, ``--fields map.nc``); "" where they hold everywhere."""
+    cells = 0 if views.map_holds is None else int(np.count_nonzero(~views.map_holds))
+    points = 0 if res is None or res.holds is None else int(np.count_nonzero(~res.holds))
+    if not cells and not points:
+        return ""
+    reasons = [r for arr in (None if res is None else res.reasons, views.map_reasons)
+               if arr is not None for r in np.ravel(arr) if r]
+    first = reasons[0].split("; use")[0] if reasons else ""
+    return (f"the {fidelity} fidelity's assumptions fail at {cells} map cell(s) and "
+            f"{points} forced-response point(s) (marked x): {first}. There a DEM map "
+            "answers: `pdamper map --scenario <saved>.toml --model dem --out map.nc`, then "
+            "`pdamper explore --scenario <saved>.toml --fields map.nc` (fidelity: fields)")
 
 
 #: Points of the Level II map: strokes from a twentieth of to this many times the damper's

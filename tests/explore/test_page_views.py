@@ -1,0 +1,62 @@
+"""The page's views drawn from the design layer, without a browser: the map's cells carry
+their motion mode, the points where the analytical model's assumptions fail are marked on
+the map and the forced response, and the fields fidelity is offered there."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+pytest.importorskip("panel")
+pytest.importorskip("tomli_w")
+
+from pdamper.explore import app, design  # noqa: E402
+from pdamper.explore.design import Inputs  # noqa: E402
+
+GRID = "3Hz:9Hz:31"
+
+
+def _page(tmp_path, inputs: Inputs) -> app.Page:
+    page = app.Page(inputs, app.DEMChecks(), tmp_path)
+    page.inputs = inputs
+    page.quick = design.quick(inputs)
+    page._draw_quick()
+    return page
+
+
+def test_map_cells_show_their_motion_mode(tmp_path):
+    page = _page(tmp_path, Inputs(frequency=GRID))
+    q = page.quick
+    data = page.cell_src.data
+    assert len(data["mode"]) == q.map_mode.size
+    # the cell at (stroke 7, frequency 5): its mode's name and colour, its eta
+    k = 7 * q.map_frequency.size + 5
+    code = int(q.map_mode[7, 5])
+    assert data["mode"][k] == app._MODE_NAMES[code]
+    assert data["colour"][k] == app._MODE_COLOURS[code]
+    assert data["eta"][k] == pytest.approx(q.map_loss_factor[7, 5])
+    assert len(set(data["mode"])) >= 3  # solid-like, collect-and-collide, scattering
+
+
+def test_failing_assumptions_are_marked_and_the_fields_fidelity_offered(tmp_path):
+    page = _page(tmp_path, Inputs(frequency=GRID))
+    q = page.quick
+    # the scattering cells, and only the failing ones, are marked
+    assert len(page.fail_src.data["f"]) == int(np.count_nonzero(~q.map_holds)) > 0
+    assert page.offer.visible and "--fields map.nc" in page.offer.object
+    res = design.response(page.inputs)
+    page.response = res
+    page._draw_response(res)
+    assert len(page.frf_fail_src.data["f"]) == int(np.count_nonzero(~res.holds))
+
+
+def test_nothing_offered_where_the_assumptions_hold(tmp_path):
+    page = _page(tmp_path, Inputs(frequency="3Hz:4Hz:5", load_amplitude=0.5))
+    q = page.quick
+    page.response = design.response(page.inputs)
+    page._draw_response(page.response)
+    assert len(page.frf_fail_src.data["f"]) == 0
+    if q.map_holds.all():
+        assert not page.offer.visible
+    else:  # the map reaches strokes the path does not: only those cells are counted
+        assert "0 forced-response point(s)" in page.offer.object
