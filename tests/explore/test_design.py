@@ -183,3 +183,25 @@ def test_failing_points_offer_the_fields_fidelity():
     calm = Inputs(frequency="3Hz:4Hz:5", load_amplitude=0.5)
     r = design.response(calm)
     assert r.holds is not None and r.holds.all()
+
+
+def test_bed_mass_derives_the_count_as_optimize_does(tmp_path):
+    """A bed mass instead of a count: the nearest whole number of spheres of the radius and
+    material set (the count of `pdamper optimize`'s bed-mass variable), kept as the radius
+    changes, refused naming the bed mass where it needs more spheres than fit."""
+    import math
+
+    steel = design.scenario_of(Inputs()).damper()
+    sphere = steel.particle_mass  # 4/3 pi r^3 rho of the paper's spheres
+    view = Inputs(frequency=GRID, bed_mass=100.0)
+    d = design.scenario_of(view).damper()
+    assert d.count == round(0.100 / sphere) == 24
+    small = design.scenario_of(view.with_value("particles.radius", 3.0)).damper()
+    assert small.count == round(0.100 / (sphere * (3.0 / (steel.particle_radius * 1e3)) ** 3))
+    assert abs(small.bed_mass - 0.100) < small.particle_mass  # the mass kept, not the count
+    assert math.isclose(design.quick(view).bed_mass, d.bed_mass)
+    with pytest.raises(InputError) as err:
+        design.scenario_of(Inputs(bed_mass=5000.0))
+    assert err.value.field == "bed_mass" and "must be at most" in str(err.value)
+    saved = design.save_scenario(view, tmp_path / "by_mass.toml").read_text()
+    assert "count = 24" in saved

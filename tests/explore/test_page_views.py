@@ -60,3 +60,17 @@ def test_nothing_offered_where_the_assumptions_hold(tmp_path):
         assert not page.offer.visible
     else:  # the map reaches strokes the path does not: only those cells are counted
         assert "0 forced-response point(s)" in page.offer.object
+
+
+def test_bed_mass_slider_sets_the_count(tmp_path):
+    page = _page(tmp_path, Inputs(frequency=GRID))
+    page.count_from.value = "bed mass"  # the watcher schedules the views (no document)
+    page.bed_mass.value = 100.0
+    page._on_bed_mass()
+    assert page.inputs.bed_mass == 100.0
+    assert page.widgets["particles.count"].disabled
+    assert page.widgets["particles.count"].value == 24  # round(100 g / 4.14 g)
+    page.count_from.value = "count"
+    assert page.inputs.bed_mass is None and page.bed_mass.disabled
+    assert not page.widgets["particles.count"].disabled
+    assert dict(page.inputs.values)["particles.count"] == 24  # the count the mass gave

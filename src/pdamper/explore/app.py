@@ -108,6 +108,21 @@ class Page:
         if "particles.count" in self.widgets:
             self.widgets["particles.count"].end = max(int(sc.damper().max_count),
                                                       self.widgets["particles.count"].value)
+        # the bed's mass instead of the count: the count derived from it for the radius
+        # and material set (pdamper optimize's bed-mass variable)
+        self.count_from = pn.widgets.RadioButtonGroup(
+            name="bed given by", options=["count", "bed mass"],
+            value="count" if base.bed_mass is None else "bed mass", css_classes=["count-from"])
+        damper0 = sc.damper()
+        self.bed_mass = pn.widgets.FloatSlider(
+            name="bed mass [g]", start=0.0,
+            end=max(1000.0, round(damper0.max_count * damper0.particle_mass * 1e3)),
+            step=1.0, value=float(base.bed_mass if base.bed_mass is not None
+                                  else round(damper0.bed_mass * 1e3)),
+            disabled=base.bed_mass is None, sizing_mode="stretch_width",
+            css_classes=["ctl-bed-mass"])
+        self.count_from.param.watch(self._on_bed_mass, "value")
+        self.bed_mass.param.watch(self._on_bed_mass, "value_throttled")
         mats = design.materials()
         self.particle_material = pn.widgets.Select(
             name="particle material", options=mats, value=_name(sc.particles.material, mats))
@@ -189,7 +204,8 @@ class Page:
     def layout(self) -> pn.template.BaseTemplate:
         row = self.rows.get
         side = pn.Column(
-            "### Damper", row("particles.count"), row("particles.radius"),
+            "### Damper", self.count_from, row("particles.count"), self.bed_mass,
+            row("particles.radius"),
             self.particle_material, row("container.length"), row("container.width"),
             row("container.depth"), self.container_material, row("container.mass"),
             row("particles.friction"),
@@ -273,6 +289,18 @@ class Page:
             self._schedule()
         return changed
 
+    def _on_bed_mass(self, _event=None) -> None:
+        by_mass = self.count_from.value == "bed mass"
+        self.bed_mass.disabled = not by_mass
+        if "particles.count" in self.widgets:
+            self.widgets["particles.count"].disabled = by_mass
+        self.inputs = dataclasses.replace(
+            self.inputs, bed_mass=float(self.bed_mass.value) if by_mass else None)
+        if not by_mass and "particles.count" in self.widgets:
+            self.inputs = self.inputs.with_value("particles.count",
+                                                 self.widgets["particles.count"].value)
+        self._schedule()
+
     def _on_load(self, _event=None) -> None:
         kind = self.load_kind.value
         if kind != self.inputs.load_kind:
@@ -306,6 +334,11 @@ class Page:
             self._fail(exc)
             return
         self.message.visible = False
+        if self.inputs.bed_mass is not None and "particles.count" in self.widgets:
+            w = self.widgets["particles.count"]
+            n = int(design.with_derived_count(self.inputs).overrides()["particles.count"])
+            w.end = max(w.end, n)
+            w.value = n  # shown, not sent: the count follows the bed mass
         doc = pn.state.curdoc
 
         def redraw() -> None:

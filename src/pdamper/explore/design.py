@@ -109,6 +109,7 @@ class Inputs:
     sweep: str = "both"
     model: str | None = None             # fidelity; None = the scenario's [simulation] model
     fields: Path | None = None
+    bed_mass: float | None = None        # [g]; set: the count is derived from it (below)
 
     def with_value(self, key: str, value: Any) -> Inputs:
         rest = tuple((k, v) for k, v in self.values if k != key)
@@ -154,10 +155,36 @@ def scenario_load(inputs: Inputs) -> Inputs:
 
 def scenario_of(inputs: Inputs) -> Scenario:
     """The scenario the page shows: the base scenario with the page's values on top (judged
-    as the command line judges them: an :class:`~pdamper.errors.InputError` naming the key)."""
+    as the command line judges them: an :class:`~pdamper.errors.InputError` naming the key);
+    with a bed mass the count derived from it (:func:`with_derived_count`)."""
     from pdamper.io.scenario import load_scenario
 
-    return load_scenario(inputs.scenario, inputs.overrides())
+    return load_scenario(inputs.scenario, with_derived_count(inputs).overrides())
+
+
+def with_derived_count(inputs: Inputs) -> Inputs:
+    """``inputs`` with the particle count of its bed mass, where one is set: the nearest
+    whole number of spheres of the radius and material set, as ``pdamper optimize``'s
+    ``bed-mass`` variable derives it (:func:`pdamper.design.study.apply_design`); a bed
+    mass that needs more spheres than fit is refused naming ``bed_mass``."""
+    if inputs.bed_mass is None:
+        return inputs
+    from pdamper.design.study import apply_design
+    from pdamper.errors import InputError
+    from pdamper.io.scenario import load_scenario
+
+    if not (math.isfinite(inputs.bed_mass) and inputs.bed_mass >= 0):
+        raise InputError("bed_mass", f"must be >= 0 g, got {inputs.bed_mass:g} g")
+    rest = dataclasses.replace(inputs, bed_mass=None)
+    damper = load_scenario(rest.scenario, rest.overrides()).damper()
+    try:
+        count = apply_design(damper.with_count(0), {"bed_mass": inputs.bed_mass * 1e-3}).count
+    except InputError as exc:  # more spheres than fit: said of the bed mass
+        most = damper.max_count * damper.particle_mass * 1e3
+        raise InputError("bed_mass", f"must be at most {most:.0f} g "
+                         f"({damper.max_count} spheres of this radius and material fit), "
+                         f"got {inputs.bed_mass:g} g ({exc.message})") from None
+    return rest.with_value("particles.count", count)
 
 
 def scenario_toml(inputs: Inputs) -> str:
@@ -170,6 +197,7 @@ def scenario_toml(inputs: Inputs) -> str:
     """
     import tomli_w
 
+    inputs = with_derived_count(inputs)
     base: dict[str, Any] = {}
     if inputs.scenario is not None:
         base = tomllib.loads(Path(inputs.scenario).read_text(encoding="utf-8"))
