@@ -205,3 +205,39 @@ def test_bed_mass_derives_the_count_as_optimize_does(tmp_path):
     assert err.value.field == "bed_mass" and "must be at most" in str(err.value)
     saved = design.save_scenario(view, tmp_path / "by_mass.toml").read_text()
     assert "count = 24" in saved
+
+
+def _simulate(*args: object) -> list[str]:
+    out = subprocess.run(command("simulate", *args), capture_output=True, text=True, env=env(),
+                         timeout=300)
+    assert out.returncode == 0, out.stderr
+    return out.stdout.splitlines()
+
+
+def test_free_decay_is_the_simulate_commands(tmp_path):
+    """The time view of a changed design is `pdamper simulate`'s release of the saved
+    scenario: the same decay table, digit for digit, and the trajectory it is read from."""
+    view = Inputs(frequency=GRID).with_value("particles.count", 40)
+    shown = design.time_response(view)
+    assert shown.kind == "release"
+    path = design.save_scenario(view, tmp_path / "decay.toml")
+    printed = _simulate("--scenario", path)
+    assert shown.lines == printed[2:]  # after the structure's line and the model's
+    assert "AnalyticalDamper(count=40)" in printed[1]
+    first = [float(v) for v in printed[3].split()[:2]]
+    assert first == [0.0, pytest.approx(abs(shown.displacement[0]) * 1e3, abs=0.005)]
+
+
+def test_load_response_is_the_simulate_commands():
+    """The machine frame's [load] (its shock): the page's line is `pdamper simulate`'s."""
+    from pathlib import Path
+
+    import pdamper
+
+    example = Path(pdamper.__file__).parents[2] / "examples" / "machine-frame" / "scenario.toml"
+    shown = design.time_response(Inputs(scenario=example).with_value("particles.count", 150))
+    assert shown.kind == "load"
+    printed = _simulate("--scenario", example, "--particles", 150)
+    model_line = [line for line in printed if line.startswith("AnalyticalDamper(count=150)")]
+    assert model_line and model_line[0].split("): ", 1)[1].startswith(shown.lines[0])
+    assert shown.time[-1] == pytest.approx(1.05, abs=1e-3)  # the 50 ms record + 1 s tail

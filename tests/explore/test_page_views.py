@@ -74,3 +74,13 @@ def test_bed_mass_slider_sets_the_count(tmp_path):
     assert page.inputs.bed_mass is None and page.bed_mass.disabled
     assert not page.widgets["particles.count"].disabled
     assert dict(page.inputs.values)["particles.count"] == 24  # the count the mass gave
+
+
+def test_time_view_draws_the_simulate_run(tmp_path):
+    inputs = Inputs(frequency=GRID)
+    page = _page(tmp_path, inputs)
+    r = design.time_response(inputs)
+    page._draw_time(r)
+    assert np.array_equal(page.time_src.data["x"], r.displacement * 1e3)
+    assert "free decay" in page.time_plot.title.text
+    assert "final amplitude" in page.time_text.object

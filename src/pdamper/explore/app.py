@@ -164,6 +164,7 @@ class Page:
         self.offer = pn.pane.Alert("", alert_type="warning", visible=False,
                                    css_classes=["offer"])
         self.dem_text = pn.pane.Markdown("", css_classes=["dem"])
+        self.time_text = pn.pane.Markdown("", css_classes=["time-lines"])
         self.saved = pn.pane.Markdown("", css_classes=["saved"])
         self.save_path = pn.widgets.TextInput(name="scenario file",
                                               value=str(out_dir / "explored.toml"))
@@ -217,7 +218,7 @@ class Page:
         main = pn.Column(
             self.message, self.status,
             pn.Row(self.frf_fig, self.map_fig),
-            self.peaks, self.mass, self.offer, self.notes,
+            self.peaks, self.mass, self.offer, self.notes, self.time_fig, self.time_text,
             pn.Row(self.dem_button, self.dem_text),
             pn.Row(self.save_path, self.save_button, self.report_button), self.saved)
         tpl = pn.template.BootstrapTemplate(title="pdamper explore", sidebar=[side],
@@ -279,6 +280,13 @@ class Page:
             ("mode", "@mode"), ("assumptions", "@why")]))
         m.legend.click_policy = "hide"
         m.add_layout(ColorBar(color_mapper=self.mapper, title="eta"), "right")
+        self.time_src = ColumnDataSource(data={"t": [], "x": []})
+        t = figure(title="in time: pdamper simulate of this design", height=260, width=1080,
+                   x_axis_label="time [s]", y_axis_label="displacement [mm]",
+                   tools="pan,wheel_zoom,box_zoom,reset,save")
+        t.line("t", "x", source=self.time_src, color="#1f77b4")
+        self.time_plot = t
+        self.time_fig = pn.pane.Bokeh(t)
         m.legend.label_text_font_size = "8pt"
         self.map_fig = pn.pane.Bokeh(m)
 
@@ -355,6 +363,29 @@ class Page:
                 return
             doc.add_next_tick_callback(lambda: self._solved(gen, f, t0))
         fut.add_done_callback(done)
+        in_time = _SOLVER.submit(design.time_response, inputs)
+
+        def timed(f: Future) -> None:
+            if doc is not None:
+                doc.add_next_tick_callback(lambda: self._timed(gen, f))
+        in_time.add_done_callback(timed)
+
+    def _timed(self, gen: int, fut: Future) -> None:
+        """The time view (free decay or load response) when it is computed."""
+        if gen != self.generation:
+            return
+        try:
+            self._draw_time(fut.result())
+        except (PdamperError, ValueError) as exc:
+            self.time_text.object = f"error: {exc}"
+
+    def _draw_time(self, r: design.TimeResponse) -> None:
+        self.time_src.data = {"t": r.time, "x": r.displacement * 1e3}
+        self.time_plot.title.text = ("free decay: released from the structure's initial "
+                                     "displacement (pdamper simulate)" if r.kind == "release"
+                                     else "response to the scenario's [load] history "
+                                          "(pdamper simulate)")
+        self.time_text.object = "```\n" + "\n".join(r.lines) + "\n```"
 
     def _solved(self, gen: int, fut: Future, t0: float) -> None:
         if gen != self.generation:

@@ -385,6 +385,59 @@ def fields_offer(views: Quick, res: Response | None, fidelity: str) -> str:
             "`pdamper explore --scenario <saved>.toml --fields map.nc` (fidelity: fields)")
 
 
+@dataclass
+class TimeResponse:
+    """The design in time, as ``pdamper simulate`` runs it for the scenario: the release
+    from the structure's initial displacement (its free decay) or, where the scenario
+    has a ``[load]``, the response to that history."""
+
+    kind: str                             # "release" or "load"
+    time: np.ndarray                      # [s]
+    displacement: np.ndarray              # output point [m]
+    lines: list[str]                      # `pdamper simulate`'s lines for the run
+    run: Any                              # FreeVibrationResult or LoadResponse
+    seconds: float = 0.0
+
+
+@functools.lru_cache(maxsize=32)
+def time_response(inputs: Inputs) -> TimeResponse:
+    """What ``pdamper simulate --scenario <saved>`` computes for the page's design, by the
+    same calls (the model of the page's fidelity): the release
+    (:class:`~pdamper.coupling.Simulation` from ``structure.initial_displacement`` over
+    ``simulation.duration``) or, with a ``[load]``, the load history
+    (:func:`~pdamper.coupling.loads.run_load` with the ``[load]`` tail), its cost judged
+    first as the command judges it; the lines are the command's (its decay table, or its
+    peak and RMS line) without the wall time."""
+    t0 = time.perf_counter()
+    sc = scenario_of(inputs)
+    damper = sc.damper()
+    model = sc.model(inputs.model, damper)
+    if sc.load.given:
+        from pdamper.coupling.loads import acting_at, check_cost, check_model, run_load
+
+        history = sc.load.history()
+        structure = acting_at(sc.structure_model(), sc.load.at)
+        check_model(model, structure)
+        check_cost(model, structure, history, sc.simulation.sample_rate, sc.load.tail, False)
+        r = run_load(model, structure, history, sc.simulation.sample_rate, sc.load.tail)
+        rel = " (relative to the base)" if history.kind != "force" else ""
+        lines = [f"peak {r.peak * 1e3:.3f} mm, RMS {r.rms * 1e3:.3f} mm{rel}; acceleration "
+                 f"peak {r.peak_acceleration:.4g} m/s^2, RMS {r.rms_acceleration:.4g} m/s^2; "
+                 f"damper dissipated {r.dissipated_energy:.4g} J"]
+        return TimeResponse("load", np.asarray(r.time), np.asarray(r.displacement), lines, r,
+                            time.perf_counter() - t0)
+    from pdamper.cli.simulate import _table
+    from pdamper.coupling import Simulation
+    from pdamper.runs.resources import check_resources
+
+    structure = sc.structure_model()
+    check_resources(sc, "simulation", inputs.model, force=False)
+    r = Simulation(structure, model, sc.structure.initial_displacement).run(
+        sc.simulation.duration, sc.simulation.sample_rate)
+    return TimeResponse("release", np.asarray(r.time), np.asarray(r.displacement),
+                        _table("", r)[1:], r, time.perf_counter() - t0)
+
+
 #: Points of the Level II map: strokes from a twentieth of to this many times the damper's
 #: optimal stroke (Eq. (5): where the loss factor peaks), log-spaced; frequencies over the
 #: forced response's band.
