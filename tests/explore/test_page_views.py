@@ -84,3 +84,25 @@ def test_time_view_draws_the_simulate_run(tmp_path):
     assert np.array_equal(page.time_src.data["x"], r.displacement * 1e3)
     assert "free decay" in page.time_plot.title.text
     assert "final amplitude" in page.time_text.object
+
+
+@pytest.mark.long
+def test_report_button_reports_the_saved_design(tmp_path):
+    """"Report" saves the view and runs `pdamper report` on it: the report appears beside
+    the saved scenario and its inputs are the page's design (28 spheres of 4.5 mm)."""
+    import asyncio
+    import json
+
+    inputs = (Inputs(frequency=GRID).with_value("particles.count", 28)
+              .with_value("particles.radius", 4.5))
+    page = _page(tmp_path, inputs)
+    page.save_path.value = str(tmp_path / "mine.toml")
+    asyncio.run(page._report())
+    out = tmp_path / "mine-report"
+    assert (out / "report.html").is_file(), page.saved.object
+    assert "report written" in page.saved.object
+    saved = (tmp_path / "mine.toml").read_text()
+    assert "count = 28" in saved and 'radius = "4.5 mm"' in saved
+    particles = json.loads((out / "results.json").read_text())["inputs"]["particles"]
+    assert particles["count"] == 28 and particles["radius"] == pytest.approx(0.0045)
+    assert "paper benchmark damper" in (out / "report.html").read_text()
