@@ -311,8 +311,7 @@ def quick(inputs: Inputs) -> Quick:
     load, freqs = _resolved(inputs, sc)
     damper = sc.damper()
     bare = np.abs(linear_frf(_modal(_acting(sc)), load, freqs))
-    mf, ms, eta, mode = level2_map(sc, damper, inputs.model, freqs)
-    holds, why = assumptions(sc, damper, inputs.model, *np.meshgrid(mf, ms))
+    mf, ms, eta, mode, holds, why = _level2(sc, damper, inputs.model, freqs)
     return Quick(freqs, bare, mf, ms, eta, mode, float(damper.bed_mass),
                  float(sc.container.mass), unused_inputs(sc, inputs.model),
                  time.perf_counter() - t0, holds, why)
@@ -451,6 +450,13 @@ def level2_map(sc: Scenario, damper: Any, name: str | None, freqs: np.ndarray
     """Loss factor and motion mode of the damper over (frequency x stroke): the Level II
     field the structure's operating path runs through. Cells outside the fidelity's range
     (a fields map's grid) stay blank (NaN, mode -1)."""
+    return _level2(sc, damper, name, freqs)[:4]
+
+
+def _level2(sc: Scenario, damper: Any, name: str | None, freqs: np.ndarray
+            ) -> tuple[np.ndarray, ...]:
+    """:func:`level2_map` and the :func:`assumptions` of its cells (from the same call of
+    the model where it answers the whole map at once)."""
     top = max(float(damper.optimal_stroke), 1e-4) * MAP_TOP
     mf = np.linspace(float(freqs[0]), float(freqs[-1]), MAP_FREQUENCIES)
     ms = np.geomspace(top / 80.0, top, MAP_STROKES)
@@ -458,14 +464,21 @@ def level2_map(sc: Scenario, damper: Any, name: str | None, freqs: np.ndarray
     F, X = np.meshgrid(mf, ms)
     eta = np.full(F.shape, np.nan)
     mode = np.full(F.shape, -1, dtype=int)
+    holds = np.ones(F.shape, bool)
+    why = np.full(F.shape, "", dtype=object)
     if damper.count == 0:
-        return mf, ms, np.zeros(F.shape), mode
+        return mf, ms, np.zeros(F.shape), mode, holds, why
     try:
         r = model.response(F.ravel(), X.ravel())
-        return (mf, ms, np.asarray(r.loss_factor, dtype=float).reshape(F.shape),
-                np.asarray(r.mode, dtype=int).reshape(F.shape))
     except Exception:  # noqa: BLE001 - the map point by point: a refused cell stays blank
         pass
+    else:
+        d = r.diagnostics or {}
+        if "assumptions_hold" in d:
+            holds = np.asarray(d["assumptions_hold"], bool).reshape(F.shape)
+            why = np.asarray(d["assumptions"], dtype=object).reshape(F.shape)
+        return (mf, ms, np.asarray(r.loss_factor, dtype=float).reshape(F.shape),
+                np.asarray(r.mode, dtype=int).reshape(F.shape), holds, why)
     for i, j in np.ndindex(F.shape):
         try:
             r = model.response(F[i, j], X[i, j])
@@ -473,7 +486,8 @@ def level2_map(sc: Scenario, damper: Any, name: str | None, freqs: np.ndarray
             continue
         eta[i, j] = float(np.ravel(r.loss_factor)[0])
         mode[i, j] = int(np.ravel(r.mode)[0])
-    return mf, ms, eta, mode
+    holds, why = assumptions(sc, damper, name, F, X)
+    return mf, ms, eta, mode, holds, why
 
 
 def unused_inputs(sc: Scenario, name: str | None) -> dict[str, str]:
