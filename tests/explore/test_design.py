@@ -172,14 +172,29 @@ def test_map_cells_carry_the_models_assumptions():
 
 
 def test_failing_points_offer_the_fields_fidelity():
+    # three spheres: not a collected bed anywhere, said once for the design, no point marked
     few = Inputs(frequency=GRID).with_value("particles.count", 3)
     res = design.response(few)
     assert res.holds is not None and not res.holds.any()  # every point of the path
-    line = design.fields_offer(design.quick(few), res, "analytic")
-    n_cells = design.quick(few).map_holds.size
-    assert f"fail at {n_cells} map cell(s) and {res.holds.size} forced-response" in line
-    assert "--fields map.nc" in line and "not a collected bed" in line
-    # the paper's damper on a low load: the path stays where the model holds
+    q = design.quick(few)
+    common = design.design_wide(q.map_reasons, res.reasons)
+    assert len(common) == 1 and common[0].startswith("not a collected bed")
+    assert not design.marked(res.reasons, common).any()
+    line = design.fields_offer(q, res, "analytic")
+    assert line.startswith("the analytic fidelity's assumptions fail for this design "
+                           "everywhere: not a collected bed (3 sphere(s)")
+    assert "--fields map.nc" in line
+    # the paper's damper: its scattering cells fail on their own, counted and marked
+    paper = Inputs(frequency=GRID)
+    qp, rp = design.quick(paper), design.response(paper)
+    assert design.design_wide(qp.map_reasons, rp.reasons) == []
+    cells = int(np.count_nonzero(~qp.map_holds))
+    points = int(np.count_nonzero(~rp.holds))
+    assert cells > 0
+    assert (f"the analytic fidelity's assumptions fail at {cells} map cell(s) and {points} "
+            "forced-response point(s) (marked x): scattering") in \
+        design.fields_offer(qp, rp, "analytic")
+    # a low load: the path stays where the model holds
     calm = Inputs(frequency="3Hz:4Hz:5", load_amplitude=0.5)
     r = design.response(calm)
     assert r.holds is not None and r.holds.all()

@@ -106,3 +106,13 @@ def test_report_button_reports_the_saved_design(tmp_path):
     particles = json.loads((out / "results.json").read_text())["inputs"]["particles"]
     assert particles["count"] == 28 and particles["radius"] == pytest.approx(0.0045)
     assert "paper benchmark damper" in (out / "report.html").read_text()
+
+
+def test_a_design_wide_failure_is_said_once_not_marked_everywhere(tmp_path):
+    page = _page(tmp_path, Inputs(frequency=GRID).with_value("particles.count", 3))
+    q = page.quick
+    # not a collected bed: everywhere, said once; marked only the cells failing on their
+    # own too (scattering)
+    own = [r for r in q.map_reasons.ravel() if "scattering" in r]
+    assert len(page.fail_src.data["f"]) == len(own) < q.map_reasons.size
+    assert page.offer.visible and "for this design everywhere" in page.offer.object

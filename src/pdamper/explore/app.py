@@ -164,7 +164,7 @@ class Page:
         self.offer = pn.pane.Alert("", alert_type="warning", visible=False,
                                    css_classes=["offer"])
         self.dem_text = pn.pane.Markdown("", css_classes=["dem"])
-        self.time_text = pn.pane.Markdown("", css_classes=["time-lines"])
+        self.time_text = pn.pane.Str("", css_classes=["time-lines"])
         self.saved = pn.pane.Markdown("", css_classes=["saved"])
         self.save_path = pn.widgets.TextInput(name="scenario file",
                                               value=str(out_dir / "explored.toml"))
@@ -256,7 +256,8 @@ class Page:
         self.path_src = ColumnDataSource(data={"f": [], "x": []})
         self.dem_src = ColumnDataSource(data={"f": [], "x": [], "eta": [], "label": []})
         self.mapper = LinearColorMapper(palette="Viridis256", low=0, high=1)
-        m = figure(title="damper loss factor (Level II) and operating path", height=380,
+        m = figure(title="damper loss factor (Level II), motion modes and operating path",
+                   height=470,
                    width=520, x_axis_label="frequency [Hz]",
                    y_axis_label="container stroke [mm]", tools="pan,wheel_zoom,reset,save")
         m.image("image", x="x", y="y", dw="dw", dh="dh", source=self.map_src,
@@ -279,6 +280,9 @@ class Page:
             ("f", "@f{0.00} Hz"), ("stroke", "@x{0.000} mm"), ("eta", "@eta{0.000}"),
             ("mode", "@mode"), ("assumptions", "@why")]))
         m.legend.click_policy = "hide"
+        # below the map, in columns: the modes' dots would hide the map inside it
+        m.legend.ncols = 3
+        m.add_layout(m.legend[0], "below")
         m.add_layout(ColorBar(color_mapper=self.mapper, title="eta"), "right")
         self.time_src = ColumnDataSource(data={"t": [], "x": []})
         t = figure(title="in time: pdamper simulate of this design", height=260, width=1080,
@@ -385,7 +389,7 @@ class Page:
                                      "displacement (pdamper simulate)" if r.kind == "release"
                                      else "response to the scenario's [load] history "
                                           "(pdamper simulate)")
-        self.time_text.object = "```\n" + "\n".join(r.lines) + "\n```"
+        self.time_text.object = "\n".join(r.lines)
 
     def _solved(self, gen: int, fut: Future, t0: float) -> None:
         if gen != self.generation:
@@ -417,15 +421,18 @@ class Page:
         self.mapper.high = float(max(finite.max(), 1e-3)) if finite.size else 1.0
         F, X = np.meshgrid(q.map_frequency, q.map_stroke * 1e3)
         codes = q.map_mode.ravel()
-        holds = (np.ones(codes.shape, bool) if q.map_holds is None
-                 else np.ravel(q.map_holds))
         why = ([""] * codes.size if q.map_reasons is None
                else [str(r) or "hold" for r in np.ravel(q.map_reasons)])
         self.cell_src.data = {"f": F.ravel(), "x": X.ravel(), "eta": eta.ravel(),
                               "mode": [_mode_name(c) for c in codes],
                               "colour": [_MODE_COLOURS.get(int(c), "#bbbbbb") for c in codes],
                               "why": why}
-        self.fail_src.data = {"f": F.ravel()[~holds], "x": X.ravel()[~holds]}
+        # marked: the cells failing on their own (a design-wide reason is said once)
+        common = design.design_wide(q.map_reasons, None if self.response is None
+                                    else self.response.reasons)
+        own = (np.zeros(codes.shape, bool) if q.map_reasons is None
+               else np.ravel(design.marked(q.map_reasons, common)))
+        self.fail_src.data = {"f": F.ravel()[own], "x": X.ravel()[own]}
         self._offer()
         limit = self.mass_limit.value
         self.mass.object = "**mass** " + design.mass_text(q, None if not limit
@@ -454,7 +461,10 @@ class Page:
         self.path_src.data = ({"f": r.frequency, "x": path.stroke * 1e3} if path is not None
                               else {"f": [], "x": []})
         self.peaks.object = "\n".join(f"- `{line}`" for line in res.peak_lines)
-        bad = (np.zeros(r.frequency.size, bool) if res.holds is None else ~res.holds)
+        common = design.design_wide(self.quick.map_reasons if getattr(self, "quick", None)
+                                    else None, res.reasons)
+        bad = (np.zeros(r.frequency.size, bool) if res.reasons is None
+               else design.marked(res.reasons, common))
         x_path = (path.amplitude * 1e3 if path is not None else np.full(r.frequency.size,
                                                                          np.nan))
         self.frf_fail_src.data = {"f": r.frequency[bad], "x": x_path[bad],

@@ -367,21 +367,68 @@ def assumptions(sc: Scenario, damper: Any, name: str | None, frequency: np.ndarr
     return holds, why
 
 
+def design_wide(*reasons: np.ndarray | None) -> list[str]:
+    """The reasons shared by every point of the arrays of :func:`assumptions`' reasons (a
+    bed of fewer spheres than a layer, a clearance the lattice does not give): they fail
+    the whole design, not a point; [] where any point holds."""
+    common: set[str] | None = None
+    for arr in reasons:
+        if arr is None:
+            continue
+        for r in np.ravel(arr):
+            parts = set(_split(str(r)))
+            common = parts if common is None else common & parts
+            if not common:
+                return []
+    return sorted(common or ())
+
+
+def _split(reason: str) -> list[str]:
+    """The single reasons of a ``"; "``-joined reason text (each ends with the fidelity to
+    use there, ``...; use dem``)."""
+    out, parts = [], reason.split("; ")
+    for p in parts:
+        if p.startswith("use ") and out:
+            out[-1] += "; " + p
+        elif p:
+            out.append(p)
+    return out
+
+
+def marked(reasons: np.ndarray | None, common: list[str]) -> np.ndarray:
+    """Points whose assumptions fail for a reason of their own (beyond the design-wide
+    ones): the points the page marks."""
+    if reasons is None:
+        return np.zeros(0, bool)
+    flat = [set(_split(str(r))) - set(common) for r in np.ravel(reasons)]
+    return np.array([bool(r) for r in flat], bool).reshape(np.shape(reasons))
+
+
 def fields_offer(views: Quick, res: Response | None, fidelity: str) -> str:
-    """The line the page shows where the fidelity's assumptions fail: how many map cells
-    and forced-response points, the first reason, and the fidelity to use there (a fields
-    map from the DEM, ``--fields map.nc``); "" where they hold everywhere."""
-    cells = 0 if views.map_holds is None else int(np.count_nonzero(~views.map_holds))
-    points = 0 if res is None or res.holds is None else int(np.count_nonzero(~res.holds))
-    if not cells and not points:
+    """The line the page shows where the fidelity's assumptions fail: those that fail the
+    whole design, how many map cells and forced-response points fail on their own (the
+    marked ones) and why, and the fidelity to use there (a fields map from the DEM,
+    ``--fields map.nc``); "" where they hold everywhere."""
+    path = None if res is None else res.reasons
+    common = design_wide(views.map_reasons, path)
+    cells = int(np.count_nonzero(marked(views.map_reasons, common)))
+    points = int(np.count_nonzero(marked(path, common)))
+    if not common and not cells and not points:
         return ""
-    reasons = [r for arr in (None if res is None else res.reasons, views.map_reasons)
-               if arr is not None for r in np.ravel(arr) if r]
-    first = reasons[0].split("; use")[0] if reasons else ""
-    return (f"the {fidelity} fidelity's assumptions fail at {cells} map cell(s) and "
-            f"{points} forced-response point(s) (marked x): {first}. There a DEM map "
-            "answers: `pdamper map --scenario <saved>.toml --model dem --out map.nc`, then "
-            "`pdamper explore --scenario <saved>.toml --fields map.nc` (fidelity: fields)")
+    said = []
+    if common:
+        said.append(f"the {fidelity} fidelity's assumptions fail for this design everywhere: "
+                    + "; ".join(r.split("; use")[0] for r in common))
+    if cells or points:
+        own = [r for arr in (path, views.map_reasons) if arr is not None
+               for p in np.ravel(arr) for r in _split(str(p)) if r not in common]
+        who = "also" if common else f"the {fidelity} fidelity's assumptions"
+        first = own[0].split("; use")[0] if own else ""
+        said.append(f"{who} fail at {cells} map cell(s) and {points} forced-response "
+                    f"point(s) (marked x): {first}")
+    return ("; ".join(said) + ". There a DEM map answers: `pdamper map --scenario "
+            "<saved>.toml --model dem --out map.nc`, then `pdamper explore --scenario "
+            "<saved>.toml --fields map.nc` (fidelity: fields)")
 
 
 @dataclass
