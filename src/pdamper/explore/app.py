@@ -230,7 +230,7 @@ class Page:
         self.frf_src = {n: ColumnDataSource(data={"f": [], "x": []})
                         for n in ("bare", "up", "down")}
         self.hb_src = {n: ColumnDataSource(data={"f": [], "x": []}) for n in ("s", "u", "e")}
-        p = figure(title="forced response at the output point", height=380, width=560,
+        p = figure(title="forced response at the output point", height=470, width=560,
                    x_axis_label="frequency [Hz]", y_axis_label="amplitude [mm]",
                    tools="pan,wheel_zoom,box_zoom,reset,save")
         p.line("f", "x", source=self.frf_src["bare"], color="gray", line_dash="dashed",
@@ -250,6 +250,8 @@ class Page:
                   line_width=2, legend_label="analytical assumptions fail")
         p.legend.click_policy = "hide"
         p.legend.label_text_font_size = "8pt"
+        p.legend.ncols = 2  # below the curves, which it would hide
+        p.add_layout(p.legend[0], "below")
         self.frf_fig = pn.pane.Bokeh(p)
         self.map_src = ColumnDataSource(data={"image": [np.zeros((2, 2))], "x": [0], "y": [0],
                                               "dw": [1], "dh": [1]})
