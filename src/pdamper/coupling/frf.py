@@ -982,8 +982,8 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
     at = s.load_shape if load.at_load_point else phi  # where the force acts
     c0 = np.diag(2.0 * s.damping_ratios * w)
     k0 = np.diag(w * w)
-    eye = np.eye(2 * n)
-    eye_n, pp = np.eye(n), np.outer(phi, phi)
+    # the matrix cycle's constants: modes, I_n, phi phi^T, K, C, the force's shape, I_2n, w
+    mats = (n, np.eye(n), np.outer(phi, phi), k0, c0, at, np.eye(2 * n), w)
     z = np.zeros(2 * n)
     # one mode: w, phi^2 and zeta of the closed-form cycle
     mode1 = ((float(w[0]), float(phi[0]) ** 2, float(s.damping_ratios[0])) if n == 1
@@ -998,7 +998,6 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
     for i in _sweep_order(freqs, direction):
         f = float(freqs[i])
         om = 2.0 * math.pi * f
-        period = 1.0 / f
         force = load_force(s, load, f)
         table = None if tables is None else tables.get(f)
         if table is None:
@@ -1019,31 +1018,9 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
             if one is not None:  # the one mode in closed form (no matrix calls)
                 z, hat, transient, forced = one
                 xd_hat, xo_hat = complex(phi[0] * hat[0]), complex(psi[0] * hat[0])
-                x_prev = abs(xd_hat)
-                amps.append(x_prev)
-                outs.append(abs(xo_hat))
-                if transient <= criterion.rtol * forced and steady_amplitudes(amps, criterion):
-                    ok = True
-                    break
-                continue
-            minv = np.linalg.inv(eye_n + m * pp)
-            a = np.zeros((2 * n, 2 * n))
-            a[:n, n:] = eye_n
-            a[n:, :n] = -minv @ k0
-            a[n:, n:] = -minv @ (c0 + dm * pp)
-            b = np.concatenate([np.zeros(n), minv @ at * force])
-            zp = np.linalg.solve(1j * om * eye - a, b)
-            h0 = z - zp.real
-            # what is left of the transient: its energy norm against the steady motion's
-            transient = math.sqrt(float(np.sum(w * w * h0[:n] ** 2 + h0[n:] ** 2)))
-            forced = math.sqrt(float(np.sum(w * w * np.abs(zp[:n]) ** 2
-                                            + np.abs(zp[n:]) ** 2)))
-            e, g = _propagators(a, period, om, eye)
-            hat = zp + (2.0 / period) * (g @ h0)
-            z = zp.real + e @ h0
-            if not np.all(np.isfinite(z)):
-                raise SimulationError(f"the stepped sine diverged at {f:g} Hz")
-            xd_hat, xo_hat = complex(phi @ hat[:n]), complex(psi @ hat[:n])
+            else:
+                z, hat, transient, forced = _matrix_cycle(mats, m, dm, force, om, f, z)
+                xd_hat, xo_hat = complex(phi @ hat[:n]), complex(psi @ hat[:n])
             x_prev = abs(xd_hat)
             amps.append(x_prev)
             outs.append(abs(xo_hat))
@@ -1061,6 +1038,33 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
                     loss_factor=out["loss_factor"], effective_mass=out["effective_mass"],
                     mode=mode, steady=steady, cycles=cycles, amplitude_mean=spread[0],
                     amplitude_std=spread[1])
+
+
+def _matrix_cycle(mats: tuple, m: float, dm: float, force: complex, om: float, f: float,
+                  z: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """One load cycle of :func:`stepped_sine_pseudo_force` on N modes with m_eff ``m`` and
+    ``d`` = ``dm`` held (its docstring's exact solution): the state after the cycle, the
+    first harmonic of the state over it, and the transient's and the steady motion's
+    energy norms."""
+    n, eye_n, pp, k0, c0, at, eye, w = mats
+    period = 1.0 / f
+    minv = np.linalg.inv(eye_n + m * pp)
+    a = np.zeros((2 * n, 2 * n))
+    a[:n, n:] = eye_n
+    a[n:, :n] = -minv @ k0
+    a[n:, n:] = -minv @ (c0 + dm * pp)
+    b = np.concatenate([np.zeros(n), minv @ at * force])
+    zp = np.linalg.solve(1j * om * eye - a, b)
+    h0 = z - zp.real
+    # what is left of the transient: its energy norm against the steady motion's
+    transient = math.sqrt(float(np.sum(w * w * h0[:n] ** 2 + h0[n:] ** 2)))
+    forced = math.sqrt(float(np.sum(w * w * np.abs(zp[:n]) ** 2 + np.abs(zp[n:]) ** 2)))
+    e, g = _propagators(a, period, om, eye)
+    hat = zp + (2.0 / period) * (g @ h0)
+    z = zp.real + e @ h0
+    if not np.all(np.isfinite(z)):
+        raise SimulationError(f"the stepped sine diverged at {f:g} Hz")
+    return z, hat, transient, forced
 
 
 def _one_mode_cycle(mode1: tuple[float, float, float], m: float, dm: float, force: complex,

@@ -108,21 +108,7 @@ class Page:
         if "particles.count" in self.widgets:
             self.widgets["particles.count"].end = max(int(sc.damper().max_count),
                                                       self.widgets["particles.count"].value)
-        # the bed's mass instead of the count: the count derived from it for the radius
-        # and material set (pdamper optimize's bed-mass variable)
-        self.count_from = pn.widgets.RadioButtonGroup(
-            name="bed given by", options=["count", "bed mass"],
-            value="count" if base.bed_mass is None else "bed mass", css_classes=["count-from"])
-        damper0 = sc.damper()
-        self.bed_mass = pn.widgets.FloatSlider(
-            name="bed mass [g]", start=0.0,
-            end=max(1000.0, round(damper0.max_count * damper0.particle_mass * 1e3)),
-            step=1.0, value=float(base.bed_mass if base.bed_mass is not None
-                                  else round(damper0.bed_mass * 1e3)),
-            disabled=base.bed_mass is None, sizing_mode="stretch_width",
-            css_classes=["ctl-bed-mass"])
-        self.count_from.param.watch(self._on_bed_mass, "value")
-        self.bed_mass.param.watch(self._on_bed_mass, "value_throttled")
+        self._bed_widgets(base, sc.damper())
         mats = design.materials()
         self.particle_material = pn.widgets.Select(
             name="particle material", options=mats, value=_name(sc.particles.material, mats))
@@ -179,6 +165,22 @@ class Page:
         self._figures()
         self.dem_points: list[dict[str, Any]] = []
         self.response: design.Response | None = None
+
+    def _bed_widgets(self, base: Inputs, damper0: Any) -> None:
+        """The bed's mass instead of the count: the count derived from it for the radius
+        and material set (pdamper optimize's bed-mass variable)."""
+        self.count_from = pn.widgets.RadioButtonGroup(
+            name="bed given by", options=["count", "bed mass"],
+            value="count" if base.bed_mass is None else "bed mass", css_classes=["count-from"])
+        self.bed_mass = pn.widgets.FloatSlider(
+            name="bed mass [g]", start=0.0,
+            end=max(1000.0, round(damper0.max_count * damper0.particle_mass * 1e3)),
+            step=1.0, value=float(base.bed_mass if base.bed_mass is not None
+                                  else round(damper0.bed_mass * 1e3)),
+            disabled=base.bed_mass is None, sizing_mode="stretch_width",
+            css_classes=["ctl-bed-mass"])
+        self.count_from.param.watch(self._on_bed_mass, "value")
+        self.bed_mass.param.watch(self._on_bed_mass, "value_throttled")
 
     def _controls(self, sc: Any) -> None:
         """A slider per control, with its declaration (key, allowed range) in a tooltip."""
