@@ -311,7 +311,7 @@ class Page:
         if "particles.count" in self.widgets:
             self.widgets["particles.count"].disabled = by_mass
         self.inputs = dataclasses.replace(
-            self.inputs, bed_mass=float(self.bed_mass.value) if by_mass else None)
+            self.inputs, bed_mass=float(self.bed_mass.value or 0.0) if by_mass else None)
         if not by_mass and "particles.count" in self.widgets:
             self.inputs = self.inputs.with_value("particles.count",
                                                  self.widgets["particles.count"].value)
@@ -389,7 +389,7 @@ class Page:
 
     def _draw_time(self, r: design.TimeResponse) -> None:
         self.time_src.data = {"t": r.time, "x": r.displacement * 1e3}
-        self.time_plot.title.text = ("free decay: released from the structure's initial "
+        self.time_plot.title.text = (  # type: ignore[union-attr]  # a Title: figure() made it"free decay: released from the structure's initial "
                                      "displacement (pdamper simulate)" if r.kind == "release"
                                      else "response to the scenario's [load] history "
                                           "(pdamper simulate)")

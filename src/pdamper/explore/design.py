@@ -386,7 +386,8 @@ def design_wide(*reasons: np.ndarray | None) -> list[str]:
 def _split(reason: str) -> list[str]:
     """The single reasons of a ``"; "``-joined reason text (each ends with the fidelity to
     use there, ``...; use dem``)."""
-    out, parts = [], reason.split("; ")
+    out: list[str] = []
+    parts = reason.split("; ")
     for p in parts:
         if p.startswith("use ") and out:
             out[-1] += "; " + p
@@ -462,16 +463,17 @@ def time_response(inputs: Inputs) -> TimeResponse:
         from pdamper.coupling.loads import acting_at, check_cost, check_model, run_load
 
         history = sc.load.history()
+        assert history is not None  # a given [load] has its history
         structure = acting_at(sc.structure_model(), sc.load.at)
         check_model(model, structure)
         check_cost(model, structure, history, sc.simulation.sample_rate, sc.load.tail, False)
-        r = run_load(model, structure, history, sc.simulation.sample_rate, sc.load.tail)
+        lr = run_load(model, structure, history, sc.simulation.sample_rate, sc.load.tail)
         rel = " (relative to the base)" if history.kind != "force" else ""
-        lines = [f"peak {r.peak * 1e3:.3f} mm, RMS {r.rms * 1e3:.3f} mm{rel}; acceleration "
-                 f"peak {r.peak_acceleration:.4g} m/s^2, RMS {r.rms_acceleration:.4g} m/s^2; "
-                 f"damper dissipated {r.dissipated_energy:.4g} J"]
-        return TimeResponse("load", np.asarray(r.time), np.asarray(r.displacement), lines, r,
-                            time.perf_counter() - t0)
+        lines = [f"peak {lr.peak * 1e3:.3f} mm, RMS {lr.rms * 1e3:.3f} mm{rel}; acceleration "
+                 f"peak {lr.peak_acceleration:.4g} m/s^2, RMS {lr.rms_acceleration:.4g} "
+                 f"m/s^2; damper dissipated {lr.dissipated_energy:.4g} J"]
+        return TimeResponse("load", np.asarray(lr.time), np.asarray(lr.displacement), lines,
+                            lr, time.perf_counter() - t0)
     from pdamper.cli.simulate import _table
     from pdamper.coupling import Simulation
     from pdamper.runs.resources import check_resources
@@ -497,7 +499,8 @@ def level2_map(sc: Scenario, damper: Any, name: str | None, freqs: np.ndarray
     """Loss factor and motion mode of the damper over (frequency x stroke): the Level II
     field the structure's operating path runs through. Cells outside the fidelity's range
     (a fields map's grid) stay blank (NaN, mode -1)."""
-    return _level2(sc, damper, name, freqs)[:4]
+    mf, ms, eta, mode, _, _ = _level2(sc, damper, name, freqs)
+    return mf, ms, eta, mode
 
 
 def _level2(sc: Scenario, damper: Any, name: str | None, freqs: np.ndarray
