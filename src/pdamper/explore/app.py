@@ -389,10 +389,10 @@ class Page:
 
     def _draw_time(self, r: design.TimeResponse) -> None:
         self.time_src.data = {"t": r.time, "x": r.displacement * 1e3}
-        self.time_plot.title.text = (  # type: ignore[union-attr]  # a Title: figure() made it"free decay: released from the structure's initial "
-                                     "displacement (pdamper simulate)" if r.kind == "release"
-                                     else "response to the scenario's [load] history "
-                                          "(pdamper simulate)")
+        title = ("free decay: released from the structure's initial displacement "
+                 "(pdamper simulate)" if r.kind == "release"
+                 else "response to the scenario's [load] history (pdamper simulate)")
+        self.time_plot.title.text = title  # type: ignore[union-attr]  # figure() made a Title
         self.time_text.object = "\n".join(r.lines)
 
     def _solved(self, gen: int, fut: Future, t0: float) -> None:
