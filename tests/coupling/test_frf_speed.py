@@ -1,7 +1,7 @@
 """The forced response's faster paths give the answers of the plain ones: Brent's method in
 lockstep finds scipy's roots bit for bit, the tables made together are the tables made one
-frequency at a time, the one-mode cycle in closed form is the matrix cycle, and harmonic
-balance calls the model a few dozen times, not once per root-finding step."""
+frequency at a time, and harmonic balance calls the model a few dozen times, not once per
+root-finding step."""
 
 from __future__ import annotations
 
@@ -70,27 +70,3 @@ def test_harmonic_balance_calls_the_model_in_rounds_not_per_step():
     assert roots >= 21
     # one call per Brent round (tens), not one per function evaluation (about 10 per root)
     assert _Counting.calls < 80 < 8 * roots
-
-
-@pytest.mark.parametrize(("m", "dm", "f"), [(0.05, 0.0, 5.0), (0.2, 3.0, 5.4), (0.0, 40.0, 2.0)])
-def test_one_mode_cycle_is_the_matrix_cycle(m, dm, f):
-    s = F._modal(PAPER_STRUCTURE)
-    w, phi, zeta = float(s.angular_frequencies[0]), float(s.damper_shape[0]), \
-        float(s.damping_ratios[0])
-    z0 = np.array([1e-3, -2e-2])
-    force = 2.0 + 0.5j
-    om, period = 2 * math.pi * f, 1.0 / f
-    z, hat, transient, forced = F._one_mode_cycle((w, phi**2, zeta), m, dm, force, om, f, z0)
-    # the matrix path of stepped_sine_pseudo_force
-    mass = 1.0 + m * phi**2
-    a = np.array([[0.0, 1.0], [-w * w / mass, -(2 * zeta * w + dm * phi**2) / mass]])
-    b = np.array([0.0, force / mass])  # the force passed is at[0] F, at the damper
-    eye = np.eye(2)
-    zp = np.linalg.solve(1j * om * eye - a, b)
-    e, g = F._propagators(a, period, om, eye)
-    h0 = z0 - zp.real
-    np.testing.assert_allclose(z, zp.real + e @ h0, rtol=1e-12, atol=1e-18)
-    np.testing.assert_allclose(hat, zp + (2.0 / period) * (g @ h0), rtol=1e-12, atol=1e-18)
-    assert transient == pytest.approx(math.sqrt(w * w * h0[0] ** 2 + h0[1] ** 2), rel=1e-12)
-    assert forced == pytest.approx(math.sqrt(w * w * abs(zp[0]) ** 2 + abs(zp[1]) ** 2),
-                                   rel=1e-12)

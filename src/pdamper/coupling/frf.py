@@ -60,7 +60,6 @@ DEM stepped sine makes no such assumption; docs/forced.md compares them.
 
 from __future__ import annotations
 
-import cmath
 import math
 import re
 import time
@@ -985,9 +984,6 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
     # the matrix cycle's constants: modes, I_n, phi phi^T, K, C, the force's shape, I_2n, w
     mats = (n, np.eye(n), np.outer(phi, phi), k0, c0, at, np.eye(2 * n), w)
     z = np.zeros(2 * n)
-    # one mode: w, phi^2 and zeta of the closed-form cycle
-    mode1 = ((float(w[0]), float(phi[0]) ** 2, float(s.damping_ratios[0])) if n == 1
-             else None)
     out = {k: np.full(freqs.size, np.nan) for k in ("amplitude", "phase", "stroke",
                                                     "loss_factor", "effective_mass")}
     mode = np.full(freqs.size, -1)
@@ -1013,14 +1009,8 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
         md = -1
         for _ in range(max_cycles):
             m, dm, md, eta = table.at(max(x_prev, table.stroke[0]))
-            one = _one_mode_cycle(mode1, m, dm, complex(at[0] * force), om, f, z) \
-                if mode1 else None
-            if one is not None:  # the one mode in closed form (no matrix calls)
-                z, hat, transient, forced = one
-                xd_hat, xo_hat = complex(phi[0] * hat[0]), complex(psi[0] * hat[0])
-            else:
-                z, hat, transient, forced = _matrix_cycle(mats, m, dm, force, om, f, z)
-                xd_hat, xo_hat = complex(phi @ hat[:n]), complex(psi @ hat[:n])
+            z, hat, transient, forced = _matrix_cycle(mats, m, dm, force, om, f, z)
+            xd_hat, xo_hat = complex(phi @ hat[:n]), complex(psi @ hat[:n])
             x_prev = abs(xd_hat)
             amps.append(x_prev)
             outs.append(abs(xo_hat))
@@ -1065,52 +1055,6 @@ def _matrix_cycle(mats: tuple, m: float, dm: float, force: complex, om: float, f
     if not np.all(np.isfinite(z)):
         raise SimulationError(f"the stepped sine diverged at {f:g} Hz")
     return z, hat, transient, forced
-
-
-def _one_mode_cycle(mode1: tuple[float, float, float], m: float, dm: float, force: complex,
-                    om: float, f: float, z: np.ndarray):
-    """One load cycle of :func:`stepped_sine_pseudo_force` on a one-mode structure (its
-    ``(w, phi^2, zeta)``) at ``f`` [Hz] in closed form: the state ``z = (q, q')`` after the
-    cycle, the first harmonic ``hat`` of ``(q, q')`` over it, and the transient's and the
-    steady motion's energy norms; ``None`` near critical damping (the two eigenvalues
-    close: the matrix path's exponential).
-
-    With ``M = 1 + m phi^2``, ``k = w^2 / M``, ``c = (2 zeta w + d phi^2) / M`` the cycle's
-    ``A = [[0, 1], [-k, -c]]`` has the eigenvalues ``l1,2 = (-c -+ sqrt(c^2 - 4 k)) / 2``
-    and eigenvectors ``(1, l)``, so that ``e^{A T}`` and ``(A - i W)^-1 (e^{A T} - 1)`` are
-    ``V diag(.) V^-1`` written out, and ``Z = (i W - A)^-1 b`` is ``(1, i W) F / (M (k - W^2
-    + i W c))``."""
-    w, p2, zeta = mode1
-    period = 1.0 / f
-    mass = 1.0 + m * p2
-    k = w * w / mass
-    c = (2.0 * zeta * w + dm * p2) / mass
-    root = cmath.sqrt(c * c - 4.0 * k)
-    l1, l2 = 0.5 * (-c - root), 0.5 * (-c + root)
-    gap = l2 - l1
-    if abs(gap) <= 1e-8 * (abs(l1) + abs(l2)):
-        return None
-    q = force / mass / (k - om * om + 1j * om * c)
-    zp = (q, 1j * om * q)
-    h0, h1 = float(z[0]) - zp[0].real, float(z[1]) - zp[1].real
-    transient = math.sqrt(w * w * h0 * h0 + h1 * h1)
-    forced = math.sqrt(w * w * abs(zp[0]) ** 2 + abs(zp[1]) ** 2)
-    e1, e2 = cmath.exp(l1 * period), cmath.exp(l2 * period)
-    g1, g2 = (e1 - 1.0) / (l1 - 1j * om), (e2 - 1.0) / (l2 - 1j * om)
-
-    def apply(a1: complex, a2: complex) -> tuple[complex, complex]:
-        """``V diag(a1, a2) V^-1 (h0, h1)``."""
-        u = (l2 * h0 - h1) / gap  # V^-1 h0, first component
-        v = (h1 - l1 * h0) / gap  # second
-        return a1 * u + a2 * v, a1 * l1 * u + a2 * l2 * v
-
-    y0, y1 = apply(e1, e2)
-    g0, g1_ = apply(g1, g2)
-    z_next = np.array([zp[0].real + y0.real, zp[1].real + y1.real])
-    hat = (zp[0] + (2.0 / period) * g0, zp[1] + (2.0 / period) * g1_)
-    if not (math.isfinite(z_next[0]) and math.isfinite(z_next[1])):
-        raise SimulationError(f"the stepped sine diverged at {f:g} Hz")
-    return z_next, hat, transient, forced
 
 
 def _scatter(values: Sequence[float]) -> tuple[float, float]:
