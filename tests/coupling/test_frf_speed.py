@@ -70,3 +70,24 @@ def test_harmonic_balance_calls_the_model_in_rounds_not_per_step():
     assert roots >= 21
     # one call per Brent round (tens), not one per function evaluation (about 10 per root)
     assert _Counting.calls < 80 < 8 * roots
+
+
+def test_stepped_sine_holds_each_cycles_state_free_part(monkeypatch):
+    """A step's cycles that return to an (m_eff, d) already seen reuse its propagators:
+    far fewer eigen-decompositions than cycles, and the same curve bit for bit as when
+    every cycle computes its own."""
+    model = AnalyticalDamper(PAPER_DAMPER)
+    load = F.HarmonicLoad("force", 2.0)
+    freqs = np.linspace(4.8, 5.8, 9)
+    calls = []
+    real = F._propagators
+    monkeypatch.setattr(F, "_propagators", lambda *a: calls.append(1) or real(*a))
+    held = F.stepped_sine_pseudo_force(model, PAPER_STRUCTURE, load, freqs, "up", tables={})
+    assert len(calls) < int(held.cycles.sum()) / 3
+    plain_cycle = F._matrix_cycle
+    monkeypatch.setattr(F, "_matrix_cycle", lambda *a: plain_cycle(*a[:7], None))
+    plain = F.stepped_sine_pseudo_force(model, PAPER_STRUCTURE, load, freqs, "up", tables={})
+    for name in ("amplitude", "phase", "stroke", "loss_factor", "amplitude_std"):
+        assert np.array_equal(getattr(held, name), getattr(plain, name), equal_nan=True), name
+    for name in ("cycles", "mode", "steady"):
+        assert np.array_equal(getattr(held, name), getattr(plain, name)), name

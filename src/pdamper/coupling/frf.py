@@ -1003,13 +1003,14 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
                 tables[f] = table
         amps: list[float] = []
         outs: list[float] = []  # the output point's amplitude per cycle
+        held: dict = {}  # the cycle's state-free part per (m_eff, d) of this step
         xo_hat = xd_hat = 0j
         ok = False
         m = dm = eta = 0.0
         md = -1
         for _ in range(max_cycles):
             m, dm, md, eta = table.at(max(x_prev, table.stroke[0]))
-            z, hat, transient, forced = _matrix_cycle(mats, m, dm, force, om, f, z)
+            z, hat, transient, forced = _matrix_cycle(mats, m, dm, force, om, f, z, held)
             xd_hat, xo_hat = complex(phi @ hat[:n]), complex(psi @ hat[:n])
             x_prev = abs(xd_hat)
             amps.append(x_prev)
@@ -1031,25 +1032,37 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
 
 
 def _matrix_cycle(mats: tuple, m: float, dm: float, force: complex, om: float, f: float,
-                  z: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, float]:
+                  z: np.ndarray, held: dict | None = None
+                  ) -> tuple[np.ndarray, np.ndarray, float, float]:
     """One load cycle of :func:`stepped_sine_pseudo_force` on N modes with m_eff ``m`` and
     ``d`` = ``dm`` held (its docstring's exact solution): the state after the cycle, the
     first harmonic of the state over it, and the transient's and the steady motion's
-    energy norms."""
+    energy norms.
+
+    ``held`` keeps, per (m, d) of one frequency step, what does not depend on the state
+    (the steady motion ``Z`` and its norm, the propagators): a step's cycles often return
+    to an (m, d) already seen (a stroke outside the table's grid, an interpolation that
+    settles), and the same inputs give the same numbers, bit for bit."""
     n, eye_n, pp, k0, c0, at, eye, w = mats
     period = 1.0 / f
-    minv = np.linalg.inv(eye_n + m * pp)
-    a = np.zeros((2 * n, 2 * n))
-    a[:n, n:] = eye_n
-    a[n:, :n] = -minv @ k0
-    a[n:, n:] = -minv @ (c0 + dm * pp)
-    b = np.concatenate([np.zeros(n), minv @ at * force])
-    zp = np.linalg.solve(1j * om * eye - a, b)
+    fixed = None if held is None else held.get((m, dm))
+    if fixed is None:
+        minv = np.linalg.inv(eye_n + m * pp)
+        a = np.zeros((2 * n, 2 * n))
+        a[:n, n:] = eye_n
+        a[n:, :n] = -minv @ k0
+        a[n:, n:] = -minv @ (c0 + dm * pp)
+        b = np.concatenate([np.zeros(n), minv @ at * force])
+        zp = np.linalg.solve(1j * om * eye - a, b)
+        forced = math.sqrt(float(np.sum(w * w * np.abs(zp[:n]) ** 2 + np.abs(zp[n:]) ** 2)))
+        e, g = _propagators(a, period, om, eye)
+        fixed = (zp, forced, e, g)
+        if held is not None:
+            held[(m, dm)] = fixed
+    zp, forced, e, g = fixed
     h0 = z - zp.real
     # what is left of the transient: its energy norm against the steady motion's
     transient = math.sqrt(float(np.sum(w * w * h0[:n] ** 2 + h0[n:] ** 2)))
-    forced = math.sqrt(float(np.sum(w * w * np.abs(zp[:n]) ** 2 + np.abs(zp[n:]) ** 2)))
-    e, g = _propagators(a, period, om, eye)
     hat = zp + (2.0 / period) * (g @ h0)
     z = zp.real + e @ h0
     if not np.all(np.isfinite(z)):
