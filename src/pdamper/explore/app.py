@@ -219,8 +219,11 @@ class Page:
         side.objects = [o for o in side.objects if o is not None]
         main = pn.Column(
             self.message, self.status,
-            pn.Row(self.frf_fig, self.map_fig),
-            self.peaks, self.mass, self.offer, self.notes, self.time_fig, self.time_text,
+            # the time view on its own tab, drawn when opened (the page loads faster)
+            pn.Tabs(("forced response and Level II map", pn.Row(self.frf_fig, self.map_fig)),
+                    ("in time (pdamper simulate)", pn.Column(self.time_fig, self.time_text)),
+                    dynamic=True),
+            self.peaks, self.mass, self.offer, self.notes,
             pn.Row(self.dem_button, self.dem_text),
             pn.Row(self.save_path, self.save_button, self.report_button), self.saved)
         tpl = pn.template.BootstrapTemplate(title="pdamper explore", sidebar=[side],
