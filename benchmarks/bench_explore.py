@@ -3,7 +3,8 @@
 The page redraws in two stages (docs/explore.md): the quick views (the bare structure's FRF,
 the Level II map, the mass) in the server's event loop, then the forced response (harmonic
 balance and the stepped sines of the sweep, what ``pdamper frf`` computes) in a worker
-thread while the page keeps answering. This prints both, per fidelity and structure, for a
+thread while the page keeps answering, then the time view (``pdamper simulate``'s release or
+``[load]`` run). This prints them, per fidelity and structure, for a
 sequence of slider values each seen for the first time (no cache), plus a cached revisit.
 
     python benchmarks/bench_explore.py [--grid 3Hz:9Hz:121]
@@ -12,6 +13,7 @@ sequence of slider values each seen for the first time (no cache), plus a cached
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import tempfile
 import time
@@ -43,16 +45,20 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as d:
         for name, base in _cases(Path(d), args.grid).items():
             design.quick(base)  # imports and first compiles out of the figures
-            quick, full = [], []
+            quick, full, cpu, timed = [], [], [], []
             for i in range(args.moves):
                 inputs = base.with_value("particles.count", 33 + i)
-                t0 = time.perf_counter()
+                t0, c0 = time.perf_counter(), time.process_time()
                 design.quick(inputs)
                 t1 = time.perf_counter()
                 design.response(inputs)
                 t2 = time.perf_counter()
                 quick.append(t1 - t0)
                 full.append(t2 - t0)
+                cpu.append(time.process_time() - c0)
+                t3 = time.perf_counter()
+                design.time_response(inputs)  # the time view, solved after the response
+                timed.append(time.perf_counter() - t3)
             t0 = time.perf_counter()
             design.quick(base.with_value("particles.count", 33))
             design.response(base.with_value("particles.count", 33))
@@ -60,7 +66,10 @@ def main() -> None:
             print(f"{name}, analytic, {args.grid}: quick views median "
                   f"{statistics.median(quick) * 1e3:.0f} ms (worst {max(quick) * 1e3:.0f} ms); "
                   f"with the forced response median {statistics.median(full):.2f} s "
-                  f"(worst {max(full):.2f} s); a revisited design {cached * 1e3:.1f} ms")
+                  f"(worst {max(full):.2f} s; CPU median {statistics.median(cpu):.2f} s, "
+                  f"worst {max(cpu):.2f} s); then the time view median "
+                  f"{statistics.median(timed):.2f} s; a revisited design {cached * 1e3:.1f} ms; "
+                  f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
 if __name__ == "__main__":

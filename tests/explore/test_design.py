@@ -151,3 +151,108 @@ def test_the_page_starts_from_the_scenarios_frf_load():
     start = design.scenario_load(Inputs(scenario=example))
     assert (start.load_kind, start.load_text()) == ("unbalance", "1.76kg*mm")
     assert design.scenario_load(Inputs()).load_text() == "2N"  # the paper's: no [frf]
+
+
+def test_map_cells_carry_the_models_assumptions():
+    """Where the analytical model's assumptions fail (a bed of fewer spheres than a layer
+    everywhere; a scattering bed), the map's cells say so with the model's reasons."""
+    inputs = Inputs(frequency=GRID)
+    q = design.quick(inputs)
+    sc = design.scenario_of(inputs)
+    F, X = np.meshgrid(q.map_frequency, q.map_stroke)
+    d = sc.model("analytic", sc.damper()).response(F, X).diagnostics
+    assert np.array_equal(q.map_holds, d["assumptions_hold"])
+    assert np.array_equal(q.map_reasons, d["assumptions"])
+    # scattering cells are among the failing ones, with the reason the model gives
+    scattering = q.map_mode == 5
+    assert scattering.any() and not q.map_holds[scattering].any()
+    few = design.quick(inputs.with_value("particles.count", 3))
+    assert not few.map_holds.any()
+    assert all("not a collected bed" in r for r in few.map_reasons.ravel())
+
+
+def test_failing_points_offer_the_fields_fidelity():
+    # three spheres: not a collected bed anywhere, said once for the design, no point marked
+    few = Inputs(frequency=GRID).with_value("particles.count", 3)
+    res = design.response(few)
+    assert res.holds is not None and not res.holds.any()  # every point of the path
+    q = design.quick(few)
+    common = design.design_wide(q.map_reasons, res.reasons)
+    assert len(common) == 1 and common[0].startswith("not a collected bed")
+    assert not design.marked(res.reasons, common).any()
+    line = design.fields_offer(q, res, "analytic")
+    assert line.startswith("the analytic fidelity's assumptions fail for this design "
+                           "everywhere: not a collected bed (3 sphere(s)")
+    assert "--fields map.nc" in line
+    # the paper's damper: its scattering cells fail on their own, counted and marked
+    paper = Inputs(frequency=GRID)
+    qp, rp = design.quick(paper), design.response(paper)
+    assert design.design_wide(qp.map_reasons, rp.reasons) == []
+    cells = int(np.count_nonzero(~qp.map_holds))
+    points = int(np.count_nonzero(~rp.holds))
+    assert cells > 0
+    assert (f"the analytic fidelity's assumptions fail at {cells} map cell(s) and {points} "
+            "forced-response point(s) (marked x): scattering") in \
+        design.fields_offer(qp, rp, "analytic")
+    # a low load: the path stays where the model holds
+    calm = Inputs(frequency="3Hz:4Hz:5", load_amplitude=0.5)
+    r = design.response(calm)
+    assert r.holds is not None and r.holds.all()
+
+
+def test_bed_mass_derives_the_count_as_optimize_does(tmp_path):
+    """A bed mass instead of a count: the nearest whole number of spheres of the radius and
+    material set (the count of `pdamper optimize`'s bed-mass variable), kept as the radius
+    changes, refused naming the bed mass where it needs more spheres than fit."""
+    import math
+
+    steel = design.scenario_of(Inputs()).damper()
+    sphere = steel.particle_mass  # 4/3 pi r^3 rho of the paper's spheres
+    view = Inputs(frequency=GRID, bed_mass=100.0)
+    d = design.scenario_of(view).damper()
+    assert d.count == round(0.100 / sphere) == 24
+    small = design.scenario_of(view.with_value("particles.radius", 3.0)).damper()
+    assert small.count == round(0.100 / (sphere * (3.0 / (steel.particle_radius * 1e3)) ** 3))
+    assert abs(small.bed_mass - 0.100) < small.particle_mass  # the mass kept, not the count
+    assert math.isclose(design.quick(view).bed_mass, d.bed_mass)
+    with pytest.raises(InputError) as err:
+        design.scenario_of(Inputs(bed_mass=5000.0))
+    assert err.value.field == "bed_mass" and "must be at most" in str(err.value)
+    saved = design.save_scenario(view, tmp_path / "by_mass.toml").read_text()
+    assert "count = 24" in saved
+
+
+def _simulate(*args: object) -> list[str]:
+    out = subprocess.run(command("simulate", *args), capture_output=True, text=True, env=env(),
+                         timeout=300)
+    assert out.returncode == 0, out.stderr
+    return out.stdout.splitlines()
+
+
+def test_free_decay_is_the_simulate_commands(tmp_path):
+    """The time view of a changed design is `pdamper simulate`'s release of the saved
+    scenario: the same decay table, digit for digit, and the trajectory it is read from."""
+    view = Inputs(frequency=GRID).with_value("particles.count", 40)
+    shown = design.time_response(view)
+    assert shown.kind == "release"
+    path = design.save_scenario(view, tmp_path / "decay.toml")
+    printed = _simulate("--scenario", path)
+    assert shown.lines == printed[2:]  # after the structure's line and the model's
+    assert "AnalyticalDamper(count=40)" in printed[1]
+    first = [float(v) for v in printed[3].split()[:2]]
+    assert first == [0.0, pytest.approx(abs(shown.displacement[0]) * 1e3, abs=0.005)]
+
+
+def test_load_response_is_the_simulate_commands():
+    """The machine frame's [load] (its shock): the page's line is `pdamper simulate`'s."""
+    from pathlib import Path
+
+    import pdamper
+
+    example = Path(pdamper.__file__).parents[2] / "examples" / "machine-frame" / "scenario.toml"
+    shown = design.time_response(Inputs(scenario=example).with_value("particles.count", 150))
+    assert shown.kind == "load"
+    printed = _simulate("--scenario", example, "--particles", 150)
+    model_line = [line for line in printed if line.startswith("AnalyticalDamper(count=150)")]
+    assert model_line and model_line[0].split("): ", 1)[1].startswith(shown.lines[0])
+    assert shown.time[-1] == pytest.approx(1.05, abs=1e-3)  # the 50 ms record + 1 s tail

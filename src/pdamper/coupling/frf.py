@@ -512,6 +512,114 @@ def describing_function(model, frequency: float, low: float, high: float,
     return DescribingFunction(frequency, x, m, d, eta, mode)
 
 
+#: Points of the model per call when the tables of many frequencies are made together:
+#: the analytical model's phase scan holds arrays of 256 samples per point.
+TABLE_CHUNK = 2048
+
+
+def describing_functions(model, frequency: Sequence[float], bounds: Sequence[tuple[float, float]],
+                         points: int = DEFAULT_STROKES, field: str = "load"
+                         ) -> list[DescribingFunction]:
+    """:func:`describing_function` at every frequency (strokes in its ``bounds``), the model
+    called on all of them together (in chunks of :data:`TABLE_CHUNK` points): the same
+    tables, each point computed alone by the model as in one call per frequency. A refusal
+    of the model is reported as :func:`describing_function` reports it, naming the
+    frequency."""
+    grids = []
+    for f, (low, high) in zip(frequency, bounds, strict=True):
+        lo, hi = low, high
+        rng = getattr(model, "amplitude_range", None)
+        if rng is not None and getattr(model, "extrapolation", "") == "error":
+            lo, hi = max(lo, rng[0]), min(hi, rng[1])
+            if not lo < hi:  # the message of describing_function
+                return [describing_function(model, f, a, b, points, field)
+                        for f, (a, b) in zip(frequency, bounds, strict=True)]
+        grids.append(np.geomspace(lo, hi, points))
+    if not grids:
+        return []
+    fs = np.repeat(np.asarray(frequency, float), points)
+    xs = np.concatenate(grids)
+    try:
+        parts = [_coefficients(model, fs[i:i + TABLE_CHUNK], xs[i:i + TABLE_CHUNK])
+                 for i in range(0, fs.size, TABLE_CHUNK)]
+    except Exception:  # noqa: BLE001 - frequency by frequency: the first refusal, named
+        return [describing_function(model, f, a, b, points, field)
+                for f, (a, b) in zip(frequency, bounds, strict=True)]
+    m, d, eta, mode = (np.concatenate([p[k] for p in parts]) for k in range(4))
+    return [DescribingFunction(float(f), x, *(a[k * points:(k + 1) * points]
+                                              for a in (m, d, eta, mode)))
+            for k, (f, x) in enumerate(zip(frequency, grids, strict=True))]
+
+
+def _brent(xa: float, xb: float, xtol: float, rtol: float, maxiter: int):
+    """Brent's method on ``[xa, xb]`` as ``scipy.optimize.brentq`` runs it (its C code,
+    step for step), written as a generator: it yields the strokes to evaluate, is sent
+    the function's values and returns the root, so that many roots are found in lockstep
+    with the function evaluated for all of them in one call (:func:`_brent_lockstep`)."""
+    xpre, xcur = xa, xb
+    xblk = fblk = spre = scur = 0.0
+    fpre = yield xpre
+    fcur = yield xcur
+    if fpre == 0:
+        return xpre
+    if fcur == 0:
+        return xcur
+    if math.copysign(1.0, fpre) == math.copysign(1.0, fcur):
+        raise ValueError("f(a) and f(b) must have different signs")
+    for _ in range(maxiter):
+        if fpre != 0 and fcur != 0 and math.copysign(1.0, fpre) != math.copysign(1.0, fcur):
+            xblk, fblk = xpre, fpre
+            spre = scur = xcur - xpre
+        if abs(fblk) < abs(fcur):
+            xpre, xcur, xblk = xcur, xblk, xcur
+            fpre, fcur, fblk = fcur, fblk, fcur
+        delta = (xtol + rtol * abs(xcur)) / 2
+        sbis = (xblk - xcur) / 2
+        if fcur == 0 or abs(sbis) < delta:
+            return xcur
+        if abs(spre) > delta and abs(fcur) < abs(fpre):
+            if xpre == xblk:  # interpolate
+                stry = -fcur * (xcur - xpre) / (fcur - fpre)
+            else:  # extrapolate
+                dpre = (fpre - fcur) / (xpre - xcur)
+                dblk = (fblk - fcur) / (xblk - xcur)
+                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
+            if 2 * abs(stry) < min(abs(spre), 3 * abs(sbis) - delta):
+                spre, scur = scur, stry  # a good short step
+            else:
+                spre = scur = sbis  # bisect
+        else:
+            spre = scur = sbis  # bisect
+        xpre, fpre = xcur, fcur
+        xcur += scur if abs(scur) > delta else (delta if sbis > 0 else -delta)
+        fcur = yield xcur
+    raise RuntimeError(f"failed to converge after {maxiter} iterations, value is {xcur}")
+
+
+def _brent_lockstep(fn: Callable[[Sequence[int], Sequence[float]], Sequence[float]],
+                    brackets: Sequence[tuple[float, float]], *, xtol: float, rtol: float,
+                    maxiter: int) -> list[float]:
+    """The root in each bracket by :func:`_brent`, all advanced together: each round
+    evaluates ``fn(which, xs)`` (the brackets' indices and their strokes) once."""
+    runs = [_brent(a, b, xtol, rtol, maxiter) for a, b in brackets]
+    roots = [math.nan] * len(runs)
+    want = {j: next(r) for j, r in enumerate(runs)}
+    while want:
+        which = list(want)
+        xs = [want[j] for j in which]
+        values = fn(which, xs)
+        want = {}
+        for j, x, v in zip(which, xs, values, strict=True):
+            if math.isnan(v):  # as brentq says it
+                raise ValueError(f"The function value at x={x:f} is NaN; solver cannot "
+                                 "continue.")
+            try:
+                want[j] = runs[j].send(v)
+            except StopIteration as stop:
+                roots[j] = stop.value
+    return roots
+
+
 # ----------------------------------------------------------------------------- results
 #: Branch kinds of the harmonic-balance points.
 STABLE, UNSTABLE, EDGE = "stable", "unstable", "edge"
@@ -754,50 +862,74 @@ def _assumption_variables(ds, prefix: str, dims: tuple[str, str], curves: list) 
 def harmonic_balance(model, structure, load: HarmonicLoad, frequency,
                      strokes: int = DEFAULT_STROKES, tables: dict | None = None) -> FRFCurve:
     """Every steady solution of the describing-function equation at each frequency (module
-    docstring); ``tables`` collects the :class:`DescribingFunction` per frequency."""
-    from scipy.optimize import brentq
+    docstring); ``tables`` collects the :class:`DescribingFunction` per frequency.
 
+    The model is called on all frequencies at once: the tables in one call
+    (:func:`describing_functions`), then every sign change refined by Brent's method in
+    lockstep (:func:`_brent_lockstep`, one call of the model per iteration for all roots),
+    which gives the roots of ``scipy.optimize.brentq`` on each bracket, bit for bit.
+    """
     s = _modal(structure)
     freqs = np.atleast_1d(np.asarray(frequency, float))
-    sols: list[list[tuple]] = []
+    rows = []
     for f in freqs:
         om = 2.0 * math.pi * f
-        applied = load_force(s, load, f)
         force = damper_force(s, load, f)
-        fa = abs(force)
-        h_dd = complex(receptance(s, f))
-        h_od = complex(receptance(s, f, "output", "damper"))
-        h_ol = complex(receptance(s, f, "output", load_point(s, load)))
-        lo, hi = stroke_bounds(s, load, model, f)
-        table = describing_function(model, f, lo, hi, strokes, load.kind)
+        rows.append((float(f), om, load_force(s, load, f), force, abs(force),
+                     complex(receptance(s, f)), complex(receptance(s, f, "output", "damper")),
+                     complex(receptance(s, f, "output", load_point(s, load))),
+                     stroke_bounds(s, load, model, f)))
+    found = describing_functions(model, [r[0] for r in rows], [r[8] for r in rows],
+                                 strokes, load.kind)
+    brackets: list[tuple[int, float, float, bool]] = []  # (row, a, b, G rises)
+    for k, (f, _om, _, _, fa, h_dd, _, _, _) in enumerate(rows):
+        table = found[k]
         if tables is not None:
-            tables[float(f)] = table
+            tables[f] = table
         x = table.stroke
         g = x * np.abs(1.0 / h_dd + table.stiffness()) - fa
-
-        def g_of(v: float, f=f, h_dd=h_dd, fa=fa, om=om) -> float:
-            m, d, _, _ = (float(a) for a in _coefficients(model, f, v))
-            return v * abs(1.0 / h_dd - m * om * om + 1j * om * d) - fa
-
-        here = []
         for i in np.flatnonzero(np.sign(g[:-1]) * np.sign(g[1:]) < 0):
-            a, b = float(x[i]), float(x[i + 1])
-            root = brentq(g_of, a, b, xtol=1e-14, rtol=1e-12, maxiter=200)
-            # a root, or a jump of the describing function across zero (an edge)
-            width = 1e-7 * root
-            ga, gb = g_of(max(root - width, a)), g_of(min(root + width, b))
-            slope = (gb - ga) / (min(root + width, b) - max(root - width, a))
-            scale = fa / root  # |dG/dX| of the bare linear problem
-            kind = (EDGE if abs(gb - ga) > 1e-3 * fa and abs(slope) > 1e4 * scale
-                    else STABLE if g[i + 1] > g[i] else UNSTABLE)
-            m, d, eta, mode = (np.asarray(v).item() for v in _coefficients(model, f, root))
-            kd = -m * om * om + 1j * om * d
-            xd = force / (1.0 / h_dd + kd)
-            xd = xd * (root / abs(xd))  # on the root exactly
-            xo = h_ol * applied - h_od * kd * xd if not s.coincident else xd
-            here.append((abs(xo), float(np.angle(xo / load.reference(om))), root, eta, m,
-                         int(mode), kind == STABLE, kind))
-        sols.append(here)
+            brackets.append((k, float(x[i]), float(x[i + 1]), bool(g[i + 1] > g[i])))
+
+    def g_many(which: Sequence[int], xs: Sequence[float]) -> list[float]:
+        """G(X) at the strokes ``xs`` of the brackets ``which``, one call of the model."""
+        if not len(xs):
+            return []
+        ks = [brackets[j][0] for j in which]
+        m, d, _, _ = _coefficients(model, np.array([rows[k][0] for k in ks]),
+                                   np.array(xs, float))
+        out = []
+        for k, v, mi, di in zip(ks, xs, m, d, strict=True):
+            _, om, _, _, fa, h_dd = rows[k][:6]
+            mi, di = float(mi), float(di)
+            out.append(v * abs(1.0 / h_dd - mi * om * om + 1j * om * di) - fa)
+        return out
+
+    roots = _brent_lockstep(g_many, [(a, b) for _, a, b, _ in brackets],
+                            xtol=1e-14, rtol=1e-12, maxiter=200)
+    # a root, or a jump of the describing function across zero (an edge)
+    lows = [max(r - 1e-7 * r, a) for r, (_, a, _, _) in zip(roots, brackets, strict=True)]
+    highs = [min(r + 1e-7 * r, b) for r, (_, _, b, _) in zip(roots, brackets, strict=True)]
+    idx = list(range(len(brackets)))
+    g_lh = g_many(idx + idx, lows + highs)
+    coef = _coefficients(model, np.array([rows[k][0] for k, _, _, _ in brackets]),
+                         np.array(roots, float)) if brackets else ()
+    sols: list[list[tuple]] = [[] for _ in rows]
+    for j, (k, _, _, rises) in enumerate(brackets):
+        _, om, applied, force, fa, h_dd, h_od, h_ol, _ = rows[k]
+        root = roots[j]
+        ga, gb = g_lh[j], g_lh[len(brackets) + j]
+        slope = (gb - ga) / (highs[j] - lows[j])
+        scale = fa / root  # |dG/dX| of the bare linear problem
+        kind = (EDGE if abs(gb - ga) > 1e-3 * fa and abs(slope) > 1e4 * scale
+                else STABLE if rises else UNSTABLE)
+        m, d, eta, mode = (np.asarray(v[j]).item() for v in coef)
+        kd = -m * om * om + 1j * om * d
+        xd = force / (1.0 / h_dd + kd)
+        xd = xd * (root / abs(xd))  # on the root exactly
+        xo = h_ol * applied - h_od * kd * xd if not s.coincident else xd
+        sols[k].append((abs(xo), float(np.angle(xo / load.reference(om))), root, eta, m,
+                        int(mode), kind == STABLE, kind))
     k = max(1, max(len(v) for v in sols))
     n = freqs.size
     arr = {name: np.full((n, k), np.nan) for name in ("amplitude", "phase", "stroke",
@@ -875,7 +1007,8 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
     at = s.load_shape if load.at_load_point else phi  # where the force acts
     c0 = np.diag(2.0 * s.damping_ratios * w)
     k0 = np.diag(w * w)
-    eye = np.eye(2 * n)
+    # the matrix cycle's constants: modes, I_n, phi phi^T, K, C, the force's shape, I_2n, w
+    mats = (n, np.eye(n), np.outer(phi, phi), k0, c0, at, np.eye(2 * n), w)
     z = np.zeros(2 * n)
     out = {k: np.full(freqs.size, np.nan) for k in ("amplitude", "phase", "stroke",
                                                     "loss_factor", "effective_mass")}
@@ -887,7 +1020,6 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
     for i in _sweep_order(freqs, direction):
         f = float(freqs[i])
         om = 2.0 * math.pi * f
-        period = 1.0 / f
         force = load_force(s, load, f)
         table = None if tables is None else tables.get(f)
         if table is None:
@@ -897,29 +1029,14 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
                 tables[f] = table
         amps: list[float] = []
         outs: list[float] = []  # the output point's amplitude per cycle
+        held: dict = {}  # the cycle's state-free part per (m_eff, d) of this step
         xo_hat = xd_hat = 0j
         ok = False
         m = dm = eta = 0.0
         md = -1
         for _ in range(max_cycles):
             m, dm, md, eta = table.at(max(x_prev, table.stroke[0]))
-            minv = np.linalg.inv(np.eye(n) + m * np.outer(phi, phi))
-            a = np.zeros((2 * n, 2 * n))
-            a[:n, n:] = np.eye(n)
-            a[n:, :n] = -minv @ k0
-            a[n:, n:] = -minv @ (c0 + dm * np.outer(phi, phi))
-            b = np.concatenate([np.zeros(n), minv @ at * force])
-            zp = np.linalg.solve(1j * om * eye - a, b)
-            h0 = z - zp.real
-            # what is left of the transient: its energy norm against the steady motion's
-            transient = math.sqrt(float(np.sum(w * w * h0[:n] ** 2 + h0[n:] ** 2)))
-            forced = math.sqrt(float(np.sum(w * w * np.abs(zp[:n]) ** 2
-                                            + np.abs(zp[n:]) ** 2)))
-            e, g = _propagators(a, period, om, eye)
-            hat = zp + (2.0 / period) * (g @ h0)
-            z = zp.real + e @ h0
-            if not np.all(np.isfinite(z)):
-                raise SimulationError(f"the stepped sine diverged at {f:g} Hz")
+            z, hat, transient, forced = _matrix_cycle(mats, m, dm, force, om, f, z, held)
             xd_hat, xo_hat = complex(phi @ hat[:n]), complex(psi @ hat[:n])
             x_prev = abs(xd_hat)
             amps.append(x_prev)
@@ -938,6 +1055,45 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
                     loss_factor=out["loss_factor"], effective_mass=out["effective_mass"],
                     mode=mode, steady=steady, cycles=cycles, amplitude_mean=spread[0],
                     amplitude_std=spread[1])
+
+
+def _matrix_cycle(mats: tuple, m: float, dm: float, force: complex, om: float, f: float,
+                  z: np.ndarray, held: dict | None = None
+                  ) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """One load cycle of :func:`stepped_sine_pseudo_force` on N modes with m_eff ``m`` and
+    ``d`` = ``dm`` held (its docstring's exact solution): the state after the cycle, the
+    first harmonic of the state over it, and the transient's and the steady motion's
+    energy norms.
+
+    ``held`` keeps, per (m, d) of one frequency step, what does not depend on the state
+    (the steady motion ``Z`` and its norm, the propagators): a step's cycles often return
+    to an (m, d) already seen (a stroke outside the table's grid, an interpolation that
+    settles), and the same inputs give the same numbers, bit for bit."""
+    n, eye_n, pp, k0, c0, at, eye, w = mats
+    period = 1.0 / f
+    fixed = None if held is None else held.get((m, dm))
+    if fixed is None:
+        minv = np.linalg.inv(eye_n + m * pp)
+        a = np.zeros((2 * n, 2 * n))
+        a[:n, n:] = eye_n
+        a[n:, :n] = -minv @ k0
+        a[n:, n:] = -minv @ (c0 + dm * pp)
+        b = np.concatenate([np.zeros(n), minv @ at * force])
+        zp = np.linalg.solve(1j * om * eye - a, b)
+        forced = math.sqrt(float(np.sum(w * w * np.abs(zp[:n]) ** 2 + np.abs(zp[n:]) ** 2)))
+        e, g = _propagators(a, period, om, eye)
+        fixed = (zp, forced, e, g)
+        if held is not None:
+            held[(m, dm)] = fixed
+    zp, forced, e, g = fixed
+    h0 = z - zp.real
+    # what is left of the transient: its energy norm against the steady motion's
+    transient = math.sqrt(float(np.sum(w * w * h0[:n] ** 2 + h0[n:] ** 2)))
+    hat = zp + (2.0 / period) * (g @ h0)
+    z = zp.real + e @ h0
+    if not np.all(np.isfinite(z)):
+        raise SimulationError(f"the stepped sine diverged at {f:g} Hz")
+    return z, hat, transient, forced
 
 
 def _scatter(values: Sequence[float]) -> tuple[float, float]:

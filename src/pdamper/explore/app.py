@@ -36,6 +36,13 @@ POLL = 0.5
 
 _MODE_NAMES = ["solid-like", "single CaC", "single CaC subh.", "double CaC",
                "double CaC subh.", "scattering", "rattling"]
+#: A colour per motion mode on the map (code -> colour; -1, none: grey).
+_MODE_COLOURS = {0: "#7f7f7f", 1: "#2ca02c", 2: "#98df8a", 3: "#1f77b4", 4: "#aec7e8",
+                 5: "#ff7f0e", 6: "#9467bd"}
+
+
+def _mode_name(code: int) -> str:
+    return _MODE_NAMES[int(code)] if 0 <= int(code) < len(_MODE_NAMES) else "none"
 
 
 def _dem_point(inputs: Inputs, frequency: float, stroke: float) -> dict[str, Any]:
@@ -101,6 +108,7 @@ class Page:
         if "particles.count" in self.widgets:
             self.widgets["particles.count"].end = max(int(sc.damper().max_count),
                                                       self.widgets["particles.count"].value)
+        self._bed_widgets(base, sc.damper())
         mats = design.materials()
         self.particle_material = pn.widgets.Select(
             name="particle material", options=mats, value=_name(sc.particles.material, mats))
@@ -139,7 +147,10 @@ class Page:
         self.peaks = pn.pane.Markdown("", css_classes=["peaks"])
         self.mass = pn.pane.Markdown("", css_classes=["mass"])
         self.notes = pn.pane.Markdown("", css_classes=["notes"])
+        self.offer = pn.pane.Alert("", alert_type="warning", visible=False,
+                                   css_classes=["offer"])
         self.dem_text = pn.pane.Markdown("", css_classes=["dem"])
+        self.time_text = pn.pane.Str("", css_classes=["time-lines"])
         self.saved = pn.pane.Markdown("", css_classes=["saved"])
         self.save_path = pn.widgets.TextInput(name="scenario file",
                                               value=str(out_dir / "explored.toml"))
@@ -154,6 +165,22 @@ class Page:
         self._figures()
         self.dem_points: list[dict[str, Any]] = []
         self.response: design.Response | None = None
+
+    def _bed_widgets(self, base: Inputs, damper0: Any) -> None:
+        """The bed's mass instead of the count: the count derived from it for the radius
+        and material set (pdamper optimize's bed-mass variable)."""
+        self.count_from = pn.widgets.RadioButtonGroup(
+            name="bed given by", options=["count", "bed mass"],
+            value="count" if base.bed_mass is None else "bed mass", css_classes=["count-from"])
+        self.bed_mass = pn.widgets.FloatSlider(
+            name="bed mass [g]", start=0.0,
+            end=max(1000.0, round(damper0.max_count * damper0.particle_mass * 1e3)),
+            step=1.0, value=float(base.bed_mass if base.bed_mass is not None
+                                  else round(damper0.bed_mass * 1e3)),
+            disabled=base.bed_mass is None, sizing_mode="stretch_width",
+            css_classes=["ctl-bed-mass"])
+        self.count_from.param.watch(self._on_bed_mass, "value")
+        self.bed_mass.param.watch(self._on_bed_mass, "value_throttled")
 
     def _controls(self, sc: Any) -> None:
         """A slider per control, with its declaration (key, allowed range) in a tooltip."""
@@ -180,7 +207,8 @@ class Page:
     def layout(self) -> pn.template.BaseTemplate:
         row = self.rows.get
         side = pn.Column(
-            "### Damper", row("particles.count"), row("particles.radius"),
+            "### Damper", self.count_from, row("particles.count"), self.bed_mass,
+            row("particles.radius"),
             self.particle_material, row("container.length"), row("container.width"),
             row("container.depth"), self.container_material, row("container.mass"),
             row("particles.friction"),
@@ -191,8 +219,11 @@ class Page:
         side.objects = [o for o in side.objects if o is not None]
         main = pn.Column(
             self.message, self.status,
-            pn.Row(self.frf_fig, self.map_fig),
-            self.peaks, self.mass, self.notes,
+            # the time view on its own tab, drawn when opened (the page loads faster)
+            pn.Tabs(("forced response and Level II map", pn.Row(self.frf_fig, self.map_fig)),
+                    ("in time (pdamper simulate)", pn.Column(self.time_fig, self.time_text)),
+                    dynamic=True),
+            self.peaks, self.mass, self.offer, self.notes,
             pn.Row(self.dem_button, self.dem_text),
             pn.Row(self.save_path, self.save_button, self.report_button), self.saved)
         tpl = pn.template.BootstrapTemplate(title="pdamper explore", sidebar=[side],
@@ -204,7 +235,7 @@ class Page:
         self.frf_src = {n: ColumnDataSource(data={"f": [], "x": []})
                         for n in ("bare", "up", "down")}
         self.hb_src = {n: ColumnDataSource(data={"f": [], "x": []}) for n in ("s", "u", "e")}
-        p = figure(title="forced response at the output point", height=380, width=560,
+        p = figure(title="forced response at the output point", height=470, width=560,
                    x_axis_label="frequency [Hz]", y_axis_label="amplitude [mm]",
                    tools="pan,wheel_zoom,box_zoom,reset,save")
         p.line("f", "x", source=self.frf_src["bare"], color="gray", line_dash="dashed",
@@ -219,24 +250,54 @@ class Page:
                   legend_label="harmonic balance, unstable")
         p.scatter("f", "x", source=self.hb_src["e"], color="purple", size=4,
                   marker="triangle", legend_label="harmonic balance, edge")
+        self.frf_fail_src = ColumnDataSource(data={"f": [], "x": [], "why": []})
+        p.scatter("f", "x", source=self.frf_fail_src, color="red", size=9, marker="x",
+                  line_width=2, legend_label="analytical assumptions fail")
         p.legend.click_policy = "hide"
         p.legend.label_text_font_size = "8pt"
+        p.legend.ncols = 2  # below the curves, which it would hide
+        p.add_layout(p.legend[0], "below")
         self.frf_fig = pn.pane.Bokeh(p)
         self.map_src = ColumnDataSource(data={"image": [np.zeros((2, 2))], "x": [0], "y": [0],
                                               "dw": [1], "dh": [1]})
         self.path_src = ColumnDataSource(data={"f": [], "x": []})
         self.dem_src = ColumnDataSource(data={"f": [], "x": [], "eta": [], "label": []})
         self.mapper = LinearColorMapper(palette="Viridis256", low=0, high=1)
-        m = figure(title="damper loss factor (Level II) and operating path", height=380,
+        m = figure(title="damper loss factor (Level II), motion modes and operating path",
+                   height=470,
                    width=520, x_axis_label="frequency [Hz]",
                    y_axis_label="container stroke [mm]", tools="pan,wheel_zoom,reset,save")
         m.image("image", x="x", y="y", dw="dw", dh="dh", source=self.map_src,
                 color_mapper=self.mapper)  # type: ignore[call-arg]  # bokeh's stubs lag
         m.line("f", "x", source=self.path_src, color="white", line_width=2,
                legend_label="operating path (sweep up)")
+        # the motion mode of every cell, a colour per mode (hover: eta, mode, assumptions)
+        self.cell_src = ColumnDataSource(data={"f": [], "x": [], "eta": [], "mode": [],
+                                               "colour": [], "why": []})
+        cells = m.scatter("f", "x", source=self.cell_src, size=5, color="colour",
+                          line_color="black", line_width=0.3, legend_field="mode")
+        self.fail_src = ColumnDataSource(data={"f": [], "x": []})
+        m.scatter("f", "x", source=self.fail_src, size=8, marker="x", color="red",
+                  line_width=1.5, legend_label="analytical assumptions fail")
         m.scatter("f", "x", source=self.dem_src, size=12, marker="star", color="red",
                   line_color="white", legend_label="DEM check")
+        from bokeh.models import HoverTool
+
+        m.add_tools(HoverTool(renderers=[cells], tooltips=[
+            ("f", "@f{0.00} Hz"), ("stroke", "@x{0.000} mm"), ("eta", "@eta{0.000}"),
+            ("mode", "@mode"), ("assumptions", "@why")]))
+        m.legend.click_policy = "hide"
+        # below the map, in columns: the modes' dots would hide the map inside it
+        m.legend.ncols = 3
+        m.add_layout(m.legend[0], "below")
         m.add_layout(ColorBar(color_mapper=self.mapper, title="eta"), "right")
+        self.time_src = ColumnDataSource(data={"t": [], "x": []})
+        t = figure(title="in time: pdamper simulate of this design", height=260, width=1080,
+                   x_axis_label="time [s]", y_axis_label="displacement [mm]",
+                   tools="pan,wheel_zoom,box_zoom,reset,save")
+        t.line("t", "x", source=self.time_src, color="#1f77b4")
+        self.time_plot = t
+        self.time_fig = pn.pane.Bokeh(t)
         m.legend.label_text_font_size = "8pt"
         self.map_fig = pn.pane.Bokeh(m)
 
@@ -246,6 +307,18 @@ class Page:
             self.inputs = self.inputs.with_value(key, event.new)
             self._schedule()
         return changed
+
+    def _on_bed_mass(self, _event=None) -> None:
+        by_mass = self.count_from.value == "bed mass"
+        self.bed_mass.disabled = not by_mass
+        if "particles.count" in self.widgets:
+            self.widgets["particles.count"].disabled = by_mass
+        self.inputs = dataclasses.replace(
+            self.inputs, bed_mass=float(self.bed_mass.value or 0.0) if by_mass else None)
+        if not by_mass and "particles.count" in self.widgets:
+            self.inputs = self.inputs.with_value("particles.count",
+                                                 self.widgets["particles.count"].value)
+        self._schedule()
 
     def _on_load(self, _event=None) -> None:
         kind = self.load_kind.value
@@ -280,6 +353,11 @@ class Page:
             self._fail(exc)
             return
         self.message.visible = False
+        if self.inputs.bed_mass is not None and "particles.count" in self.widgets:
+            w = self.widgets["particles.count"]
+            n = int(design.with_derived_count(self.inputs).overrides()["particles.count"])
+            w.end = max(w.end, n)
+            w.value = n  # shown, not sent: the count follows the bed mass
         doc = pn.state.curdoc
 
         def redraw() -> None:
@@ -296,6 +374,29 @@ class Page:
                 return
             doc.add_next_tick_callback(lambda: self._solved(gen, f, t0))
         fut.add_done_callback(done)
+        in_time = _SOLVER.submit(design.time_response, inputs)
+
+        def timed(f: Future) -> None:
+            if doc is not None:
+                doc.add_next_tick_callback(lambda: self._timed(gen, f))
+        in_time.add_done_callback(timed)
+
+    def _timed(self, gen: int, fut: Future) -> None:
+        """The time view (free decay or load response) when it is computed."""
+        if gen != self.generation:
+            return
+        try:
+            self._draw_time(fut.result())
+        except (PdamperError, ValueError) as exc:
+            self.time_text.object = f"error: {exc}"
+
+    def _draw_time(self, r: design.TimeResponse) -> None:
+        self.time_src.data = {"t": r.time, "x": r.displacement * 1e3}
+        title = ("free decay: released from the structure's initial displacement "
+                 "(pdamper simulate)" if r.kind == "release"
+                 else "response to the scenario's [load] history (pdamper simulate)")
+        self.time_plot.title.text = title  # type: ignore[union-attr]  # figure() made a Title
+        self.time_text.object = "\n".join(r.lines)
 
     def _solved(self, gen: int, fut: Future, t0: float) -> None:
         if gen != self.generation:
@@ -325,6 +426,21 @@ class Page:
                              "dh": [max(x1 - x0, 1e-9)]}
         finite = eta[np.isfinite(eta)]
         self.mapper.high = float(max(finite.max(), 1e-3)) if finite.size else 1.0
+        F, X = np.meshgrid(q.map_frequency, q.map_stroke * 1e3)
+        codes = q.map_mode.ravel()
+        why = ([""] * codes.size if q.map_reasons is None
+               else [str(r) or "hold" for r in np.ravel(q.map_reasons)])
+        self.cell_src.data = {"f": F.ravel(), "x": X.ravel(), "eta": eta.ravel(),
+                              "mode": [_mode_name(c) for c in codes],
+                              "colour": [_MODE_COLOURS.get(int(c), "#bbbbbb") for c in codes],
+                              "why": why}
+        # marked: the cells failing on their own (a design-wide reason is said once)
+        common = design.design_wide(q.map_reasons, None if self.response is None
+                                    else self.response.reasons)
+        own = (np.zeros(codes.shape, bool) if q.map_reasons is None
+               else np.ravel(design.marked(q.map_reasons, common)))
+        self.fail_src.data = {"f": F.ravel()[own], "x": X.ravel()[own]}
+        self._offer()
         limit = self.mass_limit.value
         self.mass.object = "**mass** " + design.mass_text(q, None if not limit
                                                            else limit * 1e-3)
@@ -352,6 +468,25 @@ class Page:
         self.path_src.data = ({"f": r.frequency, "x": path.stroke * 1e3} if path is not None
                               else {"f": [], "x": []})
         self.peaks.object = "\n".join(f"- `{line}`" for line in res.peak_lines)
+        common = design.design_wide(self.quick.map_reasons if getattr(self, "quick", None)
+                                    else None, res.reasons)
+        bad = (np.zeros(r.frequency.size, bool) if res.reasons is None
+               else design.marked(res.reasons, common))
+        x_path = (path.amplitude * 1e3 if path is not None else np.full(r.frequency.size,
+                                                                         np.nan))
+        self.frf_fail_src.data = {"f": r.frequency[bad], "x": x_path[bad],
+                                  "why": [str(w) for w in np.asarray(res.reasons)[bad]]
+                                  if res.reasons is not None else []}
+        self._offer()
+
+    def _offer(self) -> None:
+        """The fields fidelity offered where the analytical model's assumptions fail."""
+        q = getattr(self, "quick", None)
+        if q is None:
+            return
+        text = design.fields_offer(q, self.response, self.fidelity.value)
+        self.offer.object = text
+        self.offer.visible = bool(text)
 
     # ---- DEM check, save, report ----------------------------------------------------------
     def _dem(self, _event=None) -> None:

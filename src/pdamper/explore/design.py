@@ -109,6 +109,7 @@ class Inputs:
     sweep: str = "both"
     model: str | None = None             # fidelity; None = the scenario's [simulation] model
     fields: Path | None = None
+    bed_mass: float | None = None        # [g]; set: the count is derived from it (below)
 
     def with_value(self, key: str, value: Any) -> Inputs:
         rest = tuple((k, v) for k, v in self.values if k != key)
@@ -154,10 +155,36 @@ def scenario_load(inputs: Inputs) -> Inputs:
 
 def scenario_of(inputs: Inputs) -> Scenario:
     """The scenario the page shows: the base scenario with the page's values on top (judged
-    as the command line judges them: an :class:`~pdamper.errors.InputError` naming the key)."""
+    as the command line judges them: an :class:`~pdamper.errors.InputError` naming the key);
+    with a bed mass the count derived from it (:func:`with_derived_count`)."""
     from pdamper.io.scenario import load_scenario
 
-    return load_scenario(inputs.scenario, inputs.overrides())
+    return load_scenario(inputs.scenario, with_derived_count(inputs).overrides())
+
+
+def with_derived_count(inputs: Inputs) -> Inputs:
+    """``inputs`` with the particle count of its bed mass, where one is set: the nearest
+    whole number of spheres of the radius and material set, as ``pdamper optimize``'s
+    ``bed-mass`` variable derives it (:func:`pdamper.design.study.apply_design`); a bed
+    mass that needs more spheres than fit is refused naming ``bed_mass``."""
+    if inputs.bed_mass is None:
+        return inputs
+    from pdamper.design.study import apply_design
+    from pdamper.errors import InputError
+    from pdamper.io.scenario import load_scenario
+
+    if not (math.isfinite(inputs.bed_mass) and inputs.bed_mass >= 0):
+        raise InputError("bed_mass", f"must be >= 0 g, got {inputs.bed_mass:g} g")
+    rest = dataclasses.replace(inputs, bed_mass=None)
+    damper = load_scenario(rest.scenario, rest.overrides()).damper()
+    try:
+        count = apply_design(damper.with_count(0), {"bed_mass": inputs.bed_mass * 1e-3}).count
+    except InputError as exc:  # more spheres than fit: said of the bed mass
+        most = damper.max_count * damper.particle_mass * 1e3
+        raise InputError("bed_mass", f"must be at most {most:.0f} g "
+                         f"({damper.max_count} spheres of this radius and material fit), "
+                         f"got {inputs.bed_mass:g} g ({exc.message})") from None
+    return rest.with_value("particles.count", count)
 
 
 def scenario_toml(inputs: Inputs) -> str:
@@ -170,6 +197,7 @@ def scenario_toml(inputs: Inputs) -> str:
     """
     import tomli_w
 
+    inputs = with_derived_count(inputs)
     base: dict[str, Any] = {}
     if inputs.scenario is not None:
         base = tomllib.loads(Path(inputs.scenario).read_text(encoding="utf-8"))
@@ -238,6 +266,11 @@ class Quick:
     container_mass: float                 # [kg]
     unused: dict[str, str] = field(default_factory=dict)
     seconds: float = 0.0
+    #: whether the fidelity's assumptions hold at each map cell, and why not ("" where
+    #: they do; the analytical model's ``assumptions`` diagnostics; all True for a
+    #: fidelity without such checks)
+    map_holds: np.ndarray | None = None
+    map_reasons: np.ndarray | None = None
 
 
 @dataclass
@@ -247,6 +280,10 @@ class Response:
     frf: FRFResult
     peak_lines: list[str]                 # `pdamper frf`'s peak lines, verbatim
     seconds: float = 0.0
+    #: per frequency, whether the fidelity's assumptions hold where the upward sweep
+    #: (else the one run) drives the damper, and why not ("" where they do)
+    holds: np.ndarray | None = None
+    reasons: np.ndarray | None = None
 
 
 def _resolved(inputs: Inputs, sc: Scenario) -> tuple[Any, np.ndarray]:
@@ -274,10 +311,10 @@ def quick(inputs: Inputs) -> Quick:
     load, freqs = _resolved(inputs, sc)
     damper = sc.damper()
     bare = np.abs(linear_frf(_modal(_acting(sc)), load, freqs))
-    mf, ms, eta, mode = level2_map(sc, damper, inputs.model, freqs)
+    mf, ms, eta, mode, holds, why = _level2(sc, damper, inputs.model, freqs)
     return Quick(freqs, bare, mf, ms, eta, mode, float(damper.bed_mass),
                  float(sc.container.mass), unused_inputs(sc, inputs.model),
-                 time.perf_counter() - t0)
+                 time.perf_counter() - t0, holds, why)
 
 
 @functools.lru_cache(maxsize=64)
@@ -297,7 +334,156 @@ def response(inputs: Inputs) -> Response:
                              sweep=inputs.sweep)
     peaks = [line for line in _table(res)
              if any(line.startswith(f"{s}: peak") for s in res.sweeps)]
-    return Response(res, peaks, time.perf_counter() - t0)
+    path = res.sweeps.get("up") or next(iter(res.sweeps.values()), None)
+    holds = why = None
+    if path is not None:
+        holds, why = assumptions(sc, damper, inputs.model, res.frequency, path.stroke)
+    return Response(res, peaks, time.perf_counter() - t0, holds, why)
+
+
+def assumptions(sc: Scenario, damper: Any, name: str | None, frequency: np.ndarray,
+                stroke: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Whether the fidelity's assumptions hold at the points (f [Hz], X [m]) and why not:
+    the model's ``assumptions_hold`` and ``assumptions`` diagnostics (the analytical
+    model's, :func:`~pdamper.analysis.analytical.assumption_checks`); all hold for a
+    fidelity without them, an empty bed, or a point the fidelity refuses (that point is
+    not drawn)."""
+    f = np.asarray(frequency, float)
+    x = np.asarray(stroke, float)
+    holds = np.ones(np.broadcast(f, x).shape, bool)
+    why = np.full(holds.shape, "", dtype=object)
+    ok = np.isfinite(f) & np.isfinite(x) & (x > 0)
+    if damper.count == 0 or not np.any(ok):
+        return holds, why
+    try:
+        r = sc.model(name, damper).response(np.broadcast_to(f, holds.shape)[ok],
+                                            np.broadcast_to(x, holds.shape)[ok])
+    except Exception:  # noqa: BLE001 - a refused point has no assumptions to judge
+        return holds, why
+    d = r.diagnostics or {}
+    if "assumptions_hold" in d:
+        holds[ok] = np.ravel(d["assumptions_hold"])
+        why[ok] = np.ravel(d["assumptions"])
+    return holds, why
+
+
+def design_wide(*reasons: np.ndarray | None) -> list[str]:
+    """The reasons shared by every point of the arrays of :func:`assumptions`' reasons (a
+    bed of fewer spheres than a layer, a clearance the lattice does not give): they fail
+    the whole design, not a point; [] where any point holds."""
+    common: set[str] | None = None
+    for arr in reasons:
+        if arr is None:
+            continue
+        for r in np.ravel(arr):
+            parts = set(_split(str(r)))
+            common = parts if common is None else common & parts
+            if not common:
+                return []
+    return sorted(common or ())
+
+
+def _split(reason: str) -> list[str]:
+    """The single reasons of a ``"; "``-joined reason text (each ends with the fidelity to
+    use there, ``...; use dem``)."""
+    out: list[str] = []
+    parts = reason.split("; ")
+    for p in parts:
+        if p.startswith("use ") and out:
+            out[-1] += "; " + p
+        elif p:
+            out.append(p)
+    return out
+
+
+def marked(reasons: np.ndarray | None, common: list[str]) -> np.ndarray:
+    """Points whose assumptions fail for a reason of their own (beyond the design-wide
+    ones): the points the page marks."""
+    if reasons is None:
+        return np.zeros(0, bool)
+    flat = [set(_split(str(r))) - set(common) for r in np.ravel(reasons)]
+    return np.array([bool(r) for r in flat], bool).reshape(np.shape(reasons))
+
+
+def fields_offer(views: Quick, res: Response | None, fidelity: str) -> str:
+    """The line the page shows where the fidelity's assumptions fail: those that fail the
+    whole design, how many map cells and forced-response points fail on their own (the
+    marked ones) and why, and the fidelity to use there (a fields map from the DEM,
+    ``--fields map.nc``); "" where they hold everywhere."""
+    path = None if res is None else res.reasons
+    common = design_wide(views.map_reasons, path)
+    cells = int(np.count_nonzero(marked(views.map_reasons, common)))
+    points = int(np.count_nonzero(marked(path, common)))
+    if not common and not cells and not points:
+        return ""
+    said = []
+    if common:
+        said.append(f"the {fidelity} fidelity's assumptions fail for this design everywhere: "
+                    + "; ".join(r.split("; use")[0] for r in common))
+    if cells or points:
+        own = [r for arr in (path, views.map_reasons) if arr is not None
+               for p in np.ravel(arr) for r in _split(str(p)) if r not in common]
+        who = "also" if common else f"the {fidelity} fidelity's assumptions"
+        first = own[0].split("; use")[0] if own else ""
+        said.append(f"{who} fail at {cells} map cell(s) and {points} forced-response "
+                    f"point(s) (marked x): {first}")
+    return ("; ".join(said) + ". There a DEM map answers: `pdamper map --scenario "
+            "<saved>.toml --model dem --out map.nc`, then `pdamper explore --scenario "
+            "<saved>.toml --fields map.nc` (fidelity: fields)")
+
+
+@dataclass
+class TimeResponse:
+    """The design in time, as ``pdamper simulate`` runs it for the scenario: the release
+    from the structure's initial displacement (its free decay) or, where the scenario
+    has a ``[load]``, the response to that history."""
+
+    kind: str                             # "release" or "load"
+    time: np.ndarray                      # [s]
+    displacement: np.ndarray              # output point [m]
+    lines: list[str]                      # `pdamper simulate`'s lines for the run
+    run: Any                              # FreeVibrationResult or LoadResponse
+    seconds: float = 0.0
+
+
+@functools.lru_cache(maxsize=32)
+def time_response(inputs: Inputs) -> TimeResponse:
+    """What ``pdamper simulate --scenario <saved>`` computes for the page's design, by the
+    same calls (the model of the page's fidelity): the release
+    (:class:`~pdamper.coupling.Simulation` from ``structure.initial_displacement`` over
+    ``simulation.duration``) or, with a ``[load]``, the load history
+    (:func:`~pdamper.coupling.loads.run_load` with the ``[load]`` tail), its cost judged
+    first as the command judges it; the lines are the command's (its decay table, or its
+    peak and RMS line) without the wall time."""
+    t0 = time.perf_counter()
+    sc = scenario_of(inputs)
+    damper = sc.damper()
+    model = sc.model(inputs.model, damper)
+    if sc.load.given:
+        from pdamper.coupling.loads import acting_at, check_cost, check_model, run_load
+
+        history = sc.load.history()
+        assert history is not None  # a given [load] has its history
+        structure = acting_at(sc.structure_model(), sc.load.at)
+        check_model(model, structure)
+        check_cost(model, structure, history, sc.simulation.sample_rate, sc.load.tail, False)
+        lr = run_load(model, structure, history, sc.simulation.sample_rate, sc.load.tail)
+        rel = " (relative to the base)" if history.kind != "force" else ""
+        lines = [f"peak {lr.peak * 1e3:.3f} mm, RMS {lr.rms * 1e3:.3f} mm{rel}; acceleration "
+                 f"peak {lr.peak_acceleration:.4g} m/s^2, RMS {lr.rms_acceleration:.4g} "
+                 f"m/s^2; damper dissipated {lr.dissipated_energy:.4g} J"]
+        return TimeResponse("load", np.asarray(lr.time), np.asarray(lr.displacement), lines,
+                            lr, time.perf_counter() - t0)
+    from pdamper.cli.simulate import _table
+    from pdamper.coupling import Simulation
+    from pdamper.runs.resources import check_resources
+
+    structure = sc.structure_model()
+    check_resources(sc, "simulation", inputs.model, force=False)
+    r = Simulation(structure, model, sc.structure.initial_displacement).run(
+        sc.simulation.duration, sc.simulation.sample_rate)
+    return TimeResponse("release", np.asarray(r.time), np.asarray(r.displacement),
+                        _table("", r)[1:], r, time.perf_counter() - t0)
 
 
 #: Points of the Level II map: strokes from a twentieth of to this many times the damper's
@@ -313,6 +499,14 @@ def level2_map(sc: Scenario, damper: Any, name: str | None, freqs: np.ndarray
     """Loss factor and motion mode of the damper over (frequency x stroke): the Level II
     field the structure's operating path runs through. Cells outside the fidelity's range
     (a fields map's grid) stay blank (NaN, mode -1)."""
+    mf, ms, eta, mode, _, _ = _level2(sc, damper, name, freqs)
+    return mf, ms, eta, mode
+
+
+def _level2(sc: Scenario, damper: Any, name: str | None, freqs: np.ndarray
+            ) -> tuple[np.ndarray, ...]:
+    """:func:`level2_map` and the :func:`assumptions` of its cells (from the same call of
+    the model where it answers the whole map at once)."""
     top = max(float(damper.optimal_stroke), 1e-4) * MAP_TOP
     mf = np.linspace(float(freqs[0]), float(freqs[-1]), MAP_FREQUENCIES)
     ms = np.geomspace(top / 80.0, top, MAP_STROKES)
@@ -320,14 +514,21 @@ def level2_map(sc: Scenario, damper: Any, name: str | None, freqs: np.ndarray
     F, X = np.meshgrid(mf, ms)
     eta = np.full(F.shape, np.nan)
     mode = np.full(F.shape, -1, dtype=int)
+    holds = np.ones(F.shape, bool)
+    why = np.full(F.shape, "", dtype=object)
     if damper.count == 0:
-        return mf, ms, np.zeros(F.shape), mode
+        return mf, ms, np.zeros(F.shape), mode, holds, why
     try:
         r = model.response(F.ravel(), X.ravel())
-        return (mf, ms, np.asarray(r.loss_factor, dtype=float).reshape(F.shape),
-                np.asarray(r.mode, dtype=int).reshape(F.shape))
     except Exception:  # noqa: BLE001 - the map point by point: a refused cell stays blank
         pass
+    else:
+        d = r.diagnostics or {}
+        if "assumptions_hold" in d:
+            holds = np.asarray(d["assumptions_hold"], bool).reshape(F.shape)
+            why = np.asarray(d["assumptions"], dtype=object).reshape(F.shape)
+        return (mf, ms, np.asarray(r.loss_factor, dtype=float).reshape(F.shape),
+                np.asarray(r.mode, dtype=int).reshape(F.shape), holds, why)
     for i, j in np.ndindex(F.shape):
         try:
             r = model.response(F[i, j], X[i, j])
@@ -335,7 +536,8 @@ def level2_map(sc: Scenario, damper: Any, name: str | None, freqs: np.ndarray
             continue
         eta[i, j] = float(np.ravel(r.loss_factor)[0])
         mode[i, j] = int(np.ravel(r.mode)[0])
-    return mf, ms, eta, mode
+    holds, why = assumptions(sc, damper, name, F, X)
+    return mf, ms, eta, mode, holds, why
 
 
 def unused_inputs(sc: Scenario, name: str | None) -> dict[str, str]:

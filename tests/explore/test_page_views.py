@@ -1,0 +1,118 @@
+"""The page's views drawn from the design layer, without a browser: the map's cells carry
+their motion mode, the points where the analytical model's assumptions fail are marked on
+the map and the forced response, and the fields fidelity is offered there."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+pytest.importorskip("panel")
+pytest.importorskip("tomli_w")
+
+from pdamper.explore import app, design  # noqa: E402
+from pdamper.explore.design import Inputs  # noqa: E402
+
+GRID = "3Hz:9Hz:31"
+
+
+def _page(tmp_path, inputs: Inputs) -> app.Page:
+    page = app.Page(inputs, app.DEMChecks(), tmp_path)
+    page.inputs = inputs
+    page.quick = design.quick(inputs)
+    page._draw_quick()
+    return page
+
+
+def test_map_cells_show_their_motion_mode(tmp_path):
+    page = _page(tmp_path, Inputs(frequency=GRID))
+    q = page.quick
+    data = page.cell_src.data
+    assert len(data["mode"]) == q.map_mode.size
+    # the cell at (stroke 7, frequency 5): its mode's name and colour, its eta
+    k = 7 * q.map_frequency.size + 5
+    code = int(q.map_mode[7, 5])
+    assert data["mode"][k] == app._MODE_NAMES[code]
+    assert data["colour"][k] == app._MODE_COLOURS[code]
+    assert data["eta"][k] == pytest.approx(q.map_loss_factor[7, 5])
+    assert len(set(data["mode"])) >= 3  # solid-like, collect-and-collide, scattering
+
+
+def test_failing_assumptions_are_marked_and_the_fields_fidelity_offered(tmp_path):
+    page = _page(tmp_path, Inputs(frequency=GRID))
+    q = page.quick
+    # the scattering cells, and only the failing ones, are marked
+    assert len(page.fail_src.data["f"]) == int(np.count_nonzero(~q.map_holds)) > 0
+    assert page.offer.visible and "--fields map.nc" in page.offer.object
+    res = design.response(page.inputs)
+    page.response = res
+    page._draw_response(res)
+    assert len(page.frf_fail_src.data["f"]) == int(np.count_nonzero(~res.holds))
+
+
+def test_nothing_offered_where_the_assumptions_hold(tmp_path):
+    page = _page(tmp_path, Inputs(frequency="3Hz:4Hz:5", load_amplitude=0.5))
+    q = page.quick
+    page.response = design.response(page.inputs)
+    page._draw_response(page.response)
+    assert len(page.frf_fail_src.data["f"]) == 0
+    if q.map_holds.all():
+        assert not page.offer.visible
+    else:  # the map reaches strokes the path does not: only those cells are counted
+        assert "0 forced-response point(s)" in page.offer.object
+
+
+def test_bed_mass_slider_sets_the_count(tmp_path):
+    page = _page(tmp_path, Inputs(frequency=GRID))
+    page.count_from.value = "bed mass"  # the watcher schedules the views (no document)
+    page.bed_mass.value = 100.0
+    page._on_bed_mass()
+    assert page.inputs.bed_mass == 100.0
+    assert page.widgets["particles.count"].disabled
+    assert page.widgets["particles.count"].value == 24  # round(100 g / 4.14 g)
+    page.count_from.value = "count"
+    assert page.inputs.bed_mass is None and page.bed_mass.disabled
+    assert not page.widgets["particles.count"].disabled
+    assert dict(page.inputs.values)["particles.count"] == 24  # the count the mass gave
+
+
+def test_time_view_draws_the_simulate_run(tmp_path):
+    inputs = Inputs(frequency=GRID)
+    page = _page(tmp_path, inputs)
+    r = design.time_response(inputs)
+    page._draw_time(r)
+    assert np.array_equal(page.time_src.data["x"], r.displacement * 1e3)
+    assert "free decay" in page.time_plot.title.text
+    assert "final amplitude" in page.time_text.object
+
+
+@pytest.mark.long
+def test_report_button_reports_the_saved_design(tmp_path):
+    """"Report" saves the view and runs `pdamper report` on it: the report appears beside
+    the saved scenario and its inputs are the page's design (28 spheres of 4.5 mm)."""
+    import asyncio
+    import json
+
+    inputs = (Inputs(frequency=GRID).with_value("particles.count", 28)
+              .with_value("particles.radius", 4.5))
+    page = _page(tmp_path, inputs)
+    page.save_path.value = str(tmp_path / "mine.toml")
+    asyncio.run(page._report())
+    out = tmp_path / "mine-report"
+    assert (out / "report.html").is_file(), page.saved.object
+    assert "report written" in page.saved.object
+    saved = (tmp_path / "mine.toml").read_text()
+    assert "count = 28" in saved and 'radius = "4.5 mm"' in saved
+    particles = json.loads((out / "results.json").read_text())["inputs"]["particles"]
+    assert particles["count"] == 28 and particles["radius"] == pytest.approx(0.0045)
+    assert "paper benchmark damper" in (out / "report.html").read_text()
+
+
+def test_a_design_wide_failure_is_said_once_not_marked_everywhere(tmp_path):
+    page = _page(tmp_path, Inputs(frequency=GRID).with_value("particles.count", 3))
+    q = page.quick
+    # not a collected bed: everywhere, said once; marked only the cells failing on their
+    # own too (scattering)
+    own = [r for r in q.map_reasons.ravel() if "scattering" in r]
+    assert len(page.fail_src.data["f"]) == len(own) < q.map_reasons.size
+    assert page.offer.visible and "for this design everywhere" in page.offer.object
