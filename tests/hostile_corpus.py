@@ -737,7 +737,7 @@ _MODES_HEAD = "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n"
 FILES.update({
     "modes_50.csv": _MODES_HEAD + "".join(f"{5.56 * k:.3f}, 0.01, 0.5\n" for k in range(1, 51)),
     "modes_3000.csv": _MODES_HEAD + "".join(f"{5.56 * k:.3f}, 0.01, 0.5\n"
-                                            for k in range(1, 1001)),
+                                            for k in range(1, 3001)),
 })
 SCENARIOS.update({
     "modes_50": '[structure]\nmodes = "modes_50.csv"\n',

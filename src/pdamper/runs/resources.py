@@ -204,31 +204,62 @@ def _check_simulation(sc: Scenario, damper: ParticleDamper, cls: type[DamperMode
 
 #: Pseudo-force coupling on N modes (:mod:`pdamper.coupling.modal`), per damper update:
 #: one-core seconds per entry of the 2N x 2N state matrix cubed (its eigen-decomposition,
-#: condition number and solve; measured 1-5 ns for N = 100-400), per entry of the state
-#: matrix squared and scan sample (the closed-form state at each sample of the scan for the
-#: next minimum; measured 0.25-0.6 ns), and bytes per state entry and scan sample (the
-#: complex exponentials, their product with the eigenvectors and its real part, at once).
-MODAL_SECONDS_PER_STATE_CUBED = 5e-9
-MODAL_SECONDS_PER_STATE_SQUARED_SAMPLE = 1e-9
-MODAL_BYTES_PER_STATE_SAMPLE = 16 * 5
+#: condition number and solve) and per entry of the state matrix squared and scan sample
+#: (the closed-form state at each sample scanned for the next minimum, about two first-mode
+#: periods of them). Measured (one core, 2-core machine under load, one update per run,
+#: modes from 5 Hz up at 1 % damping): 1.5-1.9 s per update at N = 400 (2 400 samples per
+#: scanned period), 8.9 s at 700 (4 200), 26.5 s at 1 000 (6 000) and 57 s at 1 000 with
+#: modes up to 5.6 kHz (12 000); the eigen-decomposition alone 0.49 s and one scan 0.58 s
+#: at N = 400. These constants give 2.0 / 10.7 / 31 / 50 s: within 20 %, mostly above.
+MODAL_SECONDS_PER_STATE_CUBED = 1.5e-9
+MODAL_SECONDS_PER_STATE_SQUARED_SAMPLE = 8e-10
+#: Bytes per state entry and scan sample (the complex exponentials and their product with
+#: the eigenvectors, held at once: three complex arrays) and per entry of the 2N x 2N state
+#: matrix (it and its eigenvectors, held through the scan). Measured peak resident memory
+#: above the process's 0.1 GB: 0.28 GB at N = 700, 0.51 GB at 1 000, 0.89 GB at 1 000 up to
+#: 5.6 kHz; these constants give 0.35 / 0.70 / 1.28 GB.
+MODAL_BYTES_PER_STATE_SAMPLE = 16 * 3
+MODAL_BYTES_PER_STATE_ENTRY = 16 * 2
 #: Scan samples per first-mode period and per period of the fastest mode
 #: (:mod:`pdamper.coupling.modal`'s scan step).
 MODAL_SCAN_PER_PERIOD, MODAL_SCAN_PER_FAST_PERIOD = 400, 12
 
 
 def modal_free_vibration_cost(structure: Any, duration: float, sample_rate: float,
-                              drivers: Sequence[tuple] = ()) -> resources.Cost:
+                              drivers: Sequence[tuple] = (), *,
+                              what: str = "the modal free vibration",
+                              runs: float = 1.0) -> resources.Cost:
     """What the pseudo-force free vibration of an N-mode ``structure`` (a
     :class:`~pdamper.structure.modal.ModalStructure`) of ``duration`` [s] sampled at
     ``sample_rate`` [Hz] costs, judged from the mode count and the modes' frequencies
     before any matrix is built: per damper update (one per first-mode period, ``duration
     f_1 + 1`` of them) an eigen-decomposition of the 2N x 2N state matrix, ~(2N)^3, and a
-    scan of ``max(400, 12 f_N / f_1)`` samples of the state, ~(2N)^2 each and held at once;
-    the stored trajectory, N x the samples. The mode count is named when it is too high.
+    scan of ``max(400, 12 f_N / f_1)`` samples per period of the state, ~(2N)^2 each and
+    held at once; the stored trajectory, N x the samples. ``runs`` such runs one after
+    another (a design study's candidates) cost ``runs`` times the time. The mode count is
+    named when it is too high, with the most modes that fit the limits.
     """
     n = int(structure.modes)
-    freqs = np.asarray(structure.frequencies, float)
-    f1, fmax = float(freqs.min()), float(freqs.max())
+    freqs = np.sort(np.asarray(structure.frequencies, float))
+    cost = _modal_cost(freqs, duration, sample_rate, runs)
+    seconds, memory, updates, scan = cost
+    state = 2 * n
+    detail = (f"{n} modes ({freqs[0]:.3g}-{freqs[-1]:.3g} Hz), {updates:.3g} damper updates "
+              f"of a {state} x {state} state scanned at {scan:.3g} samples per period")
+    if runs != 1:
+        detail = f"{runs:.3g} runs, each {detail}"
+    return resources.Cost(
+        what, seconds, memory, detail, (("structure.modes", float(n)), *drivers),
+        runs=int(min(max(runs, 1.0), 2**62)), longest=seconds / max(runs, 1.0),
+        remedy=_modes_allowed(freqs, duration, sample_rate, runs))
+
+
+def _modal_cost(freqs: np.ndarray, duration: float, sample_rate: float,
+                runs: float = 1.0) -> tuple[float, float, float, float]:
+    """(seconds, bytes, damper updates, scan samples per period) of
+    :func:`modal_free_vibration_cost` for the ascending mode frequencies ``freqs`` [Hz]."""
+    n = freqs.size
+    f1, fmax = float(freqs[0]), float(freqs[-1])
     state = 2.0 * n
     scan = max(MODAL_SCAN_PER_PERIOD, MODAL_SCAN_PER_FAST_PERIOD * fmax / f1)
     updates = duration * f1 + 1.0
@@ -236,14 +267,28 @@ def modal_free_vibration_cost(structure: Any, duration: float, sample_rate: floa
                   + MODAL_SECONDS_PER_STATE_SQUARED_SAMPLE * state**2 * scan)
     samples = duration * sample_rate + 1.0
     memory = (MODAL_BYTES_PER_STATE_SAMPLE * state * scan
-              + resources.FRF_BYTES_PER_STATE_ENTRY * state**2 + 8.0 * (n + 3) * samples)
-    return resources.Cost(
-        "the modal free vibration", updates * per_update, memory,
-        f"{n} modes ({f1:.3g}-{fmax:.3g} Hz), {updates:.3g} damper updates of a "
-        f"{int(state)} x {int(state)} state scanned at {scan:.3g} samples per period",
-        (("structure.modes", float(n)), *drivers),
-        remedy="give structure.modes fewer modes (the first few carry a damper's response) "
-               "or shorten simulation.duration")
+              + MODAL_BYTES_PER_STATE_ENTRY * state**2 + 8.0 * (n + 3) * samples)
+    return runs * updates * per_update, memory, updates, scan
+
+
+def _modes_allowed(freqs: np.ndarray, duration: float, sample_rate: float,
+                   runs: float) -> str:
+    """What the limits allow: the most of the first modes whose run stays within the
+    usual limits of :func:`pdamper.resources.require`."""
+    def fits(k: int) -> bool:
+        seconds, memory, _, _ = _modal_cost(freqs[:k], duration, sample_rate, runs)
+        longest = seconds / max(runs, 1.0)
+        return (memory <= resources.MEMORY_LIMIT and longest <= resources.TIME_LIMIT
+                and (runs <= 1 or seconds <= resources.SWEEP_TIME_LIMIT))
+
+    if not fits(1):
+        return "shorten the run"  # not even one mode fits: the duration drives it
+    lo, hi = 1, int(freqs.size)
+    while lo < hi:  # the cost grows with the first k modes
+        mid = (lo + hi + 1) // 2
+        lo, hi = (mid, hi) if fits(mid) else (lo, mid - 1)
+    return (f"give structure.modes at most {lo} modes (the first {lo} fit the limits; the "
+            "first few carry a damper's response) or shorten the run")
 
 
 def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperModel],
