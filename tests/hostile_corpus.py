@@ -824,3 +824,14 @@ CASES += [
 HEADROOM.update({name: 2**30 for name in (
     "simulate-modes-3000", "simulate-modes-3000-scenario",
     "report-uncertainty-65536", "simulate-uncertainty-65536")})
+
+# -- a design study on N modes: every candidate's modal free vibration costed from the mode
+# count (the same cost as one free vibration, times the candidates), refused before any run
+CASES += [
+    ("optimize-modes-3000", ["optimize", "--modes", "{tmp}/modes_3000.csv"],
+     Error("structure.modes")),
+    ("optimize-modes-3000-scenario", ["optimize", "--scenario", "{scenario:modes_3000}"],
+     Error("structure.modes")),
+]
+HEADROOM.update({name: 2**30 for name in ("optimize-modes-3000",
+                                          "optimize-modes-3000-scenario")})

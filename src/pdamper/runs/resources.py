@@ -334,6 +334,10 @@ def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperMo
     one = cls.free_vibration_cost(damper, duration, 200.0, structure.natural_frequency,
                                   sc.settings_of(cls), x0=sc.structure.initial_displacement,
                                   count=max(1, round(counts[-1] / 2)) if counts else 1)
+    if int(getattr(structure, "modes", 1)) > 1 and cls.coupling != "co_simulation":
+        # every candidate's free vibration on the N modes (the DEM couples one mode only)
+        req(modal_free_vibration_cost(structure, duration, 200.0, drivers,
+                                      what="the optimisation", runs=candidates), force)
     req(resources.Cost(
         "the optimisation", one.seconds * candidates,
         one.memory + candidates * resources.BYTES_PER_CANDIDATE,
