@@ -214,11 +214,14 @@ def _check_simulation(sc: Scenario, damper: ParticleDamper, cls: type[DamperMode
 MODAL_SECONDS_PER_STATE_CUBED = 1.5e-9
 MODAL_SECONDS_PER_STATE_SQUARED_SAMPLE = 8e-10
 #: Bytes per state entry and scan sample (the complex exponentials and their product with
-#: the eigenvectors, held at once: three complex arrays) and per entry of the 2N x 2N state
-#: matrix (it and its eigenvectors, held through the scan). Measured peak resident memory
-#: above the process's 0.1 GB: 0.28 GB at N = 700, 0.51 GB at 1 000, 0.89 GB at 1 000 up to
-#: 5.6 kHz; these constants give 0.35 / 0.70 / 1.28 GB.
-MODAL_BYTES_PER_STATE_SAMPLE = 16 * 3
+#: the eigenvectors, held at once: three complex arrays, more where a segment's slowest
+#: oscillation is slower than the first mode's and its scan longer) and per entry of the
+#: 2N x 2N state matrix (it and its eigenvectors, held through the scan). Measured peak
+#: resident memory above the process's 0.1 GB: one update 0.28 GB at N = 700, 0.51 GB at
+#: 1 000, 0.89 GB at 1 000 up to 5.6 kHz; the whole 2 s run of 1 000 modes (10 updates)
+#: 1.4 GB, in 974 s wall on the loaded 2-core machine. These constants give 0.77 / 1.47 /
+#: 2.8 GB: the whole run is covered, and 1 000 modes up to 5.6 kHz is refused (2 GiB).
+MODAL_BYTES_PER_STATE_SAMPLE = 16 * 7
 MODAL_BYTES_PER_STATE_ENTRY = 16 * 2
 #: Scan samples per first-mode period and per period of the fastest mode
 #: (:mod:`pdamper.coupling.modal`'s scan step).
