@@ -851,3 +851,24 @@ CASES += [
 ]
 HEADROOM.update({name: 2**30 for name in ("simulate-modes-1000-fast",
                                           "simulate-modes-1000-fast-scenario")})
+
+# -- one judge of every load against the physics limits (runs.resources.check_load): load
+# histories by the bare structure's response to their largest spectral line, before any run
+FILES["load_force_huge.csv"] = "time [s], force [N]\n" + "".join(
+    f"{k * 5e-3:.3f}, {1e6 * __import__('math').sin(2 * __import__('math').pi * 5 * k * 5e-3):.1f}\n"
+    for k in range(401))
+SCENARIOS.update({
+    "load_force_huge": '[load]\nforce = "load_force_huge.csv"\n',
+    "load_acc_huge": '[load]\nbase_acceleration = "load_acc_huge.csv"\n',
+})
+CASES += [
+    ("simulate-load-force-huge", ["simulate", "--load", "{tmp}/load_force_huge.csv"],
+     Error("load")),
+    ("simulate-load-force-huge-scenario", ["simulate", "--scenario",
+                                           "{scenario:load_force_huge}"], Error("load")),
+    ("simulate-base-acceleration-huge", ["simulate", "--base-acceleration",
+                                         "{tmp}/load_acc_huge.csv"], Error("base_acceleration")),
+    ("simulate-base-acceleration-huge-scenario", ["simulate", "--scenario",
+                                                  "{scenario:load_acc_huge}"],
+     Error("base_acceleration")),
+]

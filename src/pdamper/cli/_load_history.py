@@ -48,6 +48,9 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
     structure = acting_at(sc.structure_model(), sc.load.at)
     for m in models.values():  # every compared model, its structure and cost, before any run
         check_model(m, structure)
+    from pdamper.runs.resources import check_load_history
+
+    check_load_history(sc, structure, history)  # against the physics limits, before any run
     for m in models.values():
         check_cost(m, structure, history, sc.simulation.sample_rate, tail, force)
     runs, seconds = {}, {}

@@ -384,13 +384,63 @@ def _check_frf_objective(sc: Scenario, damper: ParticleDamper, cls: type[DamperM
     x = np.array([abs(complex(receptance(s_, f))) * abs(harmonic_force(s_, load, f))
                   for f in band])
     k = int(np.argmax(x))
+    check_load(damper, float(band[k]), float(x[k]),
+               fields=("optimization.band", "optimization.frf_load"),
+               gravity=sc.excitation.gravity)
+
+
+def check_load(damper: ParticleDamper, frequency: float, stroke: float, *,
+               fields: tuple[str, str], gravity: float) -> None:
+    """The one judge of a load against the physics limits: refuse a load that drives the
+    bare structure's damper point through ``stroke`` [m] at ``frequency`` [Hz] where a
+    damper's motion there would have no physical meaning
+    (:func:`pdamper.resources.check_motion`: the stroke, the impact speed against the bar
+    wave speed, the contact frequency). ``fields``: the frequency's and the load's names
+    (the load's is named when the speed is too high)."""
     try:
-        resources.check_motion(damper, float(band[k]), float(x[k]),
-                               fields=("optimization.band", "optimization.frf_load"),
-                               usual=(math.inf, 0.0), gravity=sc.excitation.gravity)
+        resources.check_motion(damper, frequency, stroke, fields=fields,
+                               usual=(math.inf, 0.0), gravity=gravity)
     except InputError as exc:
-        raise InputError(exc.field, f"the load drives the bare structure to {x[k]:.3g} m at "
-                         f"{band[k]:.3g} Hz: {exc.message}") from None
+        raise InputError(exc.field, f"the load drives the bare structure to {stroke:.3g} m "
+                         f"at {frequency:.3g} Hz: {exc.message}") from None
+
+
+def check_load_history(scenario: Scenario, structure: Any, history: Any) -> None:
+    """Judge a load history (:class:`~pdamper.coupling.loads.LoadHistory`: a force at the
+    structure's load point, or a base acceleration of a one-mode structure) by
+    :func:`check_load`, before any run: the bare structure's linear response of the damper
+    point to each line of the record's spectrum (the record resampled on its finest step,
+    at most 2^16 samples), its largest line taken as a steady motion, as the
+    forced-response objectives judge a harmonic load. A base acceleration of an N-mode
+    structure is not judged here (its modal forces need the coupling's participation
+    factors)."""
+    from pdamper.coupling.frf import HarmonicLoad, _modal, load_force, receptance
+
+    field = "load" if history.kind == "force" else "base_acceleration"
+    t = np.asarray(history.time, float)
+    v = np.asarray(history.values, float)
+    span = float(t[-1] - t[0])
+    if span <= 0 or not np.any(v):
+        return
+    n = int(min(2**16, max(16, span / max(float(np.min(np.diff(t))), span / 2**16) + 1)))
+    grid = np.linspace(t[0], t[-1], n)
+    line = 2.0 * np.abs(np.fft.rfft(np.interp(grid, t, v))) / n
+    f = np.fft.rfftfreq(n, span / (n - 1))
+    keep = f > 0
+    f, line = f[keep], line[keep]
+    s = _modal(structure)
+    if history.kind == "force":
+        x = np.abs(receptance(s, f, "damper", "load")) * line
+    elif s.modes == 1 and np.array_equal(s.damper_shape, s.output_shape):
+        # the absolute motion of a 1-DOF's damper point under the base's
+        x = np.array([abs(complex(receptance(s, fk))
+                          * load_force(s, HarmonicLoad("base", 1.0, acceleration=True), fk))
+                      for fk in f]) * line
+    else:  # N modes: the coupling's participation factors carry it (not judged here)
+        return
+    k = int(np.argmax(x))
+    check_load(scenario.damper(), float(f[k]), float(x[k]), fields=(field, field),
+               gravity=scenario.excitation.gravity)
 
 
 def check_frf(scenario: Scenario, model: str | None, frequencies: Sequence[float] | np.ndarray,
@@ -485,6 +535,7 @@ def frf_sample_cost(scenario: Scenario, frequencies: int) -> resources.Cost:
                                         ("structure.modes", float(n))])
 
 
-__all__ = ["FRF_OVERRIDE", "RUNS", "USUAL_EXCITATION", "check_frf", "check_resources",
+__all__ = ["FRF_OVERRIDE", "RUNS", "USUAL_EXCITATION", "check_frf", "check_load",
+           "check_load_history", "check_resources",
            "check_runs", "excitation_cost", "frf_cost", "frf_sample_cost",
            "modal_free_vibration_cost"]
