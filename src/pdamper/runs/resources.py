@@ -333,6 +333,11 @@ def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperMo
                      * (damper.max_count / d0.max_count), True),)
     if o.objective in ("peak-frf", "rms-frf"):
         _check_frf_objective(sc, damper, cls, candidates, force, req)
+    history = sc.load.history() if o.objective in ("peak", "rms") else None
+    if history is not None:  # the load objectives' history, as simulate judges it
+        from pdamper.coupling.loads import acting_at
+
+        check_load_history(sc, acting_at(structure, sc.load.at), history)
     # one candidate; where the time grows with the count, the mean count stands for all
     one = cls.free_vibration_cost(damper, duration, 200.0, structure.natural_frequency,
                                   sc.settings_of(cls), x0=sc.structure.initial_displacement,
