@@ -742,7 +742,7 @@ _MODES_HEAD = "frequency [Hz], damping ratio [1], damper [kg^-0.5]\n"
 FILES.update({
     "modes_50.csv": _MODES_HEAD + "".join(f"{5.56 * k:.3f}, 0.01, 0.5\n" for k in range(1, 51)),
     "modes_3000.csv": _MODES_HEAD + "".join(f"{5.56 * k:.3f}, 0.01, 0.5\n"
-                                            for k in range(1, 1001)),
+                                            for k in range(1, 3001)),
 })
 SCENARIOS.update({
     "modes_50": '[structure]\nmodes = "modes_50.csv"\n',
@@ -829,3 +829,58 @@ CASES += [
 HEADROOM.update({name: 2**30 for name in (
     "simulate-modes-3000", "simulate-modes-3000-scenario",
     "report-uncertainty-65536", "simulate-uncertainty-65536")})
+
+# -- a design study on N modes: every candidate's modal free vibration costed from the mode
+# count (the same cost as one free vibration, times the candidates), refused before any run
+CASES += [
+    ("optimize-modes-3000", ["optimize", "--modes", "{tmp}/modes_3000.csv"],
+     Error("structure.modes")),
+    ("optimize-modes-3000-scenario", ["optimize", "--scenario", "{scenario:modes_3000}"],
+     Error("structure.modes")),
+]
+HEADROOM.update({name: 2**30 for name in ("optimize-modes-3000",
+                                          "optimize-modes-3000-scenario")})
+
+# -- 1 000 modes: from 5 Hz to 2.5 kHz the free vibration runs within the limits (measured:
+# docs/performance.md); up to 5.6 kHz the scan of the fastest mode needs more memory than
+# the limit, judged from the count and the frequencies before any matrix is built
+FILES["modes_1000_fast.csv"] = _MODES_HEAD + "".join(f"{5.56 * k:.3f}, 0.01, 0.5\n"
+                                                     for k in range(1, 1001))
+SCENARIOS["modes_1000_fast"] = '[structure]\nmodes = "modes_1000_fast.csv"\n'
+CASES += [
+    ("simulate-modes-1000-fast", ["simulate", "--modes", "{tmp}/modes_1000_fast.csv"],
+     Error("structure.modes")),
+    ("simulate-modes-1000-fast-scenario", ["simulate", "--scenario",
+                                           "{scenario:modes_1000_fast}"],
+     Error("structure.modes")),
+]
+HEADROOM.update({name: 2**30 for name in ("simulate-modes-1000-fast",
+                                          "simulate-modes-1000-fast-scenario")})
+
+# -- one judge of every load against the physics limits (runs.resources.check_load): load
+# histories by the bare structure's response to their largest spectral line, before any run
+FILES["load_force_huge.csv"] = "time [s], force [N]\n" + "".join(
+    f"{k * 5e-3:.3f}, {1e6 * __import__('math').sin(2 * __import__('math').pi * 5 * k * 5e-3):.1f}\n"
+    for k in range(401))
+SCENARIOS.update({
+    "load_force_huge": '[load]\nforce = "load_force_huge.csv"\n',
+    "load_acc_huge": '[load]\nbase_acceleration = "load_acc_huge.csv"\n',
+})
+CASES += [
+    ("simulate-load-force-huge", ["simulate", "--load", "{tmp}/load_force_huge.csv"],
+     Error("load")),
+    ("simulate-load-force-huge-scenario", ["simulate", "--scenario",
+                                           "{scenario:load_force_huge}"], Error("load")),
+    ("optimize-peak-load-force-huge", ["optimize", "--objective", "peak", "--load",
+                                       "{tmp}/load_force_huge.csv", "--vary",
+                                       "particles=0:32:32"], Error("load")),
+    ("optimize-rms-base-acceleration-huge", ["optimize", "--objective", "rms",
+                                             "--base-acceleration", "{tmp}/load_acc_huge.csv",
+                                             "--vary", "particles=0:32:32"],
+     Error("base_acceleration")),
+    ("simulate-base-acceleration-huge", ["simulate", "--base-acceleration",
+                                         "{tmp}/load_acc_huge.csv"], Error("base_acceleration")),
+    ("simulate-base-acceleration-huge-scenario", ["simulate", "--scenario",
+                                                  "{scenario:load_acc_huge}"],
+     Error("base_acceleration")),
+]

@@ -1,6 +1,8 @@
-"""Numbers promised, numbers delivered: every value of the JSON of ``simulate`` (free decay,
-load histories, base motion, measured data) and ``analytic`` is a finite number, or null
-and listed with its reason in a sibling ``not_applicable`` (``{key: reason}``)."""
+"""Numbers promised, numbers delivered: every value of the JSON of every command with JSON
+output (``simulate``: free decay, load histories, base motion, measured data; ``analytic``,
+``optimize``, ``cor``, ``cor-sensitivity``, ``dem``, ``map``, ``frf``, ``report``,
+``paper``) is a finite number, or null and listed with its reason in a sibling
+``not_applicable`` (``{key: reason}``)."""
 
 from __future__ import annotations
 
@@ -83,16 +85,52 @@ CASES = {
                           "--max-evaluations", "8"],
     "optimize-infeasible": ["optimize", "--vary", "radius=20mm:30mm:2"],
     "optimize-peak-frf": ["optimize", "--scenario", "{tmp}/study_peak_frf.toml"],
+    # every other command with JSON output, each run kept to seconds
+    "cor": ["cor"],
+    "cor-table": ["cor", "--model", "{tmp}/cor.csv"],
+    "cor-sensitivity": ["cor-sensitivity", "--variants", "{tmp}/cor.csv", "--points",
+                        "10Hz/32mm", "--no-level3", "--cycles", "3", "--skip-cycles", "1",
+                        "--scenario", "{tmp}/four_spheres.toml"],
+    "map": ["map", "--frequency", "2Hz:4Hz:2", "--amplitude", "1mm:2mm:2"],
+    "frf": ["frf", "--frequency", "5Hz:6Hz:3"],
+    "frf-base": ["frf", "--base", "0.05g", "--frequency", "4Hz:7Hz:4"],
+    "frf-modes": ["frf", "--frequency", "5Hz:7Hz:3", "--scenario",
+                  "{tmp}/beam_three_modes.toml"],
+    "report": ["report", "--out", "{tmp}/report"],
+    "paper": ["paper", "--no-dem", "--out", "{tmp}/paper"],
 }
 
 
-@pytest.mark.parametrize("name", list(CASES))
+#: ``pdamper dem``: its ``protocol`` holds a null ``seed`` (lattice start) and
+#: ``transient_tolerance`` (no transient) without reasons, and a reason beside the number
+#: ``gear_tolerance`` (Verlet), as tests/models/test_dem_damper.py asserts of
+#: ``DEMDamper.protocol``: open until the protocol and that test agree with this rule.
+_DEM_PROTOCOL = pytest.mark.xfail(strict=True, reason="DEMDamper.protocol's nulls without "
+                                  "reasons (asserted by test_dem_damper)")
+CASES_DEM = {
+    "dem": ["dem", "--particles", "4", "--cycles", "2", "--skip-cycles", "1"],
+    "dem-verlet": ["dem", "--particles", "4", "--cycles", "2", "--skip-cycles", "1",
+                   "--integrator", "verlet"],
+}
+
+
+@pytest.mark.parametrize("name", [*CASES, *(pytest.param(n, marks=_DEM_PROTOCOL)
+                                            for n in CASES_DEM)])
 def test_every_number_is_finite_or_not_applicable(cli, files, name):
-    args = [a.replace("{tmp}", str(files)) for a in CASES[name]]
+    args = [a.replace("{tmp}", str(files)) for a in {**CASES, **CASES_DEM}[name]]
     code, out, err = cli(*args, "--json")
     assert code == 0, err
     data = json.loads(out)
     assert unexplained(data) == []
+
+
+def test_a_short_dem_run_says_why_it_has_no_standard_error(cli):
+    code, out, err = cli("dem", "--particles", "4", "--cycles", "2", "--skip-cycles", "1",
+                         "--json")
+    assert code == 0, err
+    data = json.loads(out)
+    assert data["loss_factor_stderr"] is None
+    assert "cycle" in data["not_applicable"]["loss_factor_stderr"]
 
 
 def test_base_motion_says_why_it_has_no_energy_balance(cli, files):

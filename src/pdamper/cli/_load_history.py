@@ -57,13 +57,22 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
     structure = acting_at(sc.structure_model(), sc.load.at)
     for m in models.values():  # every compared model, its structure and cost, before any run
         check_model(m, structure)
+    from pdamper.runs.resources import check_load_history
+
+    check_load_history(sc, structure, history)  # against the physics limits, before any run
     for m in models.values():
         check_cost(m, structure, history, sc.simulation.sample_rate, tail, force)
     runs, seconds = {}, {}
+    outside = {}
     for n, m in models.items():
         t0 = time.perf_counter()
+        if hasattr(m, "reset_outside"):  # a fields map: its lookups outside its range
+            m.reset_outside()
         runs[n] = run_load(m, structure, history, sc.simulation.sample_rate, tail)
         seconds[n] = time.perf_counter() - t0
+        record = m.outside_record() if hasattr(m, "outside_record") else None
+        if record is not None:
+            outside[n] = record
     names = list(models)
     first = runs[names[0]]
     meta = metadata(sc)
@@ -93,6 +102,10 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
                         "unbalance": "kg*m", "start_speed": "Hz", "stop_speed": "Hz"}
     if len(runs) > 1:
         payload["models"] = {n: response_payload(r, seconds[n]) for n, r in runs.items()}
+        for n, record in outside.items():
+            payload["models"][n]["fields_outside"] = record
+    if names[0] in outside:
+        payload["fields_outside"] = outside[names[0]]
     spread = None
     if uncertainty[0] is not None:
         from pdamper.cli._uncertainty import propagate
@@ -107,6 +120,8 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
              f"{history.duration:g} s (+ {tail:g} s free tail), linear between samples"]
     for n, r in runs.items():
         lines += _run_lines(models[n], r, seconds[n], history.kind)
+        if n in outside:
+            lines.append(f"  {models[n].outside_warning(outside[n])}")
     if spread is not None:
         from pdamper.cli._uncertainty import lines as spread_lines
 

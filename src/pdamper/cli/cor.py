@@ -94,6 +94,9 @@ def cor(
     check = check_restitution(v, curve, sphere, partner, r, sphere_sphere,
                               sc.dem.damping_model, sc.dem.integrator)
     payload = {**check.as_dict(), **metadata(sc, model=model)}
+    if model is None:  # the echo of --model: the curve is the scenario's
+        payload["not_applicable"] = {"model": "--model not given: the scenario's "
+                                              "[restitution] curve, named in curve"}
     if plot_path is not None:
         from matplotlib.figure import Figure
 

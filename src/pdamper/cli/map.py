@@ -234,6 +234,12 @@ def _summary(sc: Scenario, model: str, result: Any, out: Path | None, n_real: in
     marks = assumption_record(ds)
     if marks is not None:
         payload["assumptions"] = marks
+    why = {k: reason for k, reason in (
+        ("out", "--out not given: the map is not written"),
+        ("max_loss_factor", "no point of the map has a finite loss factor"))
+        if payload[k] is None}
+    if why:
+        payload["not_applicable"] = why
     if n_real > 1:
         from pdamper.runs.realisations import map_spread_record
 

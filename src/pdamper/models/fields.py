@@ -277,6 +277,7 @@ class EffectiveFieldDamper(DamperModel):
         self._analytic = (AnalyticalDamper(damper, **({} if self.gravity is None else
                                                       {"gravity": self.gravity}))
                           if extrapolation == "analytic" else None)
+        self.reset_outside()
         self._setup(ds)
 
     # ------------------------------------------------------------------ set-up
@@ -442,6 +443,7 @@ class EffectiveFieldDamper(DamperModel):
             if k not in ("damper", "_pair", "_analytic"):
                 setattr(new, k, v)
         new._analytic = AnalyticalDamper(damper) if self.extrapolation == "analytic" else None
+        new.reset_outside()
         new._check_damper(self._map)
         new._select_count()
         return new
@@ -471,6 +473,7 @@ class EffectiveFieldDamper(DamperModel):
             # read a neighbouring count at the same X / h (module docstring)
             xq = x if n is None or len(self._pair) == 1 else x * _clearance(d, n) / h
             inside = grid.inside(f, xq)
+            self._count_outside(f, xq, inside, weight)
             if not np.all(inside):
                 bad = int(np.flatnonzero(~inside)[0])
                 if self.extrapolation == "error":
@@ -510,6 +513,54 @@ class EffectiveFieldDamper(DamperModel):
                               dissipated_energy_per_cycle=e_tilde.reshape(shape),
                               effective_mass_ratio=ratio.reshape(shape), bed_mass=d.bed_mass,
                               details=details)
+
+    # ------------------------------------------------------------------ outside the map
+    def reset_outside(self) -> None:
+        """Forget the lookups counted so far (:meth:`outside_record`); a run that reports
+        them calls it first."""
+        self._outside = {"lookups": 0, "outside": 0, "furthest": 1.0}
+
+    def _count_outside(self, f: np.ndarray, x: np.ndarray, inside: np.ndarray,
+                       weight: float) -> None:
+        """Count the lookups and those outside the map's (f, X) range (the count read
+        most: the weight of a neighbouring count's map is at least a half), and how far
+        outside: the largest factor by which f or X is beyond the range."""
+        if weight < 0.5:
+            return
+        rec = self._outside
+        rec["lookups"] += int(f.size)
+        out = ~inside
+        if np.any(out):
+            (f0, f1), (x0, x1) = self.frequency_range, self.amplitude_range
+            fo, xo = f[out], x[out]
+            beyond = np.maximum.reduce([fo / f1, f0 / fo, xo / x1, x0 / xo])
+            rec["outside"] += int(out.sum())
+            rec["furthest"] = max(rec["furthest"], float(beyond.max()))
+
+    def outside_record(self) -> dict | None:
+        """The lookups since :meth:`reset_outside` outside the map's (f, X) range, answered
+        by the extrapolation policy (``"clamp"`` or ``"analytic"``; ``"error"`` refuses the
+        first): ``{"lookups", "outside", "fraction", "furthest", "extrapolation",
+        "frequency_range" [Hz], "amplitude_range" [m]}``, ``furthest`` the largest factor
+        by which f or X was beyond the range [-]; None when every lookup was inside."""
+        rec = self._outside
+        if not rec["outside"]:
+            return None
+        (f0, f1), (x0, x1) = self.frequency_range, self.amplitude_range
+        return {"lookups": rec["lookups"], "outside": rec["outside"],
+                "fraction": rec["outside"] / max(rec["lookups"], 1),
+                "furthest": rec["furthest"], "extrapolation": self.extrapolation,
+                "frequency_range": [float(f0), float(f1)],
+                "amplitude_range": [float(x0), float(x1)]}
+
+    @staticmethod
+    def outside_warning(record: dict) -> str:
+        """One line of text for an :meth:`outside_record`."""
+        return (f"warning: the fields map was used outside its range (f {record['frequency_range'][0]:g}-"
+                f"{record['frequency_range'][1]:g} Hz, X {record['amplitude_range'][0] * 1e3:g}-"
+                f"{record['amplitude_range'][1] * 1e3:g} mm) for {100 * record['fraction']:.3g} % "
+                f"of the damper's lookups over the record, up to {record['furthest']:.3g}x "
+                f"beyond it; extrapolation = '{record['extrapolation']}' answered there")
 
     def _outside_message(self, f: float, x: float) -> str:
         (f0, f1), (x0, x1) = self.frequency_range, self.amplitude_range

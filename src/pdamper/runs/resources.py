@@ -204,31 +204,65 @@ def _check_simulation(sc: Scenario, damper: ParticleDamper, cls: type[DamperMode
 
 #: Pseudo-force coupling on N modes (:mod:`pdamper.coupling.modal`), per damper update:
 #: one-core seconds per entry of the 2N x 2N state matrix cubed (its eigen-decomposition,
-#: condition number and solve; measured 1-5 ns for N = 100-400), per entry of the state
-#: matrix squared and scan sample (the closed-form state at each sample of the scan for the
-#: next minimum; measured 0.25-0.6 ns), and bytes per state entry and scan sample (the
-#: complex exponentials, their product with the eigenvectors and its real part, at once).
-MODAL_SECONDS_PER_STATE_CUBED = 5e-9
-MODAL_SECONDS_PER_STATE_SQUARED_SAMPLE = 1e-9
-MODAL_BYTES_PER_STATE_SAMPLE = 16 * 5
+#: condition number and solve) and per entry of the state matrix squared and scan sample
+#: (the closed-form state at each sample scanned for the next minimum, about two first-mode
+#: periods of them). Measured (one core, 2-core machine under load, one update per run,
+#: modes from 5 Hz up at 1 % damping): 1.5-1.9 s per update at N = 400 (2 400 samples per
+#: scanned period), 8.9 s at 700 (4 200), 26.5 s at 1 000 (6 000) and 57 s at 1 000 with
+#: modes up to 5.6 kHz (12 000); the eigen-decomposition alone 0.49 s and one scan 0.58 s
+#: at N = 400. These constants give 2.0 / 10.7 / 31 / 50 s: within 20 %, mostly above.
+MODAL_SECONDS_PER_STATE_CUBED = 1.5e-9
+MODAL_SECONDS_PER_STATE_SQUARED_SAMPLE = 8e-10
+#: Bytes per state entry and scan sample (the complex exponentials and their product with
+#: the eigenvectors, held at once: three complex arrays, more where a segment's slowest
+#: oscillation is slower than the first mode's and its scan longer) and per entry of the
+#: 2N x 2N state matrix (it and its eigenvectors, held through the scan). Measured peak
+#: resident memory above the process's 0.1 GB: one update 0.28 GB at N = 700, 0.51 GB at
+#: 1 000, 0.89 GB at 1 000 up to 5.6 kHz; the whole 2 s run of 1 000 modes (10 updates)
+#: 1.4 GB, in 974 s wall on the loaded 2-core machine. These constants give 0.77 / 1.47 /
+#: 2.8 GB: the whole run is covered, and 1 000 modes up to 5.6 kHz is refused (2 GiB).
+MODAL_BYTES_PER_STATE_SAMPLE = 16 * 7
+MODAL_BYTES_PER_STATE_ENTRY = 16 * 2
 #: Scan samples per first-mode period and per period of the fastest mode
 #: (:mod:`pdamper.coupling.modal`'s scan step).
 MODAL_SCAN_PER_PERIOD, MODAL_SCAN_PER_FAST_PERIOD = 400, 12
 
 
 def modal_free_vibration_cost(structure: Any, duration: float, sample_rate: float,
-                              drivers: Sequence[tuple] = ()) -> resources.Cost:
+                              drivers: Sequence[tuple] = (), *,
+                              what: str = "the modal free vibration",
+                              runs: float = 1.0) -> resources.Cost:
     """What the pseudo-force free vibration of an N-mode ``structure`` (a
     :class:`~pdamper.structure.modal.ModalStructure`) of ``duration`` [s] sampled at
     ``sample_rate`` [Hz] costs, judged from the mode count and the modes' frequencies
     before any matrix is built: per damper update (one per first-mode period, ``duration
     f_1 + 1`` of them) an eigen-decomposition of the 2N x 2N state matrix, ~(2N)^3, and a
-    scan of ``max(400, 12 f_N / f_1)`` samples of the state, ~(2N)^2 each and held at once;
-    the stored trajectory, N x the samples. The mode count is named when it is too high.
+    scan of ``max(400, 12 f_N / f_1)`` samples per period of the state, ~(2N)^2 each and
+    held at once; the stored trajectory, N x the samples. ``runs`` such runs one after
+    another (a design study's candidates) cost ``runs`` times the time. The mode count is
+    named when it is too high, with the most modes that fit the limits.
     """
     n = int(structure.modes)
-    freqs = np.asarray(structure.frequencies, float)
-    f1, fmax = float(freqs.min()), float(freqs.max())
+    freqs = np.sort(np.asarray(structure.frequencies, float))
+    cost = _modal_cost(freqs, duration, sample_rate, runs)
+    seconds, memory, updates, scan = cost
+    state = 2 * n
+    detail = (f"{n} modes ({freqs[0]:.3g}-{freqs[-1]:.3g} Hz), {updates:.3g} damper updates "
+              f"of a {state} x {state} state scanned at {scan:.3g} samples per period")
+    if runs != 1:
+        detail = f"{runs:.3g} runs, each {detail}"
+    return resources.Cost(
+        what, seconds, memory, detail, (("structure.modes", float(n)), *drivers),
+        runs=int(min(max(runs, 1.0), 2**62)), longest=seconds / max(runs, 1.0),
+        remedy=_modes_allowed(freqs, duration, sample_rate, runs))
+
+
+def _modal_cost(freqs: np.ndarray, duration: float, sample_rate: float,
+                runs: float = 1.0) -> tuple[float, float, float, float]:
+    """(seconds, bytes, damper updates, scan samples per period) of
+    :func:`modal_free_vibration_cost` for the ascending mode frequencies ``freqs`` [Hz]."""
+    n = freqs.size
+    f1, fmax = float(freqs[0]), float(freqs[-1])
     state = 2.0 * n
     scan = max(MODAL_SCAN_PER_PERIOD, MODAL_SCAN_PER_FAST_PERIOD * fmax / f1)
     updates = duration * f1 + 1.0
@@ -236,14 +270,28 @@ def modal_free_vibration_cost(structure: Any, duration: float, sample_rate: floa
                   + MODAL_SECONDS_PER_STATE_SQUARED_SAMPLE * state**2 * scan)
     samples = duration * sample_rate + 1.0
     memory = (MODAL_BYTES_PER_STATE_SAMPLE * state * scan
-              + resources.FRF_BYTES_PER_STATE_ENTRY * state**2 + 8.0 * (n + 3) * samples)
-    return resources.Cost(
-        "the modal free vibration", updates * per_update, memory,
-        f"{n} modes ({f1:.3g}-{fmax:.3g} Hz), {updates:.3g} damper updates of a "
-        f"{int(state)} x {int(state)} state scanned at {scan:.3g} samples per period",
-        (("structure.modes", float(n)), *drivers),
-        remedy="give structure.modes fewer modes (the first few carry a damper's response) "
-               "or shorten simulation.duration")
+              + MODAL_BYTES_PER_STATE_ENTRY * state**2 + 8.0 * (n + 3) * samples)
+    return runs * updates * per_update, memory, updates, scan
+
+
+def _modes_allowed(freqs: np.ndarray, duration: float, sample_rate: float,
+                   runs: float) -> str:
+    """What the limits allow: the most of the first modes whose run stays within the
+    usual limits of :func:`pdamper.resources.require`."""
+    def fits(k: int) -> bool:
+        seconds, memory, _, _ = _modal_cost(freqs[:k], duration, sample_rate, runs)
+        longest = seconds / max(runs, 1.0)
+        return (memory <= resources.MEMORY_LIMIT and longest <= resources.TIME_LIMIT
+                and (runs <= 1 or seconds <= resources.SWEEP_TIME_LIMIT))
+
+    if not fits(1):
+        return "shorten the run"  # not even one mode fits: the duration drives it
+    lo, hi = 1, int(freqs.size)
+    while lo < hi:  # the cost grows with the first k modes
+        mid = (lo + hi + 1) // 2
+        lo, hi = (mid, hi) if fits(mid) else (lo, mid - 1)
+    return (f"give structure.modes at most {lo} modes (the first {lo} fit the limits; the "
+            "first few carry a damper's response) or shorten the run")
 
 
 def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperModel],
@@ -285,10 +333,19 @@ def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperMo
                      * (damper.max_count / d0.max_count), True),)
     if o.objective in ("peak-frf", "rms-frf"):
         _check_frf_objective(sc, damper, cls, candidates, force, req)
+    history = sc.load.history() if o.objective in ("peak", "rms") else None
+    if history is not None:  # the load objectives' history, as simulate judges it
+        from pdamper.coupling.loads import acting_at
+
+        check_load_history(sc, acting_at(structure, sc.load.at), history)
     # one candidate; where the time grows with the count, the mean count stands for all
     one = cls.free_vibration_cost(damper, duration, 200.0, structure.natural_frequency,
                                   sc.settings_of(cls), x0=sc.structure.initial_displacement,
                                   count=max(1, round(counts[-1] / 2)) if counts else 1)
+    if int(getattr(structure, "modes", 1)) > 1 and cls.coupling != "co_simulation":
+        # every candidate's free vibration on the N modes (the DEM couples one mode only)
+        req(modal_free_vibration_cost(structure, duration, 200.0, drivers,
+                                      what="the optimisation", runs=candidates), force)
     req(resources.Cost(
         "the optimisation", one.seconds * candidates,
         one.memory + candidates * resources.BYTES_PER_CANDIDATE,
@@ -332,13 +389,63 @@ def _check_frf_objective(sc: Scenario, damper: ParticleDamper, cls: type[DamperM
     x = np.array([abs(complex(receptance(s_, f))) * abs(harmonic_force(s_, load, f))
                   for f in band])
     k = int(np.argmax(x))
+    check_load(damper, float(band[k]), float(x[k]),
+               fields=("optimization.band", "optimization.frf_load"),
+               gravity=sc.excitation.gravity)
+
+
+def check_load(damper: ParticleDamper, frequency: float, stroke: float, *,
+               fields: tuple[str, str], gravity: float) -> None:
+    """The one judge of a load against the physics limits: refuse a load that drives the
+    bare structure's damper point through ``stroke`` [m] at ``frequency`` [Hz] where a
+    damper's motion there would have no physical meaning
+    (:func:`pdamper.resources.check_motion`: the stroke, the impact speed against the bar
+    wave speed, the contact frequency). ``fields``: the frequency's and the load's names
+    (the load's is named when the speed is too high)."""
     try:
-        resources.check_motion(damper, float(band[k]), float(x[k]),
-                               fields=("optimization.band", "optimization.frf_load"),
-                               usual=(math.inf, 0.0), gravity=sc.excitation.gravity)
+        resources.check_motion(damper, frequency, stroke, fields=fields,
+                               usual=(math.inf, 0.0), gravity=gravity)
     except InputError as exc:
-        raise InputError(exc.field, f"the load drives the bare structure to {x[k]:.3g} m at "
-                         f"{band[k]:.3g} Hz: {exc.message}") from None
+        raise InputError(exc.field, f"the load drives the bare structure to {stroke:.3g} m "
+                         f"at {frequency:.3g} Hz: {exc.message}") from None
+
+
+def check_load_history(scenario: Scenario, structure: Any, history: Any) -> None:
+    """Judge a load history (:class:`~pdamper.coupling.loads.LoadHistory`: a force at the
+    structure's load point, or a base acceleration of a one-mode structure) by
+    :func:`check_load`, before any run: the bare structure's linear response of the damper
+    point to each line of the record's spectrum (the record resampled on its finest step,
+    at most 2^16 samples), its largest line taken as a steady motion, as the
+    forced-response objectives judge a harmonic load. A base acceleration of an N-mode
+    structure is not judged here (its modal forces need the coupling's participation
+    factors)."""
+    from pdamper.coupling.frf import HarmonicLoad, _modal, load_force, receptance
+
+    field = "load" if history.kind == "force" else "base_acceleration"
+    t = np.asarray(history.time, float)
+    v = np.asarray(history.values, float)
+    span = float(t[-1] - t[0])
+    if span <= 0 or not np.any(v):
+        return
+    n = int(min(2**16, max(16, span / max(float(np.min(np.diff(t))), span / 2**16) + 1)))
+    grid = np.linspace(t[0], t[-1], n)
+    line = 2.0 * np.abs(np.fft.rfft(np.interp(grid, t, v))) / n
+    f = np.fft.rfftfreq(n, span / (n - 1))
+    keep = f > 0
+    f, line = f[keep], line[keep]
+    s = _modal(structure)
+    if history.kind == "force":
+        x = np.abs(receptance(s, f, "damper", "load")) * line
+    elif s.modes == 1 and np.array_equal(s.damper_shape, s.output_shape):
+        # the absolute motion of a 1-DOF's damper point under the base's
+        x = np.array([abs(complex(receptance(s, fk))
+                          * load_force(s, HarmonicLoad("base", 1.0, acceleration=True), fk))
+                      for fk in f]) * line
+    else:  # N modes: the coupling's participation factors carry it (not judged here)
+        return
+    k = int(np.argmax(x))
+    check_load(scenario.damper(), float(f[k]), float(x[k]), fields=(field, field),
+               gravity=scenario.excitation.gravity)
 
 
 def check_frf(scenario: Scenario, model: str | None, frequencies: Sequence[float] | np.ndarray,
@@ -433,6 +540,7 @@ def frf_sample_cost(scenario: Scenario, frequencies: int) -> resources.Cost:
                                         ("structure.modes", float(n))])
 
 
-__all__ = ["FRF_OVERRIDE", "RUNS", "USUAL_EXCITATION", "check_frf", "check_resources",
+__all__ = ["FRF_OVERRIDE", "RUNS", "USUAL_EXCITATION", "check_frf", "check_load",
+           "check_load_history", "check_resources",
            "check_runs", "excitation_cost", "frf_cost", "frf_sample_cost",
            "modal_free_vibration_cost"]
