@@ -101,12 +101,6 @@ CASES = {
 }
 
 
-#: ``pdamper dem``: its ``protocol`` holds a null ``seed`` (lattice start) and
-#: ``transient_tolerance`` (no transient) without reasons, and a reason beside the number
-#: ``gear_tolerance`` (Verlet), as tests/models/test_dem_damper.py asserts of
-#: ``DEMDamper.protocol``: open until the protocol and that test agree with this rule.
-_DEM_PROTOCOL = pytest.mark.xfail(strict=True, reason="DEMDamper.protocol's nulls without "
-                                  "reasons (asserted by test_dem_damper)")
 CASES_DEM = {
     "dem": ["dem", "--particles", "4", "--cycles", "2", "--skip-cycles", "1"],
     "dem-verlet": ["dem", "--particles", "4", "--cycles", "2", "--skip-cycles", "1",
@@ -114,8 +108,7 @@ CASES_DEM = {
 }
 
 
-@pytest.mark.parametrize("name", [*CASES, *(pytest.param(n, marks=_DEM_PROTOCOL)
-                                            for n in CASES_DEM)])
+@pytest.mark.parametrize("name", [*CASES, *CASES_DEM])
 def test_every_number_is_finite_or_not_applicable(cli, files, name):
     args = [a.replace("{tmp}", str(files)) for a in {**CASES, **CASES_DEM}[name]]
     code, out, err = cli(*args, "--json")

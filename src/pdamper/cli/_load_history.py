@@ -52,7 +52,7 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
     decay does. ``uncertainty``: ``(N, seed)`` of ``--uncertainty`` (N None: none), the
     spread of the first model's answers under the scenario's uncertain inputs."""
     from pdamper.coupling.frf import load_point_text
-    from pdamper.coupling.loads import acting_at, check_cost, check_model, run_load
+    from pdamper.coupling.loads import acting_at, check_cost, check_model
 
     structure = acting_at(sc.structure_model(), sc.load.at)
     for m in models.values():  # every compared model, its structure and cost, before any run
@@ -62,17 +62,8 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
     check_load_history(sc, structure, history)  # against the physics limits, before any run
     for m in models.values():
         check_cost(m, structure, history, sc.simulation.sample_rate, tail, force)
-    runs, seconds = {}, {}
-    outside = {}
-    for n, m in models.items():
-        t0 = time.perf_counter()
-        if hasattr(m, "reset_outside"):  # a fields map: its lookups outside its range
-            m.reset_outside()
-        runs[n] = run_load(m, structure, history, sc.simulation.sample_rate, tail)
-        seconds[n] = time.perf_counter() - t0
-        record = m.outside_record() if hasattr(m, "outside_record") else None
-        if record is not None:
-            outside[n] = record
+    runs, seconds, outside = _run_models(models, structure, history,
+                                         sc.simulation.sample_rate, tail)
     names = list(models)
     first = runs[names[0]]
     meta = metadata(sc)
@@ -133,6 +124,24 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
     emit(payload, as_json, "\n".join(lines))  # the results first: a figure cannot lose them
     if plot is not None:
         figure_last(lambda: _figure(runs, history, spread), plot)
+
+
+def _run_models(models: dict, structure, history, sample_rate: float, tail: float):
+    """Every model's run of ``history``: the responses, their wall seconds, and for a
+    fields map the record of its lookups outside its range (by model name)."""
+    from pdamper.coupling.loads import run_load
+
+    runs, seconds, outside = {}, {}, {}
+    for n, m in models.items():
+        t0 = time.perf_counter()
+        if hasattr(m, "reset_outside"):  # a fields map: its lookups outside its range
+            m.reset_outside()
+        runs[n] = run_load(m, structure, history, sample_rate, tail)
+        seconds[n] = time.perf_counter() - t0
+        record = m.outside_record() if hasattr(m, "outside_record") else None
+        if record is not None:
+            outside[n] = record
+    return runs, seconds, outside
 
 
 def _run_lines(model, r, seconds: float, kind: str) -> list[str]:

@@ -19,7 +19,6 @@ their means, the spread under ``realisations``
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, cast
 
@@ -167,11 +166,6 @@ def dem(
     summary = run_summary(model, r)
     accuracy = {k: summary.pop(k) for k in ACCURACY_KEYS if k in summary}
     payload = {**summary, "units": UNITS, **meta, **accuracy}
-    stderr = payload["loss_factor_stderr"]
-    if stderr is None or not math.isfinite(stderr):  # one cycle averaged: s / sqrt(L) is 0/0
-        payload["loss_factor_stderr"] = None
-        payload["not_applicable"] = {"loss_factor_stderr": "fewer than two cycles averaged: "
-                                                           "no scatter to estimate"}
     _write_outputs(r.details.item(), payload, meta, out, target, vtk_dir)
     emit(payload, as_json, _human_summary(sc, damper.count, model, r, payload))
 

@@ -484,22 +484,32 @@ class DEMDamper(FlatSettings, DamperModel):
     def protocol(self, packing: str | None = None) -> dict:
         """What a Level II run from ``packing`` (default :meth:`initial_packing`) does: the
         start (``"lattice"`` or ``"random"``, with the seed of a random one), the integrator,
-        Gear's tolerance, the transient tolerance and its cycles (None, 0: none), the safety
+        Gear's tolerance, the transient tolerance and its cycles (0: none), the safety
         factor and whether Gear's free flights are on (``pdamper dem --json``'s
         ``protocol``). ``gear_tolerance`` is the tolerance the declaration gives this start
-        (:meth:`gear_tolerance_for`), a number for every integrator; with ``integrator``
-        ``"verlet"`` no Gear step is taken, and ``not_applicable`` says so."""
+        (:meth:`gear_tolerance_for`). A setting that does not act in this run is null, and
+        ``not_applicable`` says why: the seed of a lattice start, Gear's tolerance under
+        ``integrator = "verlet"`` (fixed steps), a transient tolerance where there is none."""
         packing = packing or self.initial_packing()
         opts = {"gear_tolerance": self.gear_tolerance_for(packing), **self._transient(packing)}
         gear = self.integrator != "verlet"
+        transient = (float(opts["gear_transient_tolerance"])
+                     if gear and "gear_transient_tolerance" in opts else None)
+        why = {}
+        if packing != "random":
+            why["seed"] = "the lattice start draws no random numbers"
+        if not gear:
+            why["gear_tolerance"] = "integrator verlet takes fixed steps: no Gear step control"
+        if transient is None:
+            why["transient_tolerance"] = (
+                "integrator verlet takes fixed steps" if not gear else
+                "from the lattice Gear keeps one tolerance throughout (no transient)"
+                if packing != "random" else "no transient tolerance set")
         return {"start": packing, "seed": self.seed if packing == "random" else None,
                 "integrator": self.integrator,
-                "gear_tolerance": float(opts["gear_tolerance"]),
-                "not_applicable": {} if gear else {
-                    "gear_tolerance": "integrator verlet takes fixed steps: no Gear step "
-                                      "control"},
-                "transient_tolerance": (float(opts["gear_transient_tolerance"])
-                                        if gear and "gear_transient_tolerance" in opts else None),
+                "gear_tolerance": float(opts["gear_tolerance"]) if gear else None,
+                "not_applicable": why,
+                "transient_tolerance": transient,
                 "transient_cycles": int(opts.get("transient_cycles", 0)) if gear else 0,
                 "safety": float(self.safety),
                 "free_flight": bool(self.gear_free_flight) if gear else False}

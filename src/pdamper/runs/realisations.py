@@ -118,6 +118,11 @@ def run_summary(model: DEMDamper, response: DamperResponse) -> dict:
         "protocol": model.protocol("random" if int(r.diagnostics["random_packing"].item())
                                    else "lattice"),
     }
+    stderr = out["loss_factor_stderr"]
+    if stderr is None or not math.isfinite(stderr):  # one cycle averaged: s / sqrt(L) is 0/0
+        out["loss_factor_stderr"] = None
+        out["not_applicable"] = {"loss_factor_stderr": "fewer than two cycles averaged: no "
+                                                       "scatter to estimate"}
     if model.error_estimate:
         d = r.diagnostics
         out.update(loss_factor_error=float(d["loss_factor_error"].item()),
