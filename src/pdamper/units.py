@@ -280,6 +280,22 @@ def format_quantity(value: float, unit: str, digits: int = 4) -> str:
     return f"{mag:.{digits}g} {unit}".strip()
 
 
+#: The unit people read for an SI unit of a result, and the factor from SI: lengths in mm,
+#: masses in g, energies in mJ (tables and text; JSON keeps SI).
+DISPLAY_OF = {"m": ("mm", 1e3), "kg": ("g", 1e3), "J": ("mJ", 1e3)}
+
+
+def display(value: float, unit: str) -> tuple[float, str]:
+    """``value`` [``unit``, SI] in the unit people read (:data:`DISPLAY_OF`; others as
+    given).
+
+    >>> display(0.0042, "m")
+    (4.2, 'mm')
+    """
+    shown, factor = DISPLAY_OF.get(unit, (unit, 1.0))
+    return value * factor, shown
+
+
 #: SI base of common display units, for :func:`format_quantity`.
 SI_OF = {
     "mm": "m", "cm": "m", "m": "m", "um": "m",

@@ -265,3 +265,19 @@ def test_bad_uncertainty_is_refused_before_any_output(tmp_path, cli):
                        "particles.friction=0.1+-0.03", "--uncertainty", "12")
     assert code == 2 and err.startswith("error: uncertainty:")
     assert not (tmp_path / "r").exists()
+
+
+def test_uncertainty_tables_read_in_mm_and_g(reports):
+    """The uncertainty tables show lengths in mm and masses in g (JSON keeps SI): the
+    user's container length of 90 mm +- 0.3 mm is a row "90 | 0.3 | mm"."""
+    import re
+
+    out, payload = reports["user"]
+    html = (out / "report.html").read_text(encoding="utf-8")
+    table = re.search(r'<table id="uncertain_inputs">(.*?)</table>', html, re.S).group(1)
+    row = re.search(r"<tr><td>container\.length</td>(.*?)</tr>", table).group(1)
+    cells = re.findall(r"<td[^>]*>(.*?)</td>", row)
+    assert cells[:3] == ["90", "0.3", "mm"], cells
+    answers = re.search(r'<table id="uncertainty">(.*?)</table>', html, re.S).group(1)
+    units = set(re.findall(r"<tr><td>[^<]*</td><td>[^<]*</td><td>([^<]*)</td>", answers))
+    assert "m" not in units and "kg" not in units and "J" not in units, units

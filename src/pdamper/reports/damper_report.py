@@ -20,6 +20,7 @@ import numpy as np
 
 from pdamper.reports.html import _STYLE, ReportFigure, _e, _img, _table
 from pdamper.runs.damper_report import DamperReport, _timed
+from pdamper.units import display
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -335,14 +336,14 @@ def _uncertainty_html(rep: DamperReport) -> list[str]:
              "(first order) and Jansen (total) on the same runs, 95 % bootstrap intervals. "
              "The driver of an answer is the input with the largest total index.</p>",
              _table(["input", "nominal", "standard deviation", "unit", "range"],
-                    [[u.field, f"{u.value:.6g}", f"{u.sd:.3g}", u.unit or "1",
-                      f"[{u.low:g}, {u.high:g}]"] for u in first.inputs], "uncertain_inputs")]
+                    [_input_row(u) for u in first.inputs], "uncertain_inputs")]
     rows, idx = [], []
     for level, r in rep.uncertainty.items():
         for name, a in r.answers.items():
-            rows.append([level, name, a.unit or "1", f"{a.nominal:.5g}", f"{a.mean:.5g}",
-                         f"{a.std:.3g}", f"{a.percentiles[5.0]:.5g}",
-                         f"{a.percentiles[50.0]:.5g}", f"{a.percentiles[95.0]:.5g}",
+            k, unit = display(1.0, a.unit or "1")  # mm, g, mJ in the table; SI in JSON
+            rows.append([level, name, unit, f"{k * a.nominal:.5g}", f"{k * a.mean:.5g}",
+                         f"{k * a.std:.3g}", f"{k * a.percentiles[5.0]:.5g}",
+                         f"{k * a.percentiles[50.0]:.5g}", f"{k * a.percentiles[95.0]:.5g}",
                          a.driver or "none (no spread)"])
             for inp in a.total_order:
                 lo, hi = a.total_order_interval[inp]
@@ -357,6 +358,14 @@ def _uncertainty_html(rep: DamperReport) -> list[str]:
                          "total: 95 % interval"], idx + rows, "sobol_indices",
                         [["", "", "", "num", "num", ""]] * len(idx + rows)))
     return parts[:-1] + drivers + parts[-1:]
+
+
+def _input_row(u) -> list[str]:
+    """An uncertain input's row: nominal, standard deviation and range in the unit people
+    read (:func:`pdamper.units.display`)."""
+    k, unit = display(1.0, u.unit or "1")
+    return [u.field, f"{k * u.value:.6g}", f"{k * u.sd:.3g}", unit,
+            f"[{k * u.low:g}, {k * u.high:g}]"]
 
 
 #: What each level of the propagation answers, in words.
