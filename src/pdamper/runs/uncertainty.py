@@ -202,12 +202,13 @@ def frf_answers(scenario, load, frequency, model: str | None = None):
     """``evaluate(values) -> answers`` of the forced response under the harmonic ``load``
     (:class:`~pdamper.coupling.frf.HarmonicLoad`) at ``frequency`` [Hz]: harmonic balance
     (every sample's describing functions; the stepped sines run at the nominal inputs
-    alone), the largest stable amplitude of the output point at each frequency
+    alone), the largest stable (else edge, else any) amplitude of the output point at each
+    frequency
     (``amplitude``: its band), its largest value over the frequencies (``peak``), where
     (``peak_frequency``) and its RMS over them (``rms``; :data:`FRF_UNITS`)."""
     import numpy as np
 
-    from pdamper.coupling.frf import HARMONIC_BALANCE, frequency_response
+    from pdamper.coupling.frf import EDGE, HARMONIC_BALANCE, frequency_response
 
     cls = _model_class(scenario, model or scenario.simulation.model)
     if cls.coupling not in HARMONIC_BALANCE:  # pragma: no cover - every cheap model has one
@@ -219,9 +220,14 @@ def frf_answers(scenario, load, frequency, model: str | None = None):
         m, structure = _sampled(scenario, values, model)
         hb = frequency_response(m, structure, load, f, sweep="none").harmonic_balance
         assert hb is not None  # the pseudo-force coupling solves it
-        a = np.where(hb.steady, hb.amplitude, np.nan)
-        a = np.where(np.isnan(a).all(axis=1, keepdims=True), 0.0, a)
-        amp = np.nanmax(a, axis=1)
+        # the stable solutions, and an edge (the response held at a jump of the damper's
+        # describing function) where a frequency has no stable one; a frequency with
+        # neither keeps its largest solution rather than counting as at rest
+        held = hb.steady | (hb.branch == EDGE)
+        a = np.where(held, hb.amplitude, np.nan)
+        none = np.isnan(a).all(axis=1, keepdims=True)
+        a = np.where(none, hb.amplitude, a)
+        amp = np.nanmax(np.where(np.isnan(a).all(axis=1, keepdims=True), 0.0, a), axis=1)
         k = int(np.argmax(amp))
         return {"peak": float(amp[k]), "peak_frequency": float(f[k]),
                 "rms": float(np.sqrt(np.mean(amp**2))), "amplitude": amp}
