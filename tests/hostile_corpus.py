@@ -884,3 +884,29 @@ CASES += [
                                                   "{scenario:load_acc_huge}"],
      Error("base_acceleration")),
 ]
+
+# -- a harmonic load for the forced-response objectives on N modes: judged before the study
+# (base motion on N modes is refused, a force by the bare stroke it drives), never as every
+# design failing
+FILES["modes_frame.csv"] = ("frequency [Hz], damping ratio [%], damper [kg^-0.5], "
+                            "load [kg^-0.5], observation [kg^-0.5]\n"
+                            "12.0, 1.0, 0.2582, 0.1500, 0.2582\n"
+                            "31.0, 0.8, -0.3162, 0.2400, -0.3162\n")
+SCENARIOS["frame_base_peak_frf"] = ('[structure]\nmodes = "modes_frame.csv"\n'
+                                    '[optimization]\nobjective = "peak-frf"\n'
+                                    'frf_load = "50 mm"\nvary = ["particles=0:32:32"]\n'
+                                    'band = "10Hz:14Hz:3"\n')
+CASES += [
+    ("optimize-peak-frf-base-on-modes", ["optimize", "--objective", "peak-frf", "--modes",
+                                         "{tmp}/modes_frame.csv", "--frf-load", "50mm",
+                                         "--vary", "particles=0:32:32", "--band",
+                                         "10Hz:14Hz:3"], Error("optimization.frf_load")),
+    ("optimize-peak-frf-base-on-modes-scenario", ["optimize", "--scenario",
+                                                  "{scenario:frame_base_peak_frf}"],
+     Error("optimization.frf_load")),
+    ("optimize-peak-frf-huge-force-on-modes", ["optimize", "--objective", "peak-frf",
+                                               "--modes", "{tmp}/modes_frame.csv",
+                                               "--frf-load", "1e7N", "--vary",
+                                               "particles=0:32:32", "--band", "10Hz:14Hz:3"],
+     Error("optimization.frf_load")),
+]

@@ -358,8 +358,7 @@ def _check_frf_objective(sc: Scenario, damper: ParticleDamper, cls: type[DamperM
     """The forced-response objectives: the band's count judged before it is built, one
     forced response per candidate (:func:`frf_cost`), and the load against the physics
     limits at the largest steady stroke it drives the bare structure to over the band."""
-    from pdamper.coupling.frf import HarmonicLoad, _modal, check_damped, receptance
-    from pdamper.coupling.frf import load_force as harmonic_force
+    from pdamper.coupling.frf import HarmonicLoad, _modal, check_damped, damper_force, receptance
     from pdamper.design.study import FRF_BAND, FRF_LOAD
     from pdamper.io.scenario import parse_axis
 
@@ -384,10 +383,11 @@ def _check_frf_objective(sc: Scenario, damper: ParticleDamper, cls: type[DamperM
                        (("optimization.band", band.size / FRF_BAND[2]),),
                        runs=int(min(candidates, 2**62)), longest=one.seconds), force)
     s_ = _modal(structure)
-    if s_.modes != 1 or not s_.coincident:
-        return
-    x = np.array([abs(complex(receptance(s_, f))) * abs(harmonic_force(s_, load, f))
-                  for f in band])
+    try:  # the bare damper point's steady stroke over the band, on any structure
+        x = np.array([abs(complex(receptance(s_, f))) * abs(damper_force(s_, load, f))
+                      for f in band])
+    except InputError as exc:  # a load this structure cannot take (base motion, N modes)
+        raise InputError("optimization.frf_load", exc.message) from None
     k = int(np.argmax(x))
     check_load(damper, float(band[k]), float(x[k]),
                fields=("optimization.band", "optimization.frf_load"),
