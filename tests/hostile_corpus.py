@@ -910,3 +910,12 @@ CASES += [
                                                "particles=0:32:32", "--band", "10Hz:14Hz:3"],
      Error("optimization.frf_load")),
 ]
+# -- the forced response's harmonic load judged by the same check before any frequency
+CASES += [
+    ("frf-base-on-modes", ["frf", "--modes", "{tmp}/modes_frame.csv", "--base", "1mm",
+                           "--frequency", "10Hz:12Hz:3"], Error("base")),
+    ("frf-unbalance-huge-on-modes", ["frf", "--modes", "{tmp}/modes_frame.csv",
+                                     "--unbalance", "1e6kg*mm"], Error("unbalance")),
+    ("frf-force-huge-on-modes", ["frf", "--modes", "{tmp}/modes_frame.csv", "--force",
+                                 "1e7N", "--frequency", "10Hz:12Hz:3"], Error("force")),
+]

@@ -47,3 +47,21 @@ def test_dem_at_a_low_frequency_costs_its_periods():
     with pytest.raises(InputError) as exc:
         check_frf(sc, "dem", [0.001], LOAD)
     assert exc.value.field == "frequency"
+
+
+def test_check_frf_judges_the_load_against_the_physics_limits_before_any_frequency():
+    """The forced response's cost check also judges its load (``check_harmonic_load``, the
+    check the design study's forced-response objectives use): a 1e7 N force on the
+    machine frame's modes, and base motion of N modes, are refused by the check itself."""
+    import pytest
+
+    from pdamper.coupling.frf import HarmonicLoad
+    from pdamper.errors import InputError
+    from pdamper.io.scenario import load_scenario
+    from pdamper.runs.resources import check_frf
+
+    sc = load_scenario(None, {})
+    with pytest.raises(InputError) as e:
+        check_frf(sc, None, [5.0, 5.5, 6.0], HarmonicLoad("force", 1e6))
+    assert e.value.field == "force" and "the stroke must be within" in e.value.message
+    check_frf(sc, None, [5.0, 5.5, 6.0], HarmonicLoad("force", 2.0))  # a usual load passes

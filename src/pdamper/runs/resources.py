@@ -358,7 +358,7 @@ def _check_frf_objective(sc: Scenario, damper: ParticleDamper, cls: type[DamperM
     """The forced-response objectives: the band's count judged before it is built, one
     forced response per candidate (:func:`frf_cost`), and the load against the physics
     limits at the largest steady stroke it drives the bare structure to over the band."""
-    from pdamper.coupling.frf import HarmonicLoad, _modal, check_damped, damper_force, receptance
+    from pdamper.coupling.frf import HarmonicLoad, check_damped
     from pdamper.design.study import FRF_BAND, FRF_LOAD
     from pdamper.io.scenario import parse_axis
 
@@ -382,16 +382,30 @@ def _check_frf_objective(sc: Scenario, damper: ParticleDamper, cls: type[DamperM
                        one.memory, f"{candidates:.3g} candidates, each {one.detail}",
                        (("optimization.band", band.size / FRF_BAND[2]),),
                        runs=int(min(candidates, 2**62)), longest=one.seconds), force)
-    s_ = _modal(structure)
-    try:  # the bare damper point's steady stroke over the band, on any structure
-        x = np.array([abs(complex(receptance(s_, f))) * abs(damper_force(s_, load, f))
+    check_harmonic_load(damper, structure, load, band,
+                        fields=("optimization.band", "optimization.frf_load"),
+                        gravity=sc.excitation.gravity)
+
+
+def check_harmonic_load(damper: ParticleDamper, structure: Any, load: HarmonicLoad,
+                        frequencies: Any, *, fields: tuple[str, str], gravity: float) -> None:
+    """Judge a harmonic load by :func:`check_load` before any frequency is solved: the
+    bare structure's steady stroke at the damper's point, the largest over
+    ``frequencies`` [Hz] (any structure: the force at the damper that moves it as the load
+    does). A load the structure cannot take (base motion of N modes) is refused under the
+    load's field (``fields``: the frequencies' and the load's names)."""
+    from pdamper.coupling.frf import _modal, check_damped, damper_force, receptance
+
+    check_damped(structure)  # an undamped structure's response is unbounded: said first
+    s = _modal(structure)
+    band = np.atleast_1d(np.asarray(frequencies, float))
+    try:
+        x = np.array([abs(complex(receptance(s, f))) * abs(damper_force(s, load, f))
                       for f in band])
     except InputError as exc:  # a load this structure cannot take (base motion, N modes)
-        raise InputError("optimization.frf_load", exc.message) from None
+        raise InputError(fields[1], exc.message) from None
     k = int(np.argmax(x))
-    check_load(damper, float(band[k]), float(x[k]),
-               fields=("optimization.band", "optimization.frf_load"),
-               gravity=sc.excitation.gravity)
+    check_load(damper, float(band[k]), float(x[k]), fields=fields, gravity=gravity)
 
 
 def check_load(damper: ParticleDamper, frequency: float, stroke: float, *,
@@ -452,12 +466,19 @@ def check_frf(scenario: Scenario, model: str | None, frequencies: Sequence[float
               load: HarmonicLoad, *, max_cycles: int | None = None, sweep: str = "both",
               force: bool = False, require: Require | None = None) -> resources.Cost:
     """Refuse a forced response (``pdamper frf``) whose implied memory or time is above the
-    limits (``force``: up to the hard limits; the message names :data:`FRF_OVERRIDE`),
-    before any frequency is solved; returns its :func:`frf_cost`."""
+    limits (``force``: up to the hard limits; the message names :data:`FRF_OVERRIDE`), or
+    whose load is beyond the physics limits (:func:`check_harmonic_load`), before any
+    frequency is solved; returns its :func:`frf_cost`."""
+    from pdamper.coupling.loads import acting_at
+
     cost = frf_cost(scenario, model, frequencies, load, max_cycles=max_cycles, sweep=sweep)
-    if require is not None:
-        return require(cost, force)
-    return resources.require(cost, force, override=FRF_OVERRIDE)
+    cost = (require(cost, force) if require is not None
+            else resources.require(cost, force, override=FRF_OVERRIDE))
+    check_harmonic_load(scenario.damper(), acting_at(scenario.structure_model(),
+                                                     scenario.frf.at, "frf.at"),
+                        load, frequencies, fields=("frequency", load.kind),
+                        gravity=scenario.excitation.gravity)
+    return cost
 
 
 def frf_cost(scenario: Scenario, model: str | None, frequencies: Sequence[float] | np.ndarray,
