@@ -8,7 +8,7 @@ from pdamper.analysis.analytical import assumption_checks, bed_response
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.damper import ParticleDamper
 from pdamper.errors import check_range
-from pdamper.models.base import DamperModel, DamperResponse
+from pdamper.models.base import CONTACT_LAW_INPUTS, DamperModel, DamperResponse
 
 
 class AnalyticalDamper(DamperModel):
@@ -39,8 +39,7 @@ class AnalyticalDamper(DamperModel):
     unused_inputs = {
         f: "the analytical bed is a perfectly plastic block (Eqs. 5-22): neither friction "
            "nor the coefficient of restitution enters it"
-        for f in ("particles.friction", "dem.restitution_pp", "dem.restitution_pw",
-                  "restitution.particle_particle", "restitution.particle_wall")}
+        for f in CONTACT_LAW_INPUTS}
 
     def __init__(self, damper: ParticleDamper, gravity: float = STANDARD_GRAVITY):
         super().__init__(damper)

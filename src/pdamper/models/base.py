@@ -69,6 +69,12 @@ class DamperResponse:
         return self.effective_mass_ratio * self.bed_mass
 
 
+#: The inputs that enter only through a contact law (friction and the coefficients of
+#: restitution): a fidelity whose bed is one perfectly plastic block declares them unused.
+CONTACT_LAW_INPUTS = ("particles.friction", "dem.restitution_pp", "dem.restitution_pw",
+                      "restitution.particle_particle", "restitution.particle_wall")
+
+
 class DamperModel(ABC):
     """A particle damper model of some fidelity.
 

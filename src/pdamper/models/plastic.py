@@ -23,7 +23,7 @@ from pdamper.analysis.plastic_bed import harmonic_plastic_bed
 from pdamper.constants import STANDARD_GRAVITY
 from pdamper.damper import ParticleDamper
 from pdamper.errors import check_range
-from pdamper.models.base import DamperModel, DamperResponse
+from pdamper.models.base import CONTACT_LAW_INPUTS, DamperModel, DamperResponse
 
 #: Seconds one point of :func:`~pdamper.analysis.plastic_bed.harmonic_plastic_bed` takes
 #: (measured: 10-15 ms on one core).
@@ -89,8 +89,7 @@ class PlasticBedDamper(DamperModel):
     unused_inputs = {
         f: "the plastic bed is one perfectly plastic block (collect-and-collide, Sect. 3.1): "
            "neither friction nor the coefficient of restitution enters it"
-        for f in ("particles.friction", "dem.restitution_pp", "dem.restitution_pw",
-                  "restitution.particle_particle", "restitution.particle_wall")}
+        for f in CONTACT_LAW_INPUTS}
 
     def __init__(self, damper: ParticleDamper, gravity: float = STANDARD_GRAVITY):
         super().__init__(damper)
