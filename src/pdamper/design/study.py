@@ -106,6 +106,7 @@ from pdamper.resources import (  # noqa: F401 - the study's defaults
     DEFAULT_TOLERANCE,
 )
 from pdamper.settings import check_setting
+from pdamper.units import DISPLAY_OF
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -167,7 +168,7 @@ def _variable(key: str) -> _VariableKind:
 
 
 #: Display unit and factor from SI of a variable's unit.
-_DISPLAY = {"m": ("mm", 1e3), "kg": ("g", 1e3), "%": ("%", 100.0)}
+_DISPLAY = {**DISPLAY_OF, "%": ("%", 100.0)}
 
 
 def _derived(name: str, doc: str, **declaration: Any) -> _VariableKind:
@@ -627,7 +628,7 @@ OBJECTIVE_LABELS = {"amplitude-at": "amplitude at t = {at:g} s",
                     "peak-frf": "largest steady amplitude over the band",
                     "rms-frf": "RMS of the steady amplitude over the band"}
 #: Unit in which objectives of each SI unit are shown, and its factor from SI.
-DISPLAY_UNITS = {"m": ("mm", 1e3), "s": ("s", 1.0), "1": ("-", 1.0)}
+DISPLAY_UNITS = {**DISPLAY_OF, "s": ("s", 1.0), "1": ("-", 1.0)}
 
 
 def make_objective(name: str, at: float, initial_displacement: float,
