@@ -64,10 +64,12 @@ def check_scheduler(address, field: str = "scheduler") -> str:
 
 
 def _stop_workers(cluster) -> None:
-    """Kill the worker processes of a local ``cluster`` after :data:`STOP_WAIT` s (dask's
-    own close waits 4 s for a worker busy in a task, such as a DEM kernel), and wait until
-    they are gone (at most :data:`REAP_WAIT` s more; one still there at exit is reported by
-    dask as a "stray process")."""
+    """Kill the worker processes of a local ``cluster`` at once, then close their nannies
+    (within :data:`STOP_WAIT` s) and wait until the processes are gone (at most
+    :data:`REAP_WAIT` s more; one still there at exit is reported by dask as a "stray
+    process"). Killed first: dask's own close waits 4 s for a worker busy in a task (a DEM
+    kernel), and a worker closed gracefully while its heartbeat is in flight logs the
+    closed connection as an error on the terminal of whoever pressed Ctrl-C."""
     import asyncio
     import signal
 
@@ -76,13 +78,13 @@ def _stop_workers(cluster) -> None:
         # the worker processes (distributed's AsyncProcess), taken before close forgets them
         procs: list[Any] = [getattr(getattr(w, "process", None), "process", None)
                             for w in nannies]
-        await asyncio.gather(*(w.close(timeout=STOP_WAIT) for w in nannies),
-                             return_exceptions=True)
         procs = [p for p in procs if p is not None and getattr(p, "pid", None)]
         for p in procs:
             with contextlib.suppress(Exception):
                 if p.is_alive():
                     os.kill(p.pid, getattr(signal, "SIGKILL", signal.SIGTERM))
+        await asyncio.gather(*(w.close(timeout=STOP_WAIT) for w in nannies),
+                             return_exceptions=True)
         await asyncio.gather(*(p.join(REAP_WAIT) for p in procs), return_exceptions=True)
 
     with contextlib.suppress(Exception):
