@@ -257,7 +257,10 @@ class _Gap:
         return low - off - 1.0 - margin, high - off + 1.0 + margin
 
     def bounds_rows(self, idx: np.ndarray, lo: np.ndarray, hi: np.ndarray):
-        """:meth:`bounds` of the rows ``idx``, each over its [lo, hi] (arrays)."""
+        """:meth:`bounds` of the rows ``idx``, each over its [lo, hi] (arrays). The same
+        arithmetic as :meth:`bounds`, written twice on purpose: one point's scan asks for
+        a bound per cycle (up to a million cycles without gravity), where numpy's calls on
+        scalars would cost several times the Python floats of :meth:`bounds`."""
         p0, base, slope, gam2, off = (a[idx] for a in (self.p0, self.base, self.slope,
                                                         self.gam2, self.offset))
         with np.errstate(invalid="ignore"):
