@@ -67,9 +67,10 @@ def _stop_workers(cluster) -> None:
     """Kill the worker processes of a local ``cluster`` at once, then close their nannies
     (within :data:`STOP_WAIT` s) and wait until the processes are gone (at most
     :data:`REAP_WAIT` s more; one still there at exit is reported by dask as a "stray
-    process"). Killed first: dask's own close waits 4 s for a worker busy in a task (a DEM
-    kernel), and a worker closed gracefully while its heartbeat is in flight logs the
-    closed connection as an error on the terminal of whoever pressed Ctrl-C."""
+    process"). Killed before the nannies ask them to stop: dask's own close waits 4 s for a
+    worker busy in a task (a DEM kernel), and a worker closed gracefully while its heartbeat
+    is in flight logs the closed connection as an error on the terminal of whoever pressed
+    Ctrl-C. Killed after each nanny is marked closing, or it would start a new worker."""
     import asyncio
     import signal
 
@@ -79,12 +80,16 @@ def _stop_workers(cluster) -> None:
         procs: list[Any] = [getattr(getattr(w, "process", None), "process", None)
                             for w in nannies]
         procs = [p for p in procs if p is not None and getattr(p, "pid", None)]
+        # each close marks its nanny closing before its first wait: a nanny still running
+        # when its worker dies starts a new one, whose queues' semaphores the exit
+        # handlers of this process may miss (the resource tracker then reports them)
+        closing = [asyncio.ensure_future(w.close(timeout=STOP_WAIT)) for w in nannies]
+        await asyncio.sleep(0)
         for p in procs:
             with contextlib.suppress(Exception):
                 if p.is_alive():
                     os.kill(p.pid, getattr(signal, "SIGKILL", signal.SIGTERM))
-        await asyncio.gather(*(w.close(timeout=STOP_WAIT) for w in nannies),
-                             return_exceptions=True)
+        await asyncio.gather(*closing, return_exceptions=True)
         await asyncio.gather(*(p.join(REAP_WAIT) for p in procs), return_exceptions=True)
 
     with contextlib.suppress(Exception):
