@@ -344,6 +344,18 @@ def _hold(a: np.ndarray, b: np.ndarray, h: float):
 
 
 @dataclass(frozen=True)
+class PlasticBedState:
+    """Where a run of :class:`PlasticBedSystem` ended, to continue it
+    (:meth:`PlasticBedSystem.run`'s ``start``): the structure's state ``z = (q, q')``, the
+    bed's state code, its bottom's position [m] and velocity [m/s]."""
+
+    z: np.ndarray = field(repr=False)
+    state: int
+    bed_position: float
+    bed_velocity: float
+
+
+@dataclass(frozen=True)
 class PlasticBedRun:
     """What :meth:`PlasticBedSystem.run` computed at the grid times.
 
@@ -379,6 +391,7 @@ class PlasticBedRun:
     impact_walls: np.ndarray
     impulses: np.ndarray
     impact_losses: np.ndarray
+    end: PlasticBedState | None = field(default=None, repr=False)
 
     @property
     def dissipated_energy(self) -> float:
@@ -439,15 +452,19 @@ class PlasticBedSystem:
         self._mob = float(self.phi @ self._cfg[False][2] @ self.phi)
 
     def run(self, dt: float, u: np.ndarray, v_base: np.ndarray, y_base: np.ndarray,
-            q0: np.ndarray | None = None) -> PlasticBedRun:
-        """Integrate from rest (or ``q0``) with the bed resting on the floor, on the grid
-        ``t = k dt`` of the inputs ``u[k] = (F, a_b, 1)`` (linear between samples), the base
-        velocity and displacement at the samples."""
+            q0: np.ndarray | None = None, start: PlasticBedState | None = None
+            ) -> PlasticBedRun:
+        """Integrate from rest (or ``q0``) with the bed resting on the floor, or from where
+        an earlier run ended (``start``: its ``end``; the time then counts from 0 again),
+        on the grid ``t = k dt`` of the inputs ``u[k] = (F, a_b, 1)`` (linear between
+        samples), the base velocity and displacement at the samples."""
         steps = u.shape[0] - 1
         n = self.n
         z = np.zeros(2 * n)
         if q0 is not None:
             z[:n] = q0
+        if start is not None:
+            z = np.array(start.z, float)
         phi = self.phi
         z_out = np.empty((steps + 1, 2 * n))
         zd_out = np.empty((steps + 1, 2 * n))
@@ -463,6 +480,8 @@ class PlasticBedSystem:
         state = self._settle(FLOOR, z, u[0])
         if self.h <= 0.0 and state == FREE:
             state = LID
+        if start is not None:  # the bed as the earlier run left it
+            state, Y, V = int(start.state), float(start.bed_position), float(start.bed_velocity)
         for k in range(steps + 1):
             att = state != FREE
             a, b, _ = self._cfg[att]
@@ -520,7 +539,8 @@ class PlasticBedSystem:
             impact_times=np.array([i[0] for i in impacts]),
             impact_walls=np.array([i[1] for i in impacts], int),
             impulses=np.array([i[2] for i in impacts]),
-            impact_losses=np.array([i[3] for i in impacts]))
+            impact_losses=np.array([i[3] for i in impacts]),
+            end=PlasticBedState(z.copy(), int(state), float(Y), float(V)))
 
     def _transition(self, state: int, z: np.ndarray, Y: float, V: float, s: float,
                     xc: float, vc: float, um: np.ndarray, vb_ev: float, yb_ev: float,

@@ -1391,10 +1391,22 @@ def assumption_record(res: FRFResult) -> dict | None:
 
 
 # ----------------------------------------------------------------------------- driver
+# --- the plastic block's stepped sine (pdamper.coupling.plastic.stepped_sine) ---------
+def stepped_sine_plastic_bed(model, structure, load: HarmonicLoad, frequency,
+                             direction: str, **options: Any) -> FRFCurve:
+    """Stepped sine of the plastic block (:func:`pdamper.coupling.plastic.stepped_sine`):
+    the block integrated event by event on the structure, no describing function."""
+    from pdamper.coupling.plastic import stepped_sine
+
+    return stepped_sine(model, structure, load, frequency, direction, **options)
+# --- end of the plastic block's stepped sine -------------------------------------------
+
+
 #: Stepped-sine strategies by the model's coupling name (as :data:`pdamper.coupling.COUPLINGS`).
 STEPPED_SINES: dict[str, Callable[..., FRFCurve]] = {
     "pseudo_force": stepped_sine_pseudo_force,
     "co_simulation": stepped_sine_co_simulation,
+    "plastic_bed": stepped_sine_plastic_bed,
 }
 #: Couplings whose damper has a describing function cheap enough for harmonic balance.
 HARMONIC_BALANCE = ("pseudo_force",)

@@ -252,3 +252,150 @@ class PlasticBedCoupling:
                     "interpolation": "linear", "steps": steps,
                     "impacts": int(run.impact_times.size)},
             details=PlasticCouplingRun(q[:, keep], x_c[keep], run, h))
+
+
+# ----------------------------------------------------------------------------- stepped sine
+#: Least integration steps per load cycle of the stepped sine (the first harmonic of each
+#: cycle and the events inside it; more where the fastest mode needs
+#: :data:`STEPS_PER_PERIOD`).
+FRF_STEPS_PER_CYCLE = 64
+#: Most load cycles per frequency of the stepped sine.
+FRF_MAX_CYCLES = 600
+#: Load cycles integrated per call between two judgements of the stationarity.
+FRF_CHUNK_CYCLES = 8
+#: Relative tolerance of the per-cycle stroke over the judged window (1 %).
+FRF_RTOL = 0.01
+
+
+def frf_criterion(structure, frequency: float):
+    """The stationarity criterion of one step at ``frequency`` [Hz]: three windows that
+    together span at least the slowest mode's decay time ``1 / (zeta w)`` (the beat of
+    free and forced motion of a lightly damped structure is slower than a few cycles), the
+    per-cycle strokes within :data:`FRF_RTOL` of the last."""
+    from pdamper.analysis.stationarity import SteadyStateCriterion
+    from pdamper.coupling.frf import _modal
+
+    s = _modal(structure)
+    w = s.angular_frequencies
+    tau = float(np.max(1.0 / (s.damping_ratios * w)))
+    window = max(3, math.ceil(frequency * tau / 3.0))
+    return SteadyStateCriterion(rtol=FRF_RTOL, atol=FRF_RTOL, quiet_window_cycles=0,
+                                window_cycles=window, skip_cycles=2)
+
+
+def stepped_sine(model, structure, load, frequency, direction: str, *, criterion=None,
+                 max_cycles: int = FRF_MAX_CYCLES, **_):
+    """Stepped sine of the plastic block on ``structure`` (1-DOF or N modes) under the
+    harmonic ``load`` (:class:`~pdamper.coupling.frf.HarmonicLoad`) at ``frequency``
+    [Hz] in ``direction`` ``"up"`` or ``"down"``: the block integrated event by event
+    (:class:`~pdamper.analysis.plastic_bed.PlasticBedSystem`), each step starting where the
+    previous one ended (structure, block and the load's phase), run in whole load cycles
+    until the damper point's per-cycle first-harmonic amplitude is steady
+    (:func:`frf_criterion`, or ``criterion``) or ``max_cycles`` have run. Results in
+    ascending frequency order (a :class:`~pdamper.coupling.frf.FRFCurve`):
+
+    - ``amplitude``, ``phase``, ``stroke``: first harmonics over the last judged cycles
+      (at least one) of the output point and the damper point against the load;
+    - ``loss_factor``: the impacts' losses per cycle over ``2 pi (1/2 m_bed (W X)^2)``
+      (Eq. 3); ``effective_mass``: ``m_bed |Y*| / |X*|`` from the block's first harmonic
+      (Eq. 4 with the block's momentum balance, ``F* = -W^2 m_bed Y*``);
+    - ``mode``: -1 (the block's orbit is not classified here);
+    - ``diagnostics["distortion"]``: the RMS of the damper point's motion less its first
+      harmonic over those cycles, relative to the first harmonic's RMS [-] (0 for a
+      harmonic motion; the impacts' harmonics and subharmonics raise it).
+
+    A base motion acts as its equivalent force at the damper point (as the other stepped
+    sines, :func:`~pdamper.coupling.frf.load_force`).
+    """
+    from pdamper.analysis.plastic_bed import PlasticBedSystem
+    from pdamper.coupling.frf import (
+        SCATTER_WINDOWS,
+        FRFCurve,
+        _modal,
+        _scatter,
+        _sweep_order,
+        load_force,
+        steady_amplitudes,
+    )
+
+    check_range("max_cycles", max_cycles, low=1, unit="")
+    s = _modal(structure)
+    n = s.modes
+    w = s.angular_frequencies
+    phi, psi = s.damper_shape, s.output_shape
+    at = s.load_shape if load.at_load_point else phi
+    bed = PlasticBedSystem(np.eye(n), np.diag(2.0 * s.damping_ratios * w), np.diag(w * w),
+                           phi, at, None, model.bed_mass, model.damper.clearance,
+                           model.gravity)
+    f_max = float(np.max(w)) / (2.0 * math.pi)
+    freqs = np.atleast_1d(np.asarray(frequency, float))
+    out = {k: np.full(freqs.size, np.nan) for k in ("amplitude", "phase", "stroke",
+                                                    "loss_factor", "effective_mass",
+                                                    "distortion")}
+    steady = np.zeros(freqs.size, bool)
+    cycles = np.zeros(freqs.size, int)
+    spread = (np.full(freqs.size, np.nan), np.full(freqs.size, np.nan))
+    walls = np.zeros(freqs.size)
+    start = None
+    import time
+
+    for i in _sweep_order(freqs, direction):
+        t_wall = time.perf_counter()
+        f = float(freqs[i])
+        om = 2.0 * math.pi * f
+        force = load_force(s, load, f)
+        crit = criterion or frf_criterion(s, f)
+        spc = max(FRF_STEPS_PER_CYCLE, math.ceil(STEPS_PER_PERIOD * f_max / f))
+        h = 1.0 / (f * spc)
+        per: list[tuple] = []  # per cycle: (x_d*, x_o*, Y*, loss, rms of x_d - its harmonic)
+        ok = False
+        while len(per) < max_cycles:
+            k = min(FRF_CHUNK_CYCLES, max_cycles - len(per))
+            t = np.arange(k * spc + 1) * h
+            u = np.zeros((t.size, 3))
+            u[:, 0] = (force * np.exp(1j * om * t)).real  # whole cycles: the phase runs on
+            u[:, 2] = 1.0
+            zero = np.zeros(t.size)
+            run = bed.run(h, u, zero, zero, start=start)
+            start = run.end
+            x_d, x_o = phi @ run.q, psi @ run.q
+            rot = np.exp(-1j * om * t)
+            for c in range(k):
+                sl = slice(c * spc, (c + 1) * spc + 1)
+                tt = t[sl]
+                hd = 2.0 * f * np.trapezoid(x_d[sl] * rot[sl], tt)
+                ho = 2.0 * f * np.trapezoid(x_o[sl] * rot[sl], tt)
+                hy = 2.0 * f * np.trapezoid(run.bed_position[sl] * rot[sl], tt)
+                t0, t1 = tt[0], tt[-1]
+                hit = (run.impact_times >= t0) & (run.impact_times < t1)
+                mean = f * np.trapezoid(x_d[sl], tt)
+                resid = x_d[sl] - mean - (hd * np.exp(1j * om * tt)).real
+                dist = math.sqrt(f * np.trapezoid(resid ** 2, tt))
+                per.append((hd, ho, hy, float(np.sum(run.impact_losses[hit])), dist))
+            if steady_amplitudes([abs(p[0]) for p in per], crit):
+                ok = True
+                break
+        last = crit.span if ok else min(len(per), 3)
+        tail = per[-last:]
+        hd = complex(np.mean([p[0] for p in tail]))
+        ho = complex(np.mean([p[1] for p in tail]))
+        hy = complex(np.mean([p[2] for p in tail]))
+        loss = float(np.mean([p[3] for p in tail]))
+        x = abs(hd)
+        cycles[i], steady[i] = len(per), ok
+        out["amplitude"][i], out["phase"][i] = abs(ho), float(np.angle(ho))
+        out["stroke"][i] = x
+        v = om * x
+        m_bed = model.bed_mass
+        out["loss_factor"][i] = loss / (math.pi * m_bed * v * v) if m_bed > 0 and v > 0 \
+            else 0.0
+        out["effective_mass"][i] = m_bed * abs(hy) / x if x > 0 else m_bed
+        out["distortion"][i] = (float(np.mean([p[4] for p in tail])) / (x / math.sqrt(2.0))
+                                if x > 0 else 0.0)
+        spread[0][i], spread[1][i] = _scatter([abs(p[1]) for p in per[-SCATTER_WINDOWS:]])
+        walls[i] = time.perf_counter() - t_wall
+    return FRFCurve(amplitude=out["amplitude"], phase=out["phase"], stroke=out["stroke"],
+                    loss_factor=out["loss_factor"], effective_mass=out["effective_mass"],
+                    mode=np.full(freqs.size, -1), steady=steady, cycles=cycles,
+                    amplitude_mean=spread[0], amplitude_std=spread[1],
+                    diagnostics={"wall_seconds": walls, "distortion": out["distortion"]})
