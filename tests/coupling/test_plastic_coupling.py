@@ -145,8 +145,8 @@ def test_shock_on_the_paper_structure_against_the_dem():
     """The paper's 1-DOF and 32 spheres under a 40 N half-sine of 40 ms (docs/forced.md):
     the block's peak equals the DEM's within 1 % and its RMS over the first 0.5 s (while
     the bed flies) within 15 % of the DEM's, nearer than the closed forms' pseudo force.
-    (Over the whole 2.5 s it is not: below take-off the block rides without loss, the
-    DEM's contacts keep dissipating; docs/analytical.md.)"""
+    (Over the whole 2.5 s this lattice start is not the DEM's answer for a poured bed:
+    its columns dissipate more near take-off; the random packings' test below.)"""
     from pdamper.models import DEMDamper
 
     t = np.arange(0.0, 1.5005, 1e-3)
@@ -164,3 +164,40 @@ def test_shock_on_the_paper_structure_against_the_dem():
     err = abs(rms(runs["plastic"]) / rms(runs["dem"]) - 1.0)
     assert err < 0.15
     assert err < abs(rms(runs["analytic"]) / rms(runs["dem"]) - 1.0)
+
+
+def _rms(r):
+    return math.sqrt(np.trapezoid(r.displacement ** 2, r.time) / (r.time[-1] - r.time[0]))
+
+
+@pytest.mark.long
+@pytest.mark.parametrize("case", ["paper", "machine-frame"])
+def test_shock_rms_within_the_spread_of_the_dems_poured_beds(case):
+    """The whole record's RMS against the DEM from random packings (seeds 0-2, the poured
+    beds a user fills): within their spread or 15 % of their mean, on the paper's 1-DOF
+    (40 N half-sine of 40 ms, 2.5 s) and on the machine frame's mode 1 at the tip (the 1-DOF
+    equivalent the DEM runs: 15 kg, 12 Hz, 1 %; its 190 steel spheres; the 1 kN half-sine
+    of 10 ms, 2.5 s). docs/analytical.md: measured +0.4 % and -0.3 %; the paper's lattice
+    start is the outlier (its columns dissipate more near take-off)."""
+    from pdamper.io.scenario import load_scenario
+    from pdamper.models import DEMDamper
+    from pdamper.structure import SingleDOFStructure
+
+    if case == "paper":
+        damper, structure = PAPER_DAMPER, PAPER_STRUCTURE
+        t = np.arange(0.0, 1.5005, 1e-3)
+        shock = LoadHistory(t, np.where(t < 0.04, 40.0 * np.sin(np.pi * t / 0.04), 0.0),
+                            "force", "shock")
+    else:
+        damper = load_scenario(FRAME / "scenario.toml").damper()
+        m, w = 1.0 / 0.2582 ** 2, 2.0 * math.pi * 12.0
+        structure = SingleDOFStructure(mass=m, damping=2 * 0.01 * m * w, stiffness=m * w * w)
+        t = np.arange(0.0, 0.5005, 1e-4)
+        shock = LoadHistory(t, np.where(t < 0.01, 1000.0 * np.sin(np.pi * t / 0.01), 0.0),
+                            "force", "shock")
+    tail = 2.5 - shock.duration
+    block = _rms(run_load(PlasticBedDamper(damper), structure, shock, tail=tail))
+    dem = np.array([_rms(run_load(DEMDamper(damper, packing="random", seed=k), structure,
+                                  shock, tail=tail)) for k in range(3)])
+    inside = dem.min() <= block <= dem.max()
+    assert inside or abs(block / dem.mean() - 1.0) < 0.15

@@ -216,7 +216,16 @@ def _payload(res, source: str, load_, band: dict | None) -> tuple[dict, list[str
     payload["units"] = {"frequency": "Hz", "amplitude": "m", "stroke": "m", "phase": "rad",
                         "loss_factor": "1", "effective_mass": "kg", "wall_seconds": "s",
                         "load": load_.unit}
+    from pdamper.coupling.harmonicity import frf_summary, frf_warning
+
+    near = frf_summary(res)
+    payload["near_harmonic"] = near["near_harmonic"]
+    if "not_applicable" in near:
+        payload.setdefault("not_applicable", {}).update(near["not_applicable"])
     text = _table(res)
+    warn = frf_warning(res)
+    if warn is not None:
+        text.append(warn)
     marks = payload.get("assumptions")
     if marks is not None and marks["flagged"]:
         from pdamper.analysis.analytical import assumption_line

@@ -476,6 +476,7 @@ def _candidate_lines(res: DesignStudyResult) -> list[str]:
         if c.violations:
             mark = "  outside the limits: " + "; ".join(c.violations)
         outside = " !" if c.extra.get("assumptions_hold") is False else ""
+        outside += " ~" if c.extra.get("near_harmonic") is False else ""
         lines.append("  " + "  ".join(cells) + f"  {mass}  {value}{outside}{mark}")
 
     def brief(c: Any) -> str:
@@ -507,7 +508,26 @@ def _candidate_lines(res: DesignStudyResult) -> list[str]:
             if pick is not None and pick.limits and not any(pick is d for d in shown_):
                 shown_.append(pick)
                 lines.append(f"  {label}: {describe_design(pick, names)}: " + margins(pick))
-    return lines + _assumption_lines(res)
+    return lines + _assumption_lines(res) + _harmonic_lines(res)
+
+
+def _harmonic_lines(res: DesignStudyResult) -> list[str]:
+    """The designs whose describing-function answer rests on a motion that is not
+    near-harmonic (~ in the table; JSON per candidate: ``near_harmonic``,
+    ``harmonic_deviation``, :mod:`pdamper.coupling.harmonicity`)."""
+    from pdamper.coupling.harmonicity import FOLLOWING_FIDELITY, NEAR_HARMONIC_DEVIATION
+
+    flagged = [c for c in res.candidates if c.extra.get("near_harmonic") is False]
+    if not flagged:
+        return []
+    ok = sum(c.status == "ok" for c in res.candidates)
+    out = [f"~ {len(flagged)} of {ok} evaluated designs rest on a motion that is not "
+           f"near-harmonic (deviation above {NEAR_HARMONIC_DEVIATION:g} from the harmonic "
+           f"their loss factor was taken at): check them with --model {FOLLOWING_FIDELITY}"
+           " or dem"]
+    if res.best is not None and res.best.extra.get("near_harmonic") is False:
+        out.append(f"~ the best design: deviation {res.best.extra['harmonic_deviation']:.2f}")
+    return out
 
 
 def _assumption_lines(res: DesignStudyResult) -> list[str]:

@@ -100,6 +100,15 @@ def _assumption_lines(rep) -> list[str]:
     best = None if rep.study is None else rep.study.best
     if best is not None and best.extra.get("assumptions_hold") is False:
         out.append(f"  ! best design: {best.extra['assumptions']}")
+    for m in rep.models():
+        h = m.get("harmonicity")
+        if h is not None and not h["near_harmonic"]:
+            out.append(f"  ! free decay, {m['label']}: not near-harmonic (deviation "
+                       f"{h['deviation']:.2f} > {h['threshold']:g}): its loss factor was "
+                       "taken from a harmonic response the motion does not follow; use "
+                       "--model plastic or dem there")
+        if m.get("fields_from") == "analytic":
+            out.append(f"  ! {m['label']}: {m['fields_note']}")
     summary = rep.forced_summary() or {"models": {}}
     for label, m in summary["models"].items():
         if m.get("peak_assumptions_hold") is False:

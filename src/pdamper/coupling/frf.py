@@ -71,6 +71,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from pdamper.analysis.stationarity import SteadyStateCriterion
+from pdamper.coupling.harmonicity import NEAR_HARMONIC_DEVIATION
 from pdamper.errors import InputError, SimulationError, check_range
 
 #: Strokes of the harmonic-balance scan and of the stepped sine's table per frequency.
@@ -809,6 +810,12 @@ class FRFResult:
                 out["branch"] = str(c.branch[idx])
             if c.cycles is not None:
                 out["cycles"] = int(c.cycles[idx])
+            if "harmonic_deviation" in c.diagnostics:  # a describing-function step
+                dev = float(c.diagnostics["harmonic_deviation"][idx])
+                out["harmonic_deviation"] = dev
+                out["near_harmonic"] = bool(not dev > NEAR_HARMONIC_DEVIATION)
+            elif "distortion" in c.diagnostics:  # the plastic block's step
+                out["distortion"] = float(c.diagnostics["distortion"][idx])
             if "assumptions_hold" in c.diagnostics:  # the damper model's own check
                 out["assumptions_hold"] = bool(c.diagnostics["assumptions_hold"][idx])
                 out["assumptions"] = str(c.diagnostics["assumptions"][idx])
@@ -1016,6 +1023,7 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
     steady = np.zeros(freqs.size, bool)
     cycles = np.zeros(freqs.size, int)
     spread = (np.full(freqs.size, np.nan), np.full(freqs.size, np.nan))
+    deviation = np.full(freqs.size, np.nan)
     x_prev = 0.0
     for i in _sweep_order(freqs, direction):
         f = float(freqs[i])
@@ -1034,8 +1042,10 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
         ok = False
         m = dm = eta = 0.0
         md = -1
+        z_start, x_used = z, x_prev
         for _ in range(max_cycles):
-            m, dm, md, eta = table.at(max(x_prev, table.stroke[0]))
+            z_start, x_used = z, max(x_prev, table.stroke[0])
+            m, dm, md, eta = table.at(x_used)
             z, hat, transient, forced = _matrix_cycle(mats, m, dm, force, om, f, z, held)
             xd_hat, xo_hat = complex(phi @ hat[:n]), complex(psi @ hat[:n])
             x_prev = abs(xd_hat)
@@ -1051,10 +1061,34 @@ def stepped_sine_pseudo_force(model, structure, load: HarmonicLoad, frequency,
         out["phase"][i] = float(np.angle(xo_hat))  # against the reference signal
         out["stroke"][i] = abs(xd_hat)
         out["loss_factor"][i], out["effective_mass"][i], mode[i] = eta, m, md
+        deviation[i] = _last_cycle_deviation(mats, phi, m, dm, force, om, z_start, x_used)
     return FRFCurve(amplitude=out["amplitude"], phase=out["phase"], stroke=out["stroke"],
                     loss_factor=out["loss_factor"], effective_mass=out["effective_mass"],
                     mode=mode, steady=steady, cycles=cycles, amplitude_mean=spread[0],
-                    amplitude_std=spread[1])
+                    amplitude_std=spread[1],
+                    diagnostics={"harmonic_deviation": deviation})
+
+
+# --- the near-harmonic measure of a describing-function step ---------------------------
+def _last_cycle_deviation(mats: tuple, phi: np.ndarray, m: float, dm: float, force: complex,
+                          om: float, z0: np.ndarray, stroke: float) -> float:
+    """The deviation of the damper point's motion over a step's last load cycle from the
+    harmonic at the stroke its describing function was taken at
+    (:func:`pdamper.coupling.harmonicity.cycle_deviation`), from that cycle's exact
+    solution with m_eff ``m`` and ``d`` = ``dm`` held, starting from the state ``z0``
+    (``phi``: the damper point's shape)."""
+    from pdamper.coupling.harmonicity import cycle_deviation
+
+    n, eye_n, pp, k0, c0, at, eye, _w = mats
+    minv = np.linalg.inv(eye_n + m * pp)
+    a = np.zeros((2 * n, 2 * n))
+    a[:n, n:] = eye_n
+    a[n:, :n] = -minv @ k0
+    a[n:, n:] = -minv @ (c0 + dm * pp)
+    b = np.concatenate([np.zeros(n), minv @ at * force])
+    zp = np.linalg.solve(1j * om * eye - a, b)
+    return cycle_deviation(a, zp, z0, phi, om, stroke)
+# --- end of the near-harmonic measure ---------------------------------------------------
 
 
 def _matrix_cycle(mats: tuple, m: float, dm: float, force: complex, om: float, f: float,

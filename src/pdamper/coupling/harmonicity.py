@@ -153,6 +153,112 @@ def of_result(result) -> Harmonicity | None:
     return harmonicity(result.time, x_d, result.cycles)
 
 
+def cycle_deviation(a: np.ndarray, steady: np.ndarray, z0: np.ndarray, phi: np.ndarray,
+                    omega: float, stroke: float, samples: int = 64) -> float:
+    """The deviation of one load cycle of a describing-function stepped sine
+    (:func:`pdamper.coupling.frf.stepped_sine_pseudo_force`) from the harmonic it assumed:
+    the modal state ``z(t) = Re(Z e^{i W t}) + e^{A t} (z0 - Re Z)`` over ``[0, 2 pi / W]``
+    (``a``: A, ``steady``: Z), the damper point's motion ``x = phi . q`` and
+
+        e = RMS(x - <x> - Re(X e^{i (W t + arg x*)})) / (X / sqrt 2),
+
+    with ``X`` = ``stroke`` [m], the amplitude the describing function was taken at, and
+    ``x*`` the cycle's first harmonic: 0 for a steady step, about 1 where the motion is as
+    far from that harmonic as the harmonic is from rest (a step whose transient or whose
+    cycle-to-cycle jumps of the describing function have not died out). NaN without a
+    stroke.
+
+    >>> a = np.array([[0.0, 1.0], [-100.0, -2.0]])
+    >>> om = 10.0
+    >>> z = np.linalg.solve(1j * om * np.eye(2) - a, np.array([0.0, 1.0]))
+    >>> round(cycle_deviation(a, z, z.real, np.array([1.0]), om, abs(z[0])), 9)
+    0.0
+    """
+    if not (stroke > 0 and math.isfinite(stroke)):
+        return math.nan
+    n = phi.size
+    period = 2.0 * math.pi / omega
+    t = np.linspace(0.0, period, samples + 1)
+    lam, vec = np.linalg.eig(a)
+    coef = np.linalg.solve(vec, (z0 - steady.real).astype(complex))
+    free = ((vec[None, :, :] * np.exp(np.outer(t, lam))[:, None, :]) @ coef).real
+    z = (steady[None, :] * np.exp(1j * omega * t)[:, None]).real + free
+    x = z[:, :n] @ phi
+    hat = 2.0 / period * np.trapezoid(x * np.exp(-1j * omega * t), t)
+    mean = np.trapezoid(x, t) / period
+    xh = (stroke * np.exp(1j * (omega * t + np.angle(hat)))).real
+    rms = math.sqrt(float(np.trapezoid((x - mean - xh) ** 2, t)) / period)
+    return float(rms / (stroke / math.sqrt(2.0)))
+
+
+def frf_marks(curve) -> dict | None:
+    """Per frequency of a stepped sine (:class:`~pdamper.coupling.frf.FRFCurve`) of a
+    describing-function damper: ``harmonic_deviation`` (:func:`cycle_deviation` of the
+    step's last cycle) and ``near_harmonic`` (at most :data:`NEAR_HARMONIC_DEVIATION`);
+    None for a sweep without the measure (a damper force that follows the motion)."""
+    dev = curve.diagnostics.get("harmonic_deviation")
+    if dev is None:
+        return None
+    dev = np.asarray(dev, float)
+    return {"harmonic_deviation": dev,
+            "near_harmonic": ~(dev > NEAR_HARMONIC_DEVIATION)}
+
+
+#: Why a forced response's answer carries no near-harmonic measure.
+FRF_NOT_APPLICABLE = {
+    "harmonic_balance": "harmonic balance solves for a harmonic motion: no run to judge "
+                        "(the stepped sines' rows carry the measure)",
+    "following": "the damper force follows the motion itself (no loss factor taken from a "
+                 "harmonic response); the plastic block's rows carry its distortion",
+}
+
+
+def frf_summary(res) -> dict:
+    """The forced response's JSON key ``near_harmonic``: per sweep of a
+    describing-function damper the steps judged, those not near-harmonic and their
+    frequencies [Hz], the largest deviation and the threshold; ``null`` with the reason
+    where no sweep carries the measure (``not_applicable``)."""
+    by: dict[str, dict] = {}
+    for name, c in res.sweeps.items():
+        marks = frf_marks(c)
+        if marks is None:
+            continue
+        sel = ~marks["near_harmonic"]
+        dev = marks["harmonic_deviation"]
+        by[name] = {"points": int(dev.size), "not_near_harmonic": int(sel.sum()),
+                    "frequencies": [float(v) for v in res.frequency[sel]],
+                    "largest_deviation": float(np.nanmax(dev)) if np.any(np.isfinite(dev))
+                    else None}
+    if not by:
+        why = (FRF_NOT_APPLICABLE["following"] if res.sweeps
+               else FRF_NOT_APPLICABLE["harmonic_balance"])
+        return {"near_harmonic": None, "not_applicable": {"near_harmonic": why}}
+    return {"near_harmonic": {"by_sweep": by, "threshold": NEAR_HARMONIC_DEVIATION,
+                              "all": not any(v["not_near_harmonic"] for v in by.values())}}
+
+
+def frf_warning(res) -> str | None:
+    """One line for the text of a forced response where a describing-function step is
+    not near-harmonic (its frequencies and sweeps); None where every step is."""
+    bad: list[str] = []
+    worst = 0.0
+    for name, c in res.sweeps.items():
+        marks = frf_marks(c)
+        if marks is None:
+            continue
+        sel = ~marks["near_harmonic"]
+        if np.any(sel):
+            worst = max(worst, float(np.nanmax(marks["harmonic_deviation"][sel])))
+            fs = res.frequency[sel]
+            bad.append(f"{name} at {fs.size} frequencies ({fs[0]:g}-{fs[-1]:g} Hz)")
+    if not bad:
+        return None
+    return (f"! not near-harmonic: {'; '.join(bad)}: the damper point's last cycle deviates "
+            f"by up to {worst:.2f} (RMS, above {NEAR_HARMONIC_DEVIATION:g}) from the harmonic "
+            f"its loss factor was taken at (JSON near_harmonic per row); use --model "
+            f"{FOLLOWING_FIDELITY}, whose damper force follows the motion itself")
+
+
 #: Why the measure is missing from a run (JSON ``not_applicable``).
 NOT_APPLICABLE = ("the damper force follows the motion itself (no loss factor taken from a "
                   "harmonic response), or no update's period ends within the run")
@@ -168,3 +274,27 @@ def payload(result) -> dict:
                 "not_applicable": {"harmonicity": NOT_APPLICABLE,
                                    "near_harmonic": NOT_APPLICABLE}}
     return {"harmonicity": h.as_dict(), "near_harmonic": h.near_harmonic}
+
+
+def design_marks(result) -> dict:
+    """A design's extras from its run (a free vibration or a load history, or an
+    :class:`~pdamper.coupling.frf.FRFResult` of its forced response): ``near_harmonic``
+    (bool) and ``harmonic_deviation`` (the run's :attr:`Harmonicity.deviation`; of a
+    forced response the largest of its stepped sines' steps) [-]; {} where the measure
+    does not apply (a damper force that follows the motion)."""
+    if hasattr(result, "sweeps"):  # a forced response
+        devs = [frf_marks(c) for c in result.sweeps.values()]
+        devs = [d["harmonic_deviation"] for d in devs if d is not None]
+        if not devs:
+            return {}
+        dev = np.concatenate(devs)
+        dev = dev[np.isfinite(dev)]
+        if dev.size == 0:
+            return {}
+        worst = float(dev.max())
+        return {"near_harmonic": bool(worst <= NEAR_HARMONIC_DEVIATION),
+                "harmonic_deviation": worst}
+    h = of_result(result)
+    if h is None:
+        return {}
+    return {"near_harmonic": h.near_harmonic, "harmonic_deviation": h.deviation}

@@ -1241,13 +1241,15 @@ class DesignEvaluator:
             frf = frequency_response(sim.model, self.structure, o.frf_load, o.band,
                                      sweep="both", with_harmonic_balance=False)
             value, extra = o.evaluate(frf)
-            return value, {**extra, **design_marks(assumption_record(frf))}
+            return value, {**extra, **design_marks(assumption_record(frf)),
+                           **_harmonic(sim, frf)}
         if o.load is not None:  # the response to the load history
             from pdamper.coupling.loads import run_load
 
             sim = self.simulation(design)  # the same physics limits as every design
-            return o.evaluate(run_load(sim.model, self.structure, o.load, o.sample_rate,
-                                       o.tail))
+            run = run_load(sim.model, self.structure, o.load, o.sample_rate, o.tail)
+            value, extra = o.evaluate(run)
+            return value, {**extra, **_harmonic(sim, run)}
         assert o.duration is not None  # make_objective gives a free vibration its duration
         from pdamper.coupling.validity import decay_assumptions, design_marks
 
@@ -1255,7 +1257,8 @@ class DesignEvaluator:
         res = sim.run(o.duration, sample_rate=_SAMPLE_RATE)
         value, extra = o.evaluate(res)
         until = None if o.name == "settling-time" else o.at  # the updates it rests on
-        return value, {**extra, **design_marks(decay_assumptions(sim.model, res, until))}
+        return value, {**extra, **design_marks(decay_assumptions(sim.model, res, until)),
+                       **_harmonic(sim, res)}
 
     def simulation(self, design: dict) -> Simulation:
         """The free vibration of ``design``, made but not run: making it judges the design
@@ -1267,6 +1270,16 @@ class DesignEvaluator:
     def check(self, design: dict) -> None:
         """Raise InputError if ``design`` is outside the physical limits of a run."""
         self.simulation(design)
+
+
+def _harmonic(sim: Simulation, result: Any) -> dict:
+    """A design's near-harmonic marks (:func:`pdamper.coupling.harmonicity.design_marks`);
+    {} without particles (no damper answer to rest on)."""
+    from pdamper.coupling.harmonicity import design_marks
+
+    if sim.model.damper.count == 0:
+        return {}
+    return design_marks(result)
 
 
 def _feasibility(damper: ParticleDamper, design: dict,

@@ -240,7 +240,9 @@ def _forced_html(rep: DamperReport) -> list[str]:
         return [] if why is None else ["<h2>Forced response</h2>",
                                        f"<p>Not applicable: {_e(why)}.</p>"]
     load = rep.forced_load
-    rows = [[label, _mm(m["peak_amplitude"]), "" if m["peak_frequency"] is None
+    rows = [[label + (" (! fields from the analytical model)"
+                      if m.get("fields_from") == "analytic" else ""),
+             _mm(m["peak_amplitude"]), "" if m["peak_frequency"] is None
              else f"{m['peak_frequency']:.3f}",
              "yes" if m["several_solutions"] else "no", _assumptions_cell(m)]
             for label, m in summary["models"].items()]
@@ -263,6 +265,27 @@ def _forced_html(rep: DamperReport) -> list[str]:
                     "several solutions somewhere", "analytic model's assumptions"], rows,
                    "forced_response", [["", "num", "num", "", ""]] * len(rows)),
             *_fig(rep, "forced_response")]
+
+
+def _source_cell(m: dict) -> str:
+    """What a run's damper data rest on, marked (``!``) where its effective fields are the
+    analytical model's rather than a DEM map's."""
+    if m.get("fields_from") == "analytic":
+        return f"{m['source']} (! {m['fields_note']})"
+    return m["source"]
+
+
+def _near_harmonic_cell(m: dict) -> str:
+    """Whether a run's describing-function answers rest on a near-harmonic motion
+    (:mod:`pdamper.coupling.harmonicity`); why not applicable otherwise."""
+    h = m.get("harmonicity")
+    if h is None:
+        why = m.get("not_applicable", {}).get("near_harmonic")
+        return "" if why is None else f"not applicable: {why}"
+    if h["near_harmonic"]:
+        return f"yes (deviation {h['deviation']:.2f} <= {h['threshold']:g})"
+    return (f"! no: deviation {h['deviation']:.2f} > {h['threshold']:g}; use the plastic or "
+            "dem fidelity, whose damper force follows the motion itself")
 
 
 def _decay_cell(a: dict | None) -> str:
@@ -431,13 +454,14 @@ def render_damper_report(rep: DamperReport, extra: Sequence[str] = ()) -> str:
     models = rep.models()
     model_table = _table(["run", "model", "damper data", f"amplitude at {rep.at:g} s [mm]",
                           "final amplitude [mm]", "wall time [s]",
-                          f"analytic model's assumptions up to {rep.at:g} s"],
-                         [[m["label"], m["model"], m["source"], _mm(m["amplitude_at"]),
+                          f"analytic model's assumptions up to {rep.at:g} s",
+                          "near-harmonic"],
+                         [[m["label"], m["model"], _source_cell(m), _mm(m["amplitude_at"]),
                            _mm(m["final_amplitude"]),
                            "" if m["seconds"] is None else f"{m['seconds']:.3f}",
-                           _decay_cell(m.get("assumptions"))]
+                           _decay_cell(m.get("assumptions")), _near_harmonic_cell(m)]
                           for m in models], "models",
-                         [["", "", "", "num", "num", "num", ""]] * len(models))
+                         [["", "", "", "num", "num", "num", "", ""]] * len(models))
     summary, limits, land = _landscape_html(rep)
     timings = _table(["step", "wall time [s]"],
                      [[k, f"{v:.3f}"] for k, v in rep.timings.items()], "timings",

@@ -77,6 +77,10 @@ class DamperReport:
     # assumptions (pdamper.coupling.validity.decay_assumptions; models without the check
     # absent)
     assumptions: dict = field(default_factory=dict)
+    # label -> the run's near-harmonic measure (pdamper.coupling.harmonicity.payload)
+    harmonicity: dict = field(default_factory=dict)
+    # label -> why the run's effective fields rest on the analytical model (no DEM map)
+    analytic_fields: dict = field(default_factory=dict)
     used: dict = field(default_factory=dict)  # the inputs the report used
     not_used: dict = field(default_factory=dict)  # key -> why the report did not use it
     modal: dict = field(default_factory=dict)  # the structure's data (runs.report_inputs)
@@ -95,7 +99,9 @@ class DamperReport:
                         "final_amplitude": run.final_amplitude,
                         "seconds": self.timings.get(f"Level III: {label}"),
                         **({"assumptions": self.assumptions[label]}
-                           if label in self.assumptions else {})})
+                           if label in self.assumptions else {}),
+                        **self.harmonicity.get(label, {}),
+                        **analytic_field_marks(self.analytic_fields.get(label))})
         return out
 
     def forced_summary(self) -> dict | None:
@@ -125,6 +131,14 @@ class DamperReport:
                                    "peak_frequency": float(f[j])}
             out["models"][label]["modes"] = _per_mode(self.structure, f, best, lin)
             out["models"][label].update(_peak_assumptions(r, i))
+            out["models"][label].update(analytic_field_marks(self.analytic_fields.get(label)))
+            # harmonic balance solves for a harmonic motion: nothing to judge
+            from pdamper.coupling.harmonicity import frf_summary
+
+            near = frf_summary(r)
+            out["models"][label]["near_harmonic"] = near["near_harmonic"]
+            if "not_applicable" in near:
+                out["models"][label]["not_applicable"] = near["not_applicable"]
         out["units"] = {"peak_amplitude": "m", "peak_frequency": "Hz"}
         return out
 
@@ -240,8 +254,15 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
             structure, m, x0).run(duration, sc.simulation.sample_rate))
         rep.sources[label] = source
         marks = decay_assumptions(model, rep.runs[label], rep.at)
+        if label in ANALYTIC_FIELDS_LABELS and sc.fields.file is None:
+            # the fields are the analytical model's: its checks at the run's updates
+            rep.analytic_fields[label] = ANALYTIC_FIELDS_REASON
+            marks = decay_assumptions(sc.model("analytic", damper), rep.runs[label], rep.at)
         if marks is not None:
             rep.assumptions[label] = marks
+        from pdamper.coupling.harmonicity import payload as harmonicity_payload
+
+        rep.harmonicity[label] = harmonicity_payload(rep.runs[label])
     rep.empty = _timed(rep, "Level III: no particles", lambda: Simulation(
         structure, AnalyticalDamper(damper.with_count(0), gravity=gravity), x0).run(
         duration, sc.simulation.sample_rate))
@@ -519,6 +540,24 @@ def _peak_assumptions(r: Any, i: int) -> dict:
             "peak_assumptions": "" if holds else str(hb.diagnostics["assumptions"][i, j])}
 
 
+#: The report's model whose effective fields come from the analytical map without a
+#: ``[fields] file`` (:func:`level3_models`).
+ANALYTIC_FIELDS_LABELS = ("effective fields (model 2)",)
+#: Why such a model's answers carry the analytical model's limits.
+ANALYTIC_FIELDS_REASON = (
+    "the effective fields were computed from the analytical model (Eqs. 5-22), not from a "
+    "DEM map: they carry its limits and its assumption checks; give [fields] file a DEM map "
+    "(pdamper map --model dem) for model 2 proper")
+
+
+def analytic_field_marks(reason: str | None) -> dict:
+    """A report row's marks where its effective fields rest on the analytical model:
+    ``fields_from`` (``"analytic"``) and ``fields_note`` (why it matters); {} otherwise."""
+    if reason is None:
+        return {}
+    return {"fields_from": "analytic", "fields_note": reason}
+
+
 def level3_models(sc: Scenario, damper: ParticleDamper, dem: bool) -> dict[str, tuple]:
     """The report's Level III models, ``label -> (model, what its data rest on)``: the
     analytical formulas, the effective fields (the scenario's map file, else the analytical
@@ -574,7 +613,8 @@ def design_study(sc: Scenario, damper: ParticleDamper, structure: Any) -> Design
                            limits=o.require, max_mass=o.max_mass)
 
 
-__all__ = ["DEFAULT_UNCERTAINTY_POINTS", "FORCED_POINTS", "FORCED_SPAN", "DamperReport",
+__all__ = ["ANALYTIC_FIELDS_LABELS", "ANALYTIC_FIELDS_REASON", "analytic_field_marks",
+           "DEFAULT_UNCERTAINTY_POINTS", "FORCED_POINTS", "FORCED_SPAN", "DamperReport",
            "DESIGN_QUESTION", "chosen_design_drivers", "design_scenario", "design_study",
            "FRF_SAMPLED_POINTS", "effective_field_map", "question_uncertainty",
            "sampled_frequencies", "forced_load", "forced_response",
