@@ -35,6 +35,24 @@ def test_frf_rows_carry_the_flag_and_a_cut_off_step_is_not_near_harmonic(cli):
     assert "! not near-harmonic: up at" in out and "use --model plastic" in out
 
 
+def test_frf_netcdf_carries_the_deviation(tmp_path):
+    import numpy as np
+
+    from pdamper.coupling.frf import HarmonicLoad, frequency_response
+    from pdamper.models import AnalyticalDamper, PlasticBedDamper
+    from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE
+
+    f = [5.3, 5.5]
+    for model, key in ((AnalyticalDamper, "sweep_harmonic_deviation"),
+                       (PlasticBedDamper, "sweep_distortion")):
+        r = frequency_response(model(PAPER_DAMPER), PAPER_STRUCTURE,
+                               HarmonicLoad("force", 2.0), f, sweep="up", max_cycles=2)
+        ds = r.to_dataset()
+        assert ds[key].attrs["units"] == "1"
+        np.testing.assert_array_equal(ds[key].values[0], r.sweeps["up"].diagnostics[
+            key.removeprefix("sweep_")])
+
+
 def test_frf_of_the_plastic_block_says_why_the_flag_does_not_apply(cli):
     code, out, err = cli("frf", "--model", "plastic", "--frequency", "5.5Hz", "--force", "2N",
                          "--sweep", "up", "--json")

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from pdamper.analysis.modes import MotionMode
 from pdamper.coupling.frf import HarmonicLoad, frequency_response
 from pdamper.models import AnalyticalDamper, PlasticBedDamper
 from pdamper.parameters import PAPER_DAMPER, PAPER_STRUCTURE
@@ -32,6 +33,7 @@ def test_a_bed_below_take_off_rides_as_a_rigid_mass_both_directions():
         np.testing.assert_allclose(c.loss_factor, 0.0, atol=1e-12)
         np.testing.assert_allclose(c.effective_mass, PAPER_DAMPER.bed_mass, rtol=1e-3)
         assert np.all(c.diagnostics["distortion"] < 0.01)
+        assert np.all(c.mode == int(MotionMode.SOLID))
 
 
 def test_peak_at_the_papers_resonance_against_the_analytic_stepped_sine():
@@ -53,6 +55,8 @@ def test_peak_at_the_papers_resonance_against_the_analytic_stepped_sine():
     np.testing.assert_allclose(up.amplitude, down.amplitude, rtol=0.02)
     i = int(np.argmax(up.amplitude))
     assert 0.3 < up.loss_factor[i] < 0.7
+    assert up.mode[i] in (int(MotionMode.SINGLE_CAC_HARMONIC),
+                          int(MotionMode.DOUBLE_CAC_HARMONIC))
     assert pl.model == "plastic" and pl.harmonic_balance is None
 
 

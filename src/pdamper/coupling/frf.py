@@ -788,6 +788,16 @@ class FRFResult:
                                     {"units": unit, "long_name": f"stepped sine: {name}"})
             _assumption_variables(ds, "sweep", ("sweep", "frequency"),
                                   list(self.sweeps.values()))
+            for key, name in (("harmonic_deviation", "RMS deviation of the damper point's "
+                               "last cycle from the harmonic its describing function was "
+                               "taken at, over that harmonic's RMS"),
+                              ("distortion", "RMS of the damper point's motion less its "
+                               "first harmonic, over the first harmonic's RMS")):
+                if all(key in c.diagnostics for c in self.sweeps.values()):
+                    ds[f"sweep_{key}"] = (("sweep", "frequency"), np.stack(
+                        [np.asarray(c.diagnostics[key], float) for c in
+                         self.sweeps.values()]), {"units": "1",
+                                                  "long_name": f"stepped sine: {name}"})
         ds.attrs.update(title="pdamper forced response", model=self.model,
                         load_kind=self.load.kind, load_amplitude=self.load.amplitude,
                         load_unit=self.load.unit, pdamper_version=__version__,

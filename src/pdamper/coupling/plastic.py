@@ -284,7 +284,7 @@ def frf_criterion(structure, frequency: float):
 
 
 def stepped_sine(model, structure, load, frequency, direction: str, *, criterion=None,
-                 max_cycles: int = FRF_MAX_CYCLES, **_):
+                 max_cycles: int = FRF_MAX_CYCLES, progress=None, **_):
     """Stepped sine of the plastic block on ``structure`` (1-DOF or N modes) under the
     harmonic ``load`` (:class:`~pdamper.coupling.frf.HarmonicLoad`) at ``frequency``
     [Hz] in ``direction`` ``"up"`` or ``"down"``: the block integrated event by event
@@ -299,13 +299,14 @@ def stepped_sine(model, structure, load, frequency, direction: str, *, criterion
     - ``loss_factor``: the impacts' losses per cycle over ``2 pi (1/2 m_bed (W X)^2)``
       (Eq. 3); ``effective_mass``: ``m_bed |Y*| / |X*|`` from the block's first harmonic
       (Eq. 4 with the block's momentum balance, ``F* = -W^2 m_bed Y*``);
-    - ``mode``: -1 (the block's orbit is not classified here);
+    - ``mode``: the block's orbit over the step's last cycles (:func:`_orbit_mode`);
     - ``diagnostics["distortion"]``: the RMS of the damper point's motion less its first
       harmonic over those cycles, relative to the first harmonic's RMS [-] (0 for a
       harmonic motion; the impacts' harmonics and subharmonics raise it).
 
     A base motion acts as its equivalent force at the damper point (as the other stepped
-    sines, :func:`~pdamper.coupling.frf.load_force`).
+    sines, :func:`~pdamper.coupling.frf.load_force`). ``progress(frequency, info)`` after
+    each step.
     """
     from pdamper.analysis.plastic_bed import PlasticBedSystem
     from pdamper.coupling.frf import (
@@ -336,6 +337,7 @@ def stepped_sine(model, structure, load, frequency, direction: str, *, criterion
     cycles = np.zeros(freqs.size, int)
     spread = (np.full(freqs.size, np.nan), np.full(freqs.size, np.nan))
     walls = np.zeros(freqs.size)
+    mode = np.full(freqs.size, -1)
     start = None
     import time
 
@@ -371,7 +373,9 @@ def stepped_sine(model, structure, load, frequency, direction: str, *, criterion
                 mean = f * np.trapezoid(x_d[sl], tt)
                 resid = x_d[sl] - mean - (hd * np.exp(1j * om * tt)).real
                 dist = math.sqrt(f * np.trapezoid(resid ** 2, tt))
-                per.append((hd, ho, hy, float(np.sum(run.impact_losses[hit])), dist))
+                hits = tuple(zip(((run.impact_times[hit] - t0) * f).tolist(),
+                                 run.impact_walls[hit].tolist(), strict=True))
+                per.append((hd, ho, hy, float(np.sum(run.impact_losses[hit])), dist, hits))
             if steady_amplitudes([abs(p[0]) for p in per], crit):
                 ok = True
                 break
@@ -393,9 +397,40 @@ def stepped_sine(model, structure, load, frequency, direction: str, *, criterion
         out["distortion"][i] = (float(np.mean([p[4] for p in tail])) / (x / math.sqrt(2.0))
                                 if x > 0 else 0.0)
         spread[0][i], spread[1][i] = _scatter([abs(p[1]) for p in per[-SCATTER_WINDOWS:]])
+        mode[i] = _orbit_mode([p[5] for p in per])
         walls[i] = time.perf_counter() - t_wall
+        if progress is not None:
+            progress(f, {"cycles": len(per), "steady": ok, "wall_seconds": walls[i]})
     return FRFCurve(amplitude=out["amplitude"], phase=out["phase"], stroke=out["stroke"],
                     loss_factor=out["loss_factor"], effective_mass=out["effective_mass"],
-                    mode=np.full(freqs.size, -1), steady=steady, cycles=cycles,
+                    mode=mode, steady=steady, cycles=cycles,
                     amplitude_mean=spread[0], amplitude_std=spread[1],
                     diagnostics={"wall_seconds": walls, "distortion": out["distortion"]})
+
+
+def _orbit_mode(hits: list) -> int:
+    """Motion-mode code (:func:`pdamper.models.plastic.motion_modes`) of the block from its
+    impacts per load cycle (``(phase in cycles, wall)`` each) over a step: the period is
+    the least k <= :data:`~pdamper.analysis.plastic_bed.MAX_PERIOD_CYCLES` whose last k
+    cycles repeat the k before (the same walls, phases within 1e-3 cycle); 0 (scattering)
+    without one; no impact in those cycles: solid-like."""
+    from pdamper.analysis.plastic_bed import LID, MAX_PERIOD_CYCLES
+    from pdamper.models.plastic import motion_modes
+
+    period = 0
+    for k in range(1, MAX_PERIOD_CYCLES + 1):
+        if len(hits) < 2 * k:
+            break
+        a, b = hits[-k:], hits[-2 * k:-k]
+        if all(len(x) == len(y) and all(wx == wy and abs(px - py) < 1e-3
+                                        for (px, wx), (py, wy) in zip(x, y, strict=True))
+               for x, y in zip(a, b, strict=True)):
+            period = k
+            break
+    window = hits[-max(period, 1):] if period else hits[-min(len(hits), 8):]
+    n = max(len(window), 1)
+    impacts = sum(len(c) for c in window) / n
+    lid = sum(1 for c in window for _p, w in c if w == LID) / n
+    if impacts == 0:
+        period = 1
+    return int(motion_modes([period], [lid], [impacts])[0])
