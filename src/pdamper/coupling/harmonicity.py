@@ -283,11 +283,11 @@ def design_marks(result) -> dict:
     forced response the largest of its stepped sines' steps) [-]; {} where the measure
     does not apply (a damper force that follows the motion)."""
     if hasattr(result, "sweeps"):  # a forced response
-        devs = [frf_marks(c) for c in result.sweeps.values()]
-        devs = [d["harmonic_deviation"] for d in devs if d is not None]
+        marks = [frf_marks(c) for c in result.sweeps.values()]
+        devs: list[np.ndarray] = [m["harmonic_deviation"] for m in marks if m is not None]
         if not devs:
             return {}
-        dev = np.concatenate(devs)
+        dev: np.ndarray = np.concatenate(devs)
         dev = dev[np.isfinite(dev)]
         if dev.size == 0:
             return {}
