@@ -69,3 +69,22 @@ def test_frf_command_answers_with_plastic(cli):
     assert p["up"]["steady"] and p["down"]["steady"]
     assert p["up"]["amplitude"] == pytest.approx(p["down"]["amplitude"], rel=0.02)
     assert 0.010 < p["up"]["amplitude"] < 0.020
+
+
+def test_cost_of_the_plastic_forced_response_counts_its_steps():
+    """The block's stepped sine is judged by its integration steps (about four decay
+    times of the slowest mode per step, at least 64 steps a cycle), not as a describing
+    function's matrix cycles: the paper's 9 frequencies up about 0.07 M steps."""
+    from pdamper.io.scenario import load_scenario
+    from pdamper.runs.resources import frf_cost
+
+    sc = load_scenario(None)
+    f = np.linspace(4.5, 6.5, 9)
+    one = frf_cost(sc, "plastic", f, HarmonicLoad("force", 2.0), sweep="up")
+    both = frf_cost(sc, "plastic", f, HarmonicLoad("force", 2.0), sweep="both")
+    assert one.what == "the plastic block's forced response"
+    assert both.seconds == pytest.approx(2 * one.seconds)
+    assert 5.0 < one.seconds < 60.0  # measured: about 6 s on a busy core
+    capped = frf_cost(sc, "plastic", f, HarmonicLoad("force", 2.0), sweep="up",
+                      max_cycles=10)
+    assert capped.seconds < one.seconds / 3
