@@ -132,3 +132,39 @@ def test_report_marks_fields_made_from_the_analytical_model(frame_report):
     page = (out / "report.html").read_text()
     assert "(! the effective fields were computed from the analytical model" in page
     assert "(! fields from the analytical model)" in page
+
+
+def test_report_marks_a_fields_file_made_by_the_analytical_model(cli, tmp_path):
+    code, _, err = cli("map", "--model", "analytic", "--frequency", "2Hz:20Hz:6",
+                       "--amplitude", "log:1mm:100mm:6", "--out", tmp_path / "m.nc")
+    assert code == 0, err
+    (tmp_path / "s.toml").write_text(
+        'title = "fields from an analytical map file"\n'
+        '[simulation]\nduration = "1 s"\n'
+        '[optimization]\nat = "0.5 s"\nvary = ["particles=0:32:16"]\n'
+        '[map]\nfrequency = "2Hz:20Hz:3"\namplitude = "log:1mm:100mm:3"\n'
+        '[fields]\nfile = "m.nc"\nextrapolation = "analytic"\n')
+    code, out, err = cli("report", "--scenario", tmp_path / "s.toml", "--out",
+                         tmp_path / "out")
+    assert code == 0, err
+    res = json.loads((tmp_path / "out" / "results.json").read_text())
+    rows = {m["label"]: m for m in res["models"]}
+    fields = rows["effective fields (model 2)"]
+    assert fields["fields_from"] == "analytic"
+    assert "was made by the analytic model" in fields["fields_note"]
+    assert fields["assumptions"]["points"] > 0
+    assert "! effective fields (model 2)" in out
+    # the same fields labelled as a DEM map's: no mark
+    import xarray as xr
+
+    with xr.open_dataset(tmp_path / "m.nc") as ds:
+        dem = ds.load()
+    dem.attrs["model"] = "dem"
+    dem.to_netcdf(tmp_path / "m.nc")
+    code, out, err = cli("report", "--scenario", tmp_path / "s.toml", "--out",
+                         tmp_path / "out2")
+    assert code == 0, err
+    res = json.loads((tmp_path / "out2" / "results.json").read_text())
+    rows = {m["label"]: m for m in res["models"]}
+    assert "fields_from" not in rows["effective fields (model 2)"]
+    assert "! effective fields (model 2)" not in out

@@ -254,9 +254,13 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
             structure, m, x0).run(duration, sc.simulation.sample_rate))
         rep.sources[label] = source
         marks = decay_assumptions(model, rep.runs[label], rep.at)
-        if label in ANALYTIC_FIELDS_LABELS and sc.fields.file is None:
+        made_by = getattr(model, "map_attrs", {}).get("model")
+        if label in ANALYTIC_FIELDS_LABELS and (sc.fields.file is None
+                                                or made_by in ANALYTIC_MAP_MODELS):
             # the fields are the analytical model's: its checks at the run's updates
-            rep.analytic_fields[label] = ANALYTIC_FIELDS_REASON
+            rep.analytic_fields[label] = ANALYTIC_FIELDS_REASON + (
+                "" if sc.fields.file is None else
+                f" (the map {sc.fields.file} was made by the {made_by} model)")
             marks = decay_assumptions(sc.model("analytic", damper), rep.runs[label], rep.at)
         if marks is not None:
             rep.assumptions[label] = marks
@@ -543,6 +547,8 @@ def _peak_assumptions(r: Any, i: int) -> dict:
 #: The report's model whose effective fields come from the analytical map without a
 #: ``[fields] file`` (:func:`level3_models`).
 ANALYTIC_FIELDS_LABELS = ("effective fields (model 2)",)
+#: Fidelities of a map file whose fields are the analytical bed's (the map's ``model``).
+ANALYTIC_MAP_MODELS = ("analytic", "plastic")
 #: Why such a model's answers carry the analytical model's limits.
 ANALYTIC_FIELDS_REASON = (
     "the effective fields were computed from the analytical model (Eqs. 5-22), not from a "
