@@ -1,9 +1,10 @@
 """The plastic block's stepped sine (``frf --model plastic``,
 pdamper.coupling.plastic.stepped_sine): against closed forms where the block rides, and
-against the analytical model's harmonic balance at the paper's resonance."""
+against the analytical model's stepped sine at the paper's resonance."""
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -88,3 +89,37 @@ def test_cost_of_the_plastic_forced_response_counts_its_steps():
     capped = frf_cost(sc, "plastic", f, HarmonicLoad("force", 2.0), sweep="up",
                       max_cycles=10)
     assert capped.seconds < one.seconds / 3
+
+
+def test_two_modes_below_take_off_equal_the_mass_modified_closed_form():
+    """The machine frame's two modes, the unbalance at the motor (1.76 kg mm): its 190
+    steel spheres stay on the floor (the tip's acceleration below g), so the response is
+    that of the modes with the bed's mass at the damper point, ``(K - W^2 (I + m phi
+    phi^T) + i W C) q = b F``, solved directly (to the criterion's 1 %)."""
+    from pdamper.io.scenario import load_scenario
+    from pdamper.structure.modal import ModalStructure
+
+    damper = load_scenario(Path(__file__).resolve().parents[2] / "examples" /
+                           "machine-frame" / "scenario.toml").damper()
+    tip = np.array([0.2582, -0.3162])
+    s = ModalStructure(frequencies=np.array([12.0, 31.0]),
+                       damping_ratios=np.array([0.010, 0.008]), damper_shape=tip,
+                       output_shape=tip, load_shape=np.array([0.15, 0.24]))
+    load = HarmonicLoad("unbalance", 1.76e-6)
+    f = np.array([8.0, 11.6, 30.0])
+    r = frequency_response(PlasticBedDamper(damper), s, load, f, sweep="up")
+    w = 2 * math.pi * s.frequencies
+    m = damper.bed_mass
+    exact = []
+    for fk in f:
+        om = 2 * math.pi * fk
+        a = (np.diag(w ** 2) - om ** 2 * (np.eye(2) + m * np.outer(tip, tip))
+             + 1j * om * np.diag(2 * s.damping_ratios * w))
+        q = np.linalg.solve(a, s.load_shape * 1.76e-6 * om ** 2)
+        exact.append(abs(tip @ q))
+    exact = np.array(exact)
+    assert (exact * (2 * math.pi * f) ** 2).max() < 9.81  # (the bed stays on the floor)
+    c = r.sweeps["up"]
+    assert np.all(c.steady)
+    np.testing.assert_allclose(c.amplitude, exact, rtol=0.01)
+    np.testing.assert_allclose(c.loss_factor, 0.0, atol=1e-12)
