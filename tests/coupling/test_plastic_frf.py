@@ -92,8 +92,9 @@ def test_cost_of_the_plastic_forced_response_counts_its_steps():
 
 
 def test_two_modes_below_take_off_equal_the_mass_modified_closed_form():
-    """The machine frame's two modes, the unbalance at the motor (1.76 kg mm): its 190
-    steel spheres stay on the floor (the tip's acceleration below g), so the response is
+    """The machine frame's two modes, an unbalance of 0.5 kg mm at the motor (the
+    problem's 1.76 kg mm lifts the bed near mode 1): its 190 steel spheres stay on the
+    floor (the tip's acceleration below g), so the response is
     that of the modes with the bed's mass at the damper point, ``(K - W^2 (I + m phi
     phi^T) + i W C) q = b F``, solved directly (to the criterion's 1 %)."""
     from pdamper.io.scenario import load_scenario
@@ -105,8 +106,8 @@ def test_two_modes_below_take_off_equal_the_mass_modified_closed_form():
     s = ModalStructure(frequencies=np.array([12.0, 31.0]),
                        damping_ratios=np.array([0.010, 0.008]), damper_shape=tip,
                        output_shape=tip, load_shape=np.array([0.15, 0.24]))
-    load = HarmonicLoad("unbalance", 1.76e-6)
-    f = np.array([8.0, 11.6, 30.0])
+    load = HarmonicLoad("unbalance", 0.5e-3)
+    f = np.array([8.0, 11.8, 20.0, 28.0])
     r = frequency_response(PlasticBedDamper(damper), s, load, f, sweep="up")
     w = 2 * math.pi * s.frequencies
     m = damper.bed_mass
@@ -115,7 +116,7 @@ def test_two_modes_below_take_off_equal_the_mass_modified_closed_form():
         om = 2 * math.pi * fk
         a = (np.diag(w ** 2) - om ** 2 * (np.eye(2) + m * np.outer(tip, tip))
              + 1j * om * np.diag(2 * s.damping_ratios * w))
-        q = np.linalg.solve(a, s.load_shape * 1.76e-6 * om ** 2)
+        q = np.linalg.solve(a, s.load_shape * 0.5e-3 * om ** 2)
         exact.append(abs(tip @ q))
     exact = np.array(exact)
     assert (exact * (2 * math.pi * f) ** 2).max() < 9.81  # (the bed stays on the floor)
