@@ -47,6 +47,7 @@ balance (``E_d = W_in - Delta E - E_struct``, :attr:`LoadResponse.energy_balance
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -54,7 +55,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from pdamper.coupling.pseudo_force import motion_mode, pseudo_force_coefficients
-from pdamper.coupling.registry import LOAD_HISTORY, CouplingView, coupling_of, has_load_cost
+from pdamper.coupling.registry import (
+    LOAD_HISTORY,
+    MODES,
+    CouplingView,
+    coupling_of,
+    has_load_cost,
+)
 from pdamper.coupling.results import CycleUpdate
 from pdamper.errors import InputError, check_range
 
@@ -665,10 +672,11 @@ LOAD_COUPLINGS = CouplingView(lambda c: c.load, lambda c: c.runs(LOAD_HISTORY))
 #: ``f(model, structure, load, sample_rate, tail) -> resources.Cost``.
 LOAD_COSTS = CouplingView(lambda c: c.load_cost,
                           lambda c: c.runs(LOAD_HISTORY) and has_load_cost(c))
-#: What a coupling's load history needs of the structure: ``f(model, structure)`` raises
-#: InputError where it cannot run (the DEM integrates one DOF).
-LOAD_STRUCTURES = CouplingView(lambda c: c.check_load_structure,
-                               lambda c: c.runs(LOAD_HISTORY))
+#: What a coupling's load history needs of the structure, where it is more than any:
+#: ``f(structure)`` raises InputError otherwise (the DEM integrates one DOF).
+LOAD_STRUCTURES = CouplingView(
+    lambda c: functools.partial(c.check_load_structure, None),
+    lambda c: c.runs(LOAD_HISTORY) and MODES not in c.answers[LOAD_HISTORY])
 
 
 def _no_load_form(model: Any) -> str:

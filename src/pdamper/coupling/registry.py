@@ -109,7 +109,8 @@ class Coupling:
         if structure_kind(structure) == MODES and SINGLE_DOF in self.answers.get(experiment, ()) \
                 and structure.modes == 1 and structure.coincident:
             return structure.equivalent_single_dof()
-        raise InputError("structure", f"the {self.name} coupling of {type(model).__name__} "
+        of = "its models" if model is None else type(model).__name__
+        raise InputError("structure", f"the {self.name} coupling of {of} "
                          "needs a single-DOF structure (or one mode with the damper at the "
                          f"output and release point); {self.structure_hint}")
 
