@@ -153,3 +153,18 @@ def test_the_branch_finder_finds_branches():
     assert name_branches('f = TABLE[model.coupling]\n') == [1]
     assert name_branches('ok = m.coupling in ("a", "b")\n') == [1]
     assert not name_branches('s = coupling_of(model)\n')
+
+
+def test_the_table_is_filled_whichever_module_is_imported_first():
+    """The strategies register when the package is imported, so a module imported on its
+    own (its package's ``__init__`` runs first) dispatches through a full table."""
+    import subprocess
+    import sys
+
+    code = ("from pdamper.coupling.frf import STEPPED_SINES; "
+            "from pdamper.coupling.loads import LOAD_COUPLINGS; "
+            "print(sorted(STEPPED_SINES), sorted(LOAD_COUPLINGS))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == ("['co_simulation', 'pseudo_force'] "
+                   "['co_simulation', 'plastic_bed', 'pseudo_force']")
