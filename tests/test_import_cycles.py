@@ -3,7 +3,9 @@
 The import graph of ``src/pdamper`` from plain AST parsing of every module: module-level and
 deferred imports (inside functions) both count, those under ``if TYPE_CHECKING:`` do not
 (they never run). ``from pkg import name`` is an edge to the submodule ``pkg.name`` where
-there is one, else to ``pkg`` (its ``__init__``). A circle among the modules of one package
+there is one, to the module a package's lazy ``_EXPORTS`` table names for ``name`` (the
+package's ``__getattr__`` imports it on first access: :mod:`pdamper.dem`), else to ``pkg``
+(its ``__init__``). A circle among the modules of one package
 (``pdamper.coupling`` with its subpackages; the top-level modules are the package
 ``pdamper``) fails: a shared piece belongs a level down, where both sides import it. The
 levels between packages are :mod:`tests.test_layering`'s.
@@ -37,8 +39,23 @@ def _nodes(tree: ast.AST):
         yield from _nodes(child)
 
 
-def edges(source: str, module: str, modules: set[str], is_package: bool = False) -> set[str]:
-    """The modules of ``modules`` that ``module`` (whose code is ``source``) imports."""
+def lazy_exports(source: str) -> dict[str, str]:
+    """A package's ``_EXPORTS = {name: module}`` (names its ``__getattr__`` imports)."""
+    for node in ast.parse(source).body:
+        if isinstance(node, ast.Assign) and any(
+                isinstance(t, ast.Name) and t.id == "_EXPORTS" for t in node.targets) \
+                and isinstance(node.value, ast.Dict):
+            return {k.value: v.value for k, v in zip(node.value.keys, node.value.values,
+                                                      strict=True)
+                    if isinstance(k, ast.Constant) and isinstance(v, ast.Constant)}
+    return {}
+
+
+def edges(source: str, module: str, modules: set[str], is_package: bool = False,
+          lazy: dict[str, dict[str, str]] | None = None) -> set[str]:
+    """The modules of ``modules`` that ``module`` (whose code is ``source``) imports;
+    ``lazy`` the packages' lazy exports (:func:`lazy_exports`) by package."""
+    lazy = lazy or {}
     pkg = module if is_package else module.rpartition(".")[0]
     out = set()
     for node in _nodes(ast.parse(source)):
@@ -54,6 +71,8 @@ def edges(source: str, module: str, modules: set[str], is_package: bool = False)
             for a in node.names:
                 if f"{name}.{a.name}" in modules:
                     out.add(f"{name}.{a.name}")
+                elif lazy.get(name, {}).get(a.name) in modules:
+                    out.add(lazy[name][a.name])
                 elif name in modules:
                     out.add(name)
     out.discard(module)
@@ -72,7 +91,8 @@ def graph() -> dict[str, set[str]]:
         rel = path.relative_to(ROOT.parent).with_suffix("")
         paths[".".join(rel.parts).removesuffix(".__init__")] = path
     names = set(paths)
-    return {m: edges(p.read_text(), m, names, p.name == "__init__.py")
+    lazy = {m: lazy_exports(p.read_text()) for m, p in paths.items() if p.name == "__init__.py"}
+    return {m: edges(p.read_text(), m, names, p.name == "__init__.py", lazy)
             for m, p in paths.items()}
 
 
@@ -137,6 +157,10 @@ def test_the_checker_finds_a_deferred_circle_and_skips_type_checking():
     assert init == {"pdamper.coupling.a"}
     assert edges("from pdamper.coupling import f\n", "pdamper.coupling.a", names) \
         == {"pdamper.coupling"}
+    # through a lazy export: the module the package's _EXPORTS names
+    lazy = {"pdamper.coupling": lazy_exports('_EXPORTS = {"h": "pdamper.coupling.a"}\n')}
+    assert edges("def g():\n    from pdamper.coupling import h\n", "pdamper.coupling.b",
+                 names, lazy=lazy) == {"pdamper.coupling.a"}
 
 
 def test_packages_group_subpackages_and_top_level_modules():
