@@ -227,12 +227,13 @@ def as_experiment(value: Any) -> Experiment:
     """``value`` as an :class:`Experiment`: an experiment as it is, a number as the
     :class:`Release` from that deflection [m], a load history (or a load with a
     ``history()``) as its :class:`Loading`."""
+    from pdamper.coupling.loads import LoadHistory
+
     if isinstance(value, Experiment):
         return value
     if isinstance(value, int | float | np.floating | np.integer) and not isinstance(value, bool):
         return Release(float(value))
-    if callable(getattr(value, "history", None)) or hasattr(value, "values") \
-            and hasattr(value, "kind") and hasattr(value, "time"):
+    if isinstance(value, LoadHistory) or callable(getattr(value, "history", None)):
         return Loading(value)
     raise InputError("experiment", "must be an experiment (Release, Loading, HarmonicSweep) "
                      f"or an initial displacement [m], got {type(value).__name__}")
