@@ -206,10 +206,10 @@ def _prototype(sc: Scenario, damper: Any, history: LoadHistory | None) -> Any:
     is a history (checked before any design)."""
     proto = sc.model(None, damper)
     if history is not None:  # the model must have a load-history form, before any design
-        from pdamper.coupling.loads import LOAD_COSTS, check_model
+        from pdamper.coupling.loads import load_strategy
+        from pdamper.coupling.registry import has_load_cost
 
-        check_model(proto)
-        if proto.coupling in LOAD_COSTS:  # its cost per candidate is not judged yet
+        if has_load_cost(load_strategy(proto)):  # its cost per candidate is not judged yet
             raise InputError("simulation.model", f"a design study under a load history "
                              f"runs pseudo-force models (analytic, fields), not "
                              f"{type(proto).__name__}; simulate it with --model")

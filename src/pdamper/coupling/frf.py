@@ -72,6 +72,7 @@ import numpy as np
 
 from pdamper.analysis.stationarity import SteadyStateCriterion
 from pdamper.coupling.harmonicity import NEAR_HARMONIC_DEVIATION
+from pdamper.coupling.registry import HARMONIC_SWEEP, CouplingView, coupling_of
 from pdamper.errors import InputError, SimulationError, check_range
 
 #: Strokes of the harmonic-balance scan and of the stepped sine's table per frequency.
@@ -1435,25 +1436,19 @@ def assumption_record(res: FRFResult) -> dict | None:
 
 
 # ----------------------------------------------------------------------------- driver
-# --- the plastic block's stepped sine (pdamper.coupling.plastic.stepped_sine) ---------
-def stepped_sine_plastic_bed(model, structure, load: HarmonicLoad, frequency,
-                             direction: str, **options: Any) -> FRFCurve:
-    """Stepped sine of the plastic block (:func:`pdamper.coupling.plastic.stepped_sine`):
-    the block integrated event by event on the structure, no describing function."""
-    from pdamper.coupling.plastic import stepped_sine
-
-    return stepped_sine(model, structure, load, frequency, direction, **options)
-# --- end of the plastic block's stepped sine -------------------------------------------
-
-
-#: Stepped-sine strategies by the model's coupling name (as :data:`pdamper.coupling.COUPLINGS`).
-STEPPED_SINES: dict[str, Callable[..., FRFCurve]] = {
-    "pseudo_force": stepped_sine_pseudo_force,
-    "co_simulation": stepped_sine_co_simulation,
-    "plastic_bed": stepped_sine_plastic_bed,
-}
+#: Stepped-sine strategies by the model's coupling name (a view of the coupling table,
+#: :data:`pdamper.coupling.registry.COUPLINGS`).
+STEPPED_SINES = CouplingView(lambda c: c.stepped_sine, lambda c: c.runs(HARMONIC_SWEEP))
 #: Couplings whose damper has a describing function cheap enough for harmonic balance.
-HARMONIC_BALANCE = ("pseudo_force",)
+HARMONIC_BALANCE = CouplingView(lambda c: c.name, lambda c: c.harmonic_balance)
+
+
+def sweep_strategy(model):
+    """The coupling strategy (:class:`~pdamper.coupling.registry.Coupling`) that runs the
+    stepped sines of ``model``; InputError (field ``model``) where its coupling has none."""
+    return coupling_of(model, HARMONIC_SWEEP, missing=lambda m: (
+        f"coupling {m.coupling!r} of {type(m).__name__} has no stepped sine; available: "
+        f"{', '.join(STEPPED_SINES)}"))
 
 
 def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
@@ -1469,8 +1464,9 @@ def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
     Parameters
     ----------
     model
-        Any :class:`~pdamper.models.DamperModel`; its ``coupling`` picks the stepped sine
-        (:data:`STEPPED_SINES`) and whether harmonic balance runs (:data:`HARMONIC_BALANCE`).
+        Any :class:`~pdamper.models.DamperModel`; its coupling's strategy
+        (:data:`pdamper.coupling.registry.COUPLINGS`) runs the stepped sine and says
+        whether harmonic balance runs.
     structure
         :class:`~pdamper.structure.SingleDOFStructure` or
         :class:`~pdamper.structure.modal.ModalStructure`.
@@ -1513,15 +1509,13 @@ def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
         raise InputError("frequency", f"at most {MAX_FREQUENCIES} frequencies, got {f.size}")
     if sweep not in (*SWEEPS, "none"):
         raise InputError("sweep", f"must be up, down or both, got {sweep!r}")
-    if model.coupling not in STEPPED_SINES:
-        raise InputError("model", f"coupling {model.coupling!r} of {type(model).__name__} "
-                         f"has no stepped sine; available: {', '.join(STEPPED_SINES)}")
+    strategy = sweep_strategy(model)
     load_force(s, load, float(f[0]))  # a base motion on N modes is refused before any run
     lin = linear_frf(s, load, f)
     tables: dict = {}
     walls: dict = {}
     hb = None
-    if with_harmonic_balance and model.coupling in HARMONIC_BALANCE:
+    if with_harmonic_balance and strategy.harmonic_balance:
         t0 = time.perf_counter()
         hb = harmonic_balance(model, s, load, f, strokes=strokes, tables=tables)
         walls["harmonic_balance"] = time.perf_counter() - t0
@@ -1532,13 +1526,13 @@ def frequency_response(model, structure, load: HarmonicLoad, frequency, *,
         options["max_cycles"] = max_cycles
     if criterion is not None:
         options["criterion"] = criterion
-    if model.coupling in HARMONIC_BALANCE:
+    if strategy.harmonic_balance:
         options.update(tables=tables, strokes=strokes)
     elif progress is not None:
         options["progress"] = progress
     for d in directions:
         t0 = time.perf_counter()
-        sweeps[d] = _with_assumptions(model, f, STEPPED_SINES[model.coupling](
+        sweeps[d] = _with_assumptions(model, f, strategy.stepped_sine(
             model, s, load, f, d, **options))
         walls[d] = time.perf_counter() - t0
     hb = _with_assumptions(model, f, hb)

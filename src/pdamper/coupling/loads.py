@@ -47,6 +47,7 @@ balance (``E_d = W_in - Delta E - E_struct``, :attr:`LoadResponse.energy_balance
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -54,6 +55,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from pdamper.coupling.pseudo_force import motion_mode, pseudo_force_coefficients
+from pdamper.coupling.registry import (
+    LOAD_HISTORY,
+    MODES,
+    CouplingView,
+    coupling_of,
+    has_load_cost,
+)
 from pdamper.coupling.results import CycleUpdate
 from pdamper.errors import InputError, check_range
 
@@ -657,71 +665,55 @@ def _march(model: DamperModel, sys_: _System, kind: str, t: np.ndarray, u: np.nd
     return z, zdot, dd, me, cycles
 
 
-def _co_simulate_load(model, structure, load, sample_rate=2000.0, tail=0.0):
-    """The DEM's form (:func:`pdamper.coupling.cosimulation.co_simulate_load`)."""
-    from pdamper.coupling.cosimulation import co_simulate_load
-
-    return co_simulate_load(model, structure, load, sample_rate, tail)
-
-
-def _co_simulation_cost(model, structure, load, sample_rate, tail):
-    from pdamper.coupling.cosimulation import load_cost
-
-    return load_cost(model, structure, load, sample_rate, tail)[0]
-
-
-def _plastic_bed_load(model, structure, load, sample_rate=2000.0, tail=0.0):
-    """The plastic block's form (:meth:`pdamper.coupling.plastic.PlasticBedCoupling.load`)."""
-    from pdamper.coupling.plastic import PlasticBedCoupling
-
-    return PlasticBedCoupling.load(model, structure, load, sample_rate, tail)
-
-
-#: Load-history strategies by coupling name (a new coupling registers here).
-LOAD_COUPLINGS = {"pseudo_force": simulate_load, "co_simulation": _co_simulate_load,
-                  "plastic_bed": _plastic_bed_load}
+#: Load-history strategies by coupling name (a view of the coupling table,
+#: :data:`pdamper.coupling.registry.COUPLINGS`, where a new coupling is one row).
+LOAD_COUPLINGS = CouplingView(lambda c: c.load, lambda c: c.runs(LOAD_HISTORY))
 #: What a load history costs by coupling name, where it is more than seconds:
 #: ``f(model, structure, load, sample_rate, tail) -> resources.Cost``.
-LOAD_COSTS = {"co_simulation": _co_simulation_cost}
-
-
-def _one_dof(structure: Any) -> None:
-    from pdamper.coupling.cosimulation import single_dof
-
-    single_dof(structure)
-
-
+LOAD_COSTS = CouplingView(lambda c: c.load_cost,
+                          lambda c: c.runs(LOAD_HISTORY) and has_load_cost(c))
 #: What a coupling's load history needs of the structure, where it is more than any:
 #: ``f(structure)`` raises InputError otherwise (the DEM integrates one DOF).
-LOAD_STRUCTURES = {"co_simulation": _one_dof}
+LOAD_STRUCTURES = CouplingView(
+    lambda c: functools.partial(c.check_load_structure, None),
+    lambda c: c.runs(LOAD_HISTORY) and MODES not in c.answers[LOAD_HISTORY])
+
+
+def _no_load_form(model: Any) -> str:
+    return (f"the {model.coupling} coupling of {type(model).__name__} has no load-history "
+            "form yet; use a pseudo-force model (analytic, fields) for --load / "
+            "--base-acceleration")
+
+
+def load_strategy(model: Any, structure: Any = None):
+    """The coupling strategy (:class:`~pdamper.coupling.registry.Coupling`) that runs
+    ``model`` under a load history (on ``structure``, if given); InputError otherwise."""
+    strategy = coupling_of(model, LOAD_HISTORY, field="simulation.model",
+                           missing=_no_load_form)
+    if structure is not None:
+        strategy.check_load_structure(model, structure)
+    return strategy
 
 
 def check_model(model: Any, structure: Any = None) -> None:
     """Raise InputError if ``model``'s coupling has no load-history form (or none for
     ``structure``, if given)."""
-    if model.coupling not in LOAD_COUPLINGS:
-        raise InputError("simulation.model", f"the {model.coupling} coupling of "
-                         f"{type(model).__name__} has no load-history form yet; use a "
-                         "pseudo-force model (analytic, fields) for --load / "
-                         "--base-acceleration")
-    if structure is not None and model.coupling in LOAD_STRUCTURES:
-        LOAD_STRUCTURES[model.coupling](structure)
+    load_strategy(model, structure)
 
 
 def check_cost(model, structure, load: LoadHistory, sample_rate: float, tail: float,
                force: bool = False) -> None:
     """Refuse a load history whose run ``model`` cannot afford
     (:func:`pdamper.resources.require`; ``force`` lifts the usual limits)."""
-    if model.coupling in LOAD_COSTS:
+    cost = load_strategy(model).load_cost(model, structure, load, sample_rate, tail)
+    if cost is not None:
         from pdamper import resources
 
-        resources.require(LOAD_COSTS[model.coupling](model, structure, load, sample_rate,
-                                                     tail), force)
+        resources.require(cost, force)
 
 
 def run_load(model: DamperModel, structure: Any, load: LoadHistory, sample_rate: float = 2000.0,
              tail: float = 0.0) -> LoadResponse:
     """:func:`simulate_load` through the model's coupling; a model whose coupling has no
     load-history form is an error naming it."""
-    check_model(model)
-    return LOAD_COUPLINGS[model.coupling](model, structure, load, sample_rate, tail)
+    return load_strategy(model).load(model, structure, load, sample_rate, tail)

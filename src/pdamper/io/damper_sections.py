@@ -88,4 +88,16 @@ class ParticlesSpec(_DeclaredSection):
     friction: float = quantity_setting("particles.friction", paper.PAPER_FRICTION, none="")
 
 
-__all__ = ["ContainerSpec", "MaterialSpec", "ParticlesSpec"]
+def material(spec: MaterialSpec | str, field: str) -> Any:
+    """The :class:`~pdamper.materials.Material` of a ``material`` key: a table of its own
+    constants, or a library name (:func:`~pdamper.materials.get_material`); ``field``
+    names the key in errors."""
+    from pdamper.materials import Material, get_material
+
+    if isinstance(spec, MaterialSpec):
+        return Material(spec.name, spec.youngs_modulus, spec.poisson_ratio, spec.density,
+                        spec.yield_strength)
+    return get_material(spec, field)
+
+
+__all__ = ["ContainerSpec", "MaterialSpec", "ParticlesSpec", "material"]

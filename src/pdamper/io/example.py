@@ -1,32 +1,36 @@
 """The example scenario: a commented scenario file with every section, every key and its
-default (``pdamper example-scenario``, :data:`EXAMPLE_SCENARIO`).
+default (``pdamper example-scenario``, :data:`pdamper.io.scenario.EXAMPLE_SCENARIO`).
 
-The text is written from the defaults of :class:`~pdamper.io.scenario.Scenario` when first
-asked for (``EXAMPLE_SCENARIO``, a module attribute made on access): it formats every
-quantity with its unit, which needs the unit registry, and most commands never print it.
-:func:`example_scenario` is that text parsed; it equals the defaults (a test holds it).
+:func:`example_text` writes it from the defaults of :class:`~pdamper.io.scenario.Scenario`,
+which the scenario module hands in when the text is first asked for (it formats every
+quantity with its unit, which needs the unit registry, and most commands never print it);
+:func:`pdamper.io.scenario.example_scenario` is that text parsed, and equals the defaults
+(a test holds it).
 """
 
 from __future__ import annotations
 
-import functools
-import tomllib
-from typing import Any
+from typing import TYPE_CHECKING
 
 from pdamper.contact.law import DAMPING_MODELS
-from pdamper.io.scenario import _BEAM, _TIP, BeamSpec, Scenario, scenario_from_dict
 from pdamper.models.settings import PAPER_CYCLES
 from pdamper.parameters import vertical_dampers_paper as paper
 from pdamper.units import format_quantity
 
+if TYPE_CHECKING:  # pragma: no cover
+    from pdamper.io.scenario import BeamSpec, Scenario
 
-def _example() -> str:
-    """The text of ``EXAMPLE_SCENARIO``: every section with its defaults, commented."""
-    s = Scenario()
-    return _example_levels(s) + _example_study(s) + _example_dem(s)
+_BEAM, _TIP = paper.paper_beam()
 
 
-def _example_levels(s: Scenario) -> str:
+def example_text(s: Scenario, beam: BeamSpec) -> str:
+    """The text of ``EXAMPLE_SCENARIO``: every section with its defaults ``s`` (a default
+    :class:`~pdamper.io.scenario.Scenario`; ``beam`` the default ``[structure] beam``),
+    commented."""
+    return _example_levels(s, beam) + _example_study(s) + _example_dem(s)
+
+
+def _example_levels(s: Scenario, beam: BeamSpec) -> str:
     """The example's head and its Level II and III sections (damper, excitation,
     structure)."""
     c, p, x, st = s.container, s.particles, s.excitation, s.structure
@@ -75,7 +79,7 @@ height = "{q(_BEAM.height, 'mm')}", youngs_modulus = "{q(_BEAM.youngs_modulus, '
 poisson_ratio = {_BEAM.poisson_ratio}, density = "{q(_BEAM.density, 'kg/m^3')}", \
 elements = {_BEAM.elements}, tip_mass = "{q(_TIP.mass, 'kg')}", modes = 3, \
 damper_position = "{q(_BEAM.length, 'mm')}", observation_position = "{q(_BEAM.length, 'mm')}", \
-damping_ratio = {BeamSpec().damping_ratio:.4g} }}
+damping_ratio = {beam.damping_ratio:.4g} }}
 #   (material = "S235" instead of youngs_modulus, poisson_ratio, density; damping_ratio: one
 #   for all modes or a list, one per mode; positions from the clamp, default the tip)
 
@@ -175,21 +179,3 @@ transient_tolerance = {dem.transient_tolerance}  # Gear tolerance of the start f
 # particle_wall = {{ model = "table", file = "cor.csv", fit = "exponential" }}  # "thornton", "linear"
 # particle_wall = {{ model = "paper", scale = 1.5 }}        # e -> 1 - 1.5 (1 - e)
 """
-
-
-@functools.cache
-def _example_text() -> str:
-    return _example()
-
-
-def __getattr__(name: str) -> Any:
-    # ``EXAMPLE_SCENARIO`` written when first asked for (see the module's docstring)
-    if name == "EXAMPLE_SCENARIO":
-        return _example_text()
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-@functools.cache
-def example_scenario() -> Scenario:
-    """The example scenario, parsed (it must equal the defaults)."""
-    return scenario_from_dict(tomllib.loads(_example_text()))

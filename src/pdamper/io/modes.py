@@ -173,3 +173,18 @@ def _read(path: str | Path):
                               load_shape=data[:, -1] if loads else None), uncertain
     except InputError as exc:  # not reached for a file that passed the checks above
         raise InputError(FIELD, f"{t.path}: {exc.message}") from None
+
+
+def file_inputs(scenario) -> dict:
+    """``{field: UncertainInput}`` written in the scenario's modes file
+    (:func:`modes_uncertainty`; empty without one), read once per version of the file."""
+    path = scenario.structure.modes
+    if path is None:
+        return {}
+    import os
+
+    try:
+        st = os.stat(path)
+    except OSError:  # a missing file is the structure's error, where it is read
+        return {}
+    return modes_uncertainty(str(path), st.st_mtime_ns, st.st_size)

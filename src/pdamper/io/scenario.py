@@ -17,6 +17,7 @@ defaults; nothing here restates a number.
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
@@ -37,6 +38,7 @@ from pdamper.constants import STANDARD_GRAVITY
 from pdamper.damper import QUANTITIES, ParticleDamper
 from pdamper.errors import InputError
 from pdamper.io.damper_sections import ContainerSpec, MaterialSpec, ParticlesSpec
+from pdamper.io.damper_sections import material as _material
 from pdamper.io.dem_section import (  # noqa: F401  (importable from here)
     DEM_SCENARIO_ONLY,
     DEM_SET_ELSEWHERE,
@@ -364,8 +366,8 @@ class Scenario(_Section):
     def uncertain_inputs(self) -> tuple:
         """The :class:`~pdamper.design.uncertainty.UncertainInput` of every value given
         as ``"value +- sd"`` (:mod:`pdamper.io.uncertain`), in the file's order, after
-        those its modes file writes (:func:`~pdamper.io.uncertain.file_inputs`)."""
-        from pdamper.io.uncertain import file_inputs
+        those its modes file writes (:func:`~pdamper.io.modes.file_inputs`)."""
+        from pdamper.io.modes import file_inputs
 
         return tuple({**file_inputs(self), **self._uncertain}.values())
 
@@ -478,15 +480,6 @@ class Scenario(_Section):
         return getattr(self, cls.fidelity, None)
 
 
-def _material(spec, field: str):
-    from pdamper.materials import Material, get_material
-
-    if isinstance(spec, MaterialSpec):
-        return Material(spec.name, spec.youngs_modulus, spec.poisson_ratio, spec.density,
-                        spec.yield_strength)
-    return get_material(spec, field)
-
-
 def scenario_from_dict(data: dict) -> Scenario:
     """Validate a dict (parsed TOML) into a :class:`Scenario`; a value ``"value +- sd"``
     is validated as its nominal value and kept as an uncertain input
@@ -543,10 +536,24 @@ def load_scenario(path: str | Path | None, overrides: dict | None = None) -> Sce
     return scenario_from_dict(data)
 
 
-def __getattr__(name: str) -> Any:
-    # the example scenario (pdamper.io.example), written when first asked for
-    if name in ("EXAMPLE_SCENARIO", "example_scenario"):
-        from pdamper.io import example
+@functools.cache
+def _example_text() -> str:
+    from pdamper.io.example import example_text
 
-        return getattr(example, name)
+    return example_text(Scenario(), BeamSpec())
+
+
+@functools.cache
+def example_scenario() -> Scenario:
+    """The example scenario (:data:`EXAMPLE_SCENARIO`) parsed; it equals the defaults."""
+    import tomllib
+
+    return scenario_from_dict(tomllib.loads(_example_text()))
+
+
+def __getattr__(name: str) -> Any:
+    # the example scenario's text (pdamper.io.example writes it from the defaults), written
+    # when first asked for: it formats every quantity with the unit registry
+    if name == "EXAMPLE_SCENARIO":
+        return _example_text()
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

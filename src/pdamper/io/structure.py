@@ -63,7 +63,7 @@ def beam_structure(spec: BeamSpec) -> ModalStructure:
     Timoshenko beam (:class:`~pdamper.structure.beam.TimoshenkoBeam`, default the paper's)
     with its tip mass, damper and release at ``damper_position``, results at
     ``observation_position`` (both default the tip; positions [m] from the clamp)."""
-    from pdamper.io.scenario import _material
+    from pdamper.io.damper_sections import material as _material
     from pdamper.structure.beam import TimoshenkoBeam, TipMass
     from pdamper.structure.modal import ModalStructure
 

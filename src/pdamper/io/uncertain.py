@@ -28,7 +28,7 @@ table. They apply to whatever structure the scenario describes (a modes file, th
 nominal value replaces the structure's own (:func:`with_modes`). A modes file may carry
 them itself: a frequency or damping-ratio cell written ``0.01 +- 0.003`` (in its column's
 unit; :func:`cell_uncertainty`) is that mode's uncertain input, which a scenario or
-``--uncertain`` value of the same field replaces (:func:`file_inputs`).
+``--uncertain`` value of the same field replaces (:func:`pdamper.io.modes.file_inputs`).
 """
 
 from __future__ import annotations
@@ -238,24 +238,6 @@ def cell_uncertainty(text: str, field: str, factor: float):
     unit = _field_spec(field)[0]
     si = "" if unit == "1" else f" {unit}"
     return parse_uncertain(f"{value!r}{si} +- {sd!r}{si}", field)
-
-
-def file_inputs(scenario) -> dict:
-    """``{field: UncertainInput}`` written in the scenario's modes file
-    (:func:`pdamper.io.modes.modes_uncertainty`; empty without one), read once per
-    version of the file."""
-    path = scenario.structure.modes
-    if path is None:
-        return {}
-    import os
-
-    from pdamper.io.modes import modes_uncertainty
-
-    try:
-        st = os.stat(path)
-    except OSError:  # a missing file is the structure's error, where it is read
-        return {}
-    return modes_uncertainty(str(path), st.st_mtime_ns, st.st_size)
 
 
 def add_fit_inputs(scenario, fields) -> tuple:

@@ -198,8 +198,16 @@ def _check_simulation(sc: Scenario, damper: ParticleDamper, cls: type[DamperMode
         x0=sc.structure.initial_displacement, drivers=drivers,
         damper_drivers=_damper_drivers(damper, default)), force)
     modes = int(getattr(structure, "modes", 1))
-    if modes > 1 and cls.coupling != "co_simulation":  # the DEM couples one mode only
+    if modes > 1 and not _integrates_particles(cls):  # the modal march of a damper force
         req(modal_free_vibration_cost(structure, duration, sample_rate, drivers), force)
+
+
+def _integrates_particles(cls: type[DamperModel]) -> bool:
+    """Whether the coupling of model class ``cls`` integrates the particles with the
+    structure (the DEM's cost), from the coupling table."""
+    from pdamper.coupling.registry import coupling_of
+
+    return coupling_of(cls).integrates_particles
 
 
 #: Pseudo-force coupling on N modes (:mod:`pdamper.coupling.modal`), per damper update:
@@ -342,8 +350,8 @@ def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperMo
     one = cls.free_vibration_cost(damper, duration, 200.0, structure.natural_frequency,
                                   sc.settings_of(cls), x0=sc.structure.initial_displacement,
                                   count=max(1, round(counts[-1] / 2)) if counts else 1)
-    if int(getattr(structure, "modes", 1)) > 1 and cls.coupling != "co_simulation":
-        # every candidate's free vibration on the N modes (the DEM couples one mode only)
+    if int(getattr(structure, "modes", 1)) > 1 and not _integrates_particles(cls):
+        # every candidate's free vibration on the N modes (the modal march of a damper force)
         req(modal_free_vibration_cost(structure, duration, 200.0, drivers,
                                       what="the optimisation", runs=candidates), force)
     req(resources.Cost(
@@ -510,7 +518,7 @@ def frf_cost(scenario: Scenario, model: str | None, frequencies: Sequence[float]
     n = int(s.modes)
     drivers: list[tuple] = [("frequency", nf / USUAL_FRF["frequencies"]),
                             ("structure.modes", float(n))]
-    if cls.coupling == "co_simulation":
+    if _integrates_particles(cls):
         cycles = 60 if max_cycles is None else int(max_cycles)
         damper = scenario.damper()
         settings = scenario.settings_of(cls)

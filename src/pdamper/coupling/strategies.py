@@ -1,0 +1,139 @@
+"""The rows of the coupling table (:data:`pdamper.coupling.registry.COUPLINGS`).
+
+=================  =========================================  ==========================
+coupling           release / load history / harmonic sweep     structures
+=================  =========================================  ==========================
+``pseudo_force``   Sect. 4.1 models 2 and 3: the damper as      1-DOF and N modes, each
+                   ``-(m_eff a_c + d v_c)`` updated per cycle   experiment; harmonic
+                                                                balance too
+``co_simulation``  model 1: the DEM integrated with the         1-DOF (Eq. 23)
+                   structure
+``plastic_bed``    the analytical bed as a plastic block,       1-DOF and N modes, each
+                   event by event                               experiment
+=================  =========================================  ==========================
+
+A strategy is a subclass of :class:`~pdamper.coupling.registry.Coupling` whose methods are
+the implementations in their modules (:mod:`~pdamper.coupling.pseudo_force`,
+:mod:`~pdamper.coupling.modal`, :mod:`~pdamper.coupling.loads`,
+:mod:`~pdamper.coupling.cosimulation`, :mod:`~pdamper.coupling.plastic`,
+:mod:`~pdamper.coupling.frf`) and whose ``answers`` say which experiments and structures it
+runs. A new form of an existing coupling is one method and one structure kind in its row
+(e.g. the DEM on N modes: ``modal_free_vibration`` and :data:`MODES` under ``release``); a
+new coupling is one class in :func:`register`'s call.
+"""
+
+from __future__ import annotations
+
+from pdamper.coupling.registry import (
+    HARMONIC_SWEEP,
+    LOAD_HISTORY,
+    MODES,
+    RELEASE,
+    SINGLE_DOF,
+    Coupling,
+    register,
+)
+
+_BOTH = (SINGLE_DOF, MODES)
+
+
+class PseudoForce(Coupling):
+    """The pseudo force of the Level II models (analytic, fields; Sect. 4.1 models 2, 3)."""
+
+    name = "pseudo_force"
+    answers = {RELEASE: _BOTH, LOAD_HISTORY: _BOTH, HARMONIC_SWEEP: _BOTH}
+    harmonic_balance = True
+
+    def free_vibration(self, model, structure, duration, initial_displacement,
+                       sample_rate=2000.0):
+        from pdamper.coupling.pseudo_force import simulate_pseudo_force
+
+        return simulate_pseudo_force(model, structure, duration, initial_displacement,
+                                     sample_rate)
+
+    def modal_free_vibration(self, model, structure, duration, initial_displacement,
+                             sample_rate=2000.0):
+        from pdamper.coupling.modal import simulate_modal_pseudo_force
+
+        return simulate_modal_pseudo_force(model, structure, duration, initial_displacement,
+                                           sample_rate)
+
+    def load(self, model, structure, load, sample_rate=2000.0, tail=0.0):
+        from pdamper.coupling.loads import simulate_load
+
+        return simulate_load(model, structure, load, sample_rate, tail)
+
+    def stepped_sine(self, model, structure, load, frequency, direction, **options):
+        from pdamper.coupling.frf import stepped_sine_pseudo_force
+
+        return stepped_sine_pseudo_force(model, structure, load, frequency, direction,
+                                         **options)
+
+
+class CoSimulation(Coupling):
+    """The DEM integrated together with the structure (the paper's model 1)."""
+
+    name = "co_simulation"
+    answers = {RELEASE: (SINGLE_DOF,), LOAD_HISTORY: (SINGLE_DOF,),
+               HARMONIC_SWEEP: (SINGLE_DOF,)}
+    integrates_particles = True
+
+    def free_vibration(self, model, structure, duration, initial_displacement,
+                       sample_rate=2000.0):
+        from pdamper.coupling.cosimulation import co_simulate
+
+        return co_simulate(model, structure, duration, initial_displacement, sample_rate)
+
+    def load(self, model, structure, load, sample_rate=2000.0, tail=0.0):
+        from pdamper.coupling.cosimulation import co_simulate_load
+
+        return co_simulate_load(model, structure, load, sample_rate, tail)
+
+    def load_cost(self, model, structure, load, sample_rate, tail):
+        from pdamper.coupling.cosimulation import load_cost
+
+        return load_cost(model, structure, load, sample_rate, tail)[0]
+
+    def check_load_structure(self, model, structure) -> None:
+        from pdamper.coupling.cosimulation import single_dof
+
+        single_dof(structure)
+
+    def stepped_sine(self, model, structure, load, frequency, direction, **options):
+        # the stepped sine checks the structure itself (one mode with the damper, the load
+        # and the output at one point)
+        from pdamper.coupling.frf import stepped_sine_co_simulation
+
+        return stepped_sine_co_simulation(model, structure, load, frequency, direction,
+                                          **options)
+
+
+class PlasticBed(Coupling):
+    """The analytical bed as a perfectly plastic block on the structure, event by event
+    (:class:`~pdamper.coupling.plastic.PlasticBedCoupling`)."""
+
+    name = "plastic_bed"
+    answers = {RELEASE: _BOTH, LOAD_HISTORY: _BOTH, HARMONIC_SWEEP: _BOTH}
+
+    def free_vibration(self, model, structure, duration, initial_displacement,
+                       sample_rate=2000.0):
+        from pdamper.coupling.plastic import PlasticBedCoupling
+
+        return PlasticBedCoupling.free_vibration(model, structure, duration,
+                                                 initial_displacement, sample_rate)
+
+    modal_free_vibration = free_vibration
+
+    def load(self, model, structure, load, sample_rate=2000.0, tail=0.0):
+        from pdamper.coupling.plastic import PlasticBedCoupling
+
+        return PlasticBedCoupling.load(model, structure, load, sample_rate, tail)
+
+    def stepped_sine(self, model, structure, load, frequency, direction, **options):
+        # the block integrated event by event on the structure, no describing function
+        from pdamper.coupling.plastic import stepped_sine
+
+        return stepped_sine(model, structure, load, frequency, direction, **options)
+
+
+register(PseudoForce, CoSimulation, PlasticBed)
