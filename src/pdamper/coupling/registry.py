@@ -78,6 +78,13 @@ class Coupling:
         ``tail`` [s]; a :class:`~pdamper.coupling.loads.LoadResponse`."""
         raise NotImplementedError
 
+    def sweep_cost(self, structure, frequencies, sweeps: int, max_cycles, drivers):
+        """What a harmonic sweep costs where the strategy judges its own stepped sine (a
+        :class:`~pdamper.resources.Cost`, from the N-mode ``structure``, the ``frequencies``
+        [Hz] array, the number of ``sweeps`` and the cap ``max_cycles`` or None); None where
+        :func:`pdamper.runs.resources.frf_cost` judges it (a describing function, the DEM)."""
+        return None
+
     def load_cost(self, model, structure, load, sample_rate: float, tail: float):
         """What :meth:`load` costs where it is more than seconds (a
         :class:`pdamper.resources.Cost`, judged before the run), else None."""

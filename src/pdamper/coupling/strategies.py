@@ -135,5 +135,35 @@ class PlasticBed(Coupling):
 
         return stepped_sine(model, structure, load, frequency, direction, **options)
 
+    def sweep_cost(self, structure, frequencies, sweeps, max_cycles, drivers):
+        # the block integrated step by step, in Python: its steps counted before the work
+        import numpy as np
+
+        from pdamper import resources
+        from pdamper.coupling.plastic import (
+            FRF_MAX_CYCLES,
+            FRF_STEPS_PER_CYCLE,
+            STEPS_PER_PERIOD,
+        )
+        from pdamper.models.plastic import BYTES_PER_SAMPLE, SECONDS_PER_STEP
+
+        s = structure
+        f = frequencies
+        nf = int(f.size)
+        cap = FRF_MAX_CYCLES if max_cycles is None else int(max_cycles)
+        # a step runs until steady: about four decay times 1 / (zeta w) of the slowest mode
+        tau = float(np.max(1.0 / (s.damping_ratios * s.angular_frequencies)))
+        f_max = float(np.max(s.angular_frequencies)) / (2.0 * np.pi)
+        per = np.array([min(cap, max(30.0, 4.0 * fk * tau))
+                        * max(FRF_STEPS_PER_CYCLE, STEPS_PER_PERIOD * f_max / fk) for fk in f])
+        drivers = [*drivers, ("max_cycles", cap / FRF_MAX_CYCLES)]
+        return resources.Cost(
+            "the plastic block's forced response", float(per.sum()) * sweeps *
+            SECONDS_PER_STEP, float(per.max()) * BYTES_PER_SAMPLE,
+            f"{nf} frequencies x {sweeps} sweeps, {per.sum() * sweeps:.3g} steps",
+            tuple(drivers), runs=max(1, nf * sweeps),
+            longest=float(per.max()) * SECONDS_PER_STEP,
+            remedy="give frequency fewer values or lower max_cycles")
+
 
 register(PseudoForce, CoSimulation, PlasticBed)

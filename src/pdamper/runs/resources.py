@@ -549,28 +549,11 @@ def frf_cost(scenario: Scenario, model: str | None, frequencies: Sequence[float]
             tuple(drivers), runs=max(1, nf * sweeps), longest=worst.seconds,
             remedy="raise the lowest frequency, give frequency fewer values or lower "
                    "max_cycles")
-    if cls.coupling == "plastic_bed":  # the block integrated step by step, in Python
-        from pdamper.coupling.plastic import (
-            FRF_MAX_CYCLES,
-            FRF_STEPS_PER_CYCLE,
-            STEPS_PER_PERIOD,
-        )
-        from pdamper.models.plastic import BYTES_PER_SAMPLE, SECONDS_PER_STEP
+    from pdamper.coupling.registry import coupling_of
 
-        cap = FRF_MAX_CYCLES if max_cycles is None else int(max_cycles)
-        # a step runs until steady: about four decay times 1 / (zeta w) of the slowest mode
-        tau = float(np.max(1.0 / (s.damping_ratios * s.angular_frequencies)))
-        f_max = float(np.max(s.angular_frequencies)) / (2.0 * np.pi)
-        per = np.array([min(cap, max(30.0, 4.0 * fk * tau))
-                        * max(FRF_STEPS_PER_CYCLE, STEPS_PER_PERIOD * f_max / fk) for fk in f])
-        drivers.append(("max_cycles", cap / FRF_MAX_CYCLES))
-        return resources.Cost(
-            "the plastic block's forced response", float(per.sum()) * sweeps *
-            SECONDS_PER_STEP, float(per.max()) * BYTES_PER_SAMPLE,
-            f"{nf} frequencies x {sweeps} sweeps, {per.sum() * sweeps:.3g} steps",
-            tuple(drivers), runs=max(1, nf * sweeps),
-            longest=float(per.max()) * SECONDS_PER_STEP,
-            remedy="give frequency fewer values or lower max_cycles")
+    own = coupling_of(cls).sweep_cost(s, f, sweeps, max_cycles, drivers)
+    if own is not None:  # a coupling that judges its own stepped sine (the plastic block)
+        return own
     cycles = DEFAULT_MAX_CYCLES if max_cycles is None else int(max_cycles)
     drivers.append(("max_cycles", cycles / USUAL_FRF["pseudo_force_cycles"]))
     cost = resources.stepped_sine_cost(nf, cycles, sweeps, n, DEFAULT_STROKES, drivers)
