@@ -56,10 +56,10 @@ def test_without_the_rule_the_settling_runs_its_time_and_keeps_its_key():
     """``settle_rest_speed`` None (the engine's default): the settling runs
     ``settle_time`` (``stop`` "time") on the grid it always had; the rule, when on, is
     part of the settled bed's key (a bed of one rule is refused by an engine of another)."""
-    plain = engine(lattice(8), motion=MOTION, integrator="verlet", settle_time=0.05)
+    plain = engine(lattice(8), motion=MOTION, integrator="verlet", settle_time=0.1)
     bed = plain.settle()
-    assert bed.stop == "time" and math.isclose(bed.simulated, 0.05)
-    rest = engine(lattice(8), motion=MOTION, integrator="verlet", settle_time=0.05,
+    assert bed.stop == "time" and math.isclose(bed.simulated, 0.1)
+    rest = engine(lattice(8), motion=MOTION, integrator="verlet", settle_time=0.1,
                   settle_rest_speed=1e-3)
     assert rest.settle_key != plain.settle_key
     with pytest.raises(InputError, match="^start:"):
@@ -72,3 +72,22 @@ def test_without_the_rule_the_settling_runs_its_time_and_keeps_its_key():
 def test_the_rest_rule_settings_are_checked(field, value):
     with pytest.raises(InputError, match=f"^{field}: "):
         engine(lattice(2), **{field: value})
+
+
+def test_level2_runs_settle_their_whole_time_unless_the_rest_rule_is_asked_for():
+    """The DEM damper's Level II runs settle for the free fall + 1 s by default (the rule
+    is off: their answers as before); with ``settle_rest_speed`` = 1 mm/s a random bed of
+    the paper's damper ends its settling at rest well within that."""
+    from pdamper.models import DEMDamper
+    from pdamper.parameters import PAPER_DAMPER
+
+    cap = math.sqrt(2 * PAPER_DAMPER.box[2] / 9.80665) + 1.0
+    plain = DEMDamper(PAPER_DAMPER, packing="random", seed=0, cycles=3, skip_cycles=1
+                      ).steady_run(10.0, 0.032).result
+    assert plain.settle_stop == "time"
+    assert plain.settle_simulated_time == pytest.approx(cap, rel=1e-3)
+    rest = DEMDamper(PAPER_DAMPER, packing="random", seed=0, cycles=3, skip_cycles=1,
+                     settle_rest_speed=1e-3).steady_run(10.0, 0.032).result
+    assert rest.settle_stop == "at rest" and rest.settle_simulated_time < 0.8 * cap
+    assert rest.settle_steps + rest.steps > 0 and rest.attrs["settle_time_s"] == pytest.approx(
+        cap, rel=1e-3)  # the cap: the settling time it would have run

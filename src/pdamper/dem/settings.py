@@ -127,7 +127,7 @@ class EngineSettings(Settings):
         unit="m/s", low=0.0, low_inclusive=False, kind="number",
         none="never: the settling lasts settle_time")
     settle_rest_time: float = setting(
-        0.05, "How long every sphere must stay below ``settle_rest_speed`` (checked every "
+        0.05, "How long the bed's rms speed must stay below ``settle_rest_speed`` (checked every "
         "SETTLE_CHECK_INTERVAL, 5 ms of bed time) before the settling ends.", unit="s",
         low=0.0, low_inclusive=False)
     max_overlap: float | None = setting(

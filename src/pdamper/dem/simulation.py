@@ -354,7 +354,7 @@ class DEMEngine:
         what = (self.particles, self.container.box, self.container.material, self.contact,
                 self.gravity, self.skin, self.settle_time, self._first_kernel,
                 stp._replace(half=0.0, nsamp=0), self._start_position())
-        if self.settle_rest_speed is not None:  # (the key of a plain settling unchanged)
+        if self._rest_rule:  # (the key of a plain settling unchanged)
             what = (*what, self.settle_rest_speed, self.settle_rest_time)
         return hashlib.sha256(pickle.dumps(what, protocol=4)).hexdigest()[:20]
 
@@ -458,11 +458,19 @@ class DEMEngine:
             max_overlap=float(self.max_overlap),  # inf unless the user asks for a stop
             free_flight=1 if adaptive_gear and self.gear_free_flight else 0)
 
+    @property
+    def _rest_rule(self) -> bool:
+        """Whether the settling can end at rest: ``settle_rest_speed`` given and
+        ``settle_rest_time`` shorter than ``settle_time`` (else the settling runs on the
+        grid it has without the rule, to the bit)."""
+        return (self.settle_rest_speed is not None
+                and self.settle_rest_time < self.settle_time)
+
     def _settle_grid(self) -> tuple[int, float]:
         """Samples and half sample interval [s] of the settling: 10 samples over
         ``settle_time``, or with the rest rule (``settle_rest_speed``) one sample per
         check (:data:`SETTLE_CHECK_INTERVAL`)."""
-        if self.settle_rest_speed is None:
+        if not self._rest_rule:
             return 11, self.settle_time / 20.0
         checks = max(1, int(math.ceil(self.settle_time / SETTLE_CHECK_INTERVAL - 1e-9)))
         return checks + 1, self.settle_time / (2.0 * checks)
@@ -480,17 +488,19 @@ class DEMEngine:
         check = self._checker("settling")
         KERNELS[phase.kernel].start(run, phase)
         check(phase)
-        rest: tuple[Controller, ...] = ()
-        if self.settle_rest_speed is not None:
+        rule = None
+        if self._rest_rule:
             checks = max(1, int(math.ceil(self.settle_rest_time / (2.0 * half) - 1e-9)))
-            rest = (AtRest(run, self.settle_rest_speed, checks),)
+            rule = AtRest(run, self.settle_rest_speed, checks)
         j_end = 2 * (nsamp - 1)
-        j = advance(run, phase, j_end, ChunkSizer(chunk_seconds), rest, check=check)
+        j = advance(run, phase, j_end, ChunkSizer(chunk_seconds),
+                    () if rule is None else (rule,), check=check)
         run.settle_seconds = time.perf_counter() - t1
         run.settle_steps = int(phase.stats[0]["steps"])
         run.settle_simulated = j * half
         run.settle_stop = "at rest" if j < j_end else "time"
-        self._last_settle = rest[0] if rest else None  # its trace, for measurements
+        #: the rest rule of the last settling (its trace: measurements, tests), or None
+        self._last_settle: AtRest | None = rule
         log.info("settled %d particles in %d steps (%.3f s; %.4g s of bed time, %s)",
                  run.pos.shape[0], run.settle_steps, run.settle_seconds,
                  run.settle_simulated, run.settle_stop)
