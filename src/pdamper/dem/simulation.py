@@ -351,9 +351,10 @@ class DEMEngine:
         """Digest of what the settling depends on: particles, container, contact law, step
         settings and the container's start position, not the rest of the motion."""
         stp = self._stepping(0.0, 1.0, 2, 0, self._first_kernel, settling=True)
-        what = (self.particles, self.container.box, self.container.material, self.contact,
-                self.gravity, self.skin, self.settle_time, self._first_kernel,
-                stp._replace(half=0.0, nsamp=0), self._start_position())
+        what: tuple = (self.particles, self.container.box, self.container.material,
+                       self.contact, self.gravity, self.skin, self.settle_time,
+                       self._first_kernel, stp._replace(half=0.0, nsamp=0),
+                       self._start_position())
         if self._rest_rule:  # (the key of a plain settling unchanged)
             what = (*what, self.settle_rest_speed, self.settle_rest_time)
         return hashlib.sha256(pickle.dumps(what, protocol=4)).hexdigest()[:20]
