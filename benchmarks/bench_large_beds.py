@@ -4,10 +4,9 @@ The paper's damper box (40 x 40 x 120 mm PVC, steel spheres, COR 0.6 / 0.85, mu 
 filled with the same bed mass in smaller spheres: 32 x 5 mm, 250 x 2.5 mm and (``--large``)
 1 200 x 1.5 mm, random beds, 10 Hz / 32 mm, the DEM damper's Level II protocol (Gear,
 settling, then ``--cycles`` cycles, the last ``cycles - 2`` averaged). Each bed is settled
-twice: for the whole settling time (free fall + 1 s: a ``settle_rest_time`` longer than
-that turns the rest rule off) and with
-the rest rule (the damper's default: the settling ends once the bed's rms speed has stayed
-below 1 mm/s for 0.05 s). Per bed and settling, one line: the settling's bed time, steps,
+twice: for the whole settling time (free fall + 1 s, the default) and with the rest rule
+(``settle_rest_speed``, ``--rest-speed``, 1 mm/s by default here: the settling ends once
+the bed's rms speed has stayed below it for 0.05 s). Per bed and settling, one line: the settling's bed time, steps,
 CPU seconds and ns per particle-step, the excitation's the same, the loss factor and the
 effective mass ratio, the settled bed's height and mean coordination number.
 
@@ -34,7 +33,7 @@ import numpy as np
 BEDS = ((32, 0.005), (250, 0.0025))
 LARGE = ((1200, 0.0015),)
 #: The two settlings compared: the whole settling time, and the rest rule.
-SETTLINGS = {"whole": {"settle_rest_time": 1e3}, "rest": {}}
+SETTLINGS = {"whole": {}, "rest": {"settle_rest_speed": 1e-3}}
 
 
 def bed_statistics(bed) -> tuple[float, float]:
@@ -96,6 +95,10 @@ def main(argv=None) -> None:
     ap.add_argument("--cycles", type=int, default=4, help="cycles of the excitation")
     ap.add_argument("--large", action="store_true", help="add 1 200 x 1.5 mm (long)")
     ap.add_argument("--liggghts", action="store_true", help="run LIGGGHTS beside it")
+    ap.add_argument("--rest-speed", type=float, default=1e-3,
+                    help="settle_rest_speed of the rest rule [m/s] (default 1e-3)")
+    ap.add_argument("--only", type=int, action="append",
+                    help="only the bed of this many spheres (repeatable)")
     args = ap.parse_args(argv)
     from pdamper.dem.simulation import warmup
 
@@ -105,8 +108,12 @@ def main(argv=None) -> None:
           f"{'steps':>9} {'CPU s':>7} {'ns/p-step':>9} | {'steps':>9} {'CPU s':>7} "
           f"{'ns/p-step':>9} | {'eta':>6} {'m_eff':>6} {'h [mm]':>6} {'Z':>5}")
     for count, radius in BEDS + (LARGE if args.large else ()):
+        if args.only and count not in args.only:
+            continue
         for seed in (int(s) for s in args.seeds.split(",")):
             for name, settling in SETTLINGS.items():
+                if "settle_rest_speed" in settling:
+                    settling = {**settling, "settle_rest_speed": args.rest_speed}
                 m = measure(count, radius, seed, args.cycles, settling)
                 ns_settle = 1e9 * m["settle_cpu"] / max(1, m["settle_steps"] * count)
                 ns = 1e9 * m["cpu"] / max(1, m["steps"] * count)
