@@ -6,9 +6,10 @@ filled with the same bed mass in smaller spheres: 32 x 5 mm, 250 x 2.5 mm and (`
 settling, then ``--cycles`` cycles, the last ``cycles - 2`` averaged). Each bed is settled
 twice: for the whole settling time (free fall + 1 s, the default) and with the rest rule
 (``settle_rest_speed``, ``--rest-speed``, 1 mm/s by default here: the settling ends once
-the bed's rms speed has stayed below it for 0.05 s). Per bed and settling, one line: the settling's bed time, steps,
-CPU seconds and ns per particle-step, the excitation's the same, the loss factor and the
-effective mass ratio, the settled bed's height and mean coordination number.
+the bed's rms speed has stayed below it for 0.05 s). Per bed and settling, one line: the
+settling's bed time, steps, CPU seconds and ns per particle-step, the excitation's the
+same, the loss factor and the effective mass ratio, the settled bed's height and mean
+coordination number.
 
 CPU seconds are the process's (``time.process_time``), which a shared machine's load does
 not inflate much. LIGGGHTS (``benchmarks/liggghts``) runs beside it only where the
