@@ -196,12 +196,15 @@ def main(argv=None) -> int:
         line = f"{h['all'][:16]}  {h['steps']:>8d} steps {h['seconds']:6.2f} s  {name}"
         if base is not None:
             b = base.get(name)
-            diff = ([] if b is None else
-                    [k for k in h["fields"] if h["fields"][k] != b["fields"].get(k)])
-            ok = b is not None and not diff and h["all"] == b["all"]
+            # a result field one tree lacks (added since) is listed, not compared
+            common = [] if b is None else [k for k in h["fields"] if k in b["fields"]]
+            new = [] if b is None else sorted(set(h["fields"]) ^ set(b["fields"]))
+            diff = [k for k in common if h["fields"][k] != b["fields"][k]]
+            ok = b is not None and not diff
             same += ok
             line += ("  identical" if ok else
                      f"  DIFFERENT ({', '.join(diff) if b is not None else 'missing'})")
+            line += f" (fields of one tree only: {', '.join(new)})" if new else ""
         print(line)
     if args.json:
         args.json.write_text(json.dumps({"this": this, "baseline": base}, indent=1))

@@ -206,3 +206,27 @@ def test_dem_realisations_input_errors(capsys):
         err = capsys.readouterr().err
         assert err.startswith("error: realisations:") and err.count("\n") == 1, err
         assert words in err, err
+
+
+def test_a_fresh_process_counts_its_settling_in_the_dem_json(tmp_path):
+    """``pdamper dem --json`` in a process of its own (as a user runs it): the settling
+    done for the run counts in ``steps`` and ``wall_seconds`` and is not reported as
+    reused, although the model settles first through its per-process memo."""
+    import os
+    import subprocess
+    import sys
+
+    out = subprocess.run(
+        [sys.executable, "-m", "pdamper", "dem", "--frequency", "20Hz", "--amplitude",
+         "10mm", "--particles", "8", "--cycles", "2", "--skip-cycles", "1", "--integrator",
+         "verlet", "--json"],
+        capture_output=True, text=True, check=True, env={**os.environ}, timeout=600)
+    data = json.loads(out.stdout)
+    settling = data["settling"]
+    assert not settling["reused"] and not data["settle_reused"]
+    assert settling["steps"] == data["settle_steps"] > 0
+    assert settling["wall_seconds"] == data["settle_seconds"] > 0
+    assert settling["simulated_time"] > 0 and settling["stop"] in ("time", "at rest")
+    assert data["steps"] == data["excitation_steps"] + settling["steps"]
+    assert math.isclose(data["wall_seconds"],
+                        data["excitation_wall_seconds"] + settling["wall_seconds"])

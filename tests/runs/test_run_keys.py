@@ -7,6 +7,7 @@ run keys of :func:`pdamper.runs.realisations.run_summary`) and in a map's diagno
 from __future__ import annotations
 
 import dataclasses
+import math
 
 from dem_inputs import engine, lattice
 from pdamper.dem import HarmonicMotion
@@ -36,3 +37,32 @@ def test_wall_seconds_and_steps_mean_the_same_in_the_dem_json_and_the_map():
     attrs = own.to_dataset().attrs
     assert attrs["wall_seconds"] == whole["wall_seconds"] and attrs["steps"] == whole["steps"]
     assert attrs["excitation_wall_seconds"] == own.wall_seconds
+
+
+def test_a_run_counts_the_settling_done_for_it_and_a_later_run_reuses_it():
+    """``pdamper dem --json``'s run keys (:func:`run_summary`): the first run of a process
+    from a bed counts its settling (steps, wall time, not reused), though the model settled
+    it through its memo; a second run of the same process from that bed reused it and
+    counts none. ``settling`` holds the same values in one place."""
+    from pdamper.models import dem as D
+    from pdamper.runs.realisations import run_summary
+
+    D._BEDS.clear()
+    D._COUNTED.clear()
+    model = DEMDamper(PAPER_DAMPER.with_count(8), cycles=2, skip_cycles=1, integrator="verlet",
+                      settle_time=0.03)
+    first = run_summary(model, model.response(20.0, 0.01))
+    second = run_summary(model, model.response(20.0, 0.01))
+    assert not first["settle_reused"] and first["settle_steps"] > 0
+    assert first["settle_seconds"] > 0
+    assert first["steps"] == first["excitation_steps"] + first["settle_steps"]
+    assert first["settling"] == {"steps": first["settle_steps"],
+                                 "wall_seconds": first["settle_seconds"],
+                                 "simulated_time": first["settle_simulated_time"],
+                                 "reused": False, "stop": "time"}
+    assert math.isclose(first["settling"]["simulated_time"], 0.03)
+    assert second["settle_reused"] and second["settling"]["reused"]
+    assert second["settle_steps"] == 0 and second["settle_seconds"] == 0.0
+    assert second["steps"] == second["excitation_steps"] == first["excitation_steps"]
+    # the bed time is the bed's, reused or not
+    assert second["settling"]["simulated_time"] == first["settling"]["simulated_time"]

@@ -119,6 +119,9 @@ def dem(
     from pdamper.errors import InputError
 
     _check_cycles(flags)
+    from pdamper.models.dem import reset_settling_claims
+
+    reset_settling_claims()  # the command's output as in a process of its own
     sc = load(scenario, runs=("excitation",), model="dem", force=force,
               **_uncertainty.merged({key.replace(".", "__"): value
                                      for key, value in flags.items()}, uncertain,

@@ -83,6 +83,11 @@ class DEMResult:
     settle_reused : bool
         The run started from a :class:`SettledBed` settled earlier (``settle_steps`` and
         ``settle_seconds`` are then 0: this run spent none).
+    settle_simulated_time : float [s]
+        Bed time of the settling the run started from (its own or the reused bed's):
+        ``settle_time``, or less where the bed came to rest first (``settle_rest_speed``).
+    settle_stop : str
+        Why that settling ended: ``"time"``, ``"at rest"``, or ``""`` (none).
     steps_per_sample, stepped_per_sample, rejected_per_sample : (ns,) int arrays or None
         With ``DEMEngine.run(..., step_profile=True)``: the accepted steps, the sphere-steps
         (spheres integrated, summed over those steps; velocity Verlet integrates all) and
@@ -136,6 +141,8 @@ class DEMResult:
     stepped_fraction: float = 1.0
     regroups: int = 0
     settle_reused: bool = False
+    settle_simulated_time: float = 0.0
+    settle_stop: str = ""
     attrs: dict = field(default_factory=dict)
     steps_per_sample: np.ndarray | None = None
     stepped_per_sample: np.ndarray | None = None
@@ -317,7 +324,9 @@ class DEMResult:
         The work of a run comes in two phases, each named: the excitation
         (``excitation_steps``, ``excitation_wall_seconds``: the attributes ``steps`` and
         ``wall_seconds``) and the settling before it (``settle_steps``, ``settle_seconds``;
-        0 when the run started from a :class:`~pdamper.dem.SettledBed`, ``settle_reused``).
+        0 when the run started from a :class:`~pdamper.dem.SettledBed`, ``settle_reused``;
+        ``settle_simulated_time`` [s] its bed time and ``settle_stop`` why it ended, of the
+        bed the run started from either way).
         ``steps`` and ``wall_seconds`` are the whole run, settling included, as everywhere
         pdamper reports them (a map's diagnostics too); ``total_steps`` and
         ``total_wall_seconds`` are the same sums under their older names.
@@ -338,6 +347,8 @@ class DEMResult:
             "settle_steps": settle_steps,
             "settle_seconds": settle_wall,
             "settle_reused": bool(self.settle_reused),
+            "settle_simulated_time": float(self.settle_simulated_time),
+            "settle_stop": self.settle_stop,
             "total_steps": steps + settle_steps,
             "total_wall_seconds": wall + settle_wall,
             "integrator": self.integrator,

@@ -120,6 +120,16 @@ class EngineSettings(Settings):
         "none).", unit="s", low=0.0, kind="number",
         none="the free fall over the container height + 0.05 s (a Level II run of the DEM "
         "damper: + 1 s)")
+    settle_rest_speed: float | None = setting(
+        None, "The settling ends once the bed's root-mean-square speed (its translational "
+        "kinetic energy as a speed, sqrt(2 E_kin / m_bed)) has stayed below this for "
+        "``settle_rest_time``; ``settle_time`` is then the longest settling.",
+        unit="m/s", low=0.0, low_inclusive=False, kind="number",
+        none="never: the settling lasts settle_time")
+    settle_rest_time: float = setting(
+        0.05, "How long the bed's rms speed must stay below ``settle_rest_speed`` (checked every "
+        "SETTLE_CHECK_INTERVAL, 5 ms of bed time) before the settling ends.", unit="s",
+        low=0.0, low_inclusive=False)
     max_overlap: float | None = setting(
         None, "Overlap / radius at which the run stops (large overlaps are a regime of fast "
         "impacts, reported as ``max_overlap_ratio`` and warned about above "

@@ -33,6 +33,7 @@ from pdamper.dem.driver import (  # noqa: F401 (AUTO_*, SettledBed: importable f
     AUTO_MAX_SPAN,
     AUTO_WINDOW,
     KERNELS,
+    AtRest,
     AutoSwitch,
     ChunkSizer,
     Controller,
@@ -83,6 +84,9 @@ GEAR_ONSET_FACTOR = 6.0
 GEAR_FRICTION_CAP_FACTOR = 5.0
 #: Settling beyond the free fall over the container height, the engine's default [s].
 SETTLE_EXTRA = 0.05
+#: Bed time between two checks of the rest rule of the settling (``settle_rest_speed``)
+#: [s]: the settling then lands (and records a sample) at this interval.
+SETTLE_CHECK_INTERVAL = 0.005
 
 
 def free_fall_settling(height: float, gravity: float, extra: float = SETTLE_EXTRA) -> float:
@@ -347,9 +351,12 @@ class DEMEngine:
         """Digest of what the settling depends on: particles, container, contact law, step
         settings and the container's start position, not the rest of the motion."""
         stp = self._stepping(0.0, 1.0, 2, 0, self._first_kernel, settling=True)
-        what = (self.particles, self.container.box, self.container.material, self.contact,
-                self.gravity, self.skin, self.settle_time, self._first_kernel,
-                stp._replace(half=0.0, nsamp=0), self._start_position())
+        what: tuple = (self.particles, self.container.box, self.container.material,
+                       self.contact, self.gravity, self.skin, self.settle_time,
+                       self._first_kernel, stp._replace(half=0.0, nsamp=0),
+                       self._start_position())
+        if self._rest_rule:  # (the key of a plain settling unchanged)
+            what = (*what, self.settle_rest_speed, self.settle_rest_time)
         return hashlib.sha256(pickle.dumps(what, protocol=4)).hexdigest()[:20]
 
     def _settled_run(self, bed: SettledBed) -> Run:
@@ -452,11 +459,29 @@ class DEMEngine:
             max_overlap=float(self.max_overlap),  # inf unless the user asks for a stop
             free_flight=1 if adaptive_gear and self.gear_free_flight else 0)
 
+    @property
+    def _rest_rule(self) -> bool:
+        """Whether the settling can end at rest: ``settle_rest_speed`` given and
+        ``settle_rest_time`` shorter than ``settle_time`` (else the settling runs on the
+        grid it has without the rule, to the bit)."""
+        return (self.settle_rest_speed is not None
+                and self.settle_rest_time < self.settle_time)
+
+    def _settle_grid(self) -> tuple[int, float]:
+        """Samples and half sample interval [s] of the settling: 10 samples over
+        ``settle_time``, or with the rest rule (``settle_rest_speed``) one sample per
+        check (:data:`SETTLE_CHECK_INTERVAL`)."""
+        if not self._rest_rule:
+            return 11, self.settle_time / 20.0
+        checks = max(1, int(math.ceil(self.settle_time / SETTLE_CHECK_INTERVAL - 1e-9)))
+        return checks + 1, self.settle_time / (2.0 * checks)
+
     def _settle(self, run: Run, chunk_seconds: float) -> None:
-        """Settling under gravity, the container at rest at its start position."""
-        nsamp = 11
-        stp = self._stepping(0.0, self.settle_time / 20.0, nsamp, 0, self._first_kernel,
-                             settling=True)
+        """Settling under gravity, the container at rest at its start position: for
+        ``settle_time``, or until the bed is at rest (:class:`~pdamper.dem.driver.AtRest`,
+        ``settle_rest_speed``) if that comes first."""
+        nsamp, half = self._settle_grid()
+        stp = self._stepping(0.0, half, nsamp, 0, self._first_kernel, settling=True)
         drive = _drive(K.MOTION_HARMONIC, z0=run.z_start)
         phase = Phase(stp, drive, K.empty_samples(nsamp), K.empty_snapshots(0, run.pos.shape[0]),
                       kernel=self._first_kernel)
@@ -464,11 +489,22 @@ class DEMEngine:
         check = self._checker("settling")
         KERNELS[phase.kernel].start(run, phase)
         check(phase)
-        advance(run, phase, 2 * (nsamp - 1), ChunkSizer(chunk_seconds), check=check)
+        rule = None
+        if self._rest_rule:
+            checks = max(1, int(math.ceil(self.settle_rest_time / (2.0 * half) - 1e-9)))
+            rule = AtRest(run, self.settle_rest_speed, checks)
+        j_end = 2 * (nsamp - 1)
+        j = advance(run, phase, j_end, ChunkSizer(chunk_seconds),
+                    () if rule is None else (rule,), check=check)
         run.settle_seconds = time.perf_counter() - t1
         run.settle_steps = int(phase.stats[0]["steps"])
-        log.info("settled %d particles in %d steps (%.3f s)", run.pos.shape[0],
-                 run.settle_steps, run.settle_seconds)
+        run.settle_simulated = j * half
+        run.settle_stop = "at rest" if j < j_end else "time"
+        #: the rest rule of the last settling (its trace: measurements, tests), or None
+        self._last_settle: AtRest | None = rule
+        log.info("settled %d particles in %d steps (%.3f s; %.4g s of bed time, %s)",
+                 run.pos.shape[0], run.settle_steps, run.settle_seconds,
+                 run.settle_simulated, run.settle_stop)
 
     def _excitation_phase(self, run: Run, grid: _SampleGrid) -> Phase:
         """The excitation's time grid, container motion, records and output arrays."""

@@ -96,6 +96,17 @@ MAX_BEDS = 8
 #: The cache itself: a memo of a deterministic function of the key (not state: a model
 #: pickled to a sweep's worker finds the bed its process settled for an earlier point).
 _BEDS: dict = {}
+#: Keys of the kept beds whose settling a run has counted as its own
+#: (:meth:`DEMDamper.claim_settling`): a later run of this process from the same bed
+#: reused it. A command starts it afresh (:func:`reset_settling_claims`).
+_COUNTED: set = set()
+
+
+def reset_settling_claims() -> None:
+    """Start the counting of settlings afresh: a command's first run from a kept bed then
+    counts its settling, as the same command in a process of its own would (its output
+    does not depend on the commands run before it in the process)."""
+    _COUNTED.clear()
 #: Level II runs settle for the free fall over the container height plus this [s] (the
 #: engine's default adds SETTLE_EXTRA, 0.05 s). After the default, a random bed of the paper's damper still
 #: moves at ~6 cm/s (kinetic energy 2.8e-4 J, 32 spheres) and creeps down through the
@@ -534,6 +545,7 @@ class DEMDamper(FlatSettings, DamperModel):
         bed = _BEDS.pop(key, None)
         if bed is None:
             bed = engine.settle()
+            _COUNTED.discard(key)  # settled now: no run has counted it yet
         _BEDS[key] = bed  # most recent last
         while len(_BEDS) > MAX_BEDS:
             _BEDS.pop(next(iter(_BEDS)))
@@ -623,6 +635,17 @@ class DEMDamper(FlatSettings, DamperModel):
         [s] are what settling it cost, which a run that started from the kept bed
         (``settle_reused``) did not count in its own."""
         return _BEDS.get(self._point_engine(float(frequency), float(amplitude))[2].settle_key)
+
+    def claim_settling(self, frequency: float, amplitude: float):
+        """The kept bed the run at f [Hz], X [m] started from, if no earlier run of this
+        process counted its settling (the bed was settled for this run; the claim marks
+        it counted), else None (the run reused a bed an earlier run settled)."""
+        key = self._point_engine(float(frequency), float(amplitude))[2].settle_key
+        bed = _BEDS.get(key)
+        if bed is None or key in _COUNTED:
+            return None
+        _COUNTED.add(key)
+        return bed
 
     def _estimate(self, run: SteadyRun, particles, f: float, x: float) -> SteadyRun:
         """:class:`AccuracyEstimate` of ``run``: a realisation companion (the spheres of the

@@ -435,6 +435,14 @@ class FlatSettings:
         return self.engine.settle_time
 
     @property
+    def settle_rest_speed(self) -> float | None:
+        return self.engine.settle_rest_speed
+
+    @property
+    def settle_rest_time(self) -> float:
+        return self.engine.settle_rest_time
+
+    @property
     def max_overlap(self) -> float | None:
         return self.engine.max_overlap
 

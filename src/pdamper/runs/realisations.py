@@ -70,14 +70,15 @@ def count_settling(model: DEMDamper, response: DamperResponse) -> None:
     The model settles through its per-process memo first, so its result reads as started
     from a kept bed; yet that settling was done for this run (one command, one
     realisation: a seed or contact law of its own settles a bed of its own), and its cost
-    is part of what the run cost."""
+    is part of what the run cost. A bed that an earlier run of the process settled and
+    counted stays reused (:meth:`DEMDamper.claim_settling`)."""
     import dataclasses
 
     res = response.details.item()
     if not res.settle_reused:
         return
-    bed = model.settled_bed(float(np.asarray(response.frequency)),
-                            float(np.asarray(response.amplitude)))
+    bed = model.claim_settling(float(np.asarray(response.frequency)),
+                               float(np.asarray(response.amplitude)))
     if bed is not None:
         response.details[()] = dataclasses.replace(
             res, settle_steps=int(bed.steps), settle_seconds=float(bed.seconds),
@@ -92,7 +93,9 @@ def run_summary(model: DEMDamper, response: DamperResponse) -> dict:
     ``wall_seconds`` are the whole run, settling included, as in a map's diagnostics;
     ``excitation_steps``, ``excitation_wall_seconds`` the excitation's; ``settle_steps``,
     ``settle_seconds`` the settling's; ``total_steps``, ``total_wall_seconds`` the same
-    sums as ``steps``, ``wall_seconds``)."""
+    sums as ``steps``, ``wall_seconds``), and ``settling``: ``steps``, ``wall_seconds``
+    [s], ``simulated_time`` [s] (bed time), ``reused`` and ``stop`` of the settling the run
+    started from."""
     r = response
     count_settling(model, r)
     res = r.details.item()
@@ -101,6 +104,11 @@ def run_summary(model: DEMDamper, response: DamperResponse) -> dict:
     skip, span = st.first_cycle - 1, st.last_cycle - st.first_cycle + 1
     out = {
         **res.summary(),  # the run's own keys (steps, wall times, ...), one meaning each
+        # the settling of the bed the run started from, in one place (the same values as
+        # settle_steps, settle_seconds, settle_reused, settle_simulated_time, settle_stop)
+        "settling": {"steps": int(res.settle_steps), "wall_seconds": float(res.settle_seconds),
+                     "simulated_time": float(res.settle_simulated_time),
+                     "reused": bool(res.settle_reused), "stop": res.settle_stop},
         "loss_factor": float(r.loss_factor),
         "effective_mass_ratio": float(r.effective_mass_ratio),
         "dissipated_energy_per_cycle": float(r.dissipated_energy_per_cycle),
