@@ -116,3 +116,18 @@ def test_a_design_wide_failure_is_said_once_not_marked_everywhere(tmp_path):
     own = [r for r in q.map_reasons.ravel() if "scattering" in r]
     assert len(page.fail_src.data["f"]) == len(own) < q.map_reasons.size
     assert page.offer.visible and "for this design everywhere" in page.offer.object
+
+
+def test_the_page_uses_panels_current_api(tmp_path):
+    """Building the page and its layout warns of nothing Panel deprecates (a widget's
+    ``label``, a button's ``color``)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PendingDeprecationWarning)
+        warnings.simplefilter("error", DeprecationWarning)
+        page = app.Page(Inputs(frequency=GRID), app.DEMChecks(), tmp_path)
+        page.layout()
+        page.load_kind.value = "base"  # relabels the load slider
+    assert page.load.label == "load amplitude [mm]"
+    assert page.save_button.label == "Save scenario"

@@ -111,29 +111,29 @@ class Page:
         self._bed_widgets(base, sc.damper())
         mats = design.materials()
         self.particle_material = pn.widgets.Select(
-            name="particle material", options=mats, value=_name(sc.particles.material, mats))
+            label="particle material", options=mats, value=_name(sc.particles.material, mats))
         self.container_material = pn.widgets.Select(
-            name="container material", options=mats, value=_name(sc.container.material, mats))
+            label="container material", options=mats, value=_name(sc.container.material, mats))
         self.particle_material.param.watch(self._on_value("particles.material"), "value")
         self.container_material.param.watch(self._on_value("container.material"), "value")
         kind = base.load_kind
-        self.load_kind = pn.widgets.RadioButtonGroup(name="load", options=list(LOADS),
+        self.load_kind = pn.widgets.RadioButtonGroup(label="load", options=list(LOADS),
                                                      value=kind)
         unit, _, lo, hi = LOADS[kind]
-        self.load = pn.widgets.FloatSlider(name=f"load amplitude [{unit}]", start=lo, end=hi,
+        self.load = pn.widgets.FloatSlider(label=f"load amplitude [{unit}]", start=lo, end=hi,
                                            step=0.1, value=base.load_amplitude,
                                            css_classes=["ctl-load"])
-        self.frequency = pn.widgets.TextInput(name="frequencies (start:stop:count)",
+        self.frequency = pn.widgets.TextInput(label="frequencies (start:stop:count)",
                                               value=base.frequency,
                                               placeholder="default: every mode, resolved")
-        self.sweep = pn.widgets.Select(name="sweep", options=["both", "up", "down"],
+        self.sweep = pn.widgets.Select(label="sweep", options=["both", "up", "down"],
                                        value=base.sweep)
-        self.load.name = f"load amplitude [{LOADS[kind][0]}]"
+        self.load.label = f"load amplitude [{LOADS[kind][0]}]"
         fidelities = ["analytic"] + (["fields"] if base.fields is not None else [])
-        self.fidelity = pn.widgets.Select(name="fidelity", options=fidelities,
+        self.fidelity = pn.widgets.Select(label="fidelity", options=fidelities,
                                           value=base.model if base.model in fidelities
                                           else "analytic")
-        self.mass_limit = pn.widgets.FloatInput(name="mass limit [g] (0: none)", start=0,
+        self.mass_limit = pn.widgets.FloatInput(label="mass limit [g] (0: none)", start=0,
                                                 value=0 if mass_limit is None
                                                 else mass_limit * 1e3)
         for chooser in (self.load_kind, self.frequency, self.sweep, self.fidelity):
@@ -152,12 +152,12 @@ class Page:
         self.dem_text = pn.pane.Markdown("", css_classes=["dem"])
         self.time_text = pn.pane.Str("", css_classes=["time-lines"])
         self.saved = pn.pane.Markdown("", css_classes=["saved"])
-        self.save_path = pn.widgets.TextInput(name="scenario file",
+        self.save_path = pn.widgets.TextInput(label="scenario file",
                                               value=str(out_dir / "explored.toml"))
-        self.save_button = pn.widgets.Button(name="Save scenario", button_type="primary",
+        self.save_button = pn.widgets.Button(label="Save scenario", color="primary",
                                              css_classes=["save"])
-        self.report_button = pn.widgets.Button(name="Report", css_classes=["report"])
-        self.dem_button = pn.widgets.Button(name="DEM check", button_type="warning",
+        self.report_button = pn.widgets.Button(label="Report", css_classes=["report"])
+        self.dem_button = pn.widgets.Button(label="DEM check", color="warning",
                                             css_classes=["demcheck"])
         self.save_button.on_click(self._on_save)
         self.report_button.on_click(self._report)
@@ -170,10 +170,10 @@ class Page:
         """The bed's mass instead of the count: the count derived from it for the radius
         and material set (pdamper optimize's bed-mass variable)."""
         self.count_from = pn.widgets.RadioButtonGroup(
-            name="bed given by", options=["count", "bed mass"],
+            label="bed given by", options=["count", "bed mass"],
             value="count" if base.bed_mass is None else "bed mass", css_classes=["count-from"])
         self.bed_mass = pn.widgets.FloatSlider(
-            name="bed mass [g]", start=0.0,
+            label="bed mass [g]", start=0.0,
             end=max(1000.0, round(damper0.max_count * damper0.particle_mass * 1e3)),
             step=1.0, value=float(base.bed_mass if base.bed_mass is not None
                                   else round(damper0.bed_mass * 1e3)),
@@ -194,7 +194,7 @@ class Page:
             tip = f"{decl.doc} Scenario key {c.key}; allowed {decl.allowed or 'any'}."
             cls = pn.widgets.IntSlider if c.integer else pn.widgets.FloatSlider
             lo, hi = design.span(c, value)
-            w = cls(name=f"{c.label}{unit}", start=lo, end=hi, step=c.step,
+            w = cls(label=f"{c.label}{unit}", start=lo, end=hi, step=c.step,
                     value=int(value) if c.integer else value,
                     sizing_mode="stretch_width",
                     css_classes=[f"ctl-{c.key.replace('.', '-')}"])
@@ -324,7 +324,7 @@ class Page:
         kind = self.load_kind.value
         if kind != self.inputs.load_kind:
             unit, _, lo, hi = LOADS[kind]
-            self.load.name = f"load amplitude [{unit}]"
+            self.load.label = f"load amplitude [{unit}]"
             self.load.start, self.load.end = lo, hi
             self.load.value = min(max(float(self.load.value or lo), lo), hi)
         model = self.fidelity.value
