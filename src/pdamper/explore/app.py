@@ -165,6 +165,9 @@ class Page:
         self._figures()
         self.dem_points: list[dict[str, Any]] = []
         self.response: design.Response | None = None
+        self._queued: list[Future] = []
+        self._answered = 0  # the generation whose full answer is drawn
+        self._redrawn = ""
 
     def _bed_widgets(self, base: Inputs, damper0: Any) -> None:
         """The bed's mass instead of the count: the count derived from it for the radius
@@ -186,7 +189,8 @@ class Page:
         """A slider per control, with its declaration (key, allowed range) in a tooltip."""
         start = design.values_of(sc)
         for c in CONTROLS:
-            if c.key.startswith("structure.") and sc.structure.modes is not None:
+            if c.key.startswith("structure.") and sc.structure.modes is not None \
+                    and c.key not in design.WITH_MODES:
                 continue  # a modes file: the structure is the file's, not the sliders'
             value = start.get(c.key, c.low)
             decl = c.declaration()
@@ -343,7 +347,10 @@ class Page:
 
     def _schedule(self) -> None:
         """Quick views now; the forced response in the solver thread (the page answers
-        meanwhile; a newer design supersedes an older one's result)."""
+        meanwhile): a preview on every k-th frequency first where the grid is large
+        (:func:`~pdamper.explore.design.preview`), then the full grid, then the time view.
+        A newer design supersedes an older one: its results are not drawn and its work not
+        yet started is dropped."""
         self.generation += 1
         gen = self.generation
         t0 = time.perf_counter()
@@ -362,26 +369,51 @@ class Page:
 
         def redraw() -> None:
             self._draw_quick()
-            self.status.object = (f"views redrawn in {(time.perf_counter() - t0) * 1e3:.0f} ms; "
-                                  "solving the forced response ...")
+            self._redrawn = f"views redrawn in {(time.perf_counter() - t0) * 1e3:.0f} ms"
+            self.status.object = f"{self._redrawn}; solving the forced response ..."
         # Bokeh sources change under the document's lock: on the next tick of its loop
         (doc.add_next_tick_callback(redraw) if doc is not None else redraw())
         inputs = self.inputs
-        fut = _SOLVER.submit(design.response, inputs)
+        for queued in self._queued:  # an older design's work not started: dropped
+            queued.cancel()
+        # a first answer at the resolution a curve needs, then the full grid's, then the
+        # time view: each drawn when it arrives, if the design is still the page's
+        jobs = [(design.response, self._solved), (design.time_response, self._timed)]
+        if design.preview_grid(self.quick.frequency.size) is not None:  # a large grid
+            jobs.insert(0, (design.preview, self._previewed))
+        self._queued = []
+        for solve, draw in jobs:
+            fut = _SOLVER.submit(solve, inputs)
+            self._queued.append(fut)
 
-        def done(f: Future) -> None:
-            if doc is None:
-                return
-            doc.add_next_tick_callback(lambda: self._solved(gen, f, t0))
-        fut.add_done_callback(done)
-        in_time = _SOLVER.submit(design.time_response, inputs)
+            def arrived(f: Future, draw=draw) -> None:
+                if doc is not None and not f.cancelled():
+                    doc.add_next_tick_callback(lambda: draw(gen, f, t0))
+            fut.add_done_callback(arrived)
 
-        def timed(f: Future) -> None:
-            if doc is not None:
-                doc.add_next_tick_callback(lambda: self._timed(gen, f))
-        in_time.add_done_callback(timed)
+    def _previewed(self, gen: int, fut: Future, t0: float) -> None:
+        """The preview's curves, until the full grid's answer replaces them (its peak lines
+        are said in the status, with the grid they are for; the peak lines shown below
+        the views are only ever the full answer's)."""
+        if gen != self.generation or self._answered == gen:
+            return
+        try:
+            res = fut.result()
+        except (PdamperError, ValueError):
+            return  # the full answer says why
+        if res is None:
+            return
+        self._draw_response(res)
+        n = res.frf.frequency.size
+        # the design's peak lines are the full grid's (pdamper frf's for the view)
+        self.peaks.object = f"*the peak lines of all {res.of} frequencies: solving ...*"
+        said = (f"`pdamper frf --frequency {res.grid}`: " if res.grid else "") + \
+            "; ".join(res.peak_lines)
+        self.status.object = (
+            f"{self._redrawn}; first answer at {n} of the {res.of} frequencies after "
+            f"{time.perf_counter() - t0:.2f} s ({said}); solving all {res.of} ...")
 
-    def _timed(self, gen: int, fut: Future) -> None:
+    def _timed(self, gen: int, fut: Future, _t0: float = 0.0) -> None:
         """The time view (free decay or load response) when it is computed."""
         if gen != self.generation:
             return
@@ -407,6 +439,7 @@ class Page:
             self._fail(exc)
             return
         self.response = res
+        self._answered = gen
         self._draw_response(res)
         self.status.object = (f"forced response solved ({res.seconds:.2f} s; page answered "
                               f"after {(time.perf_counter() - t0):.2f} s)")
