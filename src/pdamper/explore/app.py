@@ -236,9 +236,11 @@ class Page:
         return tpl
 
     def _figures(self) -> None:
-        self.frf_src = {n: ColumnDataSource(data={"f": [], "x": []})
+        # sources named, so that a browser test finds what the page drew
+        self.frf_src = {n: ColumnDataSource(data={"f": [], "x": []}, name=f"frf-{n}")
                         for n in ("bare", "up", "down")}
-        self.hb_src = {n: ColumnDataSource(data={"f": [], "x": []}) for n in ("s", "u", "e")}
+        self.hb_src = {n: ColumnDataSource(data={"f": [], "x": []}, name=f"hb-{n}")
+                       for n in ("s", "u", "e")}
         p = figure(title="forced response at the output point", height=470, width=560,
                    x_axis_label="frequency [Hz]", y_axis_label="amplitude [mm]",
                    tools="pan,wheel_zoom,box_zoom,reset,save")
@@ -254,7 +256,8 @@ class Page:
                   legend_label="harmonic balance, unstable")
         p.scatter("f", "x", source=self.hb_src["e"], color="purple", size=4,
                   marker="triangle", legend_label="harmonic balance, edge")
-        self.frf_fail_src = ColumnDataSource(data={"f": [], "x": [], "why": []})
+        self.frf_fail_src = ColumnDataSource(data={"f": [], "x": [], "why": []},
+                                             name="frf-fails")
         p.scatter("f", "x", source=self.frf_fail_src, color="red", size=9, marker="x",
                   line_width=2, legend_label="analytical assumptions fail")
         p.legend.click_policy = "hide"
@@ -277,10 +280,10 @@ class Page:
                legend_label="operating path (sweep up)")
         # the motion mode of every cell, a colour per mode (hover: eta, mode, assumptions)
         self.cell_src = ColumnDataSource(data={"f": [], "x": [], "eta": [], "mode": [],
-                                               "colour": [], "why": []})
+                                               "colour": [], "why": []}, name="map-cells")
         cells = m.scatter("f", "x", source=self.cell_src, size=5, color="colour",
                           line_color="black", line_width=0.3, legend_field="mode")
-        self.fail_src = ColumnDataSource(data={"f": [], "x": []})
+        self.fail_src = ColumnDataSource(data={"f": [], "x": []}, name="map-fails")
         m.scatter("f", "x", source=self.fail_src, size=8, marker="x", color="red",
                   line_width=1.5, legend_label="analytical assumptions fail")
         m.scatter("f", "x", source=self.dem_src, size=12, marker="star", color="red",
@@ -295,7 +298,7 @@ class Page:
         m.legend.ncols = 3
         m.add_layout(m.legend[0], "below")
         m.add_layout(ColorBar(color_mapper=self.mapper, title="eta"), "right")
-        self.time_src = ColumnDataSource(data={"t": [], "x": []})
+        self.time_src = ColumnDataSource(data={"t": [], "x": []}, name="time")
         t = figure(title="in time: pdamper simulate of this design", height=260, width=1080,
                    x_axis_label="time [s]", y_axis_label="displacement [mm]",
                    tools="pan,wheel_zoom,box_zoom,reset,save")
