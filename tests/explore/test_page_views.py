@@ -178,3 +178,16 @@ def test_a_preview_is_drawn_first_and_the_full_answer_replaces_it(tmp_path):
     assert len(page.frf_src["up"].data["f"]) == 121
     page._previewed(gen - 1, _done(first), 0.0)  # an older design's: not drawn
     assert len(page.frf_src["up"].data["f"]) == 121
+
+
+def test_warm_up_builds_a_page_and_the_quick_views_not_the_solve(tmp_path):
+    """Before the server says it is ready: a page built and the base design's quick views
+    cached; no forced response solved (a page asks for it)."""
+    base = Inputs(frequency="3Hz:9Hz:17", load_amplitude=1.5)
+    solved = design.response.cache_info().currsize
+    app.warm(base, app.DEMChecks(), tmp_path)
+    app._SOLVER.submit(lambda: None).result()  # whatever was queued has run
+    assert design.response.cache_info().currsize == solved
+    hits = design.quick.cache_info().hits
+    design.quick(base)
+    assert design.quick.cache_info().hits == hits + 1

@@ -208,7 +208,9 @@ class Page:
                                       sizing_mode="stretch_width")
 
     # ---- layout ---------------------------------------------------------------------------
-    def layout(self) -> pn.template.BaseTemplate:
+    def layout(self, start: bool = True) -> pn.template.BaseTemplate:
+        """The page: inputs in the sidebar, views in the main area; ``start``: its views
+        computed when the session loads."""
         row = self.rows.get
         side = pn.Column(
             "### Damper", self.count_from, row("particles.count"), self.bed_mass,
@@ -232,7 +234,8 @@ class Page:
             pn.Row(self.save_path, self.save_button, self.report_button), self.saved)
         tpl = pn.template.BootstrapTemplate(title="pdamper explore", sidebar=[side],
                                             main=[main])
-        pn.state.onload(self._start)
+        if start:
+            pn.state.onload(self._start)
         return tpl
 
     def _figures(self) -> None:
@@ -605,6 +608,24 @@ def _name(material: Any, names: list[str]) -> str:
     return name if name in names else names[0]
 
 
+def warm(base: Inputs, checks: DEMChecks, out_dir: Path,
+         mass_limit: float | None = None) -> None:
+    """The first session's set-up, done before the server says it is ready: a page built
+    once into a document of its own (Bokeh's models made for the first time cost about a
+    second) and the base design's quick views into their cache, so that the first browser
+    to connect gets its page at once. (Its forced response is solved when a page asks:
+    solved here, its lines would be on the page before a user's first change of the
+    frequencies had reached the server.) A design the scenario refuses is said on the
+    page, not here."""
+    from bokeh.document import Document
+
+    try:
+        Page(base, checks, out_dir, mass_limit).layout(start=False).server_doc(Document())
+        design.quick(base)
+    except Exception:  # noqa: BLE001 - the page itself shows what is wrong
+        pass
+
+
 def serve(base: Inputs, *, port: int, show: bool, out_dir: Path,
           mass_limit: float | None = None) -> None:
     """Serve the page on 127.0.0.1:``port`` until interrupted (Ctrl-C: the command line's
@@ -613,6 +634,8 @@ def serve(base: Inputs, *, port: int, show: bool, out_dir: Path,
 
     def page() -> Any:
         return Page(base, checks, out_dir, mass_limit).layout()
+
+    warm(base, checks, out_dir, mass_limit)
 
     server = pn.serve({"/": page}, address="127.0.0.1", port=port, show=False, start=False,
                       websocket_origin=[f"127.0.0.1:{port}", f"localhost:{port}"],
