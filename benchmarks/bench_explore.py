@@ -37,7 +37,9 @@ def _cases(tmp: Path, grid: str) -> dict[str, Inputs]:
     scen = tmp / "two_modes.toml"
     scen.write_text(f'[structure]\nmodes = "{modes}"\n')
     return {"1-DOF (the paper's structure)": Inputs(frequency=grid),
-            "two modes (modes file)": Inputs(scenario=scen, frequency=grid)}
+            "two modes (modes file)": Inputs(scenario=scen, frequency=grid),
+            # the page's start: no frequencies given, the command's default grid
+            "1-DOF, the default grid (the mode resolved)": Inputs()}
 
 
 def main() -> None:
@@ -72,7 +74,8 @@ def main() -> None:
             design.response(base.with_value("particles.count", 33))
             cached = time.perf_counter() - t0
             med = statistics.median
-            print(f"{name}, analytic, {args.grid}:\n"
+            grid = base.frequency or f"default, {design.quick(base).frequency.size} points"
+            print(f"{name}, analytic, {grid}:\n"
                   f"  quick views median {med(quick) * 1e3:.0f} ms (worst "
                   f"{max(quick) * 1e3:.0f} ms)\n"
                   f"  first answer (quick views and preview) median {med(first):.2f} s "

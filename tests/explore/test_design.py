@@ -296,5 +296,12 @@ def test_preview_is_the_command_on_a_coarser_grid_of_the_same_band():
     assert first.peak_lines == [line for line in cli.stdout.splitlines() if ": peak " in line]
     assert design.preview(Inputs(frequency=GRID)) is None  # 31 points: answered at once
     assert design.preview_inputs(Inputs(frequency="8Hz:40Hz:161")).frequency == "8Hz:40Hz:21"
-    # no coarser start:stop:count of the same ends (41 is prime): every k-th and the last
+    # no coarser start:stop:count of the same points (41 is prime): 21 over the band
+    assert design.preview_inputs(Inputs(frequency="3Hz:9Hz:42")).frequency == "3Hz:9Hz:21"
     assert list(design.preview_grid(42)) == [*range(0, 40, 3), 41]
+    # the command's default grid (dense at the mode): 21 evenly over its band
+    default = design.preview(Inputs())
+    grid = design.quick(Inputs()).frequency
+    assert default.of == grid.size and default.grid == \
+        f"{grid[0]:.6g}Hz:{grid[-1]:.6g}Hz:21" == "2.78Hz:8.34Hz:21"
+    assert default.frf.frequency.size == 21

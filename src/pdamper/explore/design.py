@@ -351,7 +351,7 @@ def response(inputs: Inputs) -> Response:
     if base != inputs:
         scenario_of(inputs)
         return response(base)
-    return _forced(inputs, None)
+    return _forced(inputs)
 
 
 #: Frequencies of the page's first answer to a new design, at most (:func:`preview`).
@@ -359,9 +359,9 @@ PREVIEW_POINTS = 21
 
 
 def preview_grid(count: int, points: int = PREVIEW_POINTS) -> np.ndarray | None:
-    """Indices into a grid of ``count`` frequencies of the preview's: every k-th with the
-    last, at most ``points`` (k the smallest step that gives no more); ``None`` for a grid
-    of fewer than twice ``points`` (its own answer comes about as soon)."""
+    """Every k-th of ``count`` frequencies with the last, at most ``points`` (k the
+    smallest step that gives no more): the indices of a coarser grid; ``None`` for a grid
+    of fewer than twice ``points`` (its own answer comes about as soon: no preview)."""
     if count < 2 * points:
         return None
     step = math.ceil((count - 1) / max(points - 1, 1))
@@ -369,50 +369,53 @@ def preview_grid(count: int, points: int = PREVIEW_POINTS) -> np.ndarray | None:
     return idx if idx[-1] == count - 1 else np.append(idx, count - 1)
 
 
-def preview_inputs(inputs: Inputs, points: int = PREVIEW_POINTS) -> Inputs | None:
-    """The design on a coarser grid of the same ends where the page's grid is
-    ``start:stop:count`` and a step of k points (the smallest from :func:`preview_grid`'s
-    up to twice it) divides it: ``start:stop:1 + (count - 1) / k``, so that the preview is
-    what ``pdamper frf --frequency`` prints for that grid; else ``None``."""
+def preview_inputs(inputs: Inputs, freqs: np.ndarray | None = None,
+                   points: int = PREVIEW_POINTS) -> Inputs | None:
+    """The design on a coarser grid of the same band, for a grid of at least twice
+    ``points`` frequencies (else ``None``): where the page's grid is ``start:stop:count``,
+    every k-th of its frequencies where a step k (the smallest of :func:`preview_grid`'s
+    up to twice it) divides it (``start:stop:1 + (count - 1) / k``), else
+    ``start:stop:points``; the command's default grid (``freqs``, resolved around the
+    modes and dense at them) by ``points`` evenly spaced over its band. The preview is
+    then what ``pdamper frf --frequency`` prints for that grid."""
     parts = inputs.frequency.split(":")
-    if len(parts) != 3 or not parts[2].strip().isdigit():
+    if len(parts) == 3 and parts[2].strip().isdigit():
+        count = int(parts[2])
+        if preview_grid(count, points) is None:
+            return None
+        start, stop = parts[0].strip(), parts[1].strip()
+        low = math.ceil((count - 1) / max(points - 1, 1))
+        for step in range(low, 2 * low + 1):
+            if (count - 1) % step == 0:
+                return dataclasses.replace(
+                    inputs, frequency=f"{start}:{stop}:{(count - 1) // step + 1}")
+        return dataclasses.replace(inputs, frequency=f"{start}:{stop}:{points}")
+    if inputs.frequency or freqs is None or preview_grid(freqs.size, points) is None:
         return None
-    count = int(parts[2])
-    if count < 2 * points:
-        return None
-    low = math.ceil((count - 1) / max(points - 1, 1))
-    for step in range(low, 2 * low + 1):
-        if (count - 1) % step == 0:
-            text = f"{parts[0].strip()}:{parts[1].strip()}:{(count - 1) // step + 1}"
-            return dataclasses.replace(inputs, frequency=text)
-    return None
+    return dataclasses.replace(
+        inputs, frequency=f"{float(freqs[0]):.6g}Hz:{float(freqs[-1]):.6g}Hz:{points}")
 
 
 @functools.lru_cache(maxsize=64)
 def preview(inputs: Inputs) -> Response | None:
     """A first answer to the design at the resolution a curve needs, in a fraction of the
-    full grid's time: the forced response on a coarser grid of the same band
-    (:func:`preview_inputs`: ``pdamper frf --frequency start:stop:fewer``, its ``grid``;
-    else every k-th frequency of the grid, :func:`preview_grid`); ``None`` where the grid
-    is that small already. Its ``of`` is the full grid's size: the page shows it as a
-    preview until :func:`response` arrives."""
+    full grid's time: :func:`response` on a coarser grid of the same band
+    (:func:`preview_inputs`; its ``grid`` the ``--frequency`` of ``pdamper frf`` that
+    prints the same); ``None`` where the grid is that small already. Its ``of`` is the
+    full grid's size: the page shows it as a preview until :func:`response` arrives."""
     base = forced_inputs(inputs)
     if base != inputs:
         scenario_of(inputs)
         return preview(base)
-    sc = scenario_of(inputs)
-    _, freqs = _resolved(inputs, sc)
-    coarse = preview_inputs(inputs)
-    if coarse is not None:
-        return dataclasses.replace(response(coarse), of=freqs.size, grid=coarse.frequency)
-    idx = preview_grid(freqs.size)
-    if idx is None:
+    _, freqs = _resolved(inputs, scenario_of(inputs))
+    coarse = preview_inputs(inputs, freqs)
+    if coarse is None:
         return None
-    return _forced(inputs, idx)
+    return dataclasses.replace(response(coarse), of=freqs.size, grid=coarse.frequency)
 
 
-def _forced(inputs: Inputs, subset: np.ndarray | None) -> Response:
-    """:func:`response` (``subset`` None) or :func:`preview` (the grid's indices)."""
+def _forced(inputs: Inputs) -> Response:
+    """:func:`response`, computed."""
     from pdamper.cli.frf import _acting, _table
     from pdamper.coupling.frf import frequency_response
     from pdamper.runs.resources import check_frf
@@ -420,9 +423,6 @@ def _forced(inputs: Inputs, subset: np.ndarray | None) -> Response:
     t0 = time.perf_counter()
     sc = scenario_of(inputs)
     load, freqs = _resolved(inputs, sc)
-    full = freqs.size
-    if subset is not None:
-        freqs = freqs[subset]
     check_frf(sc, inputs.model, freqs, load, max_cycles=None, sweep=inputs.sweep, force=False)
     damper = sc.damper()
     res = frequency_response(sc.model(None, damper), _acting(sc), load, freqs,
@@ -433,8 +433,7 @@ def _forced(inputs: Inputs, subset: np.ndarray | None) -> Response:
     holds = why = None
     if path is not None:
         holds, why = assumptions(sc, damper, inputs.model, res.frequency, path.stroke)
-    return Response(res, peaks, time.perf_counter() - t0, holds, why,
-                    of=None if subset is None else full)
+    return Response(res, peaks, time.perf_counter() - t0, holds, why)
 
 
 def assumptions(sc: Scenario, damper: Any, name: str | None, frequency: np.ndarray,
