@@ -110,6 +110,10 @@ def test_map_marks_time_view_release_and_bed_mass_in_the_browser(tmp_path, brows
         assert f"fail at {cells_n} map cell(s) and {points_n} forced-response point(s)" \
             in offer
         assert "--fields map.nc" in offer and "fidelity: fields" in offer
+        # the mass against no limit, and the inputs the fidelity does not use
+        assert design.mass_text(q, None) in _text(page, ".mass")
+        notes = _text(page, ".notes")
+        assert all(f"{k}: not used by the analytic fidelity" in notes for k in q.unused)
         # the time view, on its tab: pdamper simulate's decay table of the design
         page.locator(".bk-tab", has_text="in time").click()
         lines = design.time_response(base).lines
