@@ -178,6 +178,11 @@ def test_a_preview_is_drawn_first_and_the_full_answer_replaces_it(tmp_path):
     assert len(page.frf_src["up"].data["f"]) == 121
     page._previewed(gen - 1, _done(first), 0.0)  # an older design's: not drawn
     assert len(page.frf_src["up"].data["f"]) == 121
+    # the release moved: the drawn forced response is the design's; no preview, only the
+    # (cached) full answer and the time view are asked for
+    page._on_value("structure.initial_displacement")(type("E", (), {"new": -30.0})())
+    assert [f.cancel() or f for f in page._queued] and len(page._queued) == 2
+    app._SOLVER.submit(lambda: None).result()
 
 
 def test_warm_up_builds_a_page_and_the_quick_views_not_the_solve(tmp_path):

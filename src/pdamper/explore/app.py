@@ -168,6 +168,7 @@ class Page:
         self._queued: list[Future] = []
         self._answered = 0  # the generation whose full answer is drawn
         self._redrawn = ""
+        self._drawn_for: Inputs | None = None  # the design whose forced response is drawn
 
     def _bed_widgets(self, base: Inputs, damper0: Any) -> None:
         """The bed's mass instead of the count: the count derived from it for the radius
@@ -360,6 +361,8 @@ class Page:
         self.generation += 1
         gen = self.generation
         t0 = time.perf_counter()
+        for queued in self._queued:  # an older design's work not started: dropped
+            queued.cancel()
         try:
             self.quick = design.quick(self.inputs)
         except (PdamperError, ValueError) as exc:
@@ -380,12 +383,13 @@ class Page:
         # Bokeh sources change under the document's lock: on the next tick of its loop
         (doc.add_next_tick_callback(redraw) if doc is not None else redraw())
         inputs = self.inputs
-        for queued in self._queued:  # an older design's work not started: dropped
-            queued.cancel()
         # a first answer at the resolution a curve needs, then the full grid's, then the
         # time view: each drawn when it arrives, if the design is still the page's
         jobs = [(design.response, self._solved), (design.time_response, self._timed)]
-        if design.preview_grid(self.quick.frequency.size) is not None:  # a large grid
+        # a large grid's preview, unless only the time view's inputs changed (the forced
+        # response drawn is this design's)
+        if design.preview_grid(self.quick.frequency.size) is not None \
+                and design.forced_inputs(inputs) != self._drawn_for:
             jobs.insert(0, (design.preview, self._previewed))
         self._queued = []
         for solve, draw in jobs:
@@ -446,6 +450,7 @@ class Page:
             return
         self.response = res
         self._answered = gen
+        self._drawn_for = design.forced_inputs(self.inputs)
         self._draw_response(res)
         self.status.object = (f"forced response solved ({res.seconds:.2f} s; page answered "
                               f"after {(time.perf_counter() - t0):.2f} s)")
