@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import subprocess
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -146,7 +147,7 @@ def test_map_marks_time_view_release_and_bed_mass_in_the_browser(tmp_path, brows
         # Save scenario: the bed mass and the release written
         page.locator(".save button").click()
         saved = _wait_text(page, ".saved", "saved").split("saved ")[1].split(";")[0]
-        text = open(saved.strip().strip("`"), encoding="utf-8").read()
+        text = Path(saved.strip().strip("`")).read_text(encoding="utf-8")
         assert "count = 24" in text and 'initial_displacement = "-57.5 mm"' in text
 
 
