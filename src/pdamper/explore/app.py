@@ -354,8 +354,9 @@ class Page:
 
     def _schedule(self) -> None:
         """Quick views now; the forced response in the solver thread (the page answers
-        meanwhile): a preview on every k-th frequency first where the grid is large
-        (:func:`~pdamper.explore.design.preview`), then the full grid, then the time view.
+        meanwhile): where the grid is large a preview first, the forced response on a
+        coarser grid of the same band (:func:`~pdamper.explore.design.preview`), then the
+        full grid's, then the time view.
         A newer design supersedes an older one: its results are not drawn and its work not
         yet started is dropped."""
         self.generation += 1
