@@ -256,3 +256,52 @@ def test_load_response_is_the_simulate_commands():
     model_line = [line for line in printed if line.startswith("AnalyticalDamper(count=150)")]
     assert model_line and model_line[0].split("): ", 1)[1].startswith(shown.lines[0])
     assert shown.time[-1] == pytest.approx(1.05, abs=1e-3)  # the 50 ms record + 1 s tail
+
+
+def test_release_displacement_is_set_saved_and_released_from(tmp_path):
+    """The free decay's release point is a control in mm within the declared range
+    (< 0): the saved scenario carries it, `pdamper simulate` of that file prints the
+    page's decay table, and the decay starts there; the forced response and the map are
+    the design's, not solved again."""
+    from pdamper.io.scenario import load_scenario
+
+    c = design.CONTROL["structure.initial_displacement"]
+    assert c.unit == "mm" and c.declaration().allowed == "< 0" and c.high < 0
+    view = Inputs(frequency=GRID).with_value("structure.initial_displacement", -30.0)
+    path = design.save_scenario(view, tmp_path / "release.toml")
+    assert 'initial_displacement = "-30 mm"' in path.read_text()
+    assert load_scenario(path).structure.initial_displacement == pytest.approx(-0.030)
+    shown = design.time_response(view)
+    assert shown.displacement[0] == pytest.approx(-0.030, rel=1e-9)
+    assert shown.lines == _simulate("--scenario", path)[2:]
+    base = Inputs(frequency=GRID)
+    assert design.response(view) is design.response(base)
+    assert design.quick(view) is design.quick(base)
+    with pytest.raises(InputError) as err:  # the command line's message, naming the key
+        design.quick(base.with_value("structure.initial_displacement", 5.0))
+    assert err.value.field == "structure.initial_displacement"
+
+
+def test_preview_is_the_command_on_a_coarser_grid_of_the_same_band():
+    """A large grid's first answer is `pdamper frf --frequency` on every k-th of its
+    frequencies (121 -> 21, the same ends): its peak lines are the command's for that grid;
+    a grid of fewer than twice the preview's points has none."""
+    view = Inputs(frequency="3Hz:9Hz:121").with_value("particles.count", 40)
+    first = design.preview(view)
+    assert first is not None and first.grid == "3Hz:9Hz:21" and first.of == 121
+    assert first.frf.frequency.size == 21
+    cli = subprocess.run(command("frf", "--frequency", "3Hz:9Hz:21", "--sweep", "both",
+                                 "--particles", 40), capture_output=True, text=True,
+                         env=env(), timeout=300)
+    assert first.peak_lines == [line for line in cli.stdout.splitlines() if ": peak " in line]
+    assert design.preview(Inputs(frequency=GRID)) is None  # 31 points: answered at once
+    assert design.preview_inputs(Inputs(frequency="8Hz:40Hz:161")).frequency == "8Hz:40Hz:21"
+    # no coarser start:stop:count of the same points (41 is prime): 21 over the band
+    assert design.preview_inputs(Inputs(frequency="3Hz:9Hz:42")).frequency == "3Hz:9Hz:21"
+    assert list(design.preview_grid(42)) == [*range(0, 40, 3), 41]
+    # the command's default grid (dense at the mode): 21 evenly over its band
+    default = design.preview(Inputs())
+    grid = design.quick(Inputs()).frequency
+    assert default.of == grid.size and default.grid == \
+        f"{grid[0]:.6g}Hz:{grid[-1]:.6g}Hz:21" == "2.78Hz:8.34Hz:21"
+    assert default.frf.frequency.size == 21

@@ -61,6 +61,9 @@ def _server(tmp_path: Path, *args: object) -> Iterator[tuple[subprocess.Popen, s
         if proc.poll() is None:
             proc.kill()
         proc.wait(10)
+        for pipe in (proc.stdout, proc.stderr):
+            if pipe is not None:
+                pipe.close()
 
 
 @pytest.fixture(scope="module")

@@ -116,3 +116,83 @@ def test_a_design_wide_failure_is_said_once_not_marked_everywhere(tmp_path):
     own = [r for r in q.map_reasons.ravel() if "scattering" in r]
     assert len(page.fail_src.data["f"]) == len(own) < q.map_reasons.size
     assert page.offer.visible and "for this design everywhere" in page.offer.object
+
+
+def test_the_page_uses_panels_current_api(tmp_path):
+    """Building the page and its layout warns of nothing Panel deprecates (a widget's
+    ``label``, a button's ``color``)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PendingDeprecationWarning)
+        warnings.simplefilter("error", DeprecationWarning)
+        page = app.Page(Inputs(frequency=GRID), app.DEMChecks(), tmp_path)
+        page.layout()
+        page.load_kind.value = "base"  # relabels the load slider
+    assert page.load.label == "load amplitude [mm]"
+    assert page.save_button.label == "Save scenario"
+
+
+def _done(value) -> app.Future:
+    fut = app.Future()
+    fut.set_result(value)
+    return fut
+
+
+def test_release_displacement_widget_sets_and_saves_the_release(tmp_path):
+    page = _page(tmp_path, Inputs(frequency=GRID))
+    w = page.widgets["structure.initial_displacement"]
+    assert w.label.endswith("[mm]") and w.value == pytest.approx(-58.0)
+    assert w.start < w.end < 0  # the declared range: < 0
+    page._on_value("structure.initial_displacement")(type("E", (), {"new": -25.0})())
+    assert dict(page.inputs.values)["structure.initial_displacement"] == -25.0
+    page.save_path.value = str(tmp_path / "mine.toml")
+    saved = page._save()
+    assert saved is not None and 'initial_displacement = "-25 mm"' in saved.read_text()
+    # a structure from a modes file keeps the release control (its other sliders go)
+    modes = tmp_path / "modes.csv"
+    modes.write_text("frequency [Hz], damping ratio [%], damper [kg^-0.5], "
+                     "observation [kg^-0.5]\n5.5, 0.8, 0.2582, 0.2582\n")
+    scen = tmp_path / "modal.toml"
+    scen.write_text(f'[structure]\nmodes = "{modes}"\n')
+    modal = app.Page(Inputs(scenario=scen, frequency=GRID), app.DEMChecks(), tmp_path)
+    assert "structure.initial_displacement" in modal.widgets
+    assert "structure.stiffness" not in modal.widgets
+
+
+def test_a_preview_is_drawn_first_and_the_full_answer_replaces_it(tmp_path):
+    inputs = Inputs(frequency="3Hz:9Hz:121")
+    page = _page(tmp_path, inputs)
+    page.generation = gen = 5
+    first = design.preview(inputs)
+    page._previewed(gen, _done(first), 0.0)
+    assert len(page.frf_src["up"].data["f"]) == 21
+    assert "first answer at 21 of the 121 frequencies" in page.status.object
+    assert "pdamper frf --frequency 3Hz:9Hz:21" in page.status.object
+    assert ": peak" not in page.peaks.object  # the peak lines shown: the full answer's
+    full = design.response(inputs)
+    page._solved(gen, _done(full), 0.0)
+    assert len(page.frf_src["up"].data["f"]) == 121
+    assert page.peaks.object.count("peak") == len(full.peak_lines)
+    page._previewed(gen, _done(first), 0.0)  # late: the full answer stays
+    assert len(page.frf_src["up"].data["f"]) == 121
+    page._previewed(gen - 1, _done(first), 0.0)  # an older design's: not drawn
+    assert len(page.frf_src["up"].data["f"]) == 121
+    # the release moved: the drawn forced response is the design's; no preview, only the
+    # (cached) full answer and the time view are asked for
+    page._on_value("structure.initial_displacement")(type("E", (), {"new": -30.0})())
+    assert [f.cancel() or f for f in page._queued] and len(page._queued) == 2
+    app._SOLVER.submit(lambda: None).result()
+
+
+def test_warm_up_builds_a_page_and_the_quick_views_not_the_solve(tmp_path):
+    """Before the server says it is ready: a page built and the base design's quick views
+    cached; no forced response solved (a page asks for it)."""
+    base = Inputs(frequency="3Hz:9Hz:17", load_amplitude=1.5)
+    solved = design.response.cache_info().currsize
+    app.warm(base, app.DEMChecks(), tmp_path)
+    app._SOLVER.submit(lambda: None).result()  # whatever was queued has run
+    assert design.response.cache_info().currsize == solved
+    hits = design.quick.cache_info().hits
+    design.quick(base)
+    assert design.quick.cache_info().hits == hits + 1

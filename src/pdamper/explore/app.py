@@ -111,29 +111,29 @@ class Page:
         self._bed_widgets(base, sc.damper())
         mats = design.materials()
         self.particle_material = pn.widgets.Select(
-            name="particle material", options=mats, value=_name(sc.particles.material, mats))
+            label="particle material", options=mats, value=_name(sc.particles.material, mats))
         self.container_material = pn.widgets.Select(
-            name="container material", options=mats, value=_name(sc.container.material, mats))
+            label="container material", options=mats, value=_name(sc.container.material, mats))
         self.particle_material.param.watch(self._on_value("particles.material"), "value")
         self.container_material.param.watch(self._on_value("container.material"), "value")
         kind = base.load_kind
-        self.load_kind = pn.widgets.RadioButtonGroup(name="load", options=list(LOADS),
+        self.load_kind = pn.widgets.RadioButtonGroup(label="load", options=list(LOADS),
                                                      value=kind)
         unit, _, lo, hi = LOADS[kind]
-        self.load = pn.widgets.FloatSlider(name=f"load amplitude [{unit}]", start=lo, end=hi,
+        self.load = pn.widgets.FloatSlider(label=f"load amplitude [{unit}]", start=lo, end=hi,
                                            step=0.1, value=base.load_amplitude,
                                            css_classes=["ctl-load"])
-        self.frequency = pn.widgets.TextInput(name="frequencies (start:stop:count)",
+        self.frequency = pn.widgets.TextInput(label="frequencies (start:stop:count)",
                                               value=base.frequency,
                                               placeholder="default: every mode, resolved")
-        self.sweep = pn.widgets.Select(name="sweep", options=["both", "up", "down"],
+        self.sweep = pn.widgets.Select(label="sweep", options=["both", "up", "down"],
                                        value=base.sweep)
-        self.load.name = f"load amplitude [{LOADS[kind][0]}]"
+        self.load.label = f"load amplitude [{LOADS[kind][0]}]"
         fidelities = ["analytic"] + (["fields"] if base.fields is not None else [])
-        self.fidelity = pn.widgets.Select(name="fidelity", options=fidelities,
+        self.fidelity = pn.widgets.Select(label="fidelity", options=fidelities,
                                           value=base.model if base.model in fidelities
                                           else "analytic")
-        self.mass_limit = pn.widgets.FloatInput(name="mass limit [g] (0: none)", start=0,
+        self.mass_limit = pn.widgets.FloatInput(label="mass limit [g] (0: none)", start=0,
                                                 value=0 if mass_limit is None
                                                 else mass_limit * 1e3)
         for chooser in (self.load_kind, self.frequency, self.sweep, self.fidelity):
@@ -152,12 +152,12 @@ class Page:
         self.dem_text = pn.pane.Markdown("", css_classes=["dem"])
         self.time_text = pn.pane.Str("", css_classes=["time-lines"])
         self.saved = pn.pane.Markdown("", css_classes=["saved"])
-        self.save_path = pn.widgets.TextInput(name="scenario file",
+        self.save_path = pn.widgets.TextInput(label="scenario file",
                                               value=str(out_dir / "explored.toml"))
-        self.save_button = pn.widgets.Button(name="Save scenario", button_type="primary",
+        self.save_button = pn.widgets.Button(label="Save scenario", color="primary",
                                              css_classes=["save"])
-        self.report_button = pn.widgets.Button(name="Report", css_classes=["report"])
-        self.dem_button = pn.widgets.Button(name="DEM check", button_type="warning",
+        self.report_button = pn.widgets.Button(label="Report", css_classes=["report"])
+        self.dem_button = pn.widgets.Button(label="DEM check", color="warning",
                                             css_classes=["demcheck"])
         self.save_button.on_click(self._on_save)
         self.report_button.on_click(self._report)
@@ -165,15 +165,19 @@ class Page:
         self._figures()
         self.dem_points: list[dict[str, Any]] = []
         self.response: design.Response | None = None
+        self._queued: list[Future] = []
+        self._answered = 0  # the generation whose full answer is drawn
+        self._redrawn = ""
+        self._drawn_for: Inputs | None = None  # the design whose forced response is drawn
 
     def _bed_widgets(self, base: Inputs, damper0: Any) -> None:
         """The bed's mass instead of the count: the count derived from it for the radius
         and material set (pdamper optimize's bed-mass variable)."""
         self.count_from = pn.widgets.RadioButtonGroup(
-            name="bed given by", options=["count", "bed mass"],
+            label="bed given by", options=["count", "bed mass"],
             value="count" if base.bed_mass is None else "bed mass", css_classes=["count-from"])
         self.bed_mass = pn.widgets.FloatSlider(
-            name="bed mass [g]", start=0.0,
+            label="bed mass [g]", start=0.0,
             end=max(1000.0, round(damper0.max_count * damper0.particle_mass * 1e3)),
             step=1.0, value=float(base.bed_mass if base.bed_mass is not None
                                   else round(damper0.bed_mass * 1e3)),
@@ -186,7 +190,8 @@ class Page:
         """A slider per control, with its declaration (key, allowed range) in a tooltip."""
         start = design.values_of(sc)
         for c in CONTROLS:
-            if c.key.startswith("structure.") and sc.structure.modes is not None:
+            if c.key.startswith("structure.") and sc.structure.modes is not None \
+                    and c.key not in design.WITH_MODES:
                 continue  # a modes file: the structure is the file's, not the sliders'
             value = start.get(c.key, c.low)
             decl = c.declaration()
@@ -194,7 +199,7 @@ class Page:
             tip = f"{decl.doc} Scenario key {c.key}; allowed {decl.allowed or 'any'}."
             cls = pn.widgets.IntSlider if c.integer else pn.widgets.FloatSlider
             lo, hi = design.span(c, value)
-            w = cls(name=f"{c.label}{unit}", start=lo, end=hi, step=c.step,
+            w = cls(label=f"{c.label}{unit}", start=lo, end=hi, step=c.step,
                     value=int(value) if c.integer else value,
                     sizing_mode="stretch_width",
                     css_classes=[f"ctl-{c.key.replace('.', '-')}"])
@@ -204,7 +209,9 @@ class Page:
                                       sizing_mode="stretch_width")
 
     # ---- layout ---------------------------------------------------------------------------
-    def layout(self) -> pn.template.BaseTemplate:
+    def layout(self, start: bool = True) -> pn.template.BaseTemplate:
+        """The page: inputs in the sidebar, views in the main area; ``start``: its views
+        computed when the session loads."""
         row = self.rows.get
         side = pn.Column(
             "### Damper", self.count_from, row("particles.count"), self.bed_mass,
@@ -228,13 +235,16 @@ class Page:
             pn.Row(self.save_path, self.save_button, self.report_button), self.saved)
         tpl = pn.template.BootstrapTemplate(title="pdamper explore", sidebar=[side],
                                             main=[main])
-        pn.state.onload(self._start)
+        if start:
+            pn.state.onload(self._start)
         return tpl
 
     def _figures(self) -> None:
-        self.frf_src = {n: ColumnDataSource(data={"f": [], "x": []})
+        # sources named, so that a browser test finds what the page drew
+        self.frf_src = {n: ColumnDataSource(data={"f": [], "x": []}, name=f"frf-{n}")
                         for n in ("bare", "up", "down")}
-        self.hb_src = {n: ColumnDataSource(data={"f": [], "x": []}) for n in ("s", "u", "e")}
+        self.hb_src = {n: ColumnDataSource(data={"f": [], "x": []}, name=f"hb-{n}")
+                       for n in ("s", "u", "e")}
         p = figure(title="forced response at the output point", height=470, width=560,
                    x_axis_label="frequency [Hz]", y_axis_label="amplitude [mm]",
                    tools="pan,wheel_zoom,box_zoom,reset,save")
@@ -250,7 +260,8 @@ class Page:
                   legend_label="harmonic balance, unstable")
         p.scatter("f", "x", source=self.hb_src["e"], color="purple", size=4,
                   marker="triangle", legend_label="harmonic balance, edge")
-        self.frf_fail_src = ColumnDataSource(data={"f": [], "x": [], "why": []})
+        self.frf_fail_src = ColumnDataSource(data={"f": [], "x": [], "why": []},
+                                             name="frf-fails")
         p.scatter("f", "x", source=self.frf_fail_src, color="red", size=9, marker="x",
                   line_width=2, legend_label="analytical assumptions fail")
         p.legend.click_policy = "hide"
@@ -273,10 +284,10 @@ class Page:
                legend_label="operating path (sweep up)")
         # the motion mode of every cell, a colour per mode (hover: eta, mode, assumptions)
         self.cell_src = ColumnDataSource(data={"f": [], "x": [], "eta": [], "mode": [],
-                                               "colour": [], "why": []})
+                                               "colour": [], "why": []}, name="map-cells")
         cells = m.scatter("f", "x", source=self.cell_src, size=5, color="colour",
                           line_color="black", line_width=0.3, legend_field="mode")
-        self.fail_src = ColumnDataSource(data={"f": [], "x": []})
+        self.fail_src = ColumnDataSource(data={"f": [], "x": []}, name="map-fails")
         m.scatter("f", "x", source=self.fail_src, size=8, marker="x", color="red",
                   line_width=1.5, legend_label="analytical assumptions fail")
         m.scatter("f", "x", source=self.dem_src, size=12, marker="star", color="red",
@@ -291,7 +302,7 @@ class Page:
         m.legend.ncols = 3
         m.add_layout(m.legend[0], "below")
         m.add_layout(ColorBar(color_mapper=self.mapper, title="eta"), "right")
-        self.time_src = ColumnDataSource(data={"t": [], "x": []})
+        self.time_src = ColumnDataSource(data={"t": [], "x": []}, name="time")
         t = figure(title="in time: pdamper simulate of this design", height=260, width=1080,
                    x_axis_label="time [s]", y_axis_label="displacement [mm]",
                    tools="pan,wheel_zoom,box_zoom,reset,save")
@@ -324,7 +335,7 @@ class Page:
         kind = self.load_kind.value
         if kind != self.inputs.load_kind:
             unit, _, lo, hi = LOADS[kind]
-            self.load.name = f"load amplitude [{unit}]"
+            self.load.label = f"load amplitude [{unit}]"
             self.load.start, self.load.end = lo, hi
             self.load.value = min(max(float(self.load.value or lo), lo), hi)
         model = self.fidelity.value
@@ -343,10 +354,16 @@ class Page:
 
     def _schedule(self) -> None:
         """Quick views now; the forced response in the solver thread (the page answers
-        meanwhile; a newer design supersedes an older one's result)."""
+        meanwhile): where the grid is large a preview first, the forced response on a
+        coarser grid of the same band (:func:`~pdamper.explore.design.preview`), then the
+        full grid's, then the time view.
+        A newer design supersedes an older one: its results are not drawn and its work not
+        yet started is dropped."""
         self.generation += 1
         gen = self.generation
         t0 = time.perf_counter()
+        for queued in self._queued:  # an older design's work not started: dropped
+            queued.cancel()
         try:
             self.quick = design.quick(self.inputs)
         except (PdamperError, ValueError) as exc:
@@ -362,26 +379,52 @@ class Page:
 
         def redraw() -> None:
             self._draw_quick()
-            self.status.object = (f"views redrawn in {(time.perf_counter() - t0) * 1e3:.0f} ms; "
-                                  "solving the forced response ...")
+            self._redrawn = f"views redrawn in {(time.perf_counter() - t0) * 1e3:.0f} ms"
+            self.status.object = f"{self._redrawn}; solving the forced response ..."
         # Bokeh sources change under the document's lock: on the next tick of its loop
         (doc.add_next_tick_callback(redraw) if doc is not None else redraw())
         inputs = self.inputs
-        fut = _SOLVER.submit(design.response, inputs)
+        # a first answer at the resolution a curve needs, then the full grid's, then the
+        # time view: each drawn when it arrives, if the design is still the page's
+        jobs = [(design.response, self._solved), (design.time_response, self._timed)]
+        # a large grid's preview, unless only the time view's inputs changed (the forced
+        # response drawn is this design's)
+        if design.preview_grid(self.quick.frequency.size) is not None \
+                and design.forced_inputs(inputs) != self._drawn_for:
+            jobs.insert(0, (design.preview, self._previewed))
+        self._queued = []
+        for solve, draw in jobs:
+            fut = _SOLVER.submit(solve, inputs)
+            self._queued.append(fut)
 
-        def done(f: Future) -> None:
-            if doc is None:
-                return
-            doc.add_next_tick_callback(lambda: self._solved(gen, f, t0))
-        fut.add_done_callback(done)
-        in_time = _SOLVER.submit(design.time_response, inputs)
+            def arrived(f: Future, draw=draw) -> None:
+                if doc is not None and not f.cancelled():
+                    doc.add_next_tick_callback(lambda: draw(gen, f, t0))
+            fut.add_done_callback(arrived)
 
-        def timed(f: Future) -> None:
-            if doc is not None:
-                doc.add_next_tick_callback(lambda: self._timed(gen, f))
-        in_time.add_done_callback(timed)
+    def _previewed(self, gen: int, fut: Future, t0: float) -> None:
+        """The preview's curves, until the full grid's answer replaces them (its peak lines
+        are said in the status, with the grid they are for; the peak lines shown below
+        the views are only ever the full answer's)."""
+        if gen != self.generation or self._answered == gen:
+            return
+        try:
+            res = fut.result()
+        except (PdamperError, ValueError):
+            return  # the full answer says why
+        if res is None:
+            return
+        self._draw_response(res)
+        n = res.frf.frequency.size
+        # the design's peak lines are the full grid's (pdamper frf's for the view)
+        self.peaks.object = f"*the peak lines of all {res.of} frequencies: solving ...*"
+        said = (f"`pdamper frf --frequency {res.grid}`: " if res.grid else "") + \
+            "; ".join(res.peak_lines)
+        self.status.object = (
+            f"{self._redrawn}; first answer at {n} of the {res.of} frequencies after "
+            f"{time.perf_counter() - t0:.2f} s ({said}); solving all {res.of} ...")
 
-    def _timed(self, gen: int, fut: Future) -> None:
+    def _timed(self, gen: int, fut: Future, _t0: float = 0.0) -> None:
         """The time view (free decay or load response) when it is computed."""
         if gen != self.generation:
             return
@@ -407,6 +450,8 @@ class Page:
             self._fail(exc)
             return
         self.response = res
+        self._answered = gen
+        self._drawn_for = design.forced_inputs(self.inputs)
         self._draw_response(res)
         self.status.object = (f"forced response solved ({res.seconds:.2f} s; page answered "
                               f"after {(time.perf_counter() - t0):.2f} s)")
@@ -569,6 +614,24 @@ def _name(material: Any, names: list[str]) -> str:
     return name if name in names else names[0]
 
 
+def warm(base: Inputs, checks: DEMChecks, out_dir: Path,
+         mass_limit: float | None = None) -> None:
+    """The first session's set-up, done before the server says it is ready: a page built
+    once into a document of its own (Bokeh's models made for the first time cost about a
+    second) and the base design's quick views into their cache, so that the first browser
+    to connect gets its page at once. (Its forced response is solved when a page asks:
+    solved here, its lines would be on the page before a user's first change of the
+    frequencies had reached the server.) A design the scenario refuses is said on the
+    page, not here."""
+    from bokeh.document import Document
+
+    try:
+        Page(base, checks, out_dir, mass_limit).layout(start=False).server_doc(Document())
+        design.quick(base)
+    except Exception:  # noqa: BLE001 - the page itself shows what is wrong
+        pass
+
+
 def serve(base: Inputs, *, port: int, show: bool, out_dir: Path,
           mass_limit: float | None = None) -> None:
     """Serve the page on 127.0.0.1:``port`` until interrupted (Ctrl-C: the command line's
@@ -577,6 +640,8 @@ def serve(base: Inputs, *, port: int, show: bool, out_dir: Path,
 
     def page() -> Any:
         return Page(base, checks, out_dir, mass_limit).layout()
+
+    warm(base, checks, out_dir, mass_limit)
 
     server = pn.serve({"/": page}, address="127.0.0.1", port=port, show=False, start=False,
                       websocket_origin=[f"127.0.0.1:{port}", f"localhost:{port}"],

@@ -68,11 +68,18 @@ CONTROLS: tuple[Control, ...] = (
     Control("particles.friction", "friction coefficient", "1", 1.0, 0.0, 1.0, 0.01),
     Control("structure.stiffness", "structure stiffness", "N/m", 1.0, 100.0, 1e5, 1.0),
     Control("structure.damping", "structure damping", "kg/s", 1.0, 0.0, 50.0, 0.01),
+    Control("structure.initial_displacement", "free decay: release displacement", "mm", 1e-3,
+            -200.0, -1.0, 0.5),
 )
 CONTROL = {c.key: c for c in CONTROLS}
 #: Controls whose slider spans a decade either side of the scenario's value (a structure's
 #: stiffness or damping has no span common to all users).
 RELATIVE = ("structure.stiffness", "structure.damping")
+#: Controls that only the time view uses (the free decay's release): a change of them leaves
+#: the forced response and the map as they were (cached, not solved again).
+TIME_ONLY = ("structure.initial_displacement",)
+#: Controls shown for a structure from a modes file too (the release point of its decay).
+WITH_MODES = ("structure.initial_displacement",)
 
 
 def span(control: Control, value: float) -> tuple[float, float]:
@@ -284,6 +291,10 @@ class Response:
     #: (else the one run) drives the damper, and why not ("" where they do)
     holds: np.ndarray | None = None
     reasons: np.ndarray | None = None
+    #: a preview (:func:`preview`): the size of the full grid it samples; None: the answer
+    of: int | None = None
+    #: a preview's ``--frequency`` where it is ``pdamper frf``'s for a coarser grid
+    grid: str | None = None
 
 
 def _resolved(inputs: Inputs, sc: Scenario) -> tuple[Any, np.ndarray]:
@@ -299,13 +310,27 @@ def _resolved(inputs: Inputs, sc: Scenario) -> tuple[Any, np.ndarray]:
     return load, np.unique(np.asarray(grid, dtype=float))
 
 
+def forced_inputs(inputs: Inputs) -> Inputs:
+    """``inputs`` without the values only the time view uses (:data:`TIME_ONLY`): what the
+    quick views and the forced response depend on, their cache key."""
+    if not any(k in TIME_ONLY for k, _ in inputs.values):
+        return inputs
+    return dataclasses.replace(inputs, values=tuple((k, v) for k, v in inputs.values
+                                                    if k not in TIME_ONLY))
+
+
 @functools.lru_cache(maxsize=64)
 def quick(inputs: Inputs) -> Quick:
-    """The views that redraw at once (cached per design). Raises
-    :class:`~pdamper.errors.InputError` for a value the scenario refuses."""
+    """The views that redraw at once (cached per design; a value only the time view uses
+    is judged but reuses the design's views). Raises :class:`~pdamper.errors.InputError`
+    for a value the scenario refuses."""
     from pdamper.cli.frf import _acting
     from pdamper.coupling.frf import _modal, linear_frf
 
+    base = forced_inputs(inputs)
+    if base != inputs:
+        scenario_of(inputs)  # judged whole: a refused release is said as the CLI says it
+        return quick(base)
     t0 = time.perf_counter()
     sc = scenario_of(inputs)
     load, freqs = _resolved(inputs, sc)
@@ -320,7 +345,77 @@ def quick(inputs: Inputs) -> Quick:
 @functools.lru_cache(maxsize=64)
 def response(inputs: Inputs) -> Response:
     """The forced response of the design: ``pdamper frf`` with the page's scenario, load,
-    frequencies and sweep (its cost judged first, as the command judges it)."""
+    frequencies and sweep (its cost judged first, as the command judges it). Cached per
+    design; a value only the time view uses reuses the design's response."""
+    base = forced_inputs(inputs)
+    if base != inputs:
+        scenario_of(inputs)
+        return response(base)
+    return _forced(inputs)
+
+
+#: Frequencies of the page's first answer to a new design, at most (:func:`preview`).
+PREVIEW_POINTS = 21
+
+
+def preview_grid(count: int, points: int = PREVIEW_POINTS) -> np.ndarray | None:
+    """Every k-th of ``count`` frequencies with the last, at most ``points`` (k the
+    smallest step that gives no more): the indices of a coarser grid; ``None`` for a grid
+    of fewer than twice ``points`` (its own answer comes about as soon: no preview)."""
+    if count < 2 * points:
+        return None
+    step = math.ceil((count - 1) / max(points - 1, 1))
+    idx = np.arange(0, count, step)
+    return idx if idx[-1] == count - 1 else np.append(idx, count - 1)
+
+
+def preview_inputs(inputs: Inputs, freqs: np.ndarray | None = None,
+                   points: int = PREVIEW_POINTS) -> Inputs | None:
+    """The design on a coarser grid of the same band, for a grid of at least twice
+    ``points`` frequencies (else ``None``): where the page's grid is ``start:stop:count``,
+    every k-th of its frequencies where a step k (the smallest of :func:`preview_grid`'s
+    up to twice it) divides it (``start:stop:1 + (count - 1) / k``), else
+    ``start:stop:points``; the command's default grid (``freqs``, resolved around the
+    modes and dense at them) by ``points`` evenly spaced over its band. The preview is
+    then what ``pdamper frf --frequency`` prints for that grid."""
+    parts = inputs.frequency.split(":")
+    if len(parts) == 3 and parts[2].strip().isdigit():
+        count = int(parts[2])
+        if preview_grid(count, points) is None:
+            return None
+        start, stop = parts[0].strip(), parts[1].strip()
+        low = math.ceil((count - 1) / max(points - 1, 1))
+        for step in range(low, 2 * low + 1):
+            if (count - 1) % step == 0:
+                return dataclasses.replace(
+                    inputs, frequency=f"{start}:{stop}:{(count - 1) // step + 1}")
+        return dataclasses.replace(inputs, frequency=f"{start}:{stop}:{points}")
+    if inputs.frequency or freqs is None or preview_grid(freqs.size, points) is None:
+        return None
+    return dataclasses.replace(
+        inputs, frequency=f"{float(freqs[0]):.6g}Hz:{float(freqs[-1]):.6g}Hz:{points}")
+
+
+@functools.lru_cache(maxsize=64)
+def preview(inputs: Inputs) -> Response | None:
+    """A first answer to the design at the resolution a curve needs, in a fraction of the
+    full grid's time: :func:`response` on a coarser grid of the same band
+    (:func:`preview_inputs`; its ``grid`` the ``--frequency`` of ``pdamper frf`` that
+    prints the same); ``None`` where the grid is that small already. Its ``of`` is the
+    full grid's size: the page shows it as a preview until :func:`response` arrives."""
+    base = forced_inputs(inputs)
+    if base != inputs:
+        scenario_of(inputs)
+        return preview(base)
+    _, freqs = _resolved(inputs, scenario_of(inputs))
+    coarse = preview_inputs(inputs, freqs)
+    if coarse is None:
+        return None
+    return dataclasses.replace(response(coarse), of=freqs.size, grid=coarse.frequency)
+
+
+def _forced(inputs: Inputs) -> Response:
+    """:func:`response`, computed."""
     from pdamper.cli.frf import _acting, _table
     from pdamper.coupling.frf import frequency_response
     from pdamper.runs.resources import check_frf
