@@ -35,8 +35,9 @@ Each stretch between two updates is integrated exactly for an input linear betwe
 sampled finer (its median interval). An update acts from the step after the minimum that
 triggers it (at most one step late).
 
-The DEM (the ``co_simulation`` coupling, model 1) integrates the structure with the
-particles under the same load: :func:`pdamper.coupling.cosimulation.co_simulate_load`.
+The DEM (the ``co_simulation`` coupling, model 1) integrates the structure, one DOF or N
+modes, with the particles under the same load:
+:func:`pdamper.coupling.cosimulation.co_simulate_load`.
 
 Reported: the displacement of the output point (relative to the base for base motion), its
 absolute acceleration, their peak (largest magnitude) and RMS over the run, the energy the
@@ -692,7 +693,7 @@ def _one_dof(structure: Any) -> None:
 
 
 #: What a coupling's load history needs of the structure, where it is more than any:
-#: ``f(structure)`` raises InputError otherwise (the DEM integrates one DOF).
+#: ``f(structure)`` raises InputError otherwise (the DEM: a 1-DOF or N modes).
 LOAD_STRUCTURES = {"co_simulation": _one_dof}
 
 

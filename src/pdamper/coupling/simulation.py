@@ -5,8 +5,8 @@ The coupling strategy is chosen by the model's ``coupling`` name through :data:`
 :data:`MODAL_COUPLINGS` (N modes, :class:`~pdamper.structure.modal.ModalStructure`): a new
 strategy registers here, no caller branches on the model's type. A one-mode
 ``ModalStructure`` whose damper, output and release points coincide is Eq. (23) and runs
-with every coupling (the DEM co-simulation included) through its 1-DOF equivalent when the
-strategy has no N-mode form.
+with every coupling through its 1-DOF equivalent when the strategy has no N-mode form (the
+DEM co-simulation's N-mode form runs it as its 1-DOF too).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from pdamper import resources
-from pdamper.coupling.cosimulation import co_simulate
+from pdamper.coupling.cosimulation import co_simulate, co_simulate_modes
 from pdamper.coupling.modal import simulate_modal_pseudo_force
 from pdamper.coupling.plastic import PlasticBedCoupling
 from pdamper.coupling.pseudo_force import simulate_pseudo_force
@@ -33,6 +33,7 @@ COUPLINGS: dict[str, Callable[..., FreeVibrationResult]] = {
 #: Coupling strategies of N-mode structures, same signature.
 MODAL_COUPLINGS: dict[str, Callable[..., FreeVibrationResult]] = {
     "pseudo_force": simulate_modal_pseudo_force,
+    "co_simulation": co_simulate_modes,
     PlasticBedCoupling.name: PlasticBedCoupling.free_vibration,
 }
 
@@ -74,7 +75,10 @@ class Simulation:
                              f"is not one of {', '.join(COUPLINGS)}")
         self._strategy = COUPLINGS[model.coupling]
         if isinstance(structure, ModalStructure):
-            if model.coupling in MODAL_COUPLINGS:
+            # the DEM runs one coincident mode as its 1-DOF (Eq. 23), N modes as modes
+            one_dof = (structure.modes == 1 and structure.coincident
+                       and model.coupling == "co_simulation")
+            if model.coupling in MODAL_COUPLINGS and not one_dof:
                 self._strategy = MODAL_COUPLINGS[model.coupling]
             elif structure.modes == 1 and structure.coincident:
                 structure = structure.equivalent_single_dof()
