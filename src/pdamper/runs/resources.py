@@ -198,7 +198,9 @@ def _check_simulation(sc: Scenario, damper: ParticleDamper, cls: type[DamperMode
         x0=sc.structure.initial_displacement, drivers=drivers,
         damper_drivers=_damper_drivers(damper, default)), force)
     modes = int(getattr(structure, "modes", 1))
-    if modes > 1 and cls.coupling != "co_simulation":  # the DEM couples one mode only
+    # the DEM's cost above holds on N modes too (the modes' integration costs nothing
+    # against the particles')
+    if modes > 1 and cls.coupling != "co_simulation":
         req(modal_free_vibration_cost(structure, duration, sample_rate, drivers), force)
 
 
@@ -343,7 +345,7 @@ def _check_optimization(sc: Scenario, damper: ParticleDamper, cls: type[DamperMo
                                   sc.settings_of(cls), x0=sc.structure.initial_displacement,
                                   count=max(1, round(counts[-1] / 2)) if counts else 1)
     if int(getattr(structure, "modes", 1)) > 1 and cls.coupling != "co_simulation":
-        # every candidate's free vibration on the N modes (the DEM couples one mode only)
+        # every candidate's free vibration on the N modes (the DEM's cost is its own)
         req(modal_free_vibration_cost(structure, duration, 200.0, drivers,
                                       what="the optimisation", runs=candidates), force)
     req(resources.Cost(
@@ -526,8 +528,9 @@ def frf_cost(scenario: Scenario, model: str | None, frequencies: Sequence[float]
             fk = float(fk)
             if s.modes == 1 and s.coincident:
                 x = abs(complex(receptance(s, fk))) * abs(harmonic_force(s, load, fk))
-            else:
-                x = 0.0  # refused by the coupling before any run (one DOF only)
+            else:  # the DEM on N modes: the container under the force at the load point
+                x = abs(complex(receptance(s, fk, "damper", "load"))) * abs(
+                    harmonic_force(s, load, fk))
             speed = resources.impact_speed(x, fk, damper.length, gravity)
             costs.append(resources.dem_cost(
                 damper, cycles / fk, speed, sample_rate=USUAL_FRF["samples_per_cycle"] * fk,
