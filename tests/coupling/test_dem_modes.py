@@ -44,8 +44,10 @@ def _closed_form(s: ModalStructure, q0: np.ndarray, t: np.ndarray) -> np.ndarray
 def test_without_particles_the_modes_are_the_closed_form(integrator):
     """No bed (4 ghost spheres): the DEM's integration of the two modes (its Gear predictor-corrector
     with each mode's Nordsieck vector, or velocity Verlet) is the modal superposition of
-    damped cosines to 1e-6 of the release at every sample (measured: 3e-8 with Gear,
-    3e-7 with Verlet), the output point's and each coordinate's."""
+    damped cosines to 1e-6 at every sample, the output point's (of its largest
+    displacement) and each coordinate's (of its release; measured 2.2e-10 for the output
+    with either integrator, 1e-8 for the second mode), and each mode's damping ratio from
+    its own coordinate is the structure's (measured to 1.4e-6)."""
     model = DEMDamper(dataclasses.replace(PAPER_DAMPER, count=4, particle_material=GHOST),
                       integrator=integrator)
     res = Simulation(TWO, model, -0.02).run(0.8)
@@ -56,13 +58,12 @@ def test_without_particles_the_modes_are_the_closed_form(integrator):
     assert np.max(np.abs(res.displacement - x)) < 1e-6 * scale
     assert isinstance(res.details, ModalCoSimulation)
     for j in range(2):
-        assert np.max(np.abs(res.details.modal[j] - exact[j])) < 1e-6 * abs(q0[j]) + 1e-6 * (
-            scale / abs(TWO.output_shape[j]))
+        assert np.max(np.abs(res.details.modal[j] - exact[j])) < 1e-6 * abs(q0[j])
     # the damping of each mode from its own coordinate is the structure's
     per_mode = res.damping_per_mode
     assert per_mode is not None
     for m, zeta in zip(per_mode, TWO.damping_ratios, strict=True):
-        assert m.damping_ratio == pytest.approx(zeta, rel=0.02)
+        assert m.damping_ratio == pytest.approx(zeta, rel=1e-4)
 
 
 def test_a_far_barely_excited_second_mode_leaves_the_one_mode_decay():
@@ -172,3 +173,23 @@ def test_machine_frame_at_mode_1_peak_against_the_analytical_model():
     d = run_load(DEMDamper(damper), s, h)
     assert _steady(d, 5, fp) == pytest.approx(_steady(a, 5, fp), rel=0.10)
     assert abs(d.energy_balance_error) < 1e-3
+
+
+@pytest.mark.parametrize("integrator", ["gear", "verlet"])
+def test_one_mode_through_the_modal_kernels_is_the_1dof(integrator):
+    """The engine with one mass-normalised mode (``ModalStructureMotion``, the modal
+    kernels) against the same structure as its 1-DOF (``StructureMotion``, the scalar path):
+    16 steel spheres released from -20 mm, the container's trajectories agree to 1e-9 m
+    (measured 2.4e-11 m with Gear, 8e-16 m with Verlet: the same arithmetic up to the
+    mode's scaling by phi)."""
+    from pdamper.dem import ModalStructureMotion, StructureMotion
+
+    s = PAPER_STRUCTURE
+    one = ModalStructure.from_single_dof(s)
+    m = DEMDamper(dataclasses.replace(PAPER_DAMPER, count=16), integrator=integrator)
+    a = m.build_engine(StructureMotion(s.mass, s.damping, s.stiffness, x0=-0.02)).run(0.2)
+    b = m.build_engine(ModalStructureMotion.of(one, one.release_state(-0.02))).run(0.2)
+    assert b.modal_coordinates.shape == (1, a.time.size)
+    np.testing.assert_allclose(b.container_position, a.container_position, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(one.damper_shape[0] * b.modal_coordinates[0],
+                               b.container_position, rtol=0, atol=1e-15)
