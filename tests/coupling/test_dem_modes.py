@@ -87,6 +87,25 @@ def test_a_far_barely_excited_second_mode_leaves_the_one_mode_decay():
     np.testing.assert_allclose(z2, z1, rtol=0.01, atol=1e-4)
 
 
+def test_per_mode_damping_of_a_dem_decay_is_like_the_analytical_models():
+    """The paper's 32 spheres on two modes released from -30 mm, 1.5 s: each mode's damping
+    ratio from its own coordinate, one decrement per cycle of the mode (the impacts'
+    ripples on the DEM's coordinates are not cycles: as many as the analytical model's),
+    the first cycle of mode 1 damped by the bed far beyond the structure (measured 0.114
+    against 0.02), and each mode's median within 20 % of the analytical model's (measured
+    0.0193 against 0.0216 and 0.0096 against 0.0092)."""
+    from pdamper.models import AnalyticalDamper
+
+    d = dataclasses.replace(PAPER_DAMPER, count=32)
+    dem = Simulation(TWO, DEMDamper(d), -0.03).run(1.5).damping_per_mode
+    ana = Simulation(TWO, AnalyticalDamper(d), -0.03).run(1.5).damping_per_mode
+    assert dem is not None and ana is not None
+    for a, b in zip(dem, ana, strict=True):
+        assert a.ratios.size == b.ratios.size
+        assert a.damping_ratio == pytest.approx(b.damping_ratio, rel=0.2)
+    assert dem[0].ratios[0] > 3 * TWO.damping_ratios[0]
+
+
 def test_energy_balance_of_a_load_on_two_modes():
     """3 N at 5 Hz at the load point of two modes, 16 steel spheres: the work of the load
     equals the modes' energy change, their own damping and the bed's stored and
