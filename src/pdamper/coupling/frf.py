@@ -1156,6 +1156,7 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
     for i in _sweep_order(freqs, direction):
         f = float(freqs[i])
         force = load_force(s, load, f)
+        motion: StructureMotion
         if modal:
             motion = ModalStructureMotion.of(s, q, qd, force_amplitude=abs(force),
                                              force_frequency=f,

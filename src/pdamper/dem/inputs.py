@@ -389,13 +389,13 @@ class ModalStructureMotion(StructureMotion):
         Modal coordinates [m sqrt(kg)] and their rates at the start of the excitation.
     """
 
-    angular_frequencies: np.ndarray = field(default=None, compare=False)  # type: ignore[assignment]
-    damping_ratios: np.ndarray = field(default=None, compare=False)  # type: ignore[assignment]
-    damper_shape: np.ndarray = field(default=None, compare=False)  # type: ignore[assignment]
-    load_shape: np.ndarray = field(default=None, compare=False)  # type: ignore[assignment]
-    participation: np.ndarray = field(default=None, compare=False)  # type: ignore[assignment]
-    q0: np.ndarray = field(default=None, compare=False)  # type: ignore[assignment]
-    qd0: np.ndarray = field(default=None, compare=False)  # type: ignore[assignment]
+    angular_frequencies: Any = field(default=None, compare=False)  # an array after __post_init__
+    damping_ratios: Any = field(default=None, compare=False)  # an array after __post_init__
+    damper_shape: Any = field(default=None, compare=False)  # an array after __post_init__
+    load_shape: Any = field(default=None, compare=False)  # an array after __post_init__
+    participation: Any = field(default=None, compare=False)  # an array after __post_init__
+    q0: Any = field(default=None, compare=False)  # an array after __post_init__
+    qd0: Any = field(default=None, compare=False)  # an array after __post_init__
 
     def __post_init__(self) -> None:
         super().__post_init__()

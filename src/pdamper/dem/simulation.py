@@ -134,7 +134,7 @@ def _modal_drive(m: ModalStructureMotion, grid: _SampleGrid) -> K.Drive:
         base = dict(amplitude=m.force_amplitude, omega=2.0 * math.pi * m.force_frequency,
                     z0=m.force_phase)
     one = _drive(K.MOTION_STRUCTURE, mass=m.mass, damping=m.damping, stiffness=m.stiffness,
-                 **base)  # type: ignore[arg-type]
+                 **base)
     state = np.zeros((3, n))
     state[0] = m.q0
     state[1] = m.qd0
