@@ -57,9 +57,11 @@ class ModalCoSimulation:
     dem: Any = field(repr=False)
 
     def __getattr__(self, name: str):
-        if name.startswith("__"):
+        # only what the dataclass lacks; never during (un)pickling, before "dem" is set
+        dem = self.__dict__.get("dem")
+        if name.startswith("__") or dem is None:
             raise AttributeError(name)
-        return getattr(self.__dict__["dem"], name)
+        return getattr(dem, name)
 
 
 def _runs_as_single_dof(structure) -> bool:
@@ -360,7 +362,9 @@ def _load_table(load, duration: float) -> tuple[float, tuple[float, np.ndarray]]
 
 def _co_simulate_load_modes(model, structure, load, sample_rate: float, tail: float):
     """:func:`co_simulate_load` on N modes: the force acts at the structure's load point
-    (``load_shape``), a base acceleration on every mode through its participation factor;
+    (``load_shape``), a base acceleration on every mode through its participation factor
+    (one mode without it: ``1 / phi_d``, all the mass at the damper point, as
+    :func:`~pdamper.coupling.loads.simulate_load`);
     the structure starts at rest at its static equilibrium with the bed, ``q_eq``.
     Reported: the output point from that equilibrium (relative to the base under base
     motion), its absolute acceleration, the container's displacement from equilibrium
@@ -372,7 +376,7 @@ def _co_simulate_load_modes(model, structure, load, sample_rate: float, tail: fl
     from pdamper.dem import ModalStructureMotion
 
     duration = load.duration + tail
-    if load.kind != "force" and structure.participation is None:
+    if load.kind != "force" and structure.participation is None and structure.modes > 1:
         raise InputError("base_acceleration", "base motion needs each mode's participation "
                          "factor, which a modes file does not give: use one mode, the 1-DOF "
                          "or [structure] beam, or a force (--load) at the load point")
