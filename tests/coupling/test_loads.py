@@ -269,10 +269,10 @@ def test_models_without_a_load_form_and_base_motion_of_n_modes_are_errors():
         run_load(NoLoadForm(PAPER_DAMPER), PAPER_STRUCTURE, h)
     assert e.value.field == "simulation.model"
     two = ModalStructure([5.0, 40.0], [0.01, 0.01], [0.8, 0.5])
-    with pytest.raises(InputError) as e:  # the DEM co-simulation integrates one DOF
-        run_load(DEMDamper(PAPER_DAMPER), two, h)
-    assert e.value.field == "structure"
     base = LoadHistory(h.time, h.values, "base_acceleration")
+    with pytest.raises(InputError) as e:  # the DEM on N modes: no participation factors
+        run_load(DEMDamper(PAPER_DAMPER), two, base)
+    assert e.value.field == "base_acceleration"
     with pytest.raises(InputError) as e:
         simulate_load(NO_PARTICLES, two, base)
     assert e.value.field == "base_acceleration"

@@ -11,7 +11,6 @@ from scipy.integrate import solve_ivp
 
 from pdamper.coupling import Simulation
 from pdamper.coupling.modal import ModeCountStudy, mode_count_study
-from pdamper.errors import InputError
 from pdamper.models import AnalyticalDamper, DamperModel, DamperResponse, DEMDamper
 from pdamper.parameters import PAPER_DAMPER, PAPER_INITIAL_DISPLACEMENT, paper_beam
 from pdamper.structure.beam import modal_reduction
@@ -102,10 +101,12 @@ def test_constant_pseudo_force_on_three_modes_against_an_ode_solver(beam):
     assert len(res.cycles) == len(res.details.update_times)
 
 
-def test_the_dem_couples_to_one_mode_only(beam):
+def test_the_dem_runs_on_n_modes_and_one_mode_as_its_1dof(beam):
+    from pdamper.coupling.cosimulation import co_simulate_modes
+
     b, tip, zeta = beam
-    with pytest.raises(InputError, match="needs a single-DOF structure"):
-        Simulation(ModalStructure.from_beam(b, tip, 2), DEMDamper(PAPER_DAMPER), -0.058)
+    two = Simulation(ModalStructure.from_beam(b, tip, 2), DEMDamper(PAPER_DAMPER), -0.058)
+    assert two._strategy is co_simulate_modes and two.structure.modes == 2
     sim = Simulation(ModalStructure.from_beam(b, tip, 1, damping_ratio=zeta),
                      DEMDamper(PAPER_DAMPER), -0.058)
     assert sim.structure.mass == pytest.approx(modal_reduction(b, tip).mass)

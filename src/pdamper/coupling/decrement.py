@@ -85,13 +85,39 @@ class ModeDamping:
                 int(self.ratios.size), "not_applicable": self.reason}
 
 
+def _lobe_peaks(t, x) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`negative_peaks`, one per negative lobe (a run of samples below zero): its
+    lowest interior sample, refined by the same parabola. A smooth oscillation has one
+    local minimum per lobe (the same peaks); a coordinate kicked by impacts (the DEM's) has
+    ripples whose local minima are not cycles of the mode."""
+    t = np.asarray(t, float)
+    x = np.asarray(x, float)
+    neg = np.concatenate([[False], x < 0, [False]])
+    edges = np.flatnonzero(np.diff(neg.astype(np.int8)))
+    keep = []
+    for a, b in zip(edges[::2], edges[1::2], strict=True):  # the lobe x[a:b]
+        i = a + int(np.argmin(x[a:b]))
+        if 0 < i < x.size - 1 and x[i] < x[i - 1] and x[i] <= x[i + 1]:
+            keep.append(i)
+    i = np.array(keep, dtype=int)
+    if i.size == 0:
+        return np.empty(0), np.empty(0)
+    x0, x1, x2 = x[i - 1], x[i], x[i + 1]
+    den = x0 - 2 * x1 + x2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(den > 0, 0.5 * (x0 - x2) / den, 0.0)
+    return t[i] + s * (t[i + 1] - t[i]), -(x1 - 0.25 * (x0 - x2) * s)
+
+
 def modal_damping_ratios(t, modal, min_cycles: int = 2) -> tuple[ModeDamping, ...]:
     """Each mode's damping ratio in a free decay of N modes, against its own amplitude.
 
     A beating sum of modes has no meaningful logarithmic decrement; each modal coordinate
     q_i(t) of a linear, modally damped structure is a single decaying oscillation, so the
-    decrement of its own negative peaks (Eqs. 24-25) gives zeta_i. With a damper the
-    coordinates couple and the ratio is the equivalent one of that mode at its amplitude.
+    decrement of its own negative peaks (Eqs. 24-25; one per negative lobe, so that the
+    ripples of impacts on a DEM run's coordinate are not taken for cycles) gives zeta_i.
+    With a damper the coordinates couple and the ratio is the equivalent one of that mode
+    at its amplitude.
 
     Parameters
     ----------
@@ -121,7 +147,7 @@ def modal_damping_ratios(t, modal, min_cycles: int = 2) -> tuple[ModeDamping, ..
     q = np.atleast_2d(np.asarray(modal, float))
     out = []
     for i, qi in enumerate(q):
-        _, amp = negative_peaks(t, qi)
+        _, amp = _lobe_peaks(t, qi)
         amp = amp[amp > 0]
         if amp.size < min_cycles + 1:
             out.append(ModeDamping(i + 1, None, np.empty(0), np.empty(0),

@@ -1173,16 +1173,17 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
     """Stepped sine of the DEM (model 1): structure and particles integrated together
     with the load on the structure; each step continues from the previous step's particles
     and structure state, and runs until the container's per-cycle amplitude is steady or
-    ``max_cycles`` load cycles have run."""
-    from pdamper.dem import StructureMotion
+    ``max_cycles`` load cycles have run. On N modes (or one mode whose points differ) the
+    DEM runs on the modes (:mod:`pdamper.coupling.cosimulation`), the force at the load
+    point; the output point's amplitude is read from the modal coordinates over the
+    window judged."""
+    from pdamper.dem import ModalStructureMotion, StructureMotion
 
     s = _modal(structure)
-    if s.modes != 1 or not s.coincident:
-        raise InputError("structure", f"the co_simulation of {type(model).__name__} needs a "
-                         "single-DOF structure (or one mode with the damper, the load and the "
-                         "output at one point: --load-at damper); use a pseudo-force model "
-                         "(analytic, fields) for N modes or a load elsewhere")
-    e = s.equivalent_single_dof()
+    # -- the DEM on N modes (its state: the modal coordinates); one coincident mode: 1-DOF
+    modal = s.modes != 1 or not s.coincident
+    q = qd = np.zeros(s.modes)
+    e = None if modal else s.equivalent_single_dof()
     criterion = criterion or SteadyStateCriterion(rtol=0.02, atol=0.02, quiet_window_cycles=0,
                                                   window_cycles=3, skip_cycles=2)
     freqs = np.atleast_1d(np.asarray(frequency, float))
@@ -1200,9 +1201,17 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
     for i in _sweep_order(freqs, direction):
         f = float(freqs[i])
         force = load_force(s, load, f)
-        motion = StructureMotion(mass=e.mass, damping=e.damping, stiffness=e.stiffness,
-                                 x0=x0, v0=v0, force_amplitude=abs(force), force_frequency=f,
-                                 force_phase=phase0 + float(np.angle(force)))
+        motion: StructureMotion
+        if modal:
+            motion = ModalStructureMotion.of(s, q, qd, force_amplitude=abs(force),
+                                             force_frequency=f,
+                                             force_phase=phase0 + float(np.angle(force)))
+        else:
+            assert e is not None
+            motion = StructureMotion(mass=e.mass, damping=e.damping, stiffness=e.stiffness,
+                                     x0=x0, v0=v0, force_amplitude=abs(force),
+                                     force_frequency=f,
+                                     force_phase=phase0 + float(np.angle(force)))
         if particles is None:
             engine = model.build_engine(motion)
             settle = True
@@ -1222,6 +1231,11 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
         spread[0][i], spread[1][i] = step.window_mean, step.window_std
         out["amplitude"][i] = out["stroke"][i] = abs(step.hat)
         out["phase"][i] = float(np.angle(step.hat))  # against the reference signal
+        if modal:  # the output point over the window judged, and the modes' state
+            hat, mean_std = _modal_output(res, s, f, phase0, criterion)
+            out["amplitude"][i], out["phase"][i] = abs(hat), float(np.angle(hat))
+            spread[0][i], spread[1][i] = mean_std
+            q, qd = res.modal_coordinates[:, -1].copy(), res.modal_velocities[:, -1].copy()
         out["loss_factor"][i], out["effective_mass"][i] = step.loss_factor, step.effective_mass
         # the next step starts where this one ended
         particles = _final_particles(engine, res)
@@ -1235,6 +1249,26 @@ def stepped_sine_co_simulation(model, structure, load: HarmonicLoad, frequency,
                     mode=mode, steady=steady, cycles=cycles, amplitude_mean=spread[0],
                     amplitude_std=spread[1],
                     diagnostics={"wall_seconds": walls, "steps": steps})
+
+
+def _modal_output(res: Any, s: Any, f: float, phase0: float, criterion: SteadyStateCriterion
+                  ) -> tuple[complex, tuple[float, float]]:
+    """The output point's first harmonic (complex amplitude against the load's reference
+    signal) over the whole cycles that :func:`_co_simulation_step` judges, and the scatter
+    of its windows, from the modal coordinates of a DEM run on N modes."""
+    om = 2.0 * math.pi * f
+    period = 1.0 / f
+    t = res.time
+    k = int((t[-1] - t[0]) / period + 1e-9)
+    verdict = judge_amplitudes(_cycle_amplitudes(t, res.container_position, f, k), criterion)
+    last = max(1, min(k, verdict.last_cycle - verdict.first_cycle + 1 if
+                      verdict.stationary else 3))
+    x = s.output_shape @ res.modal_coordinates
+    sel = (t >= t[0] + (k - last) * period - 1e-12) & (t <= t[0] + k * period + 1e-12)
+    tt = t[sel]
+    hat = 2.0 / (tt[-1] - tt[0]) * np.trapezoid(x[sel] * np.exp(-1j * (om * (tt - t[0])
+                                                                        + phase0)), tt)
+    return complex(hat), _scatter(_window_amplitudes(t, x, f, phase0, k, last))
 
 
 class _SteadyStop:

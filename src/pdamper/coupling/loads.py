@@ -673,10 +673,11 @@ LOAD_COUPLINGS = CouplingView(lambda c: c.load, lambda c: c.runs(LOAD_HISTORY))
 LOAD_COSTS = CouplingView(lambda c: c.load_cost,
                           lambda c: c.runs(LOAD_HISTORY) and has_load_cost(c))
 #: What a coupling's load history needs of the structure, where it is more than any:
-#: ``f(structure)`` raises InputError otherwise (the DEM integrates one DOF).
+#: ``f(structure)`` raises InputError otherwise (the DEM: a 1-DOF or N modes).
 LOAD_STRUCTURES = CouplingView(
     lambda c: functools.partial(c.check_load_structure, None),
-    lambda c: c.runs(LOAD_HISTORY) and MODES not in c.answers[LOAD_HISTORY])
+    lambda c: c.runs(LOAD_HISTORY) and (MODES not in c.answers[LOAD_HISTORY]
+                                        or c.checks_load_structure))
 
 
 def _no_load_form(model: Any) -> str:

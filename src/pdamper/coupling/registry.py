@@ -94,6 +94,12 @@ class Coupling:
         """Raise InputError if :meth:`load` cannot run on ``structure``."""
         self.structure_for(LOAD_HISTORY, model, structure)
 
+    @property
+    def checks_load_structure(self) -> bool:
+        """Whether the strategy checks a load history's structure beyond the kinds it
+        declares (its own :meth:`check_load_structure`)."""
+        return type(self).check_load_structure is not Coupling.check_load_structure
+
     def stepped_sine(self, model, structure, load, frequency, direction: str, **options):
         """One stepped sine of a harmonic sweep (:mod:`pdamper.coupling.frf`): a
         :class:`~pdamper.coupling.frf.FRFCurve`."""

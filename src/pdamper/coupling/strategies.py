@@ -6,8 +6,8 @@ coupling           release / load history / harmonic sweep     structures
 ``pseudo_force``   Sect. 4.1 models 2 and 3: the damper as      1-DOF and N modes, each
                    ``-(m_eff a_c + d v_c)`` updated per cycle   experiment; harmonic
                                                                 balance too
-``co_simulation``  model 1: the DEM integrated with the         1-DOF (Eq. 23)
-                   structure
+``co_simulation``  model 1: the DEM integrated with the         1-DOF (Eq. 23) and N
+                   structure                                    modes, each experiment
 ``plastic_bed``    the analytical bed as a plastic block,       1-DOF and N modes, each
                    event by event                               experiment
 =================  =========================================  ==========================
@@ -32,6 +32,7 @@ from pdamper.coupling.registry import (
     SINGLE_DOF,
     Coupling,
     register,
+    structure_kind,
 )
 
 _BOTH = (SINGLE_DOF, MODES)
@@ -74,15 +75,29 @@ class CoSimulation(Coupling):
     """The DEM integrated together with the structure (the paper's model 1)."""
 
     name = "co_simulation"
-    answers = {RELEASE: (SINGLE_DOF,), LOAD_HISTORY: (SINGLE_DOF,),
-               HARMONIC_SWEEP: (SINGLE_DOF,)}
+    answers = {RELEASE: _BOTH, LOAD_HISTORY: _BOTH, HARMONIC_SWEEP: _BOTH}
     integrates_particles = True
+
+    def structure_for(self, experiment, model, structure):
+        # one mode with the damper at the output and release point runs as its 1-DOF
+        # (Eq. 23, the kernels' scalar structure), N modes as modes
+        from pdamper.coupling.cosimulation import single_dof
+
+        return single_dof(super().structure_for(experiment, model, structure))
 
     def free_vibration(self, model, structure, duration, initial_displacement,
                        sample_rate=2000.0):
         from pdamper.coupling.cosimulation import co_simulate
 
         return co_simulate(model, structure, duration, initial_displacement, sample_rate)
+
+    def modal_free_vibration(self, model, structure, duration, initial_displacement,
+                             sample_rate=2000.0):
+        from pdamper.coupling.cosimulation import co_simulate, co_simulate_modes, single_dof
+
+        structure = single_dof(structure)
+        run = co_simulate_modes if structure_kind(structure) == MODES else co_simulate
+        return run(model, structure, duration, initial_displacement, sample_rate)
 
     def load(self, model, structure, load, sample_rate=2000.0, tail=0.0):
         from pdamper.coupling.cosimulation import co_simulate_load

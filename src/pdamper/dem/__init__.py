@@ -26,6 +26,7 @@ _EXPORTS = {
     "ParticleSet": "pdamper.dem.inputs",
     "PrescribedMotion": "pdamper.dem.inputs",
     "StructureMotion": "pdamper.dem.inputs",
+    "ModalStructureMotion": "pdamper.dem.inputs",
     "DEMEngine": "pdamper.dem.simulation",
     "EngineSettings": "pdamper.dem.settings",
     "DEMResult": "pdamper.dem.result",
@@ -44,6 +45,7 @@ __all__ = [
     "PrescribedMotion",
     "SettledBed",
     "StructureMotion",
+    "ModalStructureMotion",
     "warmup",
 ]
 
@@ -53,6 +55,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from pdamper.dem.inputs import (
         Container,
         HarmonicMotion,
+        ModalStructureMotion,
         ParticleSet,
         PrescribedMotion,
         StructureMotion,

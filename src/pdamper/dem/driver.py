@@ -36,7 +36,7 @@ import numpy as np
 from pdamper.dem.kernels import gear as _gear
 from pdamper.dem.kernels import state as K
 from pdamper.dem.kernels import verlet as _verlet
-from pdamper.dem.result import DEMResult
+from pdamper.dem.result import DEMResult, ModalDEMResult
 
 if TYPE_CHECKING:  # pragma: no cover
     from pdamper.dem.simulation import DEMEngine, _SampleGrid
@@ -494,7 +494,16 @@ def collect_result(engine: DEMEngine, run: Run, phase: Phase, grid: _SampleGrid,
         snaps = [np.concatenate([a, b[None]]) for a, b in
                  zip(snaps, (run.pos, run.vel, run.omg), strict=True)]
     p = engine.particles
-    return DEMResult(
+    extra: dict = {}
+    cls: type[DEMResult] = DEMResult
+    if phase.drive.nmodes > 0:  # a structure of N modes: its coordinates at the samples
+        cls = ModalDEMResult
+        n = phase.drive.nmodes
+        rec = phase.drive.m_samples[:ns].T
+        extra.update(modal_coordinates=rec[:n].copy(), modal_velocities=rec[n:2 * n].copy(),
+                     modal_accelerations=rec[2 * n:].copy())
+    return cls(
+        **extra,
         time=s.time[:ns].copy(), container_position=s.zc[:ns].copy(),
         container_velocity=s.vc[:ns].copy(), container_acceleration=s.ac[:ns].copy(),
         force=force, center_of_mass=s.com[:ns].copy(),

@@ -357,4 +357,135 @@ class StructureMotion:
         return math.sqrt(self.stiffness / self.mass) / (2.0 * math.pi)
 
 
+@dataclass(frozen=True)
+class ModalStructureMotion(StructureMotion):
+    """The container on a structure of N mass-normalised modes (the co-simulation on N
+    modes, :mod:`pdamper.dem.kernels.modes`).
+
+    ``q_j'' + 2 zeta_j w_j q_j' + w_j^2 q_j = phi_c,j F_z + phi_L,j F(t) - Gamma_j a_b(t)``
+    with the container at ``z = phi_c . q + z_b`` (absolute; ``q`` relative to the base),
+    ``F_z`` the force of the particles on the container, ``F`` the force at the load
+    point (a harmonic load ``force_amplitude`` ... or the history ``force``), ``a_b`` the
+    base acceleration (``base_acceleration``: the tables as :class:`StructureMotion`'s).
+    ``q`` is measured from the structure's equilibrium without the particles (their
+    weight acts through ``F_z``), as the 1-DOF's ``x``.
+
+    Build it with :meth:`of`. The inherited ``mass``, ``damping``, ``stiffness``, ``x0``,
+    ``v0`` describe the container point for the engine's estimates (its start, the
+    reference speed): the point's static stiffness ``1 / sum(phi_c^2 / w^2)``, its mass
+    ``1 / sum(phi_c^2)``, the first mode's damping ratio; ``x0 = phi_c . q0``.
+
+    Parameters
+    ----------
+    angular_frequencies
+        w_j [rad/s].
+    damping_ratios
+        zeta_j [-].
+    damper_shape, load_shape
+        phi_c,j, phi_L,j [1/sqrt(kg)].
+    participation
+        Gamma_j [sqrt(kg)] (base motion; zeros without).
+    q0, qd0
+        Modal coordinates [m sqrt(kg)] and their rates at the start of the excitation.
+    """
+
+    angular_frequencies: Any = field(default=None, compare=False)  # an array after __post_init__
+    damping_ratios: Any = field(default=None, compare=False)  # an array after __post_init__
+    damper_shape: Any = field(default=None, compare=False)  # an array after __post_init__
+    load_shape: Any = field(default=None, compare=False)  # an array after __post_init__
+    participation: Any = field(default=None, compare=False)  # an array after __post_init__
+    q0: Any = field(default=None, compare=False)  # an array after __post_init__
+    qd0: Any = field(default=None, compare=False)  # an array after __post_init__
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        w = np.atleast_1d(np.asarray(self.angular_frequencies, float))
+        n = w.size
+        if n < 1 or not np.all(np.isfinite(w)) or np.any(w <= 0):
+            raise InputError("structure.frequencies", "must be one or more finite positive "
+                             "frequencies")
+        object.__setattr__(self, "angular_frequencies", w)
+        for name, default in (("damping_ratios", 0.0), ("damper_shape", None),
+                              ("load_shape", None), ("participation", 0.0), ("q0", 0.0),
+                              ("qd0", 0.0)):
+            v = getattr(self, name)
+            if v is None:
+                v = self.damper_shape if name == "load_shape" else default
+            if v is None:
+                raise InputError(f"structure.{name}", f"must hold {n} values, one per mode")
+            a = np.broadcast_to(np.asarray(v, float), (n,)).copy()
+            if not np.all(np.isfinite(a)):
+                raise InputError(f"structure.{name}", f"must hold {n} finite values")
+            object.__setattr__(self, name, a)
+        if np.any(self.damping_ratios < 0):
+            raise InputError("structure.damping_ratios", "must be >= 0")
+
+    @classmethod
+    def of(cls, structure, q0, qd0=None, *, force_amplitude: float = 0.0,
+           force_frequency: float = 0.0, force_phase: float = 0.0, force=None,
+           base_acceleration=None) -> ModalStructureMotion:
+        """The motion of a :class:`~pdamper.structure.modal.ModalStructure` started at the
+        modal coordinates ``q0`` with rates ``qd0`` (default rest); the loads as
+        :class:`StructureMotion`'s. Base motion needs the structure's participation
+        factors (:meth:`~pdamper.structure.modal.ModalStructure.from_beam` has them; one
+        mode without them: ``1 / phi_c``, all the mass at the container)."""
+        w = np.asarray(structure.angular_frequencies, float)
+        phi = np.asarray(structure.damper_shape, float)
+        zeta = np.asarray(structure.damping_ratios, float)
+        gamma = structure.participation
+        if gamma is None:
+            if base_acceleration is not None and structure.modes > 1:
+                raise InputError("base_acceleration", "base motion needs each mode's "
+                                 "participation factor, which a modes file does not give: "
+                                 "use one mode, the 1-DOF or [structure] beam, or a force "
+                                 "(--load) at the load point")
+            gamma = 1.0 / phi if structure.modes == 1 else np.zeros(w.size)
+        q0 = np.asarray(q0, float)
+        qd0 = np.zeros(w.size) if qd0 is None else np.asarray(qd0, float)
+        flex = float(np.sum(phi**2 / w**2))
+        k = 1.0 / flex
+        m = 1.0 / float(np.sum(phi**2))
+        return cls(mass=m, damping=2.0 * float(zeta[0]) * math.sqrt(k * m), stiffness=k,
+                   x0=float(phi @ q0), v0=float(phi @ qd0), force_amplitude=force_amplitude,
+                   force_frequency=force_frequency, force_phase=force_phase, force=force,
+                   base_acceleration=base_acceleration, angular_frequencies=w,
+                   damping_ratios=zeta, damper_shape=phi, load_shape=structure.load_shape,
+                   participation=np.asarray(gamma, float), q0=q0, qd0=qd0)
+
+    @property
+    def modes(self) -> int:
+        """N [-]."""
+        return int(self.angular_frequencies.size)
+
+    @property
+    def release_speed(self) -> float:
+        """Largest speed of the container point that the start state implies, ``sum_j
+        |phi_c,j| sqrt((w_j q0_j)^2 + qd0_j^2)`` [m/s] (each mode's amplitude of speed)."""
+        return float(np.sum(np.abs(self.damper_shape) * np.hypot(
+            self.angular_frequencies * self.q0, self.qd0)))
+
+    def steady_speed(self) -> float:
+        """Steady speed amplitude of the container point under the harmonic load without
+        particles, ``F W |sum_j phi_c,j phi_L,j / (w_j^2 - W^2 + 2 i zeta_j w_j W)|``
+        [m/s] (0 without the load)."""
+        if not self.force_amplitude > 0:
+            return 0.0
+        big = 2.0 * math.pi * self.force_frequency
+        w = self.angular_frequencies
+        h = np.sum(self.damper_shape * self.load_shape
+                   / (w * w - big * big + 2j * self.damping_ratios * w * big))
+        return float(self.force_amplitude * big * abs(h))
+
+    def modal_tables(self, duration: float):
+        """:meth:`StructureMotion.load_tables` and the base acceleration on the same step:
+        ``(h, z_b, v_b, F, a_b)``."""
+        h, zb, vb, f = self.load_tables(duration)
+        a = np.zeros(zb.size)
+        if self.base_acceleration is not None:
+            dt, v = self.base_acceleration
+            a[:] = np.interp(np.arange(zb.size) * h, np.arange(v.size) * dt, v, left=0.0,
+                             right=0.0)
+        return h, zb, vb, f, a
+
+
 Motion = HarmonicMotion | PrescribedMotion | StructureMotion

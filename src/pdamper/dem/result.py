@@ -437,3 +437,24 @@ class DEMResult:
                                 self.snapshot_velocities, self.radius,
                                 self.snapshot_angular_velocities)
 
+
+
+@dataclass
+class ModalDEMResult(DEMResult):
+    """A DEM run on a structure of N modes (:class:`~pdamper.dem.ModalStructureMotion`):
+    a :class:`DEMResult` with the modal coordinates at the samples.
+
+    Attributes
+    ----------
+    modal_coordinates : (N, ns) [m sqrt(kg)]
+        q_j at the sample times, relative to the base, from the equilibrium of the
+        structure without the particles.
+    modal_velocities : (N, ns) [m sqrt(kg)/s]
+        q_j'.
+    modal_accelerations : (N, ns) [m sqrt(kg)/s^2]
+        q_j'' (at the step's prediction, as ``container_acceleration``).
+    """
+
+    modal_coordinates: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    modal_velocities: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    modal_accelerations: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))

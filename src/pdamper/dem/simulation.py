@@ -54,6 +54,7 @@ from pdamper.dem.inputs import (
     Container,
     HarmonicMotion,
     LargeOverlapWarning,
+    ModalStructureMotion,
     ParticleSet,
     PrescribedMotion,
     StructureMotion,
@@ -122,6 +123,34 @@ def _drive(kind: int, z0: float = 0.0, amplitude: float = 0.0, omega: float = 0.
            loaded: bool = False) -> K.Drive:
     return K.Drive(int(kind), float(z0), float(amplitude), float(omega), float(table_dt),
                    *table, float(mass), float(damping), float(stiffness), int(loaded))
+
+
+def _modal_drive(m: ModalStructureMotion, grid: _SampleGrid) -> K.Drive:
+    """The kernels' bundle of a structure of N modes (:mod:`pdamper.dem.kernels.modes`),
+    its state at the motion's start (``q0``, ``qd0``; the base at rest at 0)."""
+    n = m.modes
+    w = m.angular_frequencies
+    if m.loaded:
+        h, zb, vb, fe, ab = m.modal_tables(grid.duration + 2 * grid.interval)
+        base = dict(table_dt=h, table=(zb, vb, fe), loaded=True)
+    else:  # a harmonic load rides on the harmonic fields, as for the 1-DOF
+        ab = np.zeros(2)
+        base = dict(amplitude=m.force_amplitude, omega=2.0 * math.pi * m.force_frequency,
+                    z0=m.force_phase)
+    one = _drive(K.MOTION_STRUCTURE, mass=m.mass, damping=m.damping, stiffness=m.stiffness,
+                 **base)
+    state = np.zeros((3, n))
+    state[0] = m.q0
+    state[1] = m.qd0
+    weight = np.maximum(np.abs(m.damper_shape), np.abs(m.load_shape))
+    return one._replace(
+        nmodes=n, m_w2=np.ascontiguousarray(w * w),
+        m_c=np.ascontiguousarray(2.0 * m.damping_ratios * w),
+        m_phi=np.ascontiguousarray(m.damper_shape), m_load=np.ascontiguousarray(m.load_shape),
+        m_gamma=np.ascontiguousarray(m.participation), m_weight=np.ascontiguousarray(weight),
+        table_b=np.ascontiguousarray(ab, dtype=float), m_state=state,
+        m_nord=np.zeros((6, n)), m_backup=np.zeros((6, n)),
+        m_samples=np.zeros((grid.nsamp, 3 * n)))
 
 
 class DEMEngine:
@@ -272,6 +301,8 @@ class DEMEngine:
         m = self.motion
         if isinstance(m, HarmonicMotion):
             v += 2.0 * m.amplitude * m.angular_frequency
+        elif isinstance(m, ModalStructureMotion):  # each mode's speed, and the load's
+            v += 2.0 * (m.release_speed + m.steady_speed())
         elif isinstance(m, StructureMotion):
             v += 2.0 * (abs(m.x0) * 2 * math.pi * m.natural_frequency + abs(m.v0))
             if m.force_amplitude > 0:  # the load's steady speed without particles
@@ -517,6 +548,9 @@ class DEMEngine:
         elif isinstance(m, PrescribedMotion):
             _, tz, tv, ta = m.table(grid.duration + 2 * grid.interval)
             drive = _drive(K.MOTION_TABLE, table_dt=m.sample_interval, table=(tz, tv, ta))
+        elif isinstance(m, ModalStructureMotion):
+            drive = _modal_drive(m, grid)
+            rs[0]["zc"], rs[0]["vc"] = m.x0, m.v0
         elif m.loaded:
             h, zb, vb, fe = m.load_tables(grid.duration + 2 * grid.interval)
             drive = _drive(K.MOTION_STRUCTURE, table_dt=h, table=(zb, vb, fe), mass=m.mass,
@@ -636,6 +670,10 @@ class DEMEngine:
                     d.update({f"structure_{name}_step_s": rec[0],
                               f"structure_{name}_samples": int(rec[1].size),
                               f"structure_{name}_peak_{unit}": float(np.max(np.abs(rec[1])))})
+            if isinstance(m, ModalStructureMotion):
+                d.update(structure_modes=m.modes,
+                         structure_frequencies_hz=(m.angular_frequencies
+                                                   / (2.0 * math.pi)).tolist())
         return d
 
 

@@ -198,7 +198,9 @@ def _check_simulation(sc: Scenario, damper: ParticleDamper, cls: type[DamperMode
         x0=sc.structure.initial_displacement, drivers=drivers,
         damper_drivers=_damper_drivers(damper, default)), force)
     modes = int(getattr(structure, "modes", 1))
-    if modes > 1 and not _integrates_particles(cls):  # the modal march of a damper force
+    # the DEM's cost above holds on N modes too (the modes' integration costs nothing
+    # against the particles'); a damper force's modal march is costed here
+    if modes > 1 and not _integrates_particles(cls):
         req(modal_free_vibration_cost(structure, duration, sample_rate, drivers), force)
 
 

@@ -3,7 +3,9 @@ in chunks of landings.
 
 Positions use the 6-value Nordsieck vector ``(x, h v, h^2 a/2, h^3 x'''/6, ...)`` of a
 second-order ODE; angular velocities the 5-value vector of a first-order ODE (Euler's
-equations of a sphere: ``I dw/dt = T``); the 1-DOF structure (if any) a 6-value vector.
+equations of a sphere: ``I dw/dt = T``); the 1-DOF structure (if any) a 6-value vector,
+each mode of an N-mode structure its own (:mod:`pdamper.dem.kernels.modes`, its error in
+the step control as the container's).
 After each accepted step the step ``h`` is changed by the PI controller
 ``0.9 (tol / err)^(0.7/6) (err_prev / tol)^(0.4/6)`` (bounded to [0.3, 2]), where
 ``err = max_i |corr_i| / (h (v_scale + |v_i|))`` is the local error estimate from the
@@ -35,6 +37,15 @@ from pdamper.dem.kernels.flights import (
     regroup,
 )
 from pdamper.dem.kernels.forces import FASTMATH, compute_forces
+from pdamper.dem.kernels.modes import (
+    modal_gear_begin,
+    modal_gear_correct,
+    modal_gear_error,
+    modal_gear_predict,
+    modal_gear_restore,
+    modal_gear_store,
+    modal_record,
+)
 from pdamper.dem.kernels.motion import (
     container_state,
     prescribed_state,
@@ -99,7 +110,10 @@ def _begin(t, h, pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
                             walls, work.frc, work.trq, fl.act, n, free, None)
     sta.onsets += ons
     if structure:
-        ac = structure_acceleration(r.fz, zc, vc, drive, t)
+        if drive.nmodes == 0:
+            ac = structure_acceleration(r.fz, zc, vc, drive, t)
+        else:
+            ac = modal_gear_begin(r.fz, h, drive, t)
     nx = nord.x
     nw = nord.w
     nc = nord.c
@@ -178,6 +192,8 @@ def gear_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wor
     ledger_start(led, r)
     e = record_sample(0, t0, pos, vel, omg, part, world, zc, vc, ac, r.eel, led, samples,
                       snaps, stp.snap_every)
+    if drive.nmodes > 0:
+        modal_record(0, drive.m_nord, 1.0 / h, drive)
     if e != ERR_NONE:
         sta.error = e
         sta.t_error = t0
@@ -377,6 +393,8 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
     dtc = stp.dt_contact
     hcap = rs[0].h_cap
     structure = drive.kind == MOTION_STRUCTURE
+    modal = structure and drive.nmodes > 0
+    structure = structure and not modal  # the 1-DOF
     s = rs[0]
     sta = st[0]
     led = lg[0]
@@ -504,6 +522,8 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
             nc[4] = c4 + 5.0 * c5
             zc = nc[0]
             vc = nc[1] / h
+        elif modal:
+            zc, vc = modal_gear_predict(q1, q2, q3, q4, q5, ih, drive, tn)
         else:
             zc, vc, ac = prescribed_state(tn, drive)
         if needs_rebuild(pos, pos_build, skin, act, na):
@@ -517,6 +537,8 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
                 _undo_prediction(nx, nw, act, na)
                 for k in range(6):
                     nc[k] = bc[k]
+                if modal:
+                    modal_gear_restore(drive)
                 na = regroup(t, h, vc, ac, False, pos, vel, omg, nx, nw, frc, trq, vel_pred,
                              omg_pred, zc, world, part, nbrs, walls, fl, 2.0 * half)
                 t_next = fl.scal[0]
@@ -563,6 +585,10 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
             ec = abs(corr) / (h * (vscale + abs((nc[1] + G1 * corr) * ih)))
             if ec > err:
                 err = ec
+        elif modal:
+            ac, ec = modal_gear_error(r.fz, hh, h, ih, vscale, G1, drive, tn)
+            if ec > err:
+                err = ec
         # ---- reject a step whose error is far beyond the tolerance: undo and retry
         if (adaptive and err > REJECT * tol and h > 2.0 * dtmin and nons <= olog.shape[0]
                 and math.isfinite(err)):
@@ -576,6 +602,8 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
             _undo_prediction(nx, nw, act, na)
             for k in range(6):
                 nc[k] = bc[k]
+            if modal:
+                modal_gear_restore(drive)
             fac = 0.9 * (tol / err) ** (1.0 / 6.0)
             if fac < 0.1:
                 fac = 0.1
@@ -612,6 +640,8 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
             nc[5] += G5 * corr
             zc = nc[0]
             vc = nc[1] * ih
+        elif modal:
+            zc, vc = modal_gear_correct(hh, ih, drive, tn, G0, G1, G3, G4, G5)
         onsets += nons
         ledger_step(led, r, 0.5 * h)
         t = tn
@@ -663,6 +693,8 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
             j_land += 1
             t_win, stop = on_landing(j_land, t, t_win, pos, vel, omg, part, world, zc, vc, ac,
                                      r.eel, led, samples, snaps, stp, sta)
+            if modal and j_land % 2 == 0:
+                modal_record(j_land // 2, drive.m_nord, ih, drive)
             if stop:
                 break
             if (stp.follow_impacts != 0 and j_land % 2 == 0 and hcap > 0.0
@@ -672,6 +704,8 @@ def _gear_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, wo
                 v_design = 1.25 * sta.max_impact
                 hcap = stp.h_cap * (stp.v_design / v_design) ** 0.2
                 dtmin = stp.dt_min * (stp.v_design / v_design) ** 0.2
+    if modal:
+        modal_gear_store(h, drive)
     sta.steps += steps
     sta.onsets += onsets
     sta.rebuilds += rebuilds

@@ -122,7 +122,12 @@ class WallContacts(NamedTuple):
 class Drive(NamedTuple):
     """Container motion: harmonic ``z0 + X sin(W t)``, a sampled table, or a 1-DOF
     structure ``M a = -K z - D v + F_z``; a structure under a load history (``loaded``
-    = 1) holds the base position, base velocity and external force in the tables."""
+    = 1) holds the base position, base velocity and external force in the tables.
+
+    A structure of ``nmodes > 0`` mass-normalised modes replaces the 1-DOF
+    (:mod:`pdamper.dem.kernels.modes`): the ``m_*`` arrays hold its constants (one value
+    per mode) and its state, updated in place; under a load history ``table_b`` holds
+    the base acceleration."""
 
     kind: int
     z0: float
@@ -136,6 +141,18 @@ class Drive(NamedTuple):
     damping: float
     stiffness: float
     loaded: int
+    nmodes: int = 0                       # 0: the 1-DOF; N: N modes
+    m_w2: np.ndarray = np.zeros(0)        # w_j^2 [1/s^2]
+    m_c: np.ndarray = np.zeros(0)         # 2 zeta_j w_j [1/s]
+    m_phi: np.ndarray = np.zeros(0)       # mode shapes at the container [1/sqrt(kg)]
+    m_load: np.ndarray = np.zeros(0)      # mode shapes at the load point [1/sqrt(kg)]
+    m_gamma: np.ndarray = np.zeros(0)     # participation of a base translation [sqrt(kg)]
+    m_weight: np.ndarray = np.zeros(0)    # Gear error weight of each mode [1/sqrt(kg)]
+    table_b: np.ndarray = np.zeros(2)     # base acceleration table [m/s^2]
+    m_state: np.ndarray = np.zeros((3, 0))    # (q, q', q'') (updated in place)
+    m_nord: np.ndarray = np.zeros((6, 0))     # Gear Nordsieck vectors of the modes
+    m_backup: np.ndarray = np.zeros((6, 0))   # their backup (Verlet: scratch)
+    m_samples: np.ndarray = np.zeros((0, 0))  # (q, q', q'') at the samples (samples, 3N)
 
 
 class Stepping(NamedTuple):

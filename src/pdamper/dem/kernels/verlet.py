@@ -15,6 +15,12 @@ import numpy as np
 from numba import njit
 
 from pdamper.dem.kernels.forces import FASTMATH, compute_forces
+from pdamper.dem.kernels.modes import (
+    modal_acceleration,
+    modal_record,
+    modal_verlet_drift,
+    modal_verlet_kick,
+)
 from pdamper.dem.kernels.motion import (
     container_state,
     prescribed_state,
@@ -52,7 +58,11 @@ def verlet_start(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, w
                             tang)
     sta.onsets += ons
     if drive.kind == MOTION_STRUCTURE:
-        ac = structure_acceleration(r.fz, zc, vc, drive, t0)
+        if drive.nmodes == 0:
+            ac = structure_acceleration(r.fz, zc, vc, drive, t0)
+        else:
+            ac = modal_acceleration(r.fz, drive.m_state, 0, 1, 1.0, drive, t0, drive.m_state)
+            modal_record(0, drive.m_state, 1.0, drive)
     led = lg[0]
     ledger_start(led, r)
     e = record_sample(0, t0, pos, vel, omg, part, world, zc, vc, ac, r.eel, led, samples,
@@ -108,7 +118,10 @@ def verlet_resume(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, 
                             tang)
     sta.onsets += ons
     if structure:
-        ac = structure_acceleration(r.fz, zc, vc, drive, t)
+        if drive.nmodes == 0:
+            ac = structure_acceleration(r.fz, zc, vc, drive, t)
+        else:
+            ac = modal_acceleration(r.fz, drive.m_state, 0, 1, 1.0, drive, t, drive.m_state)
     ledger_step(lg[0], r, 0.0)  # adds nothing, remembers the rates
     s.zc = zc
     s.vc = vc
@@ -169,6 +182,8 @@ def _verlet_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, 
     m_half = int(round(half / dt))
     skin = world.skin
     structure = drive.kind == MOTION_STRUCTURE
+    modal = structure and drive.nmodes > 0
+    structure = structure and not modal  # the 1-DOF
     s = rs[0]
     sta = st[0]
     led = lg[0]
@@ -237,6 +252,8 @@ def _verlet_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, 
             vch = vc + hdt * ac
             vce = vc + dt * ac
             zc += dt * vch
+        elif modal:
+            zc, vce = modal_verlet_drift(dt, drive, t)
         else:
             zc, vce, ac = prescribed_state(t, drive)
         if not disp <= disp_lim:
@@ -266,6 +283,8 @@ def _verlet_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, 
         if structure:
             ac = structure_acceleration(r.fz, zc, vce, drive, t)
             vc = vch + hdt * ac
+        elif modal:
+            vc, ac = modal_verlet_kick(r.fz, dt, drive, t)
         else:
             vc = vce
         ledger_step(led, r, hdt)
@@ -278,6 +297,8 @@ def _verlet_steps(pos, vel, omg, world, law, part, pt, nbrs, walls, drive, stp, 
             j = j_base + step // m_half
             t_win, stop = on_landing(j, t, t_win, pos, vel, omg, part, world, zc, vc, ac,
                                      r.eel, led, samples, snaps, stp, sta)
+            if modal and j % 2 == 0:
+                modal_record(j // 2, drive.m_state, 1.0, drive)
             if stop:
                 break
             if stp.follow_impacts != 0 and j % 2 == 0 and sta.max_impact > v_design:
