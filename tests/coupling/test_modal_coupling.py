@@ -102,11 +102,12 @@ def test_constant_pseudo_force_on_three_modes_against_an_ode_solver(beam):
 
 
 def test_the_dem_runs_on_n_modes_and_one_mode_as_its_1dof(beam):
-    from pdamper.coupling.cosimulation import co_simulate_modes
+    from pdamper.coupling.simulation import MODAL_COUPLINGS
 
     b, tip, zeta = beam
     two = Simulation(ModalStructure.from_beam(b, tip, 2), DEMDamper(PAPER_DAMPER), -0.058)
-    assert two._strategy is co_simulate_modes and two.structure.modes == 2
+    assert two.coupling.name == "co_simulation" and two.structure.modes == 2
+    assert "co_simulation" in MODAL_COUPLINGS
     sim = Simulation(ModalStructure.from_beam(b, tip, 1, damping_ratio=zeta),
                      DEMDamper(PAPER_DAMPER), -0.058)
     assert sim.structure.mass == pytest.approx(modal_reduction(b, tip).mass)
