@@ -129,9 +129,13 @@ def test_one_mode_equal_to_the_1dof_gives_identical_optimize(tmp_path, cli):
     code, out, err = cli(*args, "--modes", csv)
     assert code == 0, err
     got = json.loads(out)
-    best = {k: v for k, v in got["best"].items() if k != "objective"}
-    assert best == {k: v for k, v in ref["best"].items() if k != "objective"}
-    _close(got["best"]["objective"], ref["best"]["objective"])
+    # the design and its marks exactly; what the run measured (the objective, the
+    # response's harmonic deviation) to rounding, as the modal path sums in another order
+    measured = ("objective", "harmonic_deviation")
+    best = {k: v for k, v in got["best"].items() if k not in measured}
+    assert best == {k: v for k, v in ref["best"].items() if k not in measured}
+    for k in measured:
+        _close(got["best"][k], ref["best"][k])
     assert len(got["candidates"]) == len(ref["candidates"]) >= 3
     _close([c["objective"] for c in got["candidates"]],
            [c["objective"] for c in ref["candidates"]])
