@@ -497,39 +497,8 @@ class PlasticBedSystem:
             yb_out[k], vb_out[k], st_out[k] = Y, V, state
             if k == steps:
                 break
-            # one step, events inside it located and handled
-            tau, events = 0.0, 0
-            while tau < dt * (1.0 - 1e-12):
-                span = dt - tau
-                att = state != FREE
-                a, b, _ = self._cfg[att]
-                ua = u[k] + (u[k + 1] - u[k]) * (tau / dt)
-                ub = u[k + 1]
-                p, g0, g1 = holds[att] if tau == 0.0 else _hold(a, b, span)
-                z1 = p @ z + g0 @ ua + g1 @ (ub - ua)
-                ev = self._event(state, z, z1, ua, ub, Y, V, span, k, tau, dt, v_base, y_base)
-                if ev is None:
-                    if state == FREE:
-                        Y, V = Y + V * span - 0.5 * self.g * span * span, V - self.g * span
-                    z = z1
-                    break
-                s = ev  # the event's time inside the span
-                p, g0, g1 = _hold(a, b, s)
-                um = ua + (ub - ua) * (s / span)
-                z = p @ z + g0 @ ua + g1 @ (um - ua)
-                t_ev = (k * dt) + tau + s
-                frac = (tau + s) / dt
-                vb_ev = v_base[k] + (v_base[k + 1] - v_base[k]) * frac
-                yb_ev = y_base[k] + (y_base[k + 1] - y_base[k]) * frac
-                xc = float(phi @ z[:n]) + yb_ev
-                vc = float(phi @ z[n:]) + vb_ev
-                state, Y, V = self._transition(state, z, Y, V, s, xc, vc, um, vb_ev, yb_ev,
-                                               t_ev, impacts)
-                tau += s
-                events += 1
-                if events > _MAX_EVENTS_PER_STEP:
-                    raise SimulationError(f"more than {_MAX_EVENTS_PER_STEP} bed events in one "
-                                          f"step at t = {t_ev:.6g} s: lower the time step")
+            z, state, Y, V = self._step(k, dt, z, state, Y, V, u, v_base, y_base, holds,
+                                        impacts)
             if not np.all(np.isfinite(z)):
                 raise SimulationError(f"the plastic bed's run diverged at t = {k * dt:g} s")
         return PlasticBedRun(
@@ -541,6 +510,49 @@ class PlasticBedSystem:
             impulses=np.array([i[2] for i in impacts]),
             impact_losses=np.array([i[3] for i in impacts]),
             end=PlasticBedState(z.copy(), int(state), float(Y), float(V)))
+
+    def _step(self, k: int, dt: float, z: np.ndarray, state: int, Y: float, V: float,
+              u: np.ndarray, v_base: np.ndarray, y_base: np.ndarray, holds: dict,
+              impacts: list) -> tuple[np.ndarray, int, float, float]:
+        """The step ``k`` of :meth:`run` (``dt`` [s]), the events inside it located and
+        handled (:meth:`_event`, :meth:`_transition`, impacts appended to ``impacts``):
+        the structure's state ``z`` and the bed's state, position ``Y`` [m] and velocity
+        ``V`` [m/s] at its end. ``holds``: the exact whole-step maps of both
+        configurations (:func:`_hold`)."""
+        n, phi = self.n, self.phi
+        tau, events = 0.0, 0
+        while tau < dt * (1.0 - 1e-12):
+            span = dt - tau
+            att = state != FREE
+            a, b, _ = self._cfg[att]
+            ua = u[k] + (u[k + 1] - u[k]) * (tau / dt)
+            ub = u[k + 1]
+            p, g0, g1 = holds[att] if tau == 0.0 else _hold(a, b, span)
+            z1 = p @ z + g0 @ ua + g1 @ (ub - ua)
+            ev = self._event(state, z, z1, ua, ub, Y, V, span, k, tau, dt, v_base, y_base)
+            if ev is None:
+                if state == FREE:
+                    Y, V = Y + V * span - 0.5 * self.g * span * span, V - self.g * span
+                z = z1
+                break
+            s = ev  # the event's time inside the span
+            p, g0, g1 = _hold(a, b, s)
+            um = ua + (ub - ua) * (s / span)
+            z = p @ z + g0 @ ua + g1 @ (um - ua)
+            t_ev = (k * dt) + tau + s
+            frac = (tau + s) / dt
+            vb_ev = v_base[k] + (v_base[k + 1] - v_base[k]) * frac
+            yb_ev = y_base[k] + (y_base[k + 1] - y_base[k]) * frac
+            xc = float(phi @ z[:n]) + yb_ev
+            vc = float(phi @ z[n:]) + vb_ev
+            state, Y, V = self._transition(state, z, Y, V, s, xc, vc, um, vb_ev, yb_ev,
+                                           t_ev, impacts)
+            tau += s
+            events += 1
+            if events > _MAX_EVENTS_PER_STEP:
+                raise SimulationError(f"more than {_MAX_EVENTS_PER_STEP} bed events in one "
+                                      f"step at t = {t_ev:.6g} s: lower the time step")
+        return z, state, Y, V
 
     def _transition(self, state: int, z: np.ndarray, Y: float, V: float, s: float,
                     xc: float, vc: float, um: np.ndarray, vb_ev: float, yb_ev: float,

@@ -360,42 +360,14 @@ def stepped_sine(model, structure, load, frequency, direction: str, *, criterion
             zero = np.zeros(t.size)
             run = bed.run(h, u, zero, zero, start=start)
             start = run.end
-            x_d, x_o = phi @ run.q, psi @ run.q
-            rot = np.exp(-1j * om * t)
-            for c in range(k):
-                sl = slice(c * spc, (c + 1) * spc + 1)
-                tt = t[sl]
-                hd = 2.0 * f * np.trapezoid(x_d[sl] * rot[sl], tt)
-                ho = 2.0 * f * np.trapezoid(x_o[sl] * rot[sl], tt)
-                hy = 2.0 * f * np.trapezoid(run.bed_position[sl] * rot[sl], tt)
-                t0, t1 = tt[0], tt[-1]
-                hit = (run.impact_times >= t0) & (run.impact_times < t1)
-                mean = f * np.trapezoid(x_d[sl], tt)
-                resid = x_d[sl] - mean - (hd * np.exp(1j * om * tt)).real
-                dist = math.sqrt(f * np.trapezoid(resid ** 2, tt))
-                hits = tuple(zip(((run.impact_times[hit] - t0) * f).tolist(),
-                                 run.impact_walls[hit].tolist(), strict=True))
-                per.append((hd, ho, hy, float(np.sum(run.impact_losses[hit])), dist, hits))
+            per += _cycle_harmonics(run, t, phi @ run.q, psi @ run.q, f, k, spc)
             if steady_amplitudes([abs(p[0]) for p in per], crit):
                 ok = True
                 break
-        last = crit.span if ok else min(len(per), 3)
-        tail = per[-last:]
-        hd = complex(np.mean([p[0] for p in tail]))
-        ho = complex(np.mean([p[1] for p in tail]))
-        hy = complex(np.mean([p[2] for p in tail]))
-        loss = float(np.mean([p[3] for p in tail]))
-        x = abs(hd)
         cycles[i], steady[i] = len(per), ok
-        out["amplitude"][i], out["phase"][i] = abs(ho), float(np.angle(ho))
-        out["stroke"][i] = x
-        v = om * x
-        m_bed = model.bed_mass
-        out["loss_factor"][i] = loss / (math.pi * m_bed * v * v) if m_bed > 0 and v > 0 \
-            else 0.0
-        out["effective_mass"][i] = m_bed * abs(hy) / x if x > 0 else m_bed
-        out["distortion"][i] = (float(np.mean([p[4] for p in tail])) / (x / math.sqrt(2.0))
-                                if x > 0 else 0.0)
+        tail = per[-(crit.span if ok else min(len(per), 3)):]
+        for key, value in _step_values(tail, om, model.bed_mass).items():
+            out[key][i] = value
         spread[0][i], spread[1][i] = _scatter([abs(p[1]) for p in per[-SCATTER_WINDOWS:]])
         mode[i] = _orbit_mode([p[5] for p in per])
         walls[i] = time.perf_counter() - t_wall
@@ -406,6 +378,51 @@ def stepped_sine(model, structure, load, frequency, direction: str, *, criterion
                     mode=mode, steady=steady, cycles=cycles,
                     amplitude_mean=spread[0], amplitude_std=spread[1],
                     diagnostics={"wall_seconds": walls, "distortion": out["distortion"]})
+
+
+def _cycle_harmonics(run, t: np.ndarray, x_d: np.ndarray, x_o: np.ndarray, f: float,
+                     k: int, spc: int) -> list[tuple]:
+    """Per load cycle of a stepped sine's chunk of ``k`` cycles (``spc`` steps each, times
+    ``t`` [s] from the chunk's start, load at ``f`` [Hz]): the first harmonics [m] of the
+    damper point ``x_d``, the output point ``x_o`` and the block (``2 f int x e^{-i W t}
+    dt``), the impacts' losses [J], the RMS [m] of ``x_d`` less its mean and first harmonic,
+    and the impacts ``(phase in cycles, wall)``."""
+    om = 2.0 * math.pi * f
+    rot = np.exp(-1j * om * t)
+    per = []
+    for c in range(k):
+        sl = slice(c * spc, (c + 1) * spc + 1)
+        tt = t[sl]
+        hd = 2.0 * f * np.trapezoid(x_d[sl] * rot[sl], tt)
+        ho = 2.0 * f * np.trapezoid(x_o[sl] * rot[sl], tt)
+        hy = 2.0 * f * np.trapezoid(run.bed_position[sl] * rot[sl], tt)
+        t0, t1 = tt[0], tt[-1]
+        hit = (run.impact_times >= t0) & (run.impact_times < t1)
+        mean = f * np.trapezoid(x_d[sl], tt)
+        resid = x_d[sl] - mean - (hd * np.exp(1j * om * tt)).real
+        dist = math.sqrt(f * np.trapezoid(resid ** 2, tt))
+        hits = tuple(zip(((run.impact_times[hit] - t0) * f).tolist(),
+                         run.impact_walls[hit].tolist(), strict=True))
+        per.append((hd, ho, hy, float(np.sum(run.impact_losses[hit])), dist, hits))
+    return per
+
+
+def _step_values(tail: list[tuple], om: float, m_bed: float) -> dict[str, float]:
+    """A stepped sine's results at one frequency (``om`` [rad/s]) from the per-cycle values
+    of its last judged cycles (:func:`_cycle_harmonics`) and the bed mass ``m_bed`` [kg]:
+    output amplitude [m] and phase [rad], stroke [m], loss factor (Eq. 3), effective mass
+    [kg] (Eq. 4) and distortion [-] (:func:`stepped_sine`)."""
+    hd = complex(np.mean([p[0] for p in tail]))
+    ho = complex(np.mean([p[1] for p in tail]))
+    hy = complex(np.mean([p[2] for p in tail]))
+    loss = float(np.mean([p[3] for p in tail]))
+    x = abs(hd)
+    v = om * x
+    return {"amplitude": abs(ho), "phase": float(np.angle(ho)), "stroke": x,
+            "loss_factor": loss / (math.pi * m_bed * v * v) if m_bed > 0 and v > 0 else 0.0,
+            "effective_mass": m_bed * abs(hy) / x if x > 0 else m_bed,
+            "distortion": (float(np.mean([p[4] for p in tail])) / (x / math.sqrt(2.0))
+                           if x > 0 else 0.0)}
 
 
 def _orbit_mode(hits: list) -> int:
