@@ -39,7 +39,8 @@ from pdamper.dem.kernels import verlet as _verlet
 from pdamper.dem.result import DEMResult, ModalDEMResult
 
 if TYPE_CHECKING:  # pragma: no cover
-    from pdamper.dem.simulation import DEMEngine, _SampleGrid
+    from pdamper.dem.drives import SampleGrid as _SampleGrid
+    from pdamper.dem.simulation import DEMEngine
 
 #: The judgement window of "auto" [s of simulated time] (a whole number of landings: the
 #: decisions do not depend on the chunking).

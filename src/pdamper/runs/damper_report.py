@@ -244,29 +244,9 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
     if dem:
         _dem_map(rep, sc, damper.count, out, say, sweep_options)
 
-    from pdamper.coupling.validity import decay_assumptions
-
     gravity = sc.excitation.gravity
     models = level3_models(sc, damper, dem)
-    for label, (model, source) in models.items():
-        say(f"Level III: {label}")
-        rep.runs[label] = _timed(rep, f"Level III: {label}", lambda m=model: Simulation(
-            structure, m, x0).run(duration, sc.simulation.sample_rate))
-        rep.sources[label] = source
-        marks = decay_assumptions(model, rep.runs[label], rep.at)
-        made_by = getattr(model, "map_attrs", {}).get("model")
-        if label in ANALYTIC_FIELDS_LABELS and (sc.fields.file is None
-                                                or made_by in ANALYTIC_MAP_MODELS):
-            # the fields are the analytical model's: its checks at the run's updates
-            rep.analytic_fields[label] = ANALYTIC_FIELDS_REASON + (
-                "" if sc.fields.file is None else
-                f" (the map {sc.fields.file} was made by the {made_by} model)")
-            marks = decay_assumptions(sc.model("analytic", damper), rep.runs[label], rep.at)
-        if marks is not None:
-            rep.assumptions[label] = marks
-        from pdamper.coupling.harmonicity import payload as harmonicity_payload
-
-        rep.harmonicity[label] = harmonicity_payload(rep.runs[label])
+    _level3_runs(rep, sc, damper, structure, models, say)
     rep.empty = _timed(rep, "Level III: no particles", lambda: Simulation(
         structure, AnalyticalDamper(damper.with_count(0), gravity=gravity), x0).run(
         duration, sc.simulation.sample_rate))
@@ -287,26 +267,63 @@ def run_damper_report(scenario: Scenario, *, dem: bool = False, uncertainty: int
     _record_inputs(rep, sc, damper, structure, dem)
 
     if sc.uncertain_inputs():
-        from pdamper.runs.uncertainty import propagate_scenario
-
-        n = DEFAULT_UNCERTAINTY_POINTS if uncertainty is None else uncertainty
-        rep.seeds["uncertainty_seed"] = uncertainty_seed
-        for level in ("level2", "level3"):
-            say(f"uncertainty: {level}")
-            rep.uncertainty[level] = _timed(
-                rep, f"uncertainty ({level})", lambda lv=level: propagate_scenario(
-                    sc, lv, n, uncertainty_seed, model="analytic"))
-        for level, options in question_uncertainty(sc, rep).items():
-            say(f"uncertainty: {level}")
-            rep.uncertainty[level] = _timed(
-                rep, f"uncertainty ({level})", lambda lv=level, o=options: propagate_scenario(
-                    sc, lv, n, uncertainty_seed, model="analytic", **o))
-        study = rep.study
-        if study is not None and study.best is not None:
-            say("uncertainty: the chosen design's drivers")
-            rep.design_drivers = _timed(rep, "uncertainty (chosen design)", lambda: (
-                chosen_design_drivers(sc, study, n, uncertainty_seed)))
+        _propagate_uncertainty(rep, sc, uncertainty, uncertainty_seed, say)
     return rep
+
+
+def _level3_runs(rep: DamperReport, sc: Scenario, damper: Any, structure: Any,
+                 models: dict, say: Callable[[str], None]) -> None:
+    """Level III: the decay of ``structure`` from the scenario's initial displacement
+    under each of ``models`` (label -> (model, source)), with the checks of each run's
+    assumptions and its harmonicity, into ``rep``."""
+    from pdamper.coupling import Simulation
+    from pdamper.coupling.harmonicity import payload as harmonicity_payload
+    from pdamper.coupling.validity import decay_assumptions
+
+    x0, duration = sc.structure.initial_displacement, sc.simulation.duration
+    for label, (model, source) in models.items():
+        say(f"Level III: {label}")
+        rep.runs[label] = _timed(rep, f"Level III: {label}", lambda m=model: Simulation(
+            structure, m, x0).run(duration, sc.simulation.sample_rate))
+        rep.sources[label] = source
+        marks = decay_assumptions(model, rep.runs[label], rep.at)
+        made_by = getattr(model, "map_attrs", {}).get("model")
+        if label in ANALYTIC_FIELDS_LABELS and (sc.fields.file is None
+                                                or made_by in ANALYTIC_MAP_MODELS):
+            # the fields are the analytical model's: its checks at the run's updates
+            rep.analytic_fields[label] = ANALYTIC_FIELDS_REASON + (
+                "" if sc.fields.file is None else
+                f" (the map {sc.fields.file} was made by the {made_by} model)")
+            marks = decay_assumptions(sc.model("analytic", damper), rep.runs[label], rep.at)
+        if marks is not None:
+            rep.assumptions[label] = marks
+        rep.harmonicity[label] = harmonicity_payload(rep.runs[label])
+
+
+def _propagate_uncertainty(rep: DamperReport, sc: Scenario, uncertainty: int | None,
+                           uncertainty_seed: int, say: Callable[[str], None]) -> None:
+    """The propagation of the scenario's uncertain inputs (``uncertainty`` base points,
+    default :data:`DEFAULT_UNCERTAINTY_POINTS`; Sobol' seed ``uncertainty_seed``) to
+    Level II, Level III, the questions' quantities and the chosen design, into ``rep``."""
+    from pdamper.runs.uncertainty import propagate_scenario
+
+    n = DEFAULT_UNCERTAINTY_POINTS if uncertainty is None else uncertainty
+    rep.seeds["uncertainty_seed"] = uncertainty_seed
+    for level in ("level2", "level3"):
+        say(f"uncertainty: {level}")
+        rep.uncertainty[level] = _timed(
+            rep, f"uncertainty ({level})", lambda lv=level: propagate_scenario(
+                sc, lv, n, uncertainty_seed, model="analytic"))
+    for level, options in question_uncertainty(sc, rep).items():
+        say(f"uncertainty: {level}")
+        rep.uncertainty[level] = _timed(
+            rep, f"uncertainty ({level})", lambda lv=level, o=options: propagate_scenario(
+                sc, lv, n, uncertainty_seed, model="analytic", **o))
+    study = rep.study
+    if study is not None and study.best is not None:
+        say("uncertainty: the chosen design's drivers")
+        rep.design_drivers = _timed(rep, "uncertainty (chosen design)", lambda: (
+            chosen_design_drivers(sc, study, n, uncertainty_seed)))
 
 
 #: The most frequencies of the report's forced response sampled under the uncertain
