@@ -30,6 +30,9 @@ os.environ.setdefault("MKL_NUM_THREADS", "1")
 sys.dont_write_bytecode = False
 os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 
+#: ``--cpu-durations``: each test's CPU seconds (tests/cpu_durations.py).
+pytest_plugins = ["cpu_durations"]
+
 #: The DEM kernels warmed before pytest-xdist's workers start, one group per process, the
 #: groups at once: "gear" and "verlet" compile apart; "auto" adds its hand-over to them.
 WARMUP_GROUPS = (("gear", "auto"), ("verlet",))
