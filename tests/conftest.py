@@ -30,6 +30,9 @@ os.environ.setdefault("MKL_NUM_THREADS", "1")
 sys.dont_write_bytecode = False
 os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 
+#: ``--cpu-durations``: each test's CPU seconds (tests/cpu_durations.py).
+pytest_plugins = ["cpu_durations"]
+
 #: The DEM kernels warmed before pytest-xdist's workers start, one group per process, the
 #: groups at once: "gear" and "verlet" compile apart; "auto" adds its hand-over to them.
 WARMUP_GROUPS = (("gear", "auto"), ("verlet",))
@@ -91,10 +94,13 @@ def pytest_sessionstart(session):
 #: order): pytest-xdist's work stealing balances the short tests behind them, so that no
 #: worker ends the run alone on one of them (measured CPU seconds, one process: the type
 #: check 10-14 s on a fresh clone, the rest 4-8 s, of which the DEM run interrupted after
-#: 8 s, the DEM maps and uncertainty runs on local clusters of two worker processes).
+#: 8 s, the DEM maps and uncertainty runs on local clusters of two worker processes, the
+#: dense growths a refused random bed of 192 spheres tries; ``--cpu-durations`` lists them).
 FIRST = (
     "tests/test_code_shape.py::test_the_type_check_passes",
     "tests/cli/test_interrupts.py::test_dem",
+    "tests/models/test_dem_damper.py::test_auto_packing_is_random_where_every_sphere_can_be_placed_at_random",
+    "tests/cli/test_corpus.py::test_corpus_case[ok-report-gravity-zero]",
     "tests/coupling/test_loads_dem.py::test_base_acceleration_on_a_featherweight_bed_is_the_transmissibility",
     "tests/cli/test_map.py::test_dem_map_with_a_cor_table_in_the_scenario",
     "tests/cli/test_dem_uncertainty.py::test_dem_uncertainty_on_the_sweep_engine_as_in_this_process",
@@ -102,6 +108,8 @@ FIRST = (
     "tests/cli/test_interrupts.py::test_dem_map_on_a_local_cluster[computing]",
     "tests/cli/test_cli_realisations.py::test_simulate_fields_band_from_a_map_with_realisations",
     "tests/dem/test_cli_dem.py::test_dem_realisations_on_workers_equal_serial",
+    "tests/dem/test_packing.py::test_random_packing_refuses_more_than_fill_limit",
+    "tests/design/test_limits.py::test_bracket_no_design_within_80_g_meets_10_g_and_the_study_says_by_how_much",
 )
 
 
