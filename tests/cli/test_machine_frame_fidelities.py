@@ -138,3 +138,19 @@ def test_the_shock_says_why_it_acts_at_the_damper(tmp_path):
                   'radius = "4 mm"\n[load]\nforce = "shock.csv"\ntail = "0.2 s"\n')
     point = _shock(sc, "plastic")["load"]["point"]
     assert point == "the damper's point (the structure names no other load point)"
+
+
+def test_no_bed_carries_no_near_harmonic_caveat(tmp_path):
+    """A run-up of the unbalance through mode 1 (400-1000 rpm in 3 s) without spheres: the
+    describing function exerts no force, so there is no harmonic to be off from (null,
+    with the reason), where the example's 190 spheres carry the measure."""
+    sc = _scenario(tmp_path)
+    out = {}
+    for n in ("0", "190"):
+        code, text = _main("simulate", "--scenario", sc, "--unbalance", "1.76kg*mm",
+                           "--run-up", "400rpm:1000rpm:3s", "--particles", n, "--json")
+        assert code == 0
+        out[n] = json.loads(text)
+    assert out["0"]["near_harmonic"] is None and out["0"]["harmonicity"] is None
+    assert "no bed" in out["0"]["not_applicable"]["near_harmonic"]
+    assert out["190"]["harmonicity"]["deviation"] > 0
