@@ -45,6 +45,18 @@ def response_payload(res, seconds: float) -> dict:
     return out
 
 
+def _point_text(named, structure, load_point_text) -> str:
+    """Where the force acts, in words: the damper's point because the scenario asks it
+    (``[load] at = "damper"``, ``--load-at damper``) although the structure names a load
+    point of its own, or else as :func:`~pdamper.coupling.frf.load_point_text` says."""
+    import numpy as np
+
+    shape = getattr(named, "load_shape", None)
+    if shape is not None and not np.array_equal(shape, structure.load_shape):
+        return "the damper's point (the load's 'at', not the structure's load point)"
+    return load_point_text(structure)
+
+
 def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | None,
         as_json: bool, force: bool = False,
         uncertainty: tuple[int | None, int] = (None, 0)) -> None:
@@ -54,7 +66,8 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
     from pdamper.coupling.frf import load_point_text
     from pdamper.coupling.loads import acting_at, check_cost, check_model
 
-    structure = acting_at(sc.structure_model(), sc.load.at)
+    named = sc.structure_model()
+    structure = acting_at(named, sc.load.at)
     for m in models.values():  # every compared model, its structure and cost, before any run
         check_model(m, structure)
     from pdamper.runs.resources import check_load_history
@@ -79,8 +92,8 @@ def run(sc, models: dict, history, tail: float, out: Path | None, plot: Path | N
                        "unit": history.unit, "samples": int(history.time.size),
                        "record_duration": history.duration, "tail": tail,
                        "interpolation": "linear",
-                       "point": (load_point_text(structure) if history.kind == "force"
-                                 else "the base")}
+                       "point": (_point_text(named, structure, load_point_text)
+                                 if history.kind == "force" else "the base")}
     run_up = sc.load.run_up_load()
     if run_up is not None:
         payload["load"]["run_up"] = run_up.as_dict()

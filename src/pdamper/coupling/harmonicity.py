@@ -118,7 +118,9 @@ def window_deviation(t: np.ndarray, x: np.ndarray, t0: float, amplitude: float,
 def harmonicity(time, damper_displacement, cycles) -> Harmonicity | None:
     """The measure of a run whose damper was updated at ``cycles``
     (:class:`~pdamper.coupling.results.CycleUpdate`); None where no update's period ends
-    within the run."""
+    within the run or no update exerted a force (no bed: d = 0 and m_eff = 0)."""
+    if all(c.damping == 0.0 and c.effective_mass == 0.0 for c in cycles):
+        return None  # no bed: the describing function exerted no force to be wrong about
     t = np.asarray(time, float)
     x = np.asarray(damper_displacement, float)
     devs, weights = [], []
@@ -261,7 +263,8 @@ def frf_warning(res) -> str | None:
 
 #: Why the measure is missing from a run (JSON ``not_applicable``).
 NOT_APPLICABLE = ("the damper force follows the motion itself (no loss factor taken from a "
-                  "harmonic response), or no update's period ends within the run")
+                  "harmonic response), no update's period ends within the run, or there is "
+                  "no bed (no damper force to take)")
 
 
 def payload(result) -> dict:
