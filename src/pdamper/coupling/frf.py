@@ -1090,6 +1090,16 @@ def _last_cycle_deviation(mats: tuple, phi: np.ndarray, m: float, dm: float, for
     (``phi``: the damper point's shape)."""
     from pdamper.coupling.harmonicity import cycle_deviation
 
+    a, zp = _held_state_matrix(mats, m, dm, force, om)
+    return cycle_deviation(a, zp, z0, phi, om, stroke)
+# --- end of the near-harmonic measure ---------------------------------------------------
+
+
+def _held_state_matrix(mats: tuple, m: float, dm: float, force: complex, om: float
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """The N-mode state matrix ``A`` with m_eff ``m`` and ``d`` = ``dm`` held at the damper
+    point, and the steady state ``Z`` of ``z' = A z + b e^{i om t}`` under the load
+    (:func:`stepped_sine_pseudo_force`'s exact solution)."""
     n, eye_n, pp, k0, c0, at, eye, _w = mats
     minv = np.linalg.inv(eye_n + m * pp)
     a = np.zeros((2 * n, 2 * n))
@@ -1097,9 +1107,7 @@ def _last_cycle_deviation(mats: tuple, phi: np.ndarray, m: float, dm: float, for
     a[n:, :n] = -minv @ k0
     a[n:, n:] = -minv @ (c0 + dm * pp)
     b = np.concatenate([np.zeros(n), minv @ at * force])
-    zp = np.linalg.solve(1j * om * eye - a, b)
-    return cycle_deviation(a, zp, z0, phi, om, stroke)
-# --- end of the near-harmonic measure ---------------------------------------------------
+    return a, np.linalg.solve(1j * om * eye - a, b)
 
 
 def _matrix_cycle(mats: tuple, m: float, dm: float, force: complex, om: float, f: float,
@@ -1114,17 +1122,11 @@ def _matrix_cycle(mats: tuple, m: float, dm: float, force: complex, om: float, f
     (the steady motion ``Z`` and its norm, the propagators): a step's cycles often return
     to an (m, d) already seen (a stroke outside the table's grid, an interpolation that
     settles), and the same inputs give the same numbers, bit for bit."""
-    n, eye_n, pp, k0, c0, at, eye, w = mats
+    n, *_, eye, w = mats
     period = 1.0 / f
     fixed = None if held is None else held.get((m, dm))
     if fixed is None:
-        minv = np.linalg.inv(eye_n + m * pp)
-        a = np.zeros((2 * n, 2 * n))
-        a[:n, n:] = eye_n
-        a[n:, :n] = -minv @ k0
-        a[n:, n:] = -minv @ (c0 + dm * pp)
-        b = np.concatenate([np.zeros(n), minv @ at * force])
-        zp = np.linalg.solve(1j * om * eye - a, b)
+        a, zp = _held_state_matrix(mats, m, dm, force, om)
         forced = math.sqrt(float(np.sum(w * w * np.abs(zp[:n]) ** 2 + np.abs(zp[n:]) ** 2)))
         e, g = _propagators(a, period, om, eye)
         fixed = (zp, forced, e, g)
