@@ -27,6 +27,11 @@ logger = logging.getLogger(__name__)
 STOP_WAIT = 0.1
 #: Seconds then allowed for the killed processes to be gone.
 REAP_WAIT = 0.5
+#: After an interrupt or a failure, child processes that appear later (a spawn already in
+#: flight in one of dask's threads) are killed until none has appeared for LATE_QUIET s,
+#: for at most LATE_WAIT s.
+LATE_QUIET = 0.1
+LATE_WAIT = 0.5
 
 _EXAMPLE = "e.g. 'tcp://10.0.0.5:8786'"
 
@@ -104,6 +109,44 @@ def _kill(processes) -> None:
     for p in processes:
         with contextlib.suppress(Exception):
             p.join(REAP_WAIT)
+
+
+def _child_pids() -> set[int]:
+    """Process ids of this process's children (the operating system's record: a child
+    whose spawn has not returned yet is not in multiprocessing's)."""
+    import psutil  # a dependency of dask.distributed
+
+    try:
+        return {c.pid for c in psutil.Process().children()}
+    except psutil.Error:  # pragma: no cover - this process is always readable
+        return set()
+
+
+def _kill_late(before: set[int]) -> None:
+    """SIGKILL every child process of this one not in ``before`` (nor the resource
+    tracker, which must outlive the workers to release their semaphores) as it appears,
+    until none has appeared for :data:`LATE_QUIET` s (at most :data:`LATE_WAIT` s). A worker
+    whose spawn was in flight in one of dask's threads when the sweep stopped would
+    otherwise outlive this process and print the traceback of its lost start-up data."""
+    import signal
+    import time
+    from multiprocessing import resource_tracker
+
+    seen = set(before)
+    tracker = getattr(getattr(resource_tracker, "_resource_tracker", None), "_pid", None)
+    start = last = time.monotonic()
+    while True:
+        now = time.monotonic()
+        if now - last >= LATE_QUIET or now - start >= LATE_WAIT:
+            return
+        tracker = getattr(getattr(resource_tracker, "_resource_tracker", None), "_pid",
+                          None) or tracker
+        for pid in _child_pids() - seen - {tracker}:
+            seen.add(pid)
+            last = time.monotonic()
+            with contextlib.suppress(OSError):
+                os.kill(pid, getattr(signal, "SIGKILL", signal.SIGTERM))
+        time.sleep(0.005)
 
 
 def _abandon(cluster, instances) -> None:
@@ -186,6 +229,7 @@ def open_client(workers: int | None = None, scheduler: str | None = None) -> Ite
     instances = getattr(SpecCluster, "_instances", ())
     before = set(instances)
     children = set(multiprocessing.active_children())
+    pids = _child_pids()
     try:
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                host="127.0.0.1", dashboard_address="127.0.0.1:0",
@@ -197,6 +241,7 @@ def open_client(workers: int | None = None, scheduler: str | None = None) -> Ite
         _kill(set(multiprocessing.active_children()) - children)
         for half in set(instances) - before:
             _abandon(half, instances)
+        _kill_late(pids)
         raise
     quiet = contextlib.ExitStack()
     with quiet, cluster, Client(cluster) as client:
@@ -206,4 +251,5 @@ def open_client(workers: int | None = None, scheduler: str | None = None) -> Ite
             quiet.enter_context(_quiet_logs())  # until the cluster is closed
             _stop_workers(cluster)
             _kill(set(multiprocessing.active_children()) - children)  # any still starting
+            _kill_late(pids)
             raise
