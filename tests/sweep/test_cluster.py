@@ -44,3 +44,36 @@ def test_stopped_workers_are_not_restarted():
     finally:
         log.removeHandler(said)
         log.setLevel(level)
+
+
+def test_a_child_process_that_appears_after_the_stop_is_killed():
+    """A worker whose spawn was in flight in one of dask's threads when a sweep stopped
+    appears after the kill: it is killed as it appears (else it outlives pdamper and
+    prints the traceback of its lost start-up data); the children there before are left."""
+    import signal
+    import subprocess
+    import sys
+    import threading
+    import time
+
+    from pdamper.sweep.cluster import _child_pids, _kill_late
+
+    sleep = [sys.executable, "-c", "import time; time.sleep(30)"]
+    old = subprocess.Popen(sleep)
+    try:
+        before = _child_pids()
+        late: list[subprocess.Popen] = []
+
+        def spawn_later():
+            time.sleep(0.03)
+            late.append(subprocess.Popen(sleep))
+
+        t = threading.Thread(target=spawn_later)
+        t.start()
+        _kill_late(before)
+        t.join()
+        assert late and late[0].wait(timeout=5) == -signal.SIGKILL
+        assert old.poll() is None
+    finally:
+        old.kill()
+        old.wait()
